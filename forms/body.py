@@ -1,0 +1,30 @@
+# Material-independent forms of a deformable body (P1 triangles).
+#
+#   mass          M_ij   = int rho phi_i . phi_j dx          (consistent)
+#   lumped_mass   M_ii   = int rho phi_i . phi_i dx_vertex   (vertex quadrature:
+#                          for P1 this is the row-sum lumped mass, area/3 per node)
+#   current_area  a_cell = int det(F) q dx                   (DG0 test q: the
+#                          current area of each cell, summed per body)
+#   reference_area a_cell = int q dx
+from ufl import (Constant, Identity, TestFunction, TrialFunction,
+                 Coefficient, FiniteElement, VectorElement, det, dx, grad,
+                 inner, triangle)
+
+element = VectorElement("Lagrange", triangle, 1)
+cell_element = FiniteElement("DG", triangle, 0)
+
+u = Coefficient(element)
+v = TestFunction(element)
+du = TrialFunction(element)
+q = TestFunction(cell_element)
+
+rho = Constant(triangle)
+
+dx_vertex = dx(metadata={"quadrature_rule": "vertex", "quadrature_degree": 1})
+
+mass = rho * inner(du, v) * dx
+lumped_mass = rho * inner(du, v) * dx_vertex
+current_area = det(Identity(2) + grad(u)) * q * dx
+reference_area = q * dx
+
+forms = [mass, lumped_mass, current_area, reference_area]
