@@ -1,0 +1,38 @@
+"""Dispatch of ``./softpack`` subcommands implemented in Python.
+
+Each subcommand lives in its own module exposing ``main(argv) -> int``; this
+file only maps names to modules so that importing one subcommand never pulls
+in the heavy dependencies (dolfinx, gmsh, matplotlib) of another.
+"""
+
+import importlib
+import sys
+
+COMMANDS = {
+    "run": "softpack.run",
+    "mesh": "softpack.mesh",
+    "single-disk": "softpack.single_disk",
+    "plot-single-disk": "softpack.plots_single_disk",
+    "plot": "softpack.plots",
+    "bench": "softpack.bench",
+}
+
+
+def main(argv=None):
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if not argv or argv[0] not in COMMANDS:
+        print(f"softpack: expected one of {', '.join(COMMANDS)}", file=sys.stderr)
+        return 2
+    name, rest = argv[0], argv[1:]
+    try:
+        module = importlib.import_module(COMMANDS[name])
+    except ModuleNotFoundError as err:
+        if err.name == COMMANDS[name]:
+            print(f"softpack: '{name}' is not implemented yet", file=sys.stderr)
+            return 2
+        raise
+    return module.main(rest)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
