@@ -1,0 +1,511 @@
+"""3D reference for the single-cylinder check (paper Figs. 2 and 3, METHOD.md §5).
+
+A neo-Hookean cylinder of diameter D and length l (axis along z, both end faces
+traction-free) is squeezed between two frictionless rigid plates normal to y,
+each moving by delta/2 towards the centre; eps = -ln(1 - delta/D).
+
+Model
+  * law (METHOD.md §2): Psi = mu/2 (I1 - 3) - mu ln J + lmbda/2 (ln J)^2 with
+    lmbda = 2 mu nu / (1 - 2 nu) (nu = 0.495: lmbda = 99 mu), P2 tetrahedra; or
+    exactly incompressible: Psi = mu/2 (I1 - 3) - mu ln J subject to J = 1,
+    enforced by a pressure multiplier p (Taylor–Hood P2-P1, Lagrangian
+    L = int Psi - p (J - 1)); the -mu ln J term makes the reference state
+    stress-free at p = 0 and vanishes where J = 1.
+  * quadrature degree 4 everywhere (FFCx would pick hundreds of points per cell).
+  * symmetry: one eighth, x >= 0, y >= 0, 0 <= z <= l/2, with u_x = 0 on x = 0,
+    u_y = 0 on y = 0, u_z = 0 on z = 0.  Here z = 0 is the cylinder's MID-PLANE
+    and z = l/2 one of its (free) end faces.  Quadratic (10-node) tetrahedra,
+    so the P2 nodes of the curved surface lie on the true circle.
+  * frictionless rigid plate y = R - delta/2: bounds u_y <= R - delta/2 - Y on
+    every node of the curved surface, solved by PETSc's reduced-space
+    bound-constrained Newton (SNES ``vinewtonrsls``), load stepping in delta
+    with a feasible homogeneous-compression predictor and step halving on
+    failure.  Node-wise bounds are the usual nodal contact discretisation.
+  * plate force f (total, one plate, full cylinder) = 4 x the y-reaction summed
+    over the constrained nodes of the eighth, read from the residual assembled
+    without boundary conditions; the same force read on the symmetry plane
+    y = 0 is kept as an equilibrium check.
+  * internally lengths are scaled by R and stresses by mu (all unknowns O(1)).
+
+Profile (Fig. 3): u_x along the Lagrangian transverse diameter (Y = 0), i.e.
+the material line perpendicular to the loading through the centre, on the
+mid-plane z = 0 (the default CSV) and on the end face z = l/2 (extra CSV).
+w = X/R in [-1, 1] (the antisymmetry u_x(-X) = -u_x(X) gives the half x < 0);
+ux_over_D = u_x/D.  The paper's DIC sees the bottom face of the cylinders,
+which by the z-symmetry assumed here (both ends free; the real bottom lies on
+lubricated glass) is the end face: there the free surface bulges more in x
+(the cross-section is not in plane strain, material flows out of the end
+faces in the mid-plane and into x at the ends), so the end-face profile has
+somewhat larger |u_x| near w = +-1 than the mid-plane one.  Both are written.
+"""
+
+import argparse
+import json
+import logging
+import math
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+log = logging.getLogger("softpack.reference3d")
+
+PROFILE_STRAINS = (0.05, 0.10, 0.15, 0.20)
+# physical surface tags of the eighth cylinder
+TAG_X0, TAG_Y0, TAG_Z0, TAG_END, TAG_CURVED = 1, 2, 3, 4, 5
+
+
+@dataclass
+class Results:
+    """Output of compress_cylinder_3d. Forces in N, energies in J, SI lengths."""
+    model: str                      # "nu0495", "incompressible", ...
+    diameter: float
+    length: float
+    mu: float
+    nu: float | None
+    element_size: float
+    num_cells: int = 0
+    num_dofs: int = 0
+    eps: list = field(default_factory=list)          # compressive strain
+    delta: list = field(default_factory=list)        # plate approach (m)
+    force: list = field(default_factory=list)        # plate force (N)
+    force_sym: list = field(default_factory=list)    # same, read on y = 0
+    energy: list = field(default_factory=list)       # strain energy (J)
+    penalty_energy: list = field(default_factory=list)  # k/2 overlap^2 (J)
+    newton_its: list = field(default_factory=list)
+    penalty: float = 0.0            # plate penalty stiffness / (mu/R)
+    n_steps: int = 0
+    max_overlap: float = 0.0        # largest nodal penetration of the plate (m)
+    profiles_mid: dict = field(default_factory=dict)  # eps -> (w, ux/D)
+    profiles_end: dict = field(default_factory=dict)
+    wall_time: float = 0.0
+
+    @property
+    def f_norm(self):
+        return np.asarray(self.force) / (self.diameter * self.length * self.mu)
+
+    @property
+    def work(self):
+        """Work of the two plates, trapezoidal integral of f d(delta)."""
+        f, d = np.asarray(self.force), np.asarray(self.delta)
+        return np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(d))])
+
+
+def model_name(nu):
+    return "incompressible" if nu is None else "nu" + f"{nu:g}".replace(".", "")
+
+
+# ---------------------------------------------------------------- mesh
+
+def build_mesh(half_length, element_size, comm=None):
+    """Eighth of a unit-radius cylinder as quadratic tetrahedra (gmsh, OCC).
+
+    Lengths in units of R. The size is element_size within 0.5 of the contact
+    line (x = 0, y = 1) and grows to 2 element_size beyond distance 1.
+    Returns (mesh, facet_tags).
+    """
+    import gmsh
+    from mpi4py import MPI
+    from dolfinx.io import gmshio
+
+    comm = MPI.COMM_WORLD if comm is None else comm
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("cylinder_eighth")
+        vol = gmsh.model.occ.addCylinder(0, 0, 0, 0, 0, half_length, 1.0,
+                                         angle=math.pi / 2)
+        gmsh.model.occ.synchronize()
+        _tag_surfaces(gmsh, vol, half_length)
+        _size_field(gmsh, element_size)
+        gmsh.model.mesh.generate(3)
+        gmsh.model.mesh.setOrder(2)
+        mesh, _, facets = gmshio.model_to_mesh(gmsh.model, comm, 0, gdim=3)
+    finally:
+        gmsh.finalize()
+    return mesh, facets
+
+
+def _tag_surfaces(gmsh, vol, half_length):
+    gmsh.model.addPhysicalGroup(3, [vol], 1)
+    groups = {}
+    for dim, tag in gmsh.model.getBoundary([(3, vol)], oriented=False):
+        x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(dim, tag)
+        if x1 - x0 < 1e-6 and abs(x0) < 1e-6:
+            key = TAG_X0
+        elif y1 - y0 < 1e-6 and abs(y0) < 1e-6:
+            key = TAG_Y0
+        elif z1 - z0 < 1e-6:
+            key = TAG_Z0 if abs(z0) < 1e-6 else TAG_END
+        else:
+            key = TAG_CURVED
+        groups.setdefault(key, []).append(tag)
+    if sorted(groups) != [TAG_X0, TAG_Y0, TAG_Z0, TAG_END, TAG_CURVED]:
+        raise RuntimeError(f"unexpected boundary of the eighth cylinder: {groups}")
+    for key, tags in groups.items():
+        gmsh.model.addPhysicalGroup(2, tags, key)
+
+
+def _size_field(gmsh, h):
+    """Size h near the contact line x = 0, y = 1, up to 2h far from it."""
+    lines = [tag for dim, tag in gmsh.model.getEntities(1)
+             if np.allclose(gmsh.model.getBoundingBox(dim, tag)[:2], (0.0, 1.0), atol=1e-6)
+             and np.allclose(gmsh.model.getBoundingBox(dim, tag)[3:5], (0.0, 1.0), atol=1e-6)]
+    if len(lines) != 1:
+        raise RuntimeError(f"contact line not found: {lines}")
+    fm = gmsh.model.mesh.field
+    dist = fm.add("Distance")
+    fm.setNumbers(dist, "CurvesList", lines)
+    fm.setNumber(dist, "NumPointsPerCurve", 100)
+    thr = fm.add("Threshold")
+    fm.setNumber(thr, "InField", dist)
+    for key, val in (("SizeMin", h), ("SizeMax", 2 * h), ("DistMin", 0.5), ("DistMax", 1.0)):
+        fm.setNumber(thr, key, val)
+    fm.setAsBackgroundMesh(thr)
+    for opt in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
+        gmsh.option.setNumber("Mesh." + opt, 0)
+
+
+# ---------------------------------------------------------------- problem
+
+class _EighthCylinder:
+    """Spaces, forms and symmetry conditions of the scaled problem (R = mu = 1)."""
+
+    def __init__(self, mesh, facets, nu, penalty):
+        import ufl
+        from dolfinx import fem
+        from petsc4py import PETSc
+
+        self.mesh, self.nu = mesh, nu
+        cell = mesh.ufl_cell()
+        p2 = ufl.VectorElement("Lagrange", cell, 2)
+        if nu is None:
+            self.W = fem.FunctionSpace(mesh, ufl.MixedElement([p2, ufl.FiniteElement("Lagrange", cell, 1)]))
+            self.U = self.W.sub(0)
+        else:
+            self.W = fem.FunctionSpace(mesh, p2)
+            self.U = self.W
+        self.w = fem.Function(self.W)
+        self.plate = fem.Constant(mesh, PETSc.ScalarType(1.0))   # plate position y
+        self.penalty = penalty
+        self._define_forms(facets)
+        self._locate_dofs(facets)
+
+    def _define_forms(self, facets):
+        import ufl
+        from dolfinx import fem
+
+        dxq = ufl.dx(metadata={"quadrature_degree": 4})
+        ds_plate = ufl.Measure("ds", domain=self.mesh, subdomain_data=facets,
+                               metadata={"quadrature_degree": 6})(TAG_CURVED)
+        u, p = ufl.split(self.w) if self.nu is None else (self.w, None)
+        F = ufl.Identity(3) + ufl.grad(u)
+        J = ufl.det(F)
+        psi = 0.5 * (ufl.tr(F.T * F) - 3) - ufl.ln(J)
+        if self.nu is not None:
+            psi = psi + self.nu / (1 - 2 * self.nu) * ufl.ln(J) ** 2   # lmbda/2 (ln J)^2
+        # penetration of the plate, penalised: k/2 <y + u_y - plate>_+^2
+        overlap = ufl.max_value(ufl.SpatialCoordinate(self.mesh)[1] + u[1] - self.plate, 0.0)
+        lagrangian = psi * dxq + 0.5 * self.penalty * overlap ** 2 * ds_plate
+        if self.nu is None:
+            lagrangian = lagrangian - p * (J - 1) * dxq
+        residual = ufl.derivative(lagrangian, self.w, ufl.TestFunction(self.W))
+        self.energy_form = fem.form(psi * dxq)
+        self.penalty_energy_form = fem.form(0.5 * self.penalty * overlap ** 2 * ds_plate)
+        self.plate_force_form = fem.form(self.penalty * overlap * ds_plate)
+        self.overlap_form = fem.form(overlap * ds_plate)
+        self.residual_form = fem.form(residual)
+        self.tangent_form = fem.form(ufl.derivative(residual, self.w, ufl.TrialFunction(self.W)))
+
+    def _locate_dofs(self, facets):
+        from dolfinx import fem
+        from petsc4py import PETSc
+
+        fdim = self.mesh.topology.dim - 1
+        self.bcs = []
+        for comp, tag in ((0, TAG_X0), (1, TAG_Y0), (2, TAG_Z0)):
+            dofs = fem.locate_dofs_topological(self.U.sub(comp), fdim, facets.find(tag))
+            self.bcs.append(fem.dirichletbc(PETSc.ScalarType(0.0), dofs, self.U.sub(comp)))
+        # dof indices (in W) and reference coordinates of each displacement component
+        self.comp_dofs, self.comp_coords = [], []
+        for comp in range(3):
+            Vc, dofs = self.U.sub(comp).collapse()
+            self.comp_dofs.append(np.asarray(dofs, dtype=np.int32))
+            self.comp_coords.append(Vc.tabulate_dof_coordinates())
+        ycoord = self.comp_coords[1]
+        self.sym_y_dofs = self.comp_dofs[1][np.abs(ycoord[:, 1]) < 1e-10]
+        on_circle = np.abs(np.hypot(ycoord[:, 0], ycoord[:, 1]) - 1.0) < 1e-8
+        self.surface_y = (self.comp_dofs[1][on_circle], ycoord[on_circle, 1])
+        log.info("mesh: %d cells, %d dofs", self.num_cells, self.w.x.array.size)
+
+    @property
+    def num_cells(self):
+        return self.mesh.topology.index_map(self.mesh.topology.dim).size_local
+
+    def max_overlap(self):
+        """Largest penetration of a curved-surface node into the plate (scaled)."""
+        dofs, Y = self.surface_y
+        return max(0.0, float(np.max(Y + self.w.x.array[dofs] - self.plate.value)))
+
+    def transverse_profile(self, z):
+        """(X, u_x) at the nodes of the material line Y = 0, Z = z, sorted by X."""
+        c = self.comp_coords[0]
+        sel = np.flatnonzero((np.abs(c[:, 1]) < 1e-10) & (np.abs(c[:, 2] - z) < 1e-10))
+        sel = sel[np.argsort(c[sel, 0])]
+        return c[sel, 0], self.w.x.array[self.comp_dofs[0][sel]].copy()
+
+
+# ---------------------------------------------------------------- solver
+
+class _PlateSolver:
+    """Newton (PETSc SNES, MUMPS LU) for one plate position."""
+
+    def __init__(self, prob):
+        from petsc4py import PETSc
+        from dolfinx.fem import petsc as fp
+
+        self.prob = prob
+        self.b = fp.create_vector(prob.residual_form)
+        self.A = fp.create_matrix(prob.tangent_form)
+        self.x = prob.w.vector.copy()
+        snes = PETSc.SNES().create(prob.mesh.comm)
+        prefix = f"softpack_ref3d_{id(self)}_"
+        snes.setOptionsPrefix(prefix)
+        PETSc.Options(prefix)["snes_linesearch_type"] = "basic"
+        snes.setType("newtonls")
+        snes.setFunction(self._residual, self.b)
+        snes.setJacobian(self._tangent, self.A)
+        snes.setTolerances(rtol=1e-9, atol=1e-10, stol=1e-14, max_it=25)
+        ksp = snes.getKSP()
+        ksp.setType("preonly")
+        ksp.getPC().setType("lu")
+        ksp.getPC().setFactorSolverType("mumps")
+        snes.setFromOptions()
+        self.snes = snes
+
+    def _residual(self, snes, x, b):
+        from petsc4py import PETSc
+        from dolfinx.fem import petsc as fp
+
+        prob = self.prob
+        x.copy(prob.w.vector)
+        prob.w.vector.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+        with b.localForm() as bl:
+            bl.set(0.0)
+        fp.assemble_vector(b, prob.residual_form)
+        fp.apply_lifting(b, [prob.tangent_form], bcs=[prob.bcs], x0=[x], scale=-1.0)
+        b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        fp.set_bc(b, prob.bcs, x, -1.0)
+
+    def _tangent(self, snes, x, A, P):
+        from dolfinx.fem import petsc as fp
+
+        A.zeroEntries()
+        fp.assemble_matrix(A, self.prob.tangent_form, bcs=self.prob.bcs)
+        A.assemble()
+
+    def solve(self, delta_hat):
+        """Equilibrium with the plate at y = 1 - delta_hat/2 (scaled), from prob.w."""
+        prob = self.prob
+        prob.plate.value = 1.0 - 0.5 * delta_hat
+        prob.w.vector.copy(self.x)
+        self.snes.solve(None, self.x)
+        ok = self.snes.getConvergedReason() > 0 and np.isfinite(self.x.norm())
+        if ok:
+            self.x.copy(prob.w.vector)
+            prob.w.x.scatter_forward()
+        return ok, self.snes.getIterationNumber()
+
+    def reactions(self):
+        """(plate force, y = 0 reaction) on the eighth, scaled.
+
+        The first is the penalty force integrated over the plate; the second the
+        y-residual summed over the nodes of the symmetry plane y = 0 (assembled
+        without boundary conditions): equal at equilibrium.
+        """
+        from petsc4py import PETSc
+        from dolfinx import fem
+        from dolfinx.fem import petsc as fp
+
+        with self.b.localForm() as bl:
+            bl.set(0.0)
+        fp.assemble_vector(self.b, self.prob.residual_form)
+        self.b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        f_sym = self.b.array[self.prob.sym_y_dofs].sum()
+        return fem.assemble_scalar(self.prob.plate_force_form), f_sym
+
+
+def _predict(prob, delta_old, delta_new):
+    """Guess: homogeneous compression in y (factor s), expansion 1/s in x."""
+    s = (1.0 - 0.5 * delta_new) / (1.0 - 0.5 * delta_old)
+    a = prob.w.x.array
+    for comp, factor in ((0, 1.0 / s), (1, s)):
+        dofs, X = prob.comp_dofs[comp], prob.comp_coords[comp][:, comp]
+        a[dofs] = (X + a[dofs]) * factor - X
+    prob.w.x.scatter_forward()
+
+
+# ---------------------------------------------------------------- driver
+
+def strain_schedule(max_strain, n_steps):
+    """Uniform steps in eps, plus the profile strains (so they are hit exactly)."""
+    eps = list(np.linspace(0.0, max_strain, n_steps + 1))
+    eps += [e for e in PROFILE_STRAINS if e <= max_strain + 1e-12]
+    eps = np.unique(np.round(eps, 12))
+    return eps[eps > 0]
+
+
+def compress_cylinder_3d(diameter=0.02, length=0.015, mu=0.15e6, nu=0.495,
+                         element_size=0.002, max_strain=0.25, n_steps=25,
+                         penalty=1e4, max_halvings=5):
+    """Compress the cylinder between frictionless plates up to eps = max_strain.
+
+    nu=None is the exactly incompressible (Taylor–Hood) model. element_size (m)
+    is the tetrahedron size near the contact line (twice that far from it).
+    penalty is the plate stiffness per unit reference area in units of mu/R.
+    Returns a Results; raises RuntimeError if a step fails after max_halvings.
+    """
+    t0 = time.perf_counter()
+    R = 0.5 * diameter
+    mesh, facets = build_mesh(0.5 * length / R, element_size / R)
+    prob = _EighthCylinder(mesh, facets, nu, penalty)
+    solver = _PlateSolver(prob)
+    res = Results(model_name(nu), diameter, length, mu, nu, element_size,
+                  num_cells=prob.num_cells, num_dofs=prob.w.x.array.size)
+    res.eps, res.delta, res.force, res.force_sym = [0.0], [0.0], [0.0], [0.0]
+    res.energy, res.penalty_energy, res.newton_its = [0.0], [0.0], [0]
+    res.penalty, res.n_steps = penalty, n_steps
+    for eps in strain_schedule(max_strain, n_steps):
+        dhat = diameter * (1.0 - math.exp(-eps)) / R
+        its = _advance(prob, solver, res.delta[-1] / R, dhat, max_halvings)
+        _record(prob, solver, res, eps, dhat * R, its)
+        log.info("%s eps=%.4f f_norm=%.5f (y=0: %.5f) newton=%d  %.1fs", res.model, eps,
+                 res.f_norm[-1], res.force_sym[-1] / (diameter * length * mu), its,
+                 time.perf_counter() - t0)
+    res.wall_time = time.perf_counter() - t0
+    return res
+
+
+def _advance(prob, solver, dhat_old, dhat_new, max_halvings):
+    """Move the plate from dhat_old to dhat_new, halving the increment on failure."""
+    backup = prob.w.x.array.copy()
+    for level in range(max_halvings + 1):
+        n_sub = 2 ** level
+        targets = dhat_old + (dhat_new - dhat_old) * np.arange(1, n_sub + 1) / n_sub
+        prev, total_its, ok = dhat_old, 0, True
+        for target in targets:
+            _predict(prob, prev, target)
+            ok, its = solver.solve(target)
+            total_its += its
+            if not ok:
+                break
+            prev = target
+        if ok:
+            return total_its
+        log.warning("step to delta/R=%.5f failed (reason %d), %d substeps next",
+                    dhat_new, solver.snes.getConvergedReason(), 2 * n_sub)
+        prob.w.x.array[:] = backup
+        prob.w.x.scatter_forward()
+    raise RuntimeError(f"no equilibrium at delta/R = {dhat_new:.5f}")
+
+
+def _record(prob, solver, res, eps, delta, its):
+    from dolfinx import fem
+
+    R, mu = 0.5 * res.diameter, res.mu
+    f_plate, f_sym = solver.reactions()
+    res.eps.append(float(eps))
+    res.delta.append(float(delta))
+    res.force.append(4.0 * f_plate * mu * R ** 2)
+    res.force_sym.append(4.0 * f_sym * mu * R ** 2)
+    res.energy.append(8.0 * fem.assemble_scalar(prob.energy_form) * mu * R ** 3)
+    res.penalty_energy.append(8.0 * fem.assemble_scalar(prob.penalty_energy_form) * mu * R ** 3)
+    res.max_overlap = max(res.max_overlap, prob.max_overlap() * R)
+    res.newton_its.append(its)
+    for e in PROFILE_STRAINS:
+        if abs(eps - e) < 1e-9:
+            res.profiles_mid[e] = _full_diameter(*prob.transverse_profile(0.0))
+            res.profiles_end[e] = _full_diameter(*prob.transverse_profile(0.5 * res.length / R))
+
+
+def _full_diameter(X, ux):
+    """w = X/R over [-1, 1] by antisymmetry, and u_x/D (inputs scaled by R)."""
+    keep = X > 1e-12
+    w = np.concatenate([-X[keep][::-1], X[~keep], X[keep]])
+    u = np.concatenate([-ux[keep][::-1], ux[~keep], ux[keep]])
+    return w, 0.5 * u
+
+
+# ---------------------------------------------------------------- output
+
+def write_csvs(res, out_dir):
+    """force_3d_<model>.csv, profile_3d_<model>[_endface].csv, energy_3d_<model>.csv, run json."""
+    os.makedirs(out_dir, exist_ok=True)
+    tag = res.model
+    eps = np.asarray(res.eps)
+    scale = res.diameter * res.length * res.mu
+    np.savetxt(os.path.join(out_dir, f"force_3d_{tag}.csv"),
+               np.column_stack([eps, res.f_norm]), delimiter=",",
+               header="eps,f_norm", comments="", fmt="%.6g")
+    e_scale = scale * res.diameter
+    np.savetxt(os.path.join(out_dir, f"energy_3d_{tag}.csv"),
+               np.column_stack([eps, res.f_norm, np.asarray(res.force_sym) / scale,
+                                res.work / e_scale, np.asarray(res.energy) / e_scale]),
+               delimiter=",", header="eps,f_norm,f_norm_sym_plane,work_norm,energy_norm",
+               comments="", fmt="%.6g")
+    for suffix, profiles in (("", res.profiles_mid), ("_endface", res.profiles_end)):
+        rows = [(e, w, u) for e in sorted(profiles) for w, u in zip(*profiles[e])]
+        np.savetxt(os.path.join(out_dir, f"profile_3d_{tag}{suffix}.csv"), np.array(rows),
+                   delimiter=",", header="eps,w,ux_over_D", comments="", fmt="%.6g")
+    meta = {"model": tag, "nu": res.nu, "diameter": res.diameter, "length": res.length,
+            "mu": res.mu, "element_size": res.element_size, "num_cells": res.num_cells,
+            "num_dofs": res.num_dofs, "wall_time_s": round(res.wall_time, 1),
+            "newton_iterations": int(sum(res.newton_its)),
+            "energy_balance_rel": energy_balance(res),
+            "w": "X/R along the transverse diameter Y = 0 (profile: mid-plane; _endface: z = l/2)",
+            "energy_norm": "E/(mu D^2 l)", "work_norm": "int f d(delta) / (mu D^2 l)"}
+    with open(os.path.join(out_dir, f"run_3d_{tag}.json"), "w") as fh:
+        json.dump(meta, fh, indent=1)
+
+
+def energy_balance(res):
+    """(plate work - stored energy) / stored energy at the last step.
+
+    Stored = strain energy + the (small) penalty energy of the plate contact.
+    """
+    stored = res.energy[-1] + res.penalty_energy[-1]
+    return float((res.work[-1] - stored) / stored)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="softpack.reference3d", description=__doc__.split("\n")[0])
+    parser.add_argument("--out", required=True, help="directory for the CSV files")
+    parser.add_argument("--element-size", type=float, default=0.002, help="m, near the contact (default 0.002)")
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--incompressible", action="store_true", help="J = 1, Taylor-Hood P2-P1")
+    group.add_argument("--nu", type=float, default=0.495, help="Poisson ratio (default 0.495)")
+    parser.add_argument("--max-strain", type=float, default=0.25)
+    parser.add_argument("--steps", type=int, default=25, help="uniform steps in eps")
+    parser.add_argument("--diameter", type=float, default=0.02)
+    parser.add_argument("--length", type=float, default=0.015)
+    parser.add_argument("--mu", type=float, default=0.15e6)
+    args = parser.parse_args(argv)
+    handler = logging.StreamHandler()
+    handler.setFormatter(logging.Formatter("%(asctime)s %(message)s", "%H:%M:%S"))
+    log.addHandler(handler)
+    log.setLevel(logging.INFO)
+    log.propagate = False
+    logging.getLogger().setLevel(logging.WARNING)   # FFCx/cffi JIT chatter
+    res = compress_cylinder_3d(args.diameter, args.length, args.mu,
+                               None if args.incompressible else args.nu,
+                               args.element_size, args.max_strain, args.steps)
+    write_csvs(res, args.out)
+    log.info("%s: %d cells, %d dofs, %.0f s; energy balance (work-E)/E = %.2e; wrote %s",
+             res.model, res.num_cells, res.num_dofs, res.wall_time, energy_balance(res), args.out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
