@@ -20,8 +20,8 @@ const MaterialForms& find_material(std::string_view name)
   std::string allowed;
   for (const std::string& n : material_names())
     allowed += (allowed.empty() ? "" : ", ") + n;
-  throw std::invalid_argument("unknown material '" + std::string(name)
-                              + "' (registered: " + allowed + ")");
+  throw std::invalid_argument("unknown material '" + std::string(name) +
+                              "' (registered: " + allowed + ")");
 }
 
 std::vector<std::string> material_parameters(const MaterialForms& m)

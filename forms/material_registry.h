@@ -3,8 +3,8 @@
 #include <span>
 #include <string>
 #include <string_view>
-#include <vector>
 #include <ufcx.h>
+#include <vector>
 
 /// Materials compiled from forms/materials/*.py, looked up by name.
 namespace softpack::forms

@@ -1,0 +1,147 @@
+#pragma once
+
+#include "body_mesh.h"
+#include <Eigen/SparseCore>
+#include <array>
+#include <dolfinx/fem/Constant.h>
+#include <dolfinx/fem/Form.h>
+#include <dolfinx/fem/Function.h>
+#include <dolfinx/fem/FunctionSpace.h>
+#include <map>
+#include <material_registry.h>
+#include <memory>
+#include <string>
+#include <vector>
+
+/// Deformable bodies: finite-strain hyperelastic FEM, one DOF block per body.
+namespace softpack::bodies
+{
+
+/// Sparse symmetric matrix of one body, in the body's local DOF numbering
+/// (2 per node: x then y).
+using BodyMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+/// One deformable body: its nodes, cells and boundary, as indices into the
+/// global arrays of its BodySet.
+struct Body
+{
+  /// Global node (DOF block) index of each local node
+  std::vector<std::int32_t> nodes;
+  /// Cells of the body (dolfinx local cell indices)
+  std::vector<std::int32_t> cells;
+  /// Local indices of the nodes on the boundary (sorted)
+  std::vector<std::int32_t> boundary_nodes;
+  /// Boundary segments as pairs of local node indices, oriented
+  /// counter-clockwise (the body lies on the left of a -> b), so that the
+  /// outward normal is the tangent rotated clockwise
+  std::vector<std::array<std::int32_t, 2>> boundary_segments;
+  /// Area of the body in the reference configuration
+  double reference_area = 0;
+
+  /// Number of scalar DOFs of the body (2 per node)
+  int num_dofs() const { return 2 * static_cast<int>(nodes.size()); }
+};
+
+/// All deformable bodies of a simulation, sharing one material law and one
+/// dolfinx mesh, with per-body DOF blocks.
+///
+/// State is kept in one global displacement vector (dolfinx ordering, two
+/// interleaved components per node); every per-body quantity is gathered
+/// from it through Body::nodes. Bodies never share a node, so every
+/// operator is block-diagonal by body.
+class BodySet
+{
+public:
+  /// @param[in] mesh All bodies in one mesh
+  /// @param[in] material Compiled material (see forms/material_registry.h)
+  /// @param[in] parameters Value of every constant the material declares
+  /// @param[in] density Mass density (kg per unit reference volume)
+  /// @throws std::invalid_argument if a parameter is missing or unknown
+  BodySet(BodyMesh mesh, const forms::MaterialForms& material,
+          const std::map<std::string, double>& parameters, double density);
+
+  /// Number of bodies
+  int num_bodies() const { return static_cast<int>(_bodies.size()); }
+
+  /// Body b
+  const Body& body(int b) const { return _bodies[b]; }
+
+  /// Number of global scalar DOFs (2 per node)
+  std::size_t num_dofs() const { return _reference_x.size(); }
+
+  /// Global displacement vector (interleaved x, y per node); writable
+  std::span<double> displacement();
+
+  /// Reference coordinates of the nodes (interleaved x, y per node)
+  std::span<const double> reference_coordinates() const { return _reference_x; }
+
+  /// Internal force \f$F_{int}(u) = \partial E/\partial u\f$ of all bodies,
+  /// written (not added) into the global vector f
+  void internal_force(std::span<double> f) const;
+
+  /// Tangent stiffness \f$K(u)\f$ of each body, assembled in place into
+  /// matrices holding the body's sparsity pattern (see create_matrices)
+  void tangent(std::vector<BodyMatrix>& K) const;
+
+  /// Zero matrices with each body's sparsity pattern
+  std::vector<BodyMatrix> create_matrices() const;
+
+  /// Consistent mass matrix of each body (computed once)
+  const std::vector<BodyMatrix>& consistent_mass() const { return _mass; }
+
+  /// Lumped (vertex-quadrature, row-sum) mass of each body, one per DOF
+  const std::vector<Eigen::VectorXd>& lumped_mass() const
+  {
+    return _lumped_mass;
+  }
+
+  /// Total strain energy \f$\int \Psi\,dx\f$ over all bodies
+  double strain_energy() const;
+
+  /// Strain energy of each cell (integral of Psi over the cell)
+  std::vector<double> cell_strain_energy() const;
+
+  /// Strain energy of each body
+  std::vector<double> body_strain_energy() const;
+
+  /// Current (deformed) area of each body
+  std::vector<double> body_current_area() const;
+
+  /// Body id of each cell
+  const std::vector<int>& cell_body() const { return _cell_body; }
+
+  /// The displacement as a dolfinx Function (for output)
+  std::shared_ptr<const dolfinx::fem::Function<double>>
+  displacement_function() const
+  {
+    return _u;
+  }
+
+  /// The mesh of all bodies
+  std::shared_ptr<const dolfinx::mesh::Mesh> mesh() const { return _mesh; }
+
+private:
+  void build_bodies();
+  void build_mass();
+  std::vector<double> sum_per_body(const std::vector<double>& per_cell) const;
+  std::vector<double>
+  assemble_cellwise(const dolfinx::fem::Form<double>& L) const;
+
+  std::shared_ptr<dolfinx::mesh::Mesh> _mesh;
+  std::vector<int> _cell_body;
+  double _density;
+  std::shared_ptr<dolfinx::fem::FunctionSpace> _V, _Q;
+  std::shared_ptr<dolfinx::fem::Function<double>> _u;
+  std::map<std::string, std::shared_ptr<const dolfinx::fem::Constant<double>>>
+      _constants;
+  std::shared_ptr<dolfinx::fem::Form<double>> _energy, _residual, _tangent,
+      _energy_density, _current_area;
+  std::vector<Body> _bodies;
+  std::vector<double> _reference_x;
+  /// body and local node of each global node
+  std::vector<std::int32_t> _node_body, _node_local;
+  std::vector<BodyMatrix> _mass;
+  std::vector<Eigen::VectorXd> _lumped_mass;
+};
+
+} // namespace softpack::bodies

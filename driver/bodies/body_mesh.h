@@ -1,0 +1,40 @@
+#pragma once
+
+#include <dolfinx/mesh/Mesh.h>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <vector>
+
+/// Meshes holding several disconnected deformable bodies.
+namespace softpack::bodies
+{
+
+/// One dolfinx mesh holding all bodies, and the body of each cell.
+struct BodyMesh
+{
+  /// All bodies in one (serial) mesh; bodies are disconnected components
+  std::shared_ptr<dolfinx::mesh::Mesh> mesh;
+  /// Body id (0..num_bodies-1) of each local cell, in dolfinx's cell order
+  std::vector<int> cell_body;
+  /// Number of bodies (max id + 1)
+  int num_bodies = 0;
+};
+
+/// Read a mesh written by `softpack.mesh` (python): `NAME.xdmf` holding a
+/// triangle mesh named "mesh" and cell tags named "bodies".
+/// @param[in] xdmf Path of the XDMF file
+/// @throws std::runtime_error naming the file if it is missing, is not a
+/// triangle mesh, or has untagged cells
+BodyMesh read_body_mesh(const std::filesystem::path& xdmf);
+
+/// Build a body mesh from triangles given in memory (tests, generated
+/// geometries).
+/// @param[in] x Vertex coordinates, row-major (num_vertices, 2)
+/// @param[in] cells Triangle vertex indices, row-major (num_cells, 3)
+/// @param[in] cell_body Body id of each input cell
+BodyMesh create_body_mesh(std::span<const double> x,
+                          std::span<const std::int64_t> cells,
+                          std::span<const int> cell_body);
+
+} // namespace softpack::bodies

@@ -1,0 +1,65 @@
+#include "mesh_fixtures.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace softpack::test
+{
+
+Triangulation disk(double cx, double cy, double R, int n)
+{
+  Triangulation t;
+  auto ring_start = [](int k) { return k == 0 ? 0 : 1 + 3 * k * (k - 1); };
+  auto ring_size = [](int k) { return k == 0 ? 1 : 6 * k; };
+  for (int k = 0; k <= n; ++k)
+    for (int j = 0; j < ring_size(k); ++j)
+    {
+      const double r = R * k / n;
+      const double a = 2 * std::numbers::pi * j / ring_size(k);
+      t.x.push_back(cx + r * std::cos(a));
+      t.x.push_back(cy + r * std::sin(a));
+    }
+  // Zip rings k-1 and k by increasing angle; each triangle is
+  // counter-clockwise.
+  for (int k = 1; k <= n; ++k)
+  {
+    const int m0 = ring_size(k - 1), m1 = ring_size(k);
+    const int s0 = ring_start(k - 1), s1 = ring_start(k);
+    int i = (k == 1) ? m0 : 0, j = 0; // the centre has no next node
+    while (i < m0 || j < m1)
+    {
+      const double ai = (k == 1) ? 1e9 : double(i + 1) / m0;
+      const double aj = double(j + 1) / m1;
+      const std::int64_t inner = s0 + i % m0, outer = s1 + j % m1;
+      if (aj <= ai && j < m1)
+      {
+        t.cells.insert(t.cells.end(), {inner, outer, s1 + (j + 1) % m1});
+        ++j;
+      }
+      else
+      {
+        t.cells.insert(t.cells.end(), {inner, outer, s0 + (i + 1) % m0});
+        ++i;
+      }
+    }
+  }
+  return t;
+}
+
+bodies::BodyMesh bodies_mesh(const std::vector<Triangulation>& parts)
+{
+  std::vector<double> x;
+  std::vector<std::int64_t> cells;
+  std::vector<int> body;
+  for (std::size_t p = 0; p < parts.size(); ++p)
+  {
+    const std::int64_t offset = x.size() / 2;
+    x.insert(x.end(), parts[p].x.begin(), parts[p].x.end());
+    for (std::int64_t v : parts[p].cells)
+      cells.push_back(v + offset);
+    body.insert(body.end(), parts[p].cells.size() / 3, static_cast<int>(p));
+  }
+  return bodies::create_body_mesh(x, cells, body);
+}
+
+} // namespace softpack::test

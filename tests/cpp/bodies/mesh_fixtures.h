@@ -1,0 +1,25 @@
+#pragma once
+
+#include <bodies/body_mesh.h>
+#include <vector>
+
+/// Small meshes built in memory for the body tests (no gmsh needed).
+namespace softpack::test
+{
+
+/// Vertex coordinates and triangles of a disk triangulated ring by ring:
+/// ring k (1..n) has 6k nodes on radius R k / n, so boundary nodes lie on
+/// the circle exactly.
+struct Triangulation
+{
+  std::vector<double> x;
+  std::vector<std::int64_t> cells;
+};
+
+/// A disk of radius R centred at (cx, cy) with n rings.
+Triangulation disk(double cx, double cy, double R, int n);
+
+/// Several triangulations as one mesh, body i = i-th triangulation.
+bodies::BodyMesh bodies_mesh(const std::vector<Triangulation>& parts);
+
+} // namespace softpack::test

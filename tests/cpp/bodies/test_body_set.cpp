@@ -1,0 +1,126 @@
+// Per-body blocks of a multi-body mesh: topology, boundary, areas, masses.
+#include "mesh_fixtures.h"
+#include <bodies/BodySet.h>
+#include <bodies/material_parameters.h>
+#include <cmath>
+#include <gtest/gtest.h>
+#include <material_registry.h>
+#include <numbers>
+
+using namespace softpack;
+
+namespace
+{
+constexpr double mu = 0.15e6, rho = 1180;
+constexpr int rings = 5;
+struct DiskSpec
+{
+  double cx, cy, R;
+};
+const std::vector<DiskSpec> disks = {{0, 0, 0.01}, {0.05, 0.01, 0.015}};
+
+bodies::BodySet two_disks()
+{
+  std::vector<test::Triangulation> parts;
+  for (const DiskSpec& d : disks)
+    parts.push_back(test::disk(d.cx, d.cy, d.R, rings));
+  return bodies::BodySet(test::bodies_mesh(parts),
+                         forms::find_material("neo_hookean"),
+                         bodies::plane_strain_parameters(mu), rho);
+}
+
+/// Area of the regular polygon inscribed in the disk (the meshed domain).
+double polygon_area(double R, int sides)
+{
+  return 0.5 * sides * R * R * std::sin(2 * std::numbers::pi / sides);
+}
+} // namespace
+
+TEST(BodySet, EachDiskIsOneBodyWithItsOwnNodes)
+{
+  bodies::BodySet bodies = two_disks();
+  ASSERT_EQ(bodies.num_bodies(), 2);
+  const int nodes_per_disk = 1 + 3 * rings * (rings + 1);
+  std::size_t total = 0;
+  for (int b = 0; b < 2; ++b)
+  {
+    EXPECT_EQ(bodies.body(b).nodes.size(), nodes_per_disk);
+    EXPECT_EQ(bodies.body(b).cells.size(), 6 * rings * rings);
+    total += bodies.body(b).nodes.size();
+  }
+  EXPECT_EQ(2 * total, bodies.num_dofs());
+}
+
+TEST(BodySet, BoundaryIsTheOuterRingOrientedOutward)
+{
+  bodies::BodySet bodies = two_disks();
+  std::span<const double> X = bodies.reference_coordinates();
+  for (int b = 0; b < 2; ++b)
+  {
+    const bodies::Body& body = bodies.body(b);
+    const DiskSpec& d = disks[b];
+    EXPECT_EQ(body.boundary_nodes.size(), 6 * rings);
+    EXPECT_EQ(body.boundary_segments.size(), 6 * rings);
+    for (std::int32_t local : body.boundary_nodes)
+    {
+      const std::int32_t g = body.nodes[local];
+      EXPECT_NEAR(std::hypot(X[2 * g] - d.cx, X[2 * g + 1] - d.cy), d.R, 1e-14);
+    }
+    for (const auto& [a, c] : body.boundary_segments)
+    {
+      const std::int32_t ga = body.nodes[a], gc = body.nodes[c];
+      const double tx = X[2 * gc] - X[2 * ga],
+                   ty = X[2 * gc + 1] - X[2 * ga + 1];
+      // outward normal = tangent rotated clockwise
+      const double nx = ty, ny = -tx;
+      const double mx = 0.5 * (X[2 * ga] + X[2 * gc]) - d.cx;
+      const double my = 0.5 * (X[2 * ga + 1] + X[2 * gc + 1]) - d.cy;
+      EXPECT_GT(nx * mx + ny * my, 0);
+    }
+  }
+}
+
+TEST(BodySet, AreasAreThePolygonAreasAndFollowTheDeformation)
+{
+  bodies::BodySet bodies = two_disks();
+  for (int b = 0; b < 2; ++b)
+    EXPECT_NEAR(bodies.body(b).reference_area /
+                    polygon_area(disks[b].R, 6 * rings),
+                1.0, 1e-13);
+
+  // Body 1 stretched by F = diag(1.2, 0.9): area times det F = 1.08.
+  std::span<const double> X = bodies.reference_coordinates();
+  std::span<double> u = bodies.displacement();
+  for (std::int32_t g : bodies.body(1).nodes)
+  {
+    u[2 * g] = 0.2 * X[2 * g];
+    u[2 * g + 1] = -0.1 * X[2 * g + 1];
+  }
+  const std::vector<double> area = bodies.body_current_area();
+  EXPECT_NEAR(area[0] / bodies.body(0).reference_area, 1.0, 1e-13);
+  EXPECT_NEAR(area[1] / bodies.body(1).reference_area, 1.08, 1e-13);
+  const std::vector<double> energy = bodies.body_strain_energy();
+  EXPECT_EQ(energy[0], 0.0);
+  EXPECT_GT(energy[1], 0.0);
+  EXPECT_NEAR(energy[0] + energy[1], bodies.strain_energy(), 1e-12 * energy[1]);
+}
+
+TEST(BodySet, MassMatricesCarryTheBodyMass)
+{
+  bodies::BodySet bodies = two_disks();
+  for (int b = 0; b < 2; ++b)
+  {
+    const double m = rho * bodies.body(b).reference_area;
+    const bodies::BodyMatrix& M = bodies.consistent_mass()[b];
+    // A rigid translation along x: 1^T M 1_x = total mass
+    Eigen::VectorXd ex = Eigen::VectorXd::Zero(M.rows());
+    for (int i = 0; i < M.rows(); i += 2)
+      ex[i] = 1;
+    EXPECT_NEAR(ex.dot(M * ex) / m, 1.0, 1e-13);
+    EXPECT_NEAR(bodies.lumped_mass()[b].sum() / (2 * m), 1.0, 1e-13);
+    EXPECT_GT(bodies.lumped_mass()[b].minCoeff(), 0.0);
+    // consistent mass is symmetric positive definite
+    EXPECT_NEAR((Eigen::MatrixXd(M) - Eigen::MatrixXd(M).transpose()).norm(),
+                0.0, 1e-15 * M.norm());
+  }
+}
