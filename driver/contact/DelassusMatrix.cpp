@@ -1,0 +1,89 @@
+#include "DelassusMatrix.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+using namespace softpack::contact;
+
+//-----------------------------------------------------------------------------
+DelassusMatrix::DelassusMatrix(std::size_t num_contacts)
+    : _num_contacts(num_contacts),
+      _diagonal(num_contacts, Eigen::Matrix2d::Zero()),
+      _offsets(num_contacts + 1, 0)
+{
+  if (num_contacts >
+      static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max() / 2))
+    throw std::length_error("DelassusMatrix: too many contacts");
+}
+//-----------------------------------------------------------------------------
+void DelassusMatrix::add_block(std::size_t a, std::size_t b,
+                               const Eigen::Matrix2d& block)
+{
+  if (_finalized)
+    throw std::logic_error("DelassusMatrix::add_block after finalize()");
+  if (a >= _num_contacts or b >= _num_contacts)
+  {
+    throw std::out_of_range("DelassusMatrix::add_block: block (" +
+                            std::to_string(a) + ", " + std::to_string(b) +
+                            ") outside " + std::to_string(_num_contacts) +
+                            " contacts");
+  }
+  if (a == b)
+    _diagonal[a] += block;
+  else
+  {
+    _pending.push_back(
+        {static_cast<std::int32_t>(a), static_cast<std::int32_t>(b), block});
+  }
+}
+//-----------------------------------------------------------------------------
+void DelassusMatrix::finalize()
+{
+  if (_finalized)
+    return;
+  std::stable_sort(_pending.begin(), _pending.end(),
+                   [](const Contribution& x, const Contribution& y)
+                   { return x.row != y.row ? x.row < y.row : x.col < y.col; });
+  _columns.clear();
+  _blocks.clear();
+  _columns.reserve(_pending.size());
+  _blocks.reserve(_pending.size());
+  std::fill(_offsets.begin(), _offsets.end(), 0);
+  for (std::size_t k = 0; k < _pending.size(); ++k)
+  {
+    const Contribution& c = _pending[k];
+    const bool same_as_last =
+        k > 0 and _pending[k - 1].row == c.row and _pending[k - 1].col == c.col;
+    if (same_as_last)
+      _blocks.back() += c.block;
+    else
+    {
+      _columns.push_back(c.col);
+      _blocks.push_back(c.block);
+      ++_offsets[c.row + 1];
+    }
+  }
+  for (std::size_t a = 0; a < _num_contacts; ++a)
+    _offsets[a + 1] += _offsets[a];
+  _pending.clear();
+  _pending.shrink_to_fit();
+  _finalized = true;
+}
+//-----------------------------------------------------------------------------
+void DelassusMatrix::multiply_add(std::span<const double> r,
+                                  std::span<double> u) const
+{
+  if (r.size() != 2 * _num_contacts or u.size() != 2 * _num_contacts)
+    throw std::invalid_argument("DelassusMatrix::multiply_add: wrong sizes");
+  for (std::size_t a = 0; a < _num_contacts; ++a)
+  {
+    const Eigen::Vector2d ra(r[2 * a], r[2 * a + 1]);
+    const Eigen::Vector2d ua =
+        _diagonal[a] * ra + offdiagonal_product(a, r.data());
+    u[2 * a] += ua[0];
+    u[2 * a + 1] += ua[1];
+  }
+}
+//-----------------------------------------------------------------------------

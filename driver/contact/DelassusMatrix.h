@@ -1,0 +1,113 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace softpack::contact
+{
+
+/// Block-sparse Delassus operator \f$W = H^T \bar K^{-1} H\f$ of a 2D contact
+/// problem, stored as compressed rows of 2x2 blocks.
+///
+/// Block \f$W_{ab}\f$ maps the impulse of contact \f$b\f$ to the relative
+/// velocity of contact \f$a\f$, both in the local frame \f$(n, t)\f$. Row
+/// \f$a\f$ holds its diagonal block and the list of off-diagonal blocks
+/// \f$(b, W_{ab})\f$, \f$b \ne a\f$, sorted by \f$b\f$. Two contacts are
+/// coupled only when they share a body, so the number of blocks per row is
+/// small and a product \f$W r\f$ costs O(number of blocks).
+///
+/// Use: construct with the number of contacts, call add_block() for every
+/// contribution (contributions to the same block are summed, as when a pair
+/// of contacts shares two bodies), then finalize(). Every row must end up with
+/// a diagonal block; a missing one is stored as zero and rejected by
+/// validate() of the problem.
+class DelassusMatrix
+{
+public:
+  /// Create an empty operator.
+  /// @param[in] num_contacts Number of contacts (block rows and columns)
+  explicit DelassusMatrix(std::size_t num_contacts = 0);
+
+  /// Add a contribution to a block (builder phase only).
+  /// @param[in] a Row contact (the velocity)
+  /// @param[in] b Column contact (the impulse)
+  /// @param[in] block 2x2 block in (n, t) order, added to \f$W_{ab}\f$
+  /// @throws std::out_of_range if a or b is not a contact
+  /// @throws std::logic_error after finalize()
+  void add_block(std::size_t a, std::size_t b, const Eigen::Matrix2d& block);
+
+  /// Sort and merge the contributions into compressed block rows.
+  void finalize();
+
+  /// @return true once finalize() has been called
+  bool finalized() const { return _finalized; }
+
+  /// @return Number of contacts
+  std::size_t num_contacts() const { return _num_contacts; }
+
+  /// @return Number of stored off-diagonal blocks (all rows)
+  std::size_t num_offdiagonal_blocks() const { return _columns.size(); }
+
+  /// @param[in] a Contact index
+  /// @return Diagonal block \f$W_{aa}\f$
+  const Eigen::Matrix2d& diagonal(std::size_t a) const { return _diagonal[a]; }
+
+  /// @param[in] a Contact index
+  /// @return Column (contact) indices of the off-diagonal blocks of row a
+  std::span<const std::int32_t> row_columns(std::size_t a) const
+  {
+    return {_columns.data() + _offsets[a],
+            static_cast<std::size_t>(_offsets[a + 1] - _offsets[a])};
+  }
+
+  /// @param[in] a Contact index
+  /// @return Off-diagonal blocks of row a, in the order of row_columns()
+  std::span<const Eigen::Matrix2d> row_blocks(std::size_t a) const
+  {
+    return {_blocks.data() + _offsets[a],
+            static_cast<std::size_t>(_offsets[a + 1] - _offsets[a])};
+  }
+
+  /// Off-diagonal part of block row a applied to r:
+  /// \f$\sum_{b \ne a} W_{ab} r_b\f$.
+  /// @param[in] a Contact index
+  /// @param[in] r Reactions, 2 per contact in (n, t) order
+  /// @return The 2-vector of the sum
+  Eigen::Vector2d offdiagonal_product(std::size_t a, const double* r) const
+  {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    const std::int32_t end = _offsets[a + 1];
+    for (std::int32_t k = _offsets[a]; k < end; ++k)
+    {
+      const double* rb = r + 2 * static_cast<std::size_t>(_columns[k]);
+      sum += _blocks[k] * Eigen::Vector2d(rb[0], rb[1]);
+    }
+    return sum;
+  }
+
+  /// \f$u \leftarrow u + W r\f$.
+  /// @param[in] r Reactions, size 2 num_contacts()
+  /// @param[in,out] u Velocities, size 2 num_contacts()
+  void multiply_add(std::span<const double> r, std::span<double> u) const;
+
+private:
+  struct Contribution
+  {
+    std::int32_t row, col;
+    Eigen::Matrix2d block;
+  };
+
+  std::size_t _num_contacts;
+  bool _finalized = false;
+  std::vector<Contribution> _pending;
+
+  // Compressed block rows
+  std::vector<Eigen::Matrix2d> _diagonal;
+  std::vector<std::int32_t> _offsets;
+  std::vector<std::int32_t> _columns;
+  std::vector<Eigen::Matrix2d> _blocks;
+};
+
+} // namespace softpack::contact

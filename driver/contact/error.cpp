@@ -1,0 +1,72 @@
+#include "error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+using namespace softpack::contact;
+
+//-----------------------------------------------------------------------------
+Eigen::Vector2d softpack::contact::project_on_cone(const Eigen::Vector2d& x,
+                                                   double mu)
+{
+  const double xn = x[0];
+  const double abs_t = std::abs(x[1]);
+  if (mu * abs_t <= -xn)
+    return Eigen::Vector2d::Zero(); // in the polar cone
+  if (abs_t <= mu * xn)
+    return x; // inside K
+  const double pn = (xn + mu * abs_t) / (1.0 + mu * mu);
+  return {pn, std::copysign(mu * pn, x[1])};
+}
+//-----------------------------------------------------------------------------
+double softpack::contact::natural_map_residual_squared(const Eigen::Vector2d& r,
+                                                       const Eigen::Vector2d& u,
+                                                       double mu)
+{
+  const Eigen::Vector2d u_desaxce(u[0] + mu * std::abs(u[1]), u[1]);
+  return (r - project_on_cone(r - u_desaxce, mu)).squaredNorm();
+}
+//-----------------------------------------------------------------------------
+bool softpack::contact::is_q_zero(const FrictionContactProblem2D& problem,
+                                  double q_zero_tolerance)
+{
+  return std::all_of(problem.q.begin(), problem.q.end(),
+                     [q_zero_tolerance](double v)
+                     { return std::abs(v) <= q_zero_tolerance; });
+}
+//-----------------------------------------------------------------------------
+NaturalMapError
+softpack::contact::compute_error(const FrictionContactProblem2D& problem,
+                                 std::span<const double> r, std::span<double> u,
+                                 double q_zero_tolerance)
+{
+  const std::size_t nc = problem.num_contacts();
+  if (r.size() != 2 * nc or u.size() != 2 * nc)
+    throw std::invalid_argument("compute_error: r and u need 2 per contact");
+  std::copy(problem.q.begin(), problem.q.end(), u.begin());
+  problem.W.multiply_add(r, u);
+
+  double sum = 0, rr = 0, uu = 0, qq = 0;
+  for (std::size_t a = 0; a < nc; ++a)
+  {
+    const Eigen::Vector2d ra(r[2 * a], r[2 * a + 1]);
+    const Eigen::Vector2d ua(u[2 * a], u[2 * a + 1]);
+    sum += natural_map_residual_squared(ra, ua, problem.mu[a]);
+    rr += ra.squaredNorm();
+    uu += ua.squaredNorm();
+    qq += problem.q[2 * a] * problem.q[2 * a] +
+          problem.q[2 * a + 1] * problem.q[2 * a + 1];
+  }
+  NaturalMapError e;
+  e.absolute = std::sqrt(sum);
+  e.scale = std::sqrt(std::max({rr, uu, qq}));
+  e.q_zero = is_q_zero(problem, q_zero_tolerance);
+  if (e.q_zero or e.scale <= std::numeric_limits<double>::epsilon())
+    e.value = e.absolute;
+  else
+    e.value = e.absolute / e.scale;
+  return e;
+}
+//-----------------------------------------------------------------------------

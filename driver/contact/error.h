@@ -1,0 +1,70 @@
+#pragma once
+
+#include "problem.h"
+
+#include <Eigen/Core>
+#include <span>
+
+namespace softpack::contact
+{
+
+/// Euclidean projection onto the 2D Coulomb cone
+/// \f$K_\mu = \{ (r_n, r_t) : |r_t| \le \mu r_n \}\f$.
+/// @param[in] x Point (n, t)
+/// @param[in] mu Coulomb coefficient, \f$\mu \ge 0\f$
+/// @return \f$\mathrm{proj}_{K_\mu}(x)\f$
+Eigen::Vector2d project_on_cone(const Eigen::Vector2d& x, double mu);
+
+/// Squared natural-map residual of one contact with the De Saxcé velocity:
+/// \f[
+///   \| r - \mathrm{proj}_{K_\mu}(r - \tilde u) \|^2, \qquad
+///   \tilde u = (u_n + \mu |u_t|, \; u_t).
+/// \f]
+/// It is zero exactly when (r, u) satisfy Signorini and Coulomb.
+/// @param[in] r Reaction (n, t)
+/// @param[in] u Velocity (n, t)
+/// @param[in] mu Coulomb coefficient
+/// @return The squared residual
+double natural_map_residual_squared(const Eigen::Vector2d& r,
+                                    const Eigen::Vector2d& u, double mu);
+
+/// The error of a candidate solution (Siconos `fc2d_compute_error`).
+struct NaturalMapError
+{
+  /// \f$\big(\sum_a \|r_a - \mathrm{proj}_K(r_a - \tilde u_a)\|^2\big)^{1/2}\f$
+  double absolute = 0;
+
+  /// \f$\max(\|r\|, \|u\|, \|q\|)\f$
+  double scale = 0;
+
+  /// true when q = 0 within the given tolerance: the answer is r = 0 and a
+  /// relative error would only measure rounding noise in q
+  bool q_zero = false;
+
+  /// The error compared with a tolerance: absolute/scale (Siconos: not
+  /// divided when scale <= machine epsilon), or absolute when q_zero
+  double value = 0;
+};
+
+/// True when \f$\|q\|_\infty \le\f$ q_zero_tolerance: the problem is
+/// trivial, with the solution r = 0, u = q.
+/// @param[in] problem The problem
+/// @param[in] q_zero_tolerance Absolute threshold (velocity units)
+bool is_q_zero(const FrictionContactProblem2D& problem,
+               double q_zero_tolerance);
+
+/// Full error of (r, u = W r + q), u recomputed here (one pass over W).
+/// \f[
+///   e = \frac{\big(\sum_a \|r_a - \mathrm{proj}_{K_{\mu_a}}(r_a - \tilde
+///   u_a)\|^2\big)^{1/2}}{\max(\|r\|, \|u\|, \|q\|)}
+/// \f]
+/// @param[in] problem The problem
+/// @param[in] r Reactions, 2 per contact
+/// @param[out] u Velocities W r + q, 2 per contact
+/// @param[in] q_zero_tolerance See is_q_zero(); then the error is absolute
+/// @return The error terms
+NaturalMapError compute_error(const FrictionContactProblem2D& problem,
+                              std::span<const double> r, std::span<double> u,
+                              double q_zero_tolerance);
+
+} // namespace softpack::contact

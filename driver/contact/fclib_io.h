@@ -1,0 +1,67 @@
+#pragma once
+
+#include "problem.h"
+
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace softpack::contact
+{
+
+/// A file that is not a valid 2D local FCLIB problem; the message names the
+/// file and what is wrong (missing dataset, wrong sizes, dimension, ...).
+class FclibError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Content of an FCLIB local file beyond the problem itself.
+struct FclibLocalFile
+{
+  /// The problem, validated
+  FrictionContactProblem2D problem;
+
+  /// /fclib_local/info/title, if present
+  std::string title;
+
+  /// /solution/r, if present (a reference answer)
+  std::optional<std::vector<double>> solution_r;
+
+  /// /guesses/1/r, if present (e.g. the start of a failed solve)
+  std::optional<std::vector<double>> guess_r;
+};
+
+/// Read a 2D problem stored in the FCLIB HDF5 local layout `/fclib_local`:
+/// `spacedim` (= 2), `W/{m,n,nz,nzmax,p,i,x}` a CSparse matrix (nz = -2
+/// compressed rows, nz = -1 compressed columns, nz >= 0 triplets),
+/// `vectors/q` (2 per contact, (n, t)), `vectors/mu` (one per contact).
+/// W is converted to its 2x2 block form without forming it dense.
+/// @param[in] path The HDF5 file
+/// @return The problem and the optional title, solution and guess
+/// @throws FclibError if the file is not a valid 2D local problem
+FclibLocalFile read_fclib_local_file(const std::filesystem::path& path);
+
+/// As read_fclib_local_file(), the problem only.
+/// @param[in] path The HDF5 file
+/// @return The validated problem
+/// @throws FclibError if the file is not a valid 2D local problem
+FrictionContactProblem2D read_fclib_local(const std::filesystem::path& path);
+
+/// Write a problem in the same `/fclib_local` layout (W as compressed rows
+/// of its stored blocks), so that a failed solve can be replayed by a test.
+/// @param[in] problem The problem (finalized W)
+/// @param[in] path The HDF5 file, created or truncated
+/// @param[in] description Stored as /fclib_local/info/description
+/// @param[in] guess If not empty, reactions stored as /guesses/1/r
+/// @throws FclibError if the file cannot be written
+void dump_problem(const FrictionContactProblem2D& problem,
+                  const std::filesystem::path& path,
+                  const std::string& description = "",
+                  std::span<const double> guess = {});
+
+} // namespace softpack::contact

@@ -1,0 +1,132 @@
+#include "nlgs.h"
+
+#include "error.h"
+#include "fclib_io.h"
+#include "local_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using namespace softpack::contact;
+
+namespace
+{
+//-----------------------------------------------------------------------------
+void check_arguments(const FrictionContactProblem2D& problem,
+                     std::span<double> r, std::span<double> u,
+                     const NlgsOptions& options)
+{
+  const std::size_t n = 2 * problem.num_contacts();
+  if (r.size() != n or u.size() != n)
+    throw std::invalid_argument("solve_nlgs: r and u need 2 per contact");
+  if (!(options.relaxation > 0 and options.relaxation < 2))
+    throw std::invalid_argument("solve_nlgs: relaxation must be in (0, 2)");
+  if (!(options.tolerance >= 0) or options.max_sweeps < 0)
+    throw std::invalid_argument("solve_nlgs: negative tolerance or sweeps");
+}
+//-----------------------------------------------------------------------------
+/// One Gauss–Seidel sweep; returns the squared change of r and the squared
+/// norm of the new r.
+std::pair<double, double> sweep(const FrictionContactProblem2D& problem,
+                                double* r, double omega)
+{
+  const DelassusMatrix& W = problem.W;
+  const std::size_t nc = problem.num_contacts();
+  double change = 0, norm = 0;
+  for (std::size_t a = 0; a < nc; ++a)
+  {
+    const Eigen::Vector2d qa =
+        Eigen::Vector2d(problem.q[2 * a], problem.q[2 * a + 1]) +
+        W.offdiagonal_product(a, r);
+    const double mu = problem.mu[a];
+    Eigen::Vector2d ra = solve_local(W.diagonal(a), qa, mu).r;
+    const Eigen::Vector2d old(r[2 * a], r[2 * a + 1]);
+    if (omega != 1.0)
+    {
+      ra = omega * ra + (1.0 - omega) * old;
+      if (omega > 1.0)
+        ra = project_on_cone(ra, mu);
+    }
+    change += (ra - old).squaredNorm();
+    norm += ra.squaredNorm();
+    r[2 * a] = ra[0];
+    r[2 * a + 1] = ra[1];
+  }
+  return {change, norm};
+}
+//-----------------------------------------------------------------------------
+void dump_after_failure(const FrictionContactProblem2D& problem,
+                        const std::vector<double>& start,
+                        const NlgsOptions& options, NlgsResult& result)
+{
+  const std::string why =
+      "NLGS did not converge: " + std::to_string(result.iterations) +
+      " sweeps, error " + std::to_string(result.error) + " > tolerance " +
+      std::to_string(options.tolerance) + "; guess = starting reactions";
+  try
+  {
+    dump_problem(problem, options.dump_on_failure, why, start);
+    result.dumped_to = options.dump_on_failure;
+  }
+  catch (const std::exception&)
+  {
+    // A failed dump must not hide the solver's own outcome.
+  }
+}
+} // namespace
+
+//-----------------------------------------------------------------------------
+NlgsResult
+softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
+                              std::span<double> r, std::span<double> u,
+                              const NlgsOptions& options)
+{
+  check_arguments(problem, r, u, options);
+  if (!options.warm_start)
+    std::fill(r.begin(), r.end(), 0.0);
+  std::vector<double> start;
+  if (!options.dump_on_failure.empty())
+    start.assign(r.begin(), r.end());
+
+  NlgsResult result;
+  result.q_zero = is_q_zero(problem, options.q_zero_tolerance);
+  if (result.q_zero)
+    std::fill(r.begin(), r.end(), 0.0);
+
+  double working_tolerance = options.tolerance;
+  bool full_error_current = false;
+  NaturalMapError full;
+  while (!result.q_zero and result.iterations < options.max_sweeps)
+  {
+    const auto [change, norm] = sweep(problem, r.data(), options.relaxation);
+    ++result.iterations;
+    const double scale = std::sqrt(norm);
+    result.cheap_error = std::sqrt(change);
+    if (scale > std::numeric_limits<double>::epsilon())
+      result.cheap_error /= scale;
+    full_error_current = false;
+    if (!std::isfinite(result.cheap_error))
+      break;
+    if (result.cheap_error > working_tolerance)
+      continue;
+    full = compute_error(problem, r, u, options.q_zero_tolerance);
+    full_error_current = true;
+    if (full.value <= options.tolerance)
+      break;
+    working_tolerance =
+        full.value > 0 ? result.cheap_error / full.value * options.tolerance
+                       : working_tolerance;
+  }
+  if (!full_error_current)
+    full = compute_error(problem, r, u, options.q_zero_tolerance);
+  result.error = full.value;
+  result.converged = full.value <= options.tolerance;
+  if (!result.converged and !options.dump_on_failure.empty())
+    dump_after_failure(problem, start, options, result);
+  return result;
+}
+//-----------------------------------------------------------------------------

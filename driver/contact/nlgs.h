@@ -1,0 +1,84 @@
+#pragma once
+
+#include "problem.h"
+
+#include <filesystem>
+#include <span>
+#include <string>
+
+namespace softpack::contact
+{
+
+/// Options of solve_nlgs().
+struct NlgsOptions
+{
+  /// Target of the full natural-map error (see compute_error())
+  double tolerance = 1e-8;
+
+  /// Maximum number of sweeps over all contacts
+  int max_sweeps = 10000;
+
+  /// Relaxation \f$\omega \in (0, 2)\f$: \f$r_a \leftarrow \omega
+  /// r_a^{local} + (1 - \omega) r_a\f$, projected on the cone if
+  /// \f$\omega > 1\f$
+  double relaxation = 1.0;
+
+  /// Start from the reactions passed in (else from r = 0)
+  bool warm_start = true;
+
+  /// \f$\|q\|_\infty\f$ at or below this (absolute, velocity units) means
+  /// q = 0: the solution is r = 0 without a sweep and the error is absolute
+  double q_zero_tolerance = 1e-12;
+
+  /// If not empty and the solve does not converge, the problem (and the
+  /// starting reactions, as a guess) is written there by dump_problem()
+  std::filesystem::path dump_on_failure;
+};
+
+/// Outcome of solve_nlgs().
+struct NlgsResult
+{
+  /// Number of sweeps done
+  int iterations = 0;
+
+  /// Full natural-map error at the end (NaturalMapError::value)
+  double error = 0;
+
+  /// Last cheap error: \f$\|r^{k} - r^{k-1}\| / \|r^k\|\f$ over a sweep
+  double cheap_error = 0;
+
+  /// error <= tolerance
+  bool converged = false;
+
+  /// q was zero (see NlgsOptions::q_zero_tolerance): r = 0, no sweep
+  bool q_zero = false;
+
+  /// Where the problem was dumped after a failure (empty if not dumped)
+  std::filesystem::path dumped_to;
+};
+
+/// Nonlinear (block) Gauss–Seidel for the 2D frictional contact problem
+/// \f$u = W r + q\f$ (Moreau, Jean; Siconos `fc2d_nsgs`).
+///
+/// A sweep visits the contacts in order; contact \f$a\f$ solves its 2x2
+/// problem exactly (solve_local()) with
+/// \f$q_a + \sum_{b \ne a} W_{ab} r_b\f$, the others' current reactions,
+/// so a sweep costs O(number of stored blocks) and W is never formed dense.
+/// After each sweep the cheap error \f$\|\Delta r\| / \|r\|\f$ is compared
+/// with a working tolerance (initially the tolerance); when it passes, the
+/// full error (compute_error()) decides, and if it is still too large the
+/// working tolerance is scaled down by the ratio of the two (as Siconos'
+/// "light with full final" test). The full error is always computed at the
+/// end.
+///
+/// @param[in] problem A validated problem (see validate())
+/// @param[in,out] r Reactions, 2 per contact (n, t): the start when
+///   options.warm_start, the solution on return
+/// @param[out] u Velocities \f$W r + q\f$ at the returned r
+/// @param[in] options Tolerance, sweeps, relaxation, ...
+/// @return Sweeps, error and convergence flag
+NlgsResult solve_nlgs(const FrictionContactProblem2D& problem,
+                      std::span<double> r, std::span<double> u,
+                      const NlgsOptions& options = {});
+
+} // namespace softpack::contact

@@ -1,0 +1,87 @@
+#include "problem.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+using namespace softpack::contact;
+
+namespace
+{
+//-----------------------------------------------------------------------------
+[[noreturn]] void fail(const std::string& what)
+{
+  throw std::invalid_argument(what);
+}
+//-----------------------------------------------------------------------------
+bool finite(const Eigen::Matrix2d& m)
+{
+  return m.allFinite();
+}
+//-----------------------------------------------------------------------------
+void validate_sizes(const FrictionContactProblem2D& p)
+{
+  const std::size_t nc = p.num_contacts();
+  if (!p.W.finalized())
+    fail("W is not finalized");
+  if (p.W.num_contacts() != nc)
+  {
+    fail("W has " + std::to_string(p.W.num_contacts()) +
+         " block rows but mu has " + std::to_string(nc) + " contacts");
+  }
+  if (p.q.size() != 2 * nc)
+  {
+    fail("q has " + std::to_string(p.q.size()) + " entries, expected " +
+         std::to_string(2 * nc) + " (2 per contact)");
+  }
+}
+//-----------------------------------------------------------------------------
+void validate_values(const FrictionContactProblem2D& p)
+{
+  for (std::size_t k = 0; k < p.q.size(); ++k)
+    if (!std::isfinite(p.q[k]))
+      fail("q[" + std::to_string(k) + "] is not finite");
+  for (std::size_t a = 0; a < p.mu.size(); ++a)
+  {
+    if (!std::isfinite(p.mu[a]))
+      fail("mu[" + std::to_string(a) + "] is not finite");
+    if (p.mu[a] < 0)
+    {
+      fail("mu[" + std::to_string(a) + "] = " + std::to_string(p.mu[a]) +
+           " is negative");
+    }
+  }
+}
+//-----------------------------------------------------------------------------
+void validate_blocks(const DelassusMatrix& W)
+{
+  for (std::size_t a = 0; a < W.num_contacts(); ++a)
+  {
+    const Eigen::Matrix2d& d = W.diagonal(a);
+    if (!finite(d))
+      fail("W diagonal block of contact " + std::to_string(a) +
+           " is not finite");
+    if (!(d(0, 0) > 0))
+    {
+      fail("W diagonal block of contact " + std::to_string(a) +
+           " has W_nn = " + std::to_string(d(0, 0)) +
+           " (must be > 0: missing or degenerate contact)");
+    }
+    const auto cols = W.row_columns(a);
+    const auto blocks = W.row_blocks(a);
+    for (std::size_t k = 0; k < cols.size(); ++k)
+      if (!finite(blocks[k]))
+        fail("W block (" + std::to_string(a) + ", " + std::to_string(cols[k]) +
+             ") is not finite");
+  }
+}
+} // namespace
+
+//-----------------------------------------------------------------------------
+void softpack::contact::validate(const FrictionContactProblem2D& problem)
+{
+  validate_sizes(problem);
+  validate_values(problem);
+  validate_blocks(problem.W);
+}
+//-----------------------------------------------------------------------------

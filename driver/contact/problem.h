@@ -1,0 +1,44 @@
+#pragma once
+
+#include "DelassusMatrix.h"
+
+#include <cstddef>
+#include <vector>
+
+namespace softpack::contact
+{
+
+/// A 2D frictional contact problem in local (Delassus) form, as in Siconos
+/// and FCLIB: find reactions \f$r\f$ and velocities \f$u\f$ with
+/// \f[
+///   u = W r + q, \qquad
+///   0 \le u_{n,a} \perp r_{n,a} \ge 0, \qquad
+///   |r_{t,a}| \le \mu_a r_{n,a}, \qquad
+///   r_{t,a} = -\mu_a r_{n,a} \operatorname{sign}(u_{t,a})
+///   \text{ if } u_{t,a} \ne 0,
+/// \f]
+/// for every contact \f$a\f$, each vector holding (n, t) per contact.
+/// Plain data: the algorithms take it by const reference.
+struct FrictionContactProblem2D
+{
+  /// Delassus operator, finalized
+  DelassusMatrix W;
+
+  /// Free velocity, 2 per contact in (n, t) order
+  std::vector<double> q;
+
+  /// Coulomb coefficient, one per contact
+  std::vector<double> mu;
+
+  /// @return Number of contacts
+  std::size_t num_contacts() const { return mu.size(); }
+};
+
+/// Check that a problem is well formed: W finalized with one block row per
+/// contact, sizes of q and mu, finite values, \f$\mu \ge 0\f$ and a positive
+/// normal compliance \f$(W_{aa})_{nn} > 0\f$ on every diagonal block.
+/// @param[in] problem The problem
+/// @throws std::invalid_argument naming the first violation found
+void validate(const FrictionContactProblem2D& problem);
+
+} // namespace softpack::contact
