@@ -1,0 +1,388 @@
+"""Meshes of disks with gmsh, written as one dolfinx mesh for the driver.
+
+Every disk is meshed with linear (3-node) triangles of one absolute element
+size h (the paper: h = 1.065 mm for both D1 = 20 mm and D2 = 30 mm, about 670
+and 1506 triangles).  All disks form one dolfinx mesh of disconnected
+components; a cell tag gives each triangle's body id.
+
+Output of :func:`mesh_disks` for a stem ``NAME`` (SI units, metres):
+
+``NAME.xdmf`` + ``NAME.h5``
+    written by ``dolfinx.io.XDMFFile``: the mesh named ``"mesh"`` and the
+    cell meshtags named ``"bodies"`` whose value is the body id
+    ``0..n-1`` in the order the disks were given.
+``NAME.bodies.csv``
+    header ``body,x,y,radius,reference_area``, one row per body; the
+    reference area is the area of the meshed polygon (m^2).
+
+The files are written in a temporary directory next to them and renamed into
+place, ``NAME.bodies.csv`` last (a stale one is removed first), so a present
+``NAME.bodies.csv`` means the three files are complete.
+
+Disks of equal radius share one gmsh mesh translated to each centre, so the
+boundary nodes lie on each circle up to rounding.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from softpack.packing import (DEFAULT_GAP, PAPER_COUNTS, PAPER_DIAMETERS,
+                              PAPER_LENGTH, PAPER_WIDTH, Packing, PackingError,
+                              random_packing)
+
+#: The paper's element size (m): kappa = h / (D2 / 2) = 0.071.
+PAPER_ELEMENT_SIZE = 1.065e-3
+#: Fewest elements allowed around a disk's circumference.
+MIN_BOUNDARY_ELEMENTS = 8
+BODIES_COLUMNS = "body,x,y,radius,reference_area"
+
+
+@dataclass(frozen=True)
+class MeshInfo:
+    """What :func:`mesh_disks` wrote.
+
+    Attributes
+    ----------
+    xdmf, h5, bodies_csv : Path
+        The three output files.
+    triangles_per_body, nodes_per_body : tuple of int
+        Mesh size of each body, in body-id order.
+    reference_areas : tuple of float
+        Area of each body's meshed polygon (m^2).
+    """
+
+    xdmf: Path
+    h5: Path
+    bodies_csv: Path
+    triangles_per_body: tuple
+    nodes_per_body: tuple
+    reference_areas: tuple
+
+    @property
+    def n_triangles(self) -> int:
+        """Total number of triangles."""
+        return int(sum(self.triangles_per_body))
+
+
+def output_paths(out_stem) -> tuple[Path, Path, Path]:
+    """The ``(xdmf, h5, bodies_csv)`` paths of a stem.
+
+    A trailing ``.xdmf`` on the stem is dropped.
+    """
+    stem = Path(out_stem)
+    if stem.suffix == ".xdmf":
+        stem = stem.with_suffix("")
+    return (stem.with_name(stem.name + ".xdmf"),
+            stem.with_name(stem.name + ".h5"),
+            stem.with_name(stem.name + ".bodies.csv"))
+
+
+def check_disks(centres, radii, element_size) -> tuple[np.ndarray, np.ndarray]:
+    """Validate disk data; return centres ``(n, 2)`` and radii ``(n,)``.
+
+    Raises
+    ------
+    ValueError
+        On shapes that do not match, non-finite or non-positive values, or an
+        element size giving fewer than ``MIN_BOUNDARY_ELEMENTS`` elements
+        around the smallest disk.
+    """
+    centres = np.asarray(centres, dtype=float)
+    radii = np.atleast_1d(np.asarray(radii, dtype=float))
+    if centres.ndim == 1 and centres.size == 2:
+        centres = centres.reshape(1, 2)
+    if centres.ndim != 2 or centres.shape[1] != 2:
+        raise ValueError(f"centres must have shape (n, 2), got {centres.shape}")
+    if radii.ndim != 1 or len(radii) != len(centres) or not len(radii):
+        raise ValueError(f"need one radius per centre: {len(centres)} centres,"
+                         f" radii of shape {radii.shape}")
+    if not (np.all(np.isfinite(centres)) and np.all(np.isfinite(radii))):
+        raise ValueError("centres and radii must be finite")
+    if np.any(radii <= 0):
+        raise ValueError(f"radii must be positive, got min {radii.min()}")
+    h = float(element_size)
+    if not np.isfinite(h) or h <= 0:
+        raise ValueError(f"element size must be positive, got {element_size}")
+    if 2 * np.pi * radii.min() / h < MIN_BOUNDARY_ELEMENTS:
+        raise ValueError(
+            f"element size {h} m is too large for a disk of radius"
+            f" {radii.min()} m (fewer than {MIN_BOUNDARY_ELEMENTS} elements"
+            " around it)")
+    return centres, radii
+
+
+def disk_triangulation(radii, element_size) -> dict:
+    """Mesh disks centred at the origin with gmsh, one per distinct radius.
+
+    Parameters
+    ----------
+    radii : iterable of float
+        Radii (m); each distinct value is meshed once.
+    element_size : float
+        Target edge length h (m), the same everywhere.
+
+    Returns
+    -------
+    dict
+        ``radius -> (points, triangles)``: node coordinates ``(m, 2)`` and
+        counter-clockwise 3-node triangles ``(k, 3)`` indexing them.
+
+    Notes
+    -----
+    Owns the gmsh session: initialises gmsh and finalises it on return.
+    """
+    import gmsh
+
+    gmsh.initialize(readConfigFiles=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        for name, value in (("Mesh.MeshSizeMin", element_size),
+                            ("Mesh.MeshSizeMax", element_size),
+                            ("Mesh.MeshSizeFromPoints", 0),
+                            ("Mesh.MeshSizeFromCurvature", 0),
+                            ("Mesh.MeshSizeExtendFromBoundary", 0),
+                            ("Mesh.Algorithm", 6),  # Frontal-Delaunay
+                            ("Mesh.ElementOrder", 1)):
+            gmsh.option.setNumber(name, value)
+        return {float(r): _gmsh_disk(gmsh, float(r))
+                for r in sorted(set(np.asarray(radii, dtype=float).tolist()))}
+    finally:
+        gmsh.finalize()
+
+
+def _gmsh_disk(gmsh, radius) -> tuple[np.ndarray, np.ndarray]:
+    """Mesh one disk in a fresh gmsh model; return points and triangles."""
+    gmsh.model.add(f"disk_{radius!r}")
+    try:
+        surface = gmsh.model.occ.addDisk(0.0, 0.0, 0.0, radius, radius)
+        gmsh.model.occ.synchronize()
+        gmsh.model.mesh.generate(2)
+        tags, coords, _ = gmsh.model.mesh.getNodes(
+            2, surface, includeBoundary=True, returnParametricCoord=False)
+        types, _, nodes = gmsh.model.mesh.getElements(2, surface)
+    finally:
+        gmsh.model.remove()
+    if list(types) != [2]:  # gmsh type 2: 3-node triangle
+        raise RuntimeError(f"gmsh returned element types {list(types)}")
+    local = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
+    local[tags.astype(np.int64)] = np.arange(len(tags))
+    triangles = local[nodes[0].astype(np.int64)].reshape(-1, 3)
+    points = coords.reshape(-1, 3)[:, :2]
+    used = np.unique(triangles)
+    if len(used) != len(points) or np.any(triangles < 0):
+        raise RuntimeError("gmsh mesh has unused or unknown nodes")
+    flip = signed_areas(points, triangles) < 0
+    triangles[flip] = triangles[flip][:, [0, 2, 1]]
+    return points, triangles
+
+
+def signed_areas(points, triangles) -> np.ndarray:
+    """Signed areas of triangles; positive when counter-clockwise."""
+    p = np.asarray(points)[:, :2]
+    a = p[triangles[:, 1]] - p[triangles[:, 0]]
+    b = p[triangles[:, 2]] - p[triangles[:, 0]]
+    return 0.5 * (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+
+
+def mesh_disks(centres, radii, element_size, out_stem) -> MeshInfo:
+    """Mesh disks and write them as one dolfinx mesh with body tags.
+
+    Parameters
+    ----------
+    centres : array_like, shape (n, 2)
+        Disk centres (m); body ``i`` is the disk ``centres[i], radii[i]``.
+    radii : array_like, shape (n,)
+        Disk radii (m).
+    element_size : float
+        One absolute element size h for all disks (m).
+    out_stem : str or Path
+        Output stem ``NAME``: writes ``NAME.xdmf``, ``NAME.h5`` and
+        ``NAME.bodies.csv`` (parent directories are created).
+
+    Returns
+    -------
+    MeshInfo
+    """
+    centres, radii = check_disks(centres, radii, element_size)
+    xdmf, h5, bodies_csv = output_paths(out_stem)
+    templates = disk_triangulation(radii, element_size)
+    points, cells, body = [], [], []
+    offset = 0
+    for i, (c, r) in enumerate(zip(centres, radii)):
+        p, t = templates[float(r)]
+        points.append(p + c)
+        cells.append(t + offset)
+        body.append(np.full(len(t), i, dtype=np.int32))
+        offset += len(p)
+    points, cells = np.vstack(points), np.vstack(cells)
+    body = np.concatenate(body)
+    mesh, tags = _dolfinx_mesh(points, cells, body)
+    areas = np.array([signed_areas(*templates[float(r)]).sum()
+                      for r in radii])
+    rows = [f"{i},{c[0]!r},{c[1]!r},{r!r},{a!r}"
+            for i, (c, r, a) in enumerate(zip(centres, radii, areas))]
+    _write_outputs(xdmf, mesh, tags, bodies_csv, rows)
+    return MeshInfo(
+        xdmf=xdmf, h5=h5, bodies_csv=bodies_csv,
+        triangles_per_body=tuple(len(templates[float(r)][1]) for r in radii),
+        nodes_per_body=tuple(len(templates[float(r)][0]) for r in radii),
+        reference_areas=tuple(float(a) for a in areas))
+
+
+def _dolfinx_mesh(points, cells, body):
+    """One serial dolfinx mesh and its ``"bodies"`` cell tags.
+
+    dolfinx reorders cells; ``original_cell_index`` maps each local cell back
+    to its row in ``cells`` and so to its body id.
+    """
+    import dolfinx.mesh
+    import ufl
+    from mpi4py import MPI
+
+    domain = ufl.Mesh(ufl.VectorElement("Lagrange", ufl.triangle, 1))
+    mesh = dolfinx.mesh.create_mesh(MPI.COMM_SELF, cells.astype(np.int64),
+                                    points, domain)
+    mesh.name = "mesh"
+    original = np.asarray(mesh.topology.original_cell_index)
+    if len(original) != len(cells):
+        raise RuntimeError("dolfinx mesh lost cells")
+    geometry = mesh.geometry.dofmap.array.reshape(-1, 3)
+    if np.any(signed_areas(mesh.geometry.x, geometry) <= 0):
+        raise RuntimeError("dolfinx mesh has non-positively oriented cells")
+    tags = dolfinx.mesh.meshtags(mesh, 2,
+                                 np.arange(len(original), dtype=np.int32),
+                                 body[original].astype(np.int32))
+    tags.name = "bodies"
+    return mesh, tags
+
+
+def _write_outputs(xdmf, mesh, tags, bodies_csv, rows) -> None:
+    """Write mesh, tags and body table into place atomically (see module)."""
+    import dolfinx.io
+    from mpi4py import MPI
+
+    xdmf.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{xdmf.stem}.tmp-", dir=xdmf.parent))
+    try:
+        with dolfinx.io.XDMFFile(MPI.COMM_SELF, str(tmp / xdmf.name),
+                                 "w") as f:
+            f.write_mesh(mesh)
+            f.write_meshtags(tags)
+        (tmp / bodies_csv.name).write_text(
+            "\n".join([BODIES_COLUMNS, *rows]) + "\n")
+        bodies_csv.unlink(missing_ok=True)
+        h5_name = xdmf.with_suffix(".h5").name
+        os.replace(tmp / h5_name, xdmf.with_name(h5_name))
+        os.replace(tmp / xdmf.name, xdmf)
+        os.replace(tmp / bodies_csv.name, bodies_csv)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def read_bodies(path) -> dict:
+    """Read ``NAME.bodies.csv``: a dict of arrays keyed by column name."""
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    columns = BODIES_COLUMNS.split(",")
+    table = {name: data[:, j] for j, name in enumerate(columns)}
+    table["body"] = table["body"].astype(int)
+    return table
+
+
+def _positive(text) -> float:
+    """argparse type: a positive finite float."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}")
+    if not np.isfinite(value) or value <= 0:
+        raise argparse.ArgumentTypeError(f"must be positive: {text!r}")
+    return value
+
+
+def _parser() -> argparse.ArgumentParser:
+    """Command line of ``./softpack mesh``."""
+    parser = argparse.ArgumentParser(
+        prog="softpack mesh",
+        description="Mesh disks with gmsh (linear triangles, one element "
+        "size) into NAME.xdmf/.h5 with 'bodies' cell tags and "
+        "NAME.bodies.csv. All lengths in metres.")
+    sub = parser.add_subparsers(dest="what", required=True)
+    disk = sub.add_parser("disk", help="one disk")
+    disk.add_argument("--diameter", type=_positive, required=True,
+                      help="disk diameter D (m), e.g. 0.02")
+    disk.add_argument("--centre", type=float, nargs=2, default=(0.0, 0.0),
+                      metavar=("X", "Y"), help="centre (m), default 0 0")
+    packing = sub.add_parser(
+        "packing", help="a random packing (the paper's by default); also "
+        "writes NAME.packing.csv")
+    source = packing.add_mutually_exclusive_group(required=True)
+    source.add_argument("--seed", type=int, help="seed of a new packing")
+    source.add_argument("--packing", type=Path, metavar="CSV",
+                        help="mesh an existing NAME.packing.csv instead")
+    packing.add_argument("--counts", type=int, nargs="+",
+                         default=list(PAPER_COUNTS),
+                         help="disks per species (default 70 30)")
+    packing.add_argument("--diameters", type=_positive, nargs="+",
+                         default=list(PAPER_DIAMETERS),
+                         help="diameter per species (m, default 0.02 0.03)")
+    packing.add_argument("--length", type=_positive, default=PAPER_LENGTH,
+                         help="box length L along x (m, default 0.286)")
+    packing.add_argument("--width", type=_positive, default=PAPER_WIDTH,
+                         help="box width W along y (m, default 0.202)")
+    packing.add_argument("--gap", type=float, default=DEFAULT_GAP,
+                         help="minimum clearance (m, default 1e-4)")
+    for p in (disk, packing):
+        p.add_argument("--element-size", type=_positive,
+                       default=PAPER_ELEMENT_SIZE,
+                       help="element size h (m, default 1.065e-3)")
+        p.add_argument("--out", type=Path, required=True, metavar="STEM",
+                       help="output stem: writes STEM.xdmf, STEM.h5, "
+                       "STEM.bodies.csv")
+    return parser
+
+
+def main(argv=None) -> int:
+    """``./softpack mesh disk|packing ...``; returns the exit status."""
+    parser = _parser()
+    args = parser.parse_args(argv)
+    try:
+        if args.what == "disk":
+            packing = None
+            centres, radii = [args.centre], [args.diameter / 2]
+        elif args.packing is not None:
+            packing = Packing.from_csv(args.packing)
+        else:
+            if len(args.counts) != len(args.diameters):
+                parser.error("--counts and --diameters need the same number"
+                             " of values")
+            packing = random_packing(
+                args.seed, counts=args.counts, diameters=args.diameters,
+                length=args.length, width=args.width, gap=args.gap)
+        if packing is not None:
+            centres, radii = packing.centres, packing.radii
+        check_disks(centres, radii, args.element_size)
+    except (ValueError, OSError) as err:
+        parser.error(str(err))
+    except PackingError as err:
+        print(f"softpack mesh: {err}", file=sys.stderr)
+        return 1
+    info = mesh_disks(centres, radii, args.element_size, args.out)
+    if packing is not None:
+        stem = info.xdmf.with_suffix("")
+        packing.to_csv(stem.with_name(stem.name + ".packing.csv"))
+    print(f"{info.xdmf}: {len(radii)} bodies, {info.n_triangles} triangles"
+          f" (h = {args.element_size:g} m)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,353 @@
+"""Random initial packings of bidisperse disks in a rectangular box.
+
+The paper's assembly is 70 disks of diameter D1 = 20 mm and 30 disks of
+D2 = 30 mm at random, non-overlapping positions in a box of L x W =
+286 x 202 mm (x along the piston axis), an initial packing fraction of about
+0.75.  The box spans ``(0, 0)`` to ``(length, width)``; all lengths are in
+metres.
+
+Random sequential addition (RSA) alone saturates far below 0.75 (near 0.55
+for equal disks), so :func:`random_packing` adds disks one at a time, the
+largest first, and when no free spot is found among a batch of random trial
+positions it inserts the disk at the least-overlapping trial and relaxes the
+overlaps of all disks placed so far (a projected Jacobi iteration that moves
+overlapping pairs apart and keeps every disk inside the box).  With
+``relax=False`` the algorithm is plain RSA and fails when the box is too full.
+
+Measured: the paper's case (phi = 0.748) takes about 1 s for any seed; 0.77
+still works; near 0.80 the relaxation tends to stall in a jammed state and
+:class:`PackingError` is raised.  Relaxed disks often end exactly ``gap``
+apart (or ``gap`` from a wall).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+#: The paper's set-up (metres).
+PAPER_COUNTS = (70, 30)
+PAPER_DIAMETERS = (20e-3, 30e-3)
+PAPER_LENGTH = 286e-3
+PAPER_WIDTH = 202e-3
+#: Default clearance between disks and between disks and walls (metres).
+DEFAULT_GAP = 0.1e-3
+
+CSV_COLUMNS = "particle,x,y,radius,area"
+#: Relaxation sweeps over which the largest overlap must shrink by 10 %.
+STALL_SWEEPS = 500
+#: Densest packing fraction of disks in the plane (hexagonal).
+HEXAGONAL_FRACTION = np.pi / (2 * np.sqrt(3))
+
+
+class PackingError(RuntimeError):
+    """The requested disks cannot be placed in the box."""
+
+
+@dataclass(frozen=True)
+class Packing:
+    """Disks in the box ``[0, length] x [0, width]``.
+
+    Parameters
+    ----------
+    centres : ndarray, shape (n, 2)
+        Disk centres (m).
+    radii : ndarray, shape (n,)
+        Disk radii (m).
+    length, width : float
+        Box dimensions along x (piston axis) and y (m).
+    seed : int or None
+        Seed of the generator that produced the packing, if any.
+    ids : ndarray of int, shape (n,)
+        Particle ids; ``0..n-1`` when not given.
+    """
+
+    centres: np.ndarray
+    radii: np.ndarray
+    length: float
+    width: float
+    seed: int | None = None
+    ids: np.ndarray = field(default=None)
+
+    def __post_init__(self):
+        centres = np.array(self.centres, dtype=float).reshape(-1, 2)
+        radii = np.array(self.radii, dtype=float).reshape(-1)
+        if len(centres) != len(radii):
+            raise ValueError(
+                f"{len(centres)} centres but {len(radii)} radii")
+        ids = (np.arange(len(radii)) if self.ids is None
+               else np.array(self.ids, dtype=int).reshape(-1))
+        if len(ids) != len(radii):
+            raise ValueError(f"{len(ids)} ids but {len(radii)} radii")
+        object.__setattr__(self, "centres", centres)
+        object.__setattr__(self, "radii", radii)
+        object.__setattr__(self, "ids", ids)
+        object.__setattr__(self, "length", float(self.length))
+        object.__setattr__(self, "width", float(self.width))
+
+    @property
+    def n_particles(self) -> int:
+        """Number of disks."""
+        return len(self.radii)
+
+    @property
+    def areas(self) -> np.ndarray:
+        """Disk areas ``pi r^2`` (m^2)."""
+        return np.pi * self.radii**2
+
+    @property
+    def packing_fraction(self) -> float:
+        """Initial packing fraction ``sum(pi r^2) / (L W)``."""
+        return float(self.areas.sum() / (self.length * self.width))
+
+    def min_particle_gap(self) -> float:
+        """Smallest surface-to-surface distance between two disks (m).
+
+        Negative when two disks overlap; ``inf`` for fewer than two disks.
+        """
+        if self.n_particles < 2:
+            return float("inf")
+        clearance = _pair_clearance(self.centres, self.radii)
+        return float(clearance[np.triu_indices(self.n_particles, 1)].min())
+
+    def min_wall_gap(self) -> float:
+        """Smallest distance from a disk to one of the four walls (m).
+
+        Negative when a disk crosses a wall.
+        """
+        x, y = self.centres.T
+        r = self.radii
+        return float(np.min([x - r, self.length - x - r,
+                             y - r, self.width - y - r]))
+
+    def to_csv(self, path) -> Path:
+        """Write the packing to ``path`` atomically.
+
+        The file starts with ``# key=value`` lines (``length``, ``width``,
+        ``seed``, ``packing_fraction``) followed by the header
+        ``particle,x,y,radius,area`` and one row per disk, in SI units.
+
+        Returns
+        -------
+        Path
+            The path written.
+        """
+        path = Path(path)
+        lines = ["# softpack packing (SI units)",
+                 f"# length={self.length!r}",
+                 f"# width={self.width!r}",
+                 f"# seed={'' if self.seed is None else int(self.seed)}",
+                 f"# packing_fraction={self.packing_fraction!r}",
+                 CSV_COLUMNS]
+        for i, (x, y), r, a in zip(self.ids, self.centres, self.radii,
+                                   self.areas):
+            lines.append(f"{i},{x!r},{y!r},{r!r},{a!r}")
+        tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+        try:
+            tmp.write_text("\n".join(lines) + "\n")
+            os.replace(tmp, path)
+        finally:
+            tmp.unlink(missing_ok=True)
+        return path
+
+    @classmethod
+    def from_csv(cls, path) -> "Packing":
+        """Read a packing written by :meth:`to_csv`."""
+        meta, rows = {}, []
+        with open(path) as f:
+            for line in f:
+                line = line.strip()
+                if line.startswith("#"):
+                    key, sep, value = line[1:].partition("=")
+                    if sep:
+                        meta[key.strip()] = value.strip()
+                elif line and line != CSV_COLUMNS:
+                    rows.append([float(v) for v in line.split(",")])
+        missing = {"length", "width"} - meta.keys()
+        if missing:
+            raise ValueError(f"{path}: missing {sorted(missing)} header lines")
+        data = np.array(rows, dtype=float).reshape(-1, 5)
+        seed = meta.get("seed", "")
+        return cls(centres=data[:, 1:3], radii=data[:, 3],
+                   length=float(meta["length"]), width=float(meta["width"]),
+                   seed=int(seed) if seed else None,
+                   ids=data[:, 0].astype(int))
+
+
+def random_packing(seed: int, *, counts=PAPER_COUNTS,
+                   diameters=PAPER_DIAMETERS, length: float = PAPER_LENGTH,
+                   width: float = PAPER_WIDTH, gap: float = DEFAULT_GAP,
+                   relax: bool = True, trials: int = 200,
+                   max_sweeps: int = 20000) -> Packing:
+    """Random non-overlapping disks of a few sizes in a box.
+
+    Parameters
+    ----------
+    seed : int
+        Seed of ``numpy.random.default_rng``; the same seed gives the same
+        packing.
+    counts, diameters : sequence of int, sequence of float
+        Number and diameter (m) of the disks of each species.  Particle ids
+        follow this order (the paper's default: ids 0-69 have D1 = 20 mm,
+        ids 70-99 have D2 = 30 mm).
+    length, width : float
+        Box dimensions (m); the box spans ``(0, 0)`` to ``(length, width)``.
+    gap : float
+        Minimum clearance between two disks and between a disk and a wall (m).
+    relax : bool
+        Relax overlaps when random trials find no free spot; without it the
+        algorithm is plain random sequential addition.
+    trials : int
+        Random trial positions drawn for each disk.
+    max_sweeps : int
+        Limit on the relaxation sweeps after one insertion; the relaxation
+        also stops when the largest overlap shrinks by less than 10 % in
+        ``STALL_SWEEPS`` sweeps.
+
+    Returns
+    -------
+    Packing
+
+    Raises
+    ------
+    ValueError
+        On inconsistent or non-physical arguments.
+    PackingError
+        When the disks cannot be placed.
+    """
+    radii = _check_arguments(seed, counts, diameters, length, width, gap,
+                             trials, max_sweeps)
+    rng = np.random.default_rng(seed)
+    order = np.argsort(-radii, kind="stable")  # largest first
+    placed = np.empty((0, 2))
+    for k, i in enumerate(order):
+        r_placed = radii[order[:k]]
+        lo = radii[i] + _padded(gap)
+        candidates = rng.uniform((lo, lo), (length - lo, width - lo),
+                                 size=(trials, 2))
+        clearance = _clearance_to(candidates, radii[i], placed, r_placed,
+                                  _padded(gap))
+        best = int(np.argmax(clearance))
+        if clearance[best] < 0.0 and not relax:
+            raise PackingError(
+                f"random sequential addition placed {k} of {len(radii)} disks"
+                f" (phi = {_fraction(radii, length, width):.3f}); no free"
+                f" spot for a disk of diameter {2 * radii[i]:g} m in"
+                f" {trials} trials")
+        free = np.flatnonzero(clearance >= 0.0)
+        pick = int(free[0]) if len(free) else best
+        placed = np.vstack([placed, candidates[pick]])
+        if clearance[pick] < 0.0:
+            try:
+                placed = _relax_overlaps(placed, radii[order[:k + 1]],
+                                         length, width, gap, rng, max_sweeps)
+            except PackingError as err:
+                raise PackingError(
+                    f"placed {k} of {len(radii)} disks (requested phi ="
+                    f" {_fraction(radii, length, width):.3f}): {err}"
+                ) from None
+    centres = np.empty_like(placed)
+    centres[order] = placed
+    return Packing(centres=centres, radii=radii, length=length, width=width,
+                   seed=seed)
+
+
+def _check_arguments(seed, counts, diameters, length, width, gap, trials,
+                     max_sweeps) -> np.ndarray:
+    """Validate :func:`random_packing`'s arguments; return the radii."""
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) \
+            or seed < 0:
+        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+    counts = np.asarray(counts)
+    diameters = np.asarray(diameters, dtype=float)
+    if counts.ndim != 1 or counts.shape != diameters.shape or not len(counts):
+        raise ValueError("counts and diameters must be sequences of the same"
+                         " non-zero length")
+    if np.any(counts < 0) or np.any(counts != np.round(counts)) \
+            or counts.sum() < 1:
+        raise ValueError(f"counts must be non-negative integers, got {counts}")
+    if not np.all(np.isfinite(diameters)) or np.any(diameters <= 0):
+        raise ValueError(f"diameters must be positive, got {diameters}")
+    for name, value in (("length", length), ("width", width)):
+        if not np.isfinite(value) or value <= 0:
+            raise ValueError(f"{name} must be positive, got {value}")
+    if not np.isfinite(gap) or gap < 0:
+        raise ValueError(f"gap must be non-negative, got {gap}")
+    if trials < 1 or max_sweeps < 1:
+        raise ValueError("trials and max_sweeps must be at least 1")
+    if diameters.max() + 2 * _padded(gap) >= min(length, width):
+        raise ValueError(f"a disk of diameter {diameters.max()} m does not fit"
+                         f" in a {length} x {width} m box")
+    radii = np.repeat(diameters / 2, counts.astype(int))
+    if _fraction(radii, length, width) >= HEXAGONAL_FRACTION:
+        raise ValueError(
+            f"packing fraction {_fraction(radii, length, width):.3f} exceeds"
+            f" that of hexagonal disks ({HEXAGONAL_FRACTION:.3f})")
+    return radii
+
+
+def _padded(gap) -> float:
+    """Clearance aimed at so that ``gap`` holds despite rounding."""
+    return 1.05 * gap + 1e-9
+
+
+def _fraction(radii, length, width) -> float:
+    """Packing fraction of disks of the given radii in the box."""
+    return float(np.pi * np.sum(radii**2) / (length * width))
+
+
+def _pair_clearance(centres, radii) -> np.ndarray:
+    """Matrix of surface-to-surface distances between disks."""
+    d = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=-1)
+    return d - radii[:, None] - radii[None, :]
+
+
+def _clearance_to(candidates, r, centres, radii, gap) -> np.ndarray:
+    """For each candidate centre, the smallest clearance minus ``gap``."""
+    if len(centres) == 0:
+        return np.zeros(len(candidates))
+    d = np.linalg.norm(candidates[:, None, :] - centres[None, :, :], axis=-1)
+    return (d - r - radii[None, :] - gap).min(axis=1)
+
+
+def _relax_overlaps(centres, radii, length, width, gap, rng, max_sweeps):
+    """Move disks apart until every pair is at least ``gap`` apart.
+
+    Each sweep moves both disks of every pair closer than the target
+    separation apart by half the shortfall (projected Jacobi iteration),
+    then projects the centres back into the admissible box.  The target
+    clearance (:func:`_padded`) is slightly above ``gap`` so that the
+    iteration ends with a strictly admissible configuration.
+    """
+    x = centres.copy()
+    n = len(radii)
+    target = radii[:, None] + radii[None, :] + _padded(gap)
+    np.fill_diagonal(target, 0.0)
+    lo = radii + _padded(gap)
+    hi = np.stack([length - lo, width - lo], axis=1)
+    checkpoint = np.inf
+    for sweep in range(max_sweeps):
+        diff = x[:, None, :] - x[None, :, :]
+        d = np.linalg.norm(diff, axis=-1)
+        np.fill_diagonal(d, np.inf)
+        if np.all(d - radii[:, None] - radii[None, :] >= gap):
+            return x
+        coincident = d == 0.0
+        if coincident.any():  # separate in a random direction
+            x += 1e-9 * rng.standard_normal(x.shape)
+            continue
+        shortfall = np.maximum(target - d, 0.0)
+        if sweep % STALL_SWEEPS == 0:
+            if shortfall.max() > 0.9 * checkpoint:
+                break  # stalled: the overlaps no longer shrink
+            checkpoint = shortfall.max()
+        push = 0.5 * shortfall / d
+        x = x + np.einsum("ij,ijk->ik", push, diff)
+        x = np.clip(x, lo[:, None], hi)
+    raise PackingError(
+        f"could not remove the overlaps of {n} disks (phi ="
+        f" {_fraction(radii, length, width):.3f} in a {length} x {width} m"
+        f" box) in {sweep + 1} relaxation sweeps; the box is too full")
