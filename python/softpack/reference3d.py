@@ -215,7 +215,6 @@ class _EighthCylinder:
         self.energy_form = fem.form(psi * dxq)
         self.penalty_energy_form = fem.form(0.5 * self.penalty * overlap ** 2 * ds_plate)
         self.plate_force_form = fem.form(self.penalty * overlap * ds_plate)
-        self.overlap_form = fem.form(overlap * ds_plate)
         self.residual_form = fem.form(residual)
         self.tangent_form = fem.form(ufl.derivative(residual, self.w, ufl.TrialFunction(self.W)))
 
@@ -438,6 +437,35 @@ def _full_diameter(X, ux):
     return w, 0.5 * u
 
 
+# ---------------------------------------------------------------- estimates
+
+def johnson_line_contact(eps, nu, plane_strain=True):
+    """Small-strain f/(D l mu) of a linear elastic cylinder between rigid plates.
+
+    Johnson, Contact Mechanics (1985), line contact, both plates (eq. 5.36):
+        delta = 2 P / (pi E*) (2 ln(4 R / a) - 1),   a^2 = 4 P R / (pi E*),
+    P = f/l the force per unit length, delta the plate approach (here
+    delta = D (1 - exp(-eps))). E* = E/(1 - nu^2) (plane strain) or E* = E
+    (plane stress), E = 2 mu (1 + nu). With p = P/(D mu) and k = E*/mu this is
+    delta/D = 2p/(pi k) (ln(2 pi k / p) - 1), solved for p by bisection
+    (monotonic for p < 2 pi k / e^2, far beyond the range of use).
+    """
+    eps = np.atleast_1d(np.asarray(eps, dtype=float))
+    E = 2.0 * (1.0 + nu)
+    k = E / (1.0 - nu ** 2) if plane_strain else E
+    target = 1.0 - np.exp(-eps)
+
+    def approach(p):
+        return 2 * p / (np.pi * k) * (np.log(2 * np.pi * k / p) - 1)
+
+    lo, hi = np.full_like(eps, 1e-300), np.full_like(eps, 2 * np.pi * k / np.e ** 2)
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        too_big = approach(mid) > target
+        hi, lo = np.where(too_big, mid, hi), np.where(too_big, lo, mid)
+    return np.where(eps > 0, 0.5 * (lo + hi), 0.0)
+
+
 # ---------------------------------------------------------------- output
 
 def write_csvs(res, out_dir):
@@ -452,8 +480,10 @@ def write_csvs(res, out_dir):
     e_scale = scale * res.diameter
     np.savetxt(os.path.join(out_dir, f"energy_3d_{tag}.csv"),
                np.column_stack([eps, res.f_norm, np.asarray(res.force_sym) / scale,
-                                res.work / e_scale, np.asarray(res.energy) / e_scale]),
-               delimiter=",", header="eps,f_norm,f_norm_sym_plane,work_norm,energy_norm",
+                                res.work / e_scale, np.asarray(res.energy) / e_scale,
+                                np.asarray(res.penalty_energy) / e_scale]),
+               delimiter=",",
+               header="eps,f_norm,f_norm_sym_plane,work_norm,energy_norm,penalty_energy_norm",
                comments="", fmt="%.6g")
     for suffix, profiles in (("", res.profiles_mid), ("_endface", res.profiles_end)):
         rows = [(e, w, u) for e in sorted(profiles) for w, u in zip(*profiles[e])]
@@ -463,7 +493,8 @@ def write_csvs(res, out_dir):
             "mu": res.mu, "element_size": res.element_size, "num_cells": res.num_cells,
             "num_dofs": res.num_dofs, "wall_time_s": round(res.wall_time, 1),
             "newton_iterations": int(sum(res.newton_its)),
-            "energy_balance_rel": energy_balance(res),
+            "energy_balance_rel": energy_balance(res), "penalty": res.penalty,
+            "n_steps": res.n_steps, "max_overlap_over_delta": res.max_overlap / res.delta[-1],
             "w": "X/R along the transverse diameter Y = 0 (profile: mid-plane; _endface: z = l/2)",
             "energy_norm": "E/(mu D^2 l)", "work_norm": "int f d(delta) / (mu D^2 l)"}
     with open(os.path.join(out_dir, f"run_3d_{tag}.json"), "w") as fh:

@@ -1,0 +1,129 @@
+"""``./softpack plot-single-disk DIR``: the paper's Figs. 2 and 3 for one cylinder.
+
+Reads from DIR whatever exists of
+  force_2d.csv, force_3d_nu0495.csv, force_3d_incompressible.csv     (eps,f_norm)
+  profile_2d.csv, profile_3d_nu0495.csv, profile_3d_incompressible.csv,
+  profile_3d_nu0495_endface.csv                                       (eps,w,ux_over_D)
+and writes DIR/fig2_force.png (f/(D l mu) against eps: 2D as markers, 3D as
+lines, plus Johnson's small-strain line-contact curves) and DIR/fig3_profile.png
+(u_x/D along the transverse diameter, w = X/R, at eps = 0.05 ... 0.20). It says
+which files it used and which it did not find; the 2D files are optional.
+"""
+
+import argparse
+import os
+import sys
+
+import numpy as np
+
+FORCE_FILES = (  # file, label, style (2D: markers, 3D: lines)
+    ("force_2d.csv", "2D plane strain, nu = 1/3", dict(ls="none", marker="^", mfc="none")),
+    ("force_3d_nu0495.csv", "3D, nu = 0.495", dict(ls="-")),
+    ("force_3d_incompressible.csv", "3D, incompressible", dict(ls="--")),
+)
+PROFILE_FILES = (
+    ("profile_2d.csv", "2D", dict(ls="none", marker="^", mfc="none", ms=4)),
+    ("profile_3d_nu0495.csv", "3D nu = 0.495, mid-plane", dict(ls="-")),
+    ("profile_3d_incompressible.csv", "3D incompressible, mid-plane", dict(ls="--")),
+    ("profile_3d_nu0495_endface.csv", "3D nu = 0.495, end face", dict(ls=":", lw=1)),
+)
+PROFILE_STRAINS = (0.05, 0.10, 0.15, 0.20)
+
+
+def _read(path):
+    data = np.genfromtxt(path, delimiter=",", names=True)
+    return np.atleast_1d(data)
+
+
+def _load(directory, files, used, missing):
+    """[(data, label, style)] for the files that exist; fills used/missing."""
+    found = []
+    for name, label, style in files:
+        path = os.path.join(directory, name)
+        if os.path.isfile(path):
+            found.append((_read(path), label, style))
+            used.append(name)
+        else:
+            missing.append(name)
+    return found
+
+
+def plot_force(directory, curves, out):
+    import matplotlib.pyplot as plt
+    from softpack.reference3d import johnson_line_contact
+
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    for data, label, style in curves:
+        ax.plot(data["eps"], data["f_norm"], color="k", label=label, **style)
+    eps = np.linspace(0.0, 0.25, 101)
+    ax.plot(eps, johnson_line_contact(eps, 0.495, plane_strain=True), color="tab:red", lw=1,
+            label="Johnson line contact, E* = E/(1-nu^2), nu = 0.495")
+    ax.plot(eps, johnson_line_contact(eps, 1.0 / 3.0, plane_strain=True), color="tab:blue",
+            lw=1, ls="-.", label="Johnson line contact, plane strain nu = 1/3")
+    ax.set_xlabel(r"$\varepsilon = -\ln(1 - \delta/D)$")
+    ax.set_ylabel(r"$f / (D \ell \mu)$")
+    ax.set_xlim(0, 0.25)
+    ax.set_ylim(bottom=0)
+    ax.legend(fontsize=7, loc="upper left")
+    ax.set_title("single cylinder between plates (paper Fig. 2)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
+def plot_profile(directory, curves, out):
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    colors = dict(zip(PROFILE_STRAINS, ("tab:blue", "tab:orange", "tab:green", "tab:red")))
+    for data, label, style in curves:
+        for eps, color in colors.items():
+            sel = np.abs(data["eps"] - eps) < 1e-6
+            if np.any(sel):
+                order = np.argsort(data["w"][sel])
+                ax.plot(data["w"][sel][order], data["ux_over_D"][sel][order], color=color, **style)
+    for eps, color in colors.items():
+        ax.plot([], [], color=color, label=f"eps = {eps:.2f}")
+    for _, label, style in curves:
+        ax.plot([], [], color="k", label=label, **style)
+    ax.axhline(0, color="0.7", lw=0.5)
+    ax.set_xlabel(r"$w = X/R$ (Lagrangian, along the diameter normal to the loading)")
+    ax.set_ylabel(r"$u_x / D$")
+    ax.set_xlim(-1, 1)
+    ax.legend(fontsize=7, loc="upper left")
+    ax.set_title("transverse displacement (paper Fig. 3)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="softpack plot-single-disk", description=__doc__.split("\n")[0])
+    parser.add_argument("dir", help="directory holding the single-disk CSV files")
+    args = parser.parse_args(argv)
+    import matplotlib
+    matplotlib.use("Agg")
+
+    used, missing = [], []
+    forces = _load(args.dir, FORCE_FILES, used, missing)
+    profiles = _load(args.dir, PROFILE_FILES, used, missing)
+    if not forces and not profiles:
+        print(f"plot-single-disk: none of the expected CSV files in {args.dir}: "
+              f"{', '.join(missing)}", file=sys.stderr)
+        return 1
+    written = []
+    if forces:
+        plot_force(args.dir, forces, os.path.join(args.dir, "fig2_force.png"))
+        written.append("fig2_force.png")
+    if profiles:
+        plot_profile(args.dir, profiles, os.path.join(args.dir, "fig3_profile.png"))
+        written.append("fig3_profile.png")
+    print(f"plot-single-disk: used {', '.join(used)}")
+    if missing:
+        print(f"plot-single-disk: not found (skipped): {', '.join(missing)}")
+    print(f"plot-single-disk: wrote {', '.join(os.path.join(args.dir, w) for w in written)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

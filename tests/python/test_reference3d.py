@@ -1,0 +1,123 @@
+"""Physical checks of the 3D single-cylinder reference (softpack.reference3d).
+
+CI-sized: a coarse mesh (2 mm tetrahedra near the contact, 263 cells, P2) up
+to eps = 0.15 in 15 steps, once per model; about 30 s on one core with a warm
+FFCx cache (the first run also compiles the forms, ~20 s more).
+"""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("dolfinx")
+from softpack import reference3d as r3d  # noqa: E402  (python/ on sys.path: conftest.py)
+
+CI_MESH = dict(element_size=0.002, max_strain=0.15, n_steps=15)
+
+
+@pytest.fixture(scope="module")
+def nearly_incompressible():
+    return r3d.compress_cylinder_3d(nu=0.495, **CI_MESH)
+
+
+@pytest.fixture(scope="module")
+def incompressible():
+    return r3d.compress_cylinder_3d(nu=None, **CI_MESH)
+
+
+def _at(res, eps):
+    i = int(np.argmin(np.abs(np.asarray(res.eps) - eps)))
+    assert abs(res.eps[i] - eps) < 1e-9
+    return res.f_norm[i]
+
+
+@pytest.mark.parametrize("model", ["nearly_incompressible", "incompressible"])
+def test_plate_work_equals_stored_energy(model, request):
+    """Quasi-static and frictionless: int f d(delta) = strain + penalty energy.
+
+    The work is a trapezoidal integral over 15 steps (its error is well under
+    0.1 % here), so 1 % catches any inconsistency between force and energy.
+    """
+    res = request.getfixturevalue(model)
+    work = res.work
+    stored = np.asarray(res.energy) + np.asarray(res.penalty_energy)
+    assert abs(r3d.energy_balance(res)) < 0.01
+    for k in range(5, len(work)):          # every step past eps = 0.04
+        assert abs(work[k] - stored[k]) < 0.01 * stored[k]
+    # the penalty plate is nearly rigid: its energy and penetration are tiny
+    assert res.penalty_energy[-1] < 1e-3 * res.energy[-1]
+    assert res.max_overlap < 1e-3 * res.delta[-1]
+
+
+@pytest.mark.parametrize("model", ["nearly_incompressible", "incompressible"])
+def test_force_monotonic_and_in_equilibrium(model, request):
+    res = request.getfixturevalue(model)
+    f = np.asarray(res.force)
+    assert np.all(np.diff(f) > 0)
+    # stiffening: the secant f/eps grows with eps (geometric + contact growth)
+    secant = f[1:] / np.asarray(res.eps[1:])
+    assert np.all(np.diff(secant) > 0)
+    # plate force and the reaction on the symmetry plane y = 0 balance
+    np.testing.assert_allclose(res.force_sym[1:], f[1:], rtol=1e-6)
+
+
+def test_small_strain_force_between_line_contact_estimates(nearly_incompressible):
+    """A short cylinder with free ends lies between plane stress and plane strain.
+
+    Johnson's line-contact formula with E* = E/(1 - nu^2) (plane strain) is an
+    upper estimate for the 3D cylinder (l/D = 0.75, free end faces), E* = E
+    (plane stress) a lower one. At eps = 0.05 the coarse mesh gives ~1.07 x the
+    plane-stress and ~0.80 x the plane-strain value; the test allows 15 %
+    below plane stress and nothing above plane strain.
+    """
+    f = _at(nearly_incompressible, 0.05)
+    upper = r3d.johnson_line_contact(0.05, 0.495, plane_strain=True)[0]
+    lower = r3d.johnson_line_contact(0.05, 0.495, plane_strain=False)[0]
+    assert 0.85 * lower < f < upper
+
+
+def test_nearly_incompressible_matches_incompressible(nearly_incompressible, incompressible):
+    """nu = 0.495 (lmbda = 99 mu) vs J = 1: within 2 % for eps <= 0.05, 3 % up to 0.15."""
+    a, b = nearly_incompressible, incompressible
+    np.testing.assert_allclose(a.eps, b.eps)
+    fa, fb = a.f_norm[1:], b.f_norm[1:]
+    small = np.asarray(a.eps[1:]) <= 0.05 + 1e-12
+    assert np.all(np.abs(fa[small] / fb[small] - 1) < 0.02)
+    assert np.all(np.abs(fa / fb - 1) < 0.03)
+
+
+def test_transverse_profile(nearly_incompressible):
+    """u_x along the transverse diameter: odd in w, outward, growing with eps."""
+    prof = nearly_incompressible.profiles_mid
+    assert sorted(prof) == [0.05, 0.10, 0.15]
+    edge = []
+    for eps in sorted(prof):
+        w, ux = prof[eps]
+        assert w[0] == pytest.approx(-1.0) and w[-1] == pytest.approx(1.0)
+        np.testing.assert_allclose(ux, -ux[::-1], atol=1e-14)
+        assert np.all(np.diff(ux) > -1e-12)          # material moves away from the axis
+        edge.append(ux[-1])
+    assert np.all(np.diff(edge) > 0)
+    # the lateral bulge is a fraction of the imposed approach delta/D = 1 - e^-eps
+    assert 0.1 * (1 - np.exp(-0.15)) < edge[-1] < 0.5 * (1 - np.exp(-0.15))
+
+
+def test_csv_files_and_plots(nearly_incompressible, tmp_path):
+    r3d.write_csvs(nearly_incompressible, tmp_path)
+    force = np.genfromtxt(tmp_path / "force_3d_nu0495.csv", delimiter=",", names=True)
+    assert force.dtype.names == ("eps", "f_norm")
+    np.testing.assert_allclose(force["f_norm"], nearly_incompressible.f_norm, rtol=1e-5, atol=1e-9)
+    prof = np.genfromtxt(tmp_path / "profile_3d_nu0495.csv", delimiter=",", names=True)
+    assert prof.dtype.names == ("eps", "w", "ux_over_D")
+    assert set(np.round(prof["eps"], 6)) == {0.05, 0.10, 0.15}
+
+    from softpack import plots_single_disk
+    assert plots_single_disk.main([str(tmp_path)]) == 0    # 3D files only
+    assert (tmp_path / "fig2_force.png").stat().st_size > 0
+    assert (tmp_path / "fig3_profile.png").stat().st_size > 0
+
+
+def test_johnson_estimate_is_the_inverse_of_the_formula():
+    p = r3d.johnson_line_contact([0.02, 0.1], 0.5)
+    k = 4.0     # E*/mu for nu = 1/2, plane strain
+    approach = 2 * p / (np.pi * k) * (2 * np.log(4 / np.sqrt(8 * p / (np.pi * k))) - 1)
+    np.testing.assert_allclose(approach, 1 - np.exp(-np.array([0.02, 0.1])), rtol=1e-10)
