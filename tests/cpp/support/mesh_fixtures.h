@@ -19,6 +19,11 @@ struct Triangulation
 /// A disk of radius R centred at (cx, cy) with n rings.
 Triangulation disk(double cx, double cy, double R, int n);
 
+/// A rectangle [x0, x0 + w] x [y0, y0 + h] with nx x ny squares, each cut
+/// into two triangles.
+Triangulation rectangle(double x0, double y0, double w, double h, int nx,
+                        int ny);
+
 /// Several triangulations as one mesh, body i = i-th triangulation.
 bodies::BodyMesh bodies_mesh(const std::vector<Triangulation>& parts);
 

@@ -46,6 +46,26 @@ Triangulation disk(double cx, double cy, double R, int n)
   return t;
 }
 
+Triangulation rectangle(double x0, double y0, double w, double h, int nx,
+                        int ny)
+{
+  Triangulation t;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i)
+    {
+      t.x.push_back(x0 + w * i / nx);
+      t.x.push_back(y0 + h * j / ny);
+    }
+  auto id = [nx](int i, int j) { return std::int64_t(j) * (nx + 1) + i; };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+    {
+      t.cells.insert(t.cells.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      t.cells.insert(t.cells.end(), {id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return t;
+}
+
 bodies::BodyMesh bodies_mesh(const std::vector<Triangulation>& parts)
 {
   std::vector<double> x;

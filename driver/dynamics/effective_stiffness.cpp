@@ -1,0 +1,51 @@
+#include "effective_stiffness.h"
+
+#include <stdexcept>
+
+namespace softpack::dynamics
+{
+
+EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
+                                       bool lumped_mass)
+    : _mass(bodies.create_matrices()), _kbar(bodies.create_matrices()),
+      _factors(bodies.num_bodies())
+{
+  // Copy each mass onto the stiffness pattern (a superset of both mass
+  // patterns), so that a M + c K is a plain combination of value arrays.
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+  {
+    bodies::BodyMatrix& M = _mass[b];
+    for (int col = 0; col < M.outerSize(); ++col)
+      for (bodies::BodyMatrix::InnerIterator it(M, col); it; ++it)
+        it.valueRef() = lumped_mass
+                            ? (it.row() == it.col()
+                                   ? bodies.lumped_mass()[b][it.row()]
+                                   : 0.0)
+                            : bodies.consistent_mass()[b].coeff(it.row(),
+                                                                it.col());
+    _factors[b].analyzePattern(_kbar[b]);
+  }
+}
+
+void EffectiveStiffness::factorize(const std::vector<bodies::BodyMatrix>& K,
+                                   double mass_coefficient,
+                                   double stiffness_coefficient)
+{
+  for (std::size_t b = 0; b < _kbar.size(); ++b)
+  {
+    const double* m = _mass[b].valuePtr();
+    const double* k = K[b].valuePtr();
+    double* a = _kbar[b].valuePtr();
+    for (Eigen::Index i = 0; i < _kbar[b].nonZeros(); ++i)
+      a[i] = mass_coefficient * m[i] + stiffness_coefficient * k[i];
+    _factors[b].factorize(_kbar[b]);
+    if (_factors[b].info() != Eigen::Success
+        || (_factors[b].vectorD().array() <= 0).any())
+      throw std::runtime_error("iteration matrix of body " + std::to_string(b)
+                               + " is not positive definite (element "
+                                 "inverted or time step too large)");
+  }
+  ++_count;
+}
+
+} // namespace softpack::dynamics

@@ -1,0 +1,53 @@
+#pragma once
+
+#include <Eigen/SparseCholesky>
+#include <bodies/BodySet.h>
+#include <vector>
+
+namespace softpack::dynamics
+{
+
+/// The iteration matrix of the Moreau–Jean scheme, one block per body:
+/// \f[
+///   \bar K = M + h\theta C + h^2\theta^2 K
+///          = (1 + h\theta\alpha) M + (h\theta\beta + h^2\theta^2) K,
+/// \f]
+/// with Rayleigh damping \f$C = \alpha M + \beta K\f$. Each body's block is
+/// factorized on its own (sparse LDL^T; the symbolic analysis is done once
+/// and reused), so solves, refactorizations and compliance computations
+/// stay per body.
+class EffectiveStiffness
+{
+public:
+  /// @param[in] bodies Bodies (masses and sparsity patterns)
+  /// @param[in] lumped_mass Use the lumped (diagonal) mass instead of the
+  /// consistent one
+  EffectiveStiffness(const bodies::BodySet& bodies, bool lumped_mass);
+
+  /// Build and factorize \f$\bar K = a M + c K\f$ for every body.
+  /// @param[in] K Tangent stiffness of every body (BodySet::tangent)
+  /// @param[in] mass_coefficient a
+  /// @param[in] stiffness_coefficient c
+  /// @throws std::runtime_error if a block is not positive definite
+  void factorize(const std::vector<bodies::BodyMatrix>& K,
+                 double mass_coefficient, double stiffness_coefficient);
+
+  /// Solve \f$\bar K_b x = y\f$ for body b (local DOF numbering).
+  Eigen::VectorXd solve(int body, const Eigen::VectorXd& y) const
+  {
+    return _factors[body].solve(y);
+  }
+
+  /// Mass matrix of body b, on the body's stiffness pattern
+  const bodies::BodyMatrix& mass(int body) const { return _mass[body]; }
+
+  /// Number of factorizations done so far (all bodies count as one)
+  int factorizations() const { return _count; }
+
+private:
+  std::vector<bodies::BodyMatrix> _mass, _kbar;
+  std::vector<Eigen::SimplicialLDLT<bodies::BodyMatrix>> _factors;
+  int _count = 0;
+};
+
+} // namespace softpack::dynamics

@@ -1,0 +1,146 @@
+#pragma once
+
+#include "contact_operator.h"
+#include "detection.h"
+#include "effective_stiffness.h"
+#include "walls.h"
+#include <bodies/BodySet.h>
+#include <contact/nlgs.h>
+#include <map>
+#include <tuple>
+#include <vector>
+
+/// Nonsmooth contact dynamics of deformable bodies (Moreau–Jean).
+namespace softpack::dynamics
+{
+
+/// Parameters of the time stepping.
+struct MoreauJeanOptions
+{
+  /// Time step h (s)
+  double time_step = 1e-5;
+  /// theta of the theta-method, in [0.5, 1]
+  double theta = 0.5;
+  /// Rayleigh damping C = alpha M + beta K
+  double alpha = 0, beta = 0;
+  /// Lumped instead of consistent mass
+  bool lumped_mass = false;
+  /// Coulomb coefficient of every contact (body-body and body-wall)
+  double friction = 0.3;
+  /// Newton stops when ||v_{k+1} - v_k||_inf <= tol * max(||v||_inf,
+  /// velocity_scale)
+  double newton_tolerance = 1e-6;
+  /// Velocity below which changes do not matter (e.g. the piston speed)
+  double velocity_scale = 1e-3;
+  /// Give up (and report) after this many Newton iterations
+  int max_newton_iterations = 20;
+  /// Reassemble and refactor the iteration matrix at every Newton
+  /// iteration (true: full Newton), or only at the first iteration of each
+  /// step (false: modified Newton; the iteration matrix is mass-dominated
+  /// at small h, so convergence stays fast)
+  bool full_newton = true;
+  /// Contact detection
+  DetectionOptions detection;
+  /// The frictional contact solver
+  contact::NlgsOptions nlgs;
+};
+
+/// Energy bookkeeping since the start (J per unit length along z).
+///
+/// Balance: wall_work + external_work = kinetic + strain (their changes)
+/// + damping + contact_dissipation + numerical; residual() is what is left.
+struct EnergyBalance
+{
+  double wall_work = 0;
+  double external_work = 0;
+  double kinetic = 0, kinetic0 = 0;
+  double strain = 0, strain0 = 0;
+  double damping = 0;
+  /// Friction (tangential) part of the contact dissipation
+  double friction = 0;
+  /// Normal part (nonzero only through gap corrections)
+  double contact_normal = 0;
+  /// Dissipation of the theta scheme, (theta - 1/2) |v+ - v-|_M^2
+  double numerical = 0;
+
+  /// Energy supplied minus energy stored and dissipated
+  double residual() const
+  {
+    return wall_work + external_work
+           - (kinetic - kinetic0 + strain - strain0 + damping + friction
+              + contact_normal + numerical);
+  }
+};
+
+/// What one step did.
+struct StepReport
+{
+  int newton_iterations = 0;
+  bool newton_converged = false;
+  int nlgs_iterations = 0; ///< sweeps, summed over the Newton iterations
+  double nlgs_error = 0;   ///< error of the last contact solve
+  bool nlgs_converged = true;
+  int contacts = 0;
+  int active_contacts = 0; ///< R_n > 0
+  double max_penetration = 0; ///< max(-gap) at the end of the step, >= 0
+};
+
+/// The Moreau–Jean theta-method with Newton iterations on finite-strain
+/// bodies and Signorini–Coulomb contacts solved by NLGS (METHOD.md §3).
+class MoreauJean
+{
+public:
+  /// @param[in,out] bodies Bodies; their displacement is the state
+  /// @param[in] walls Walls
+  /// @param[in] options Time step, damping, friction, tolerances
+  MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
+             MoreauJeanOptions options);
+
+  /// Advance one time step.
+  StepReport step();
+
+  /// Current time
+  double time() const { return _time; }
+  /// Global velocity vector (writable: initial conditions)
+  std::span<double> velocity() { return _v; }
+  /// Constant external nodal forces (global vector; default zero)
+  void set_external_force(std::vector<double> f);
+
+  /// Contacts of the last step and their impulses (2 per contact, (n, t))
+  const std::vector<Contact>& contacts() const { return _contacts; }
+  const std::vector<double>& impulses() const { return _R; }
+  /// Force each wall received during the last step (impulse / h)
+  std::vector<std::array<double, 2>> wall_forces() const;
+  /// Energy balance since the start
+  const EnergyBalance& energy() const { return _energy; }
+  /// The walls (writable: a wall's velocity may be changed between steps)
+  std::vector<Wall>& walls() { return _walls; }
+  const std::vector<Wall>& walls() const { return _walls; }
+  /// Options
+  const MoreauJeanOptions& options() const { return _options; }
+  /// Factorizations of the iteration matrix so far
+  int factorizations() const { return _kbar.factorizations(); }
+
+private:
+  using Vectors = std::vector<Eigen::VectorXd>;
+  Vectors gather(std::span<const double> global) const;
+  void scatter(const Vectors& per_body, std::span<double> global) const;
+  Vectors solve(const Vectors& rhs) const;
+  std::vector<double> warm_start() const;
+  double kinetic_energy(std::span<const double> v) const;
+
+  bodies::BodySet& _bodies;
+  std::vector<Wall> _walls;
+  MoreauJeanOptions _options;
+  EffectiveStiffness _kbar;
+  std::vector<bodies::BodyMatrix> _K;
+  double _time = 0;
+  std::vector<double> _v, _f_ext, _f_int;
+  std::vector<Contact> _contacts;
+  std::vector<double> _R;
+  /// Previous step's impulses by (candidate body, node, antagonist)
+  std::map<std::tuple<int, int, int>, std::array<double, 2>> _previous;
+  EnergyBalance _energy;
+};
+
+} // namespace softpack::dynamics
