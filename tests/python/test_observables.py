@@ -1,0 +1,243 @@
+"""The paper's observables on small hand-built raw outputs (no C++ needed)."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from softpack import observables as obs
+from softpack.config import to_toml, validate
+
+F = 1000.0   # piston force (N/m), two nodes of F/2 at each end of the chain
+G = 100.0    # per-node force of an unbalanced particle on the bottom wall
+EPS_G = 0.4  # per-node force of a particle resting on the unbalanced one
+
+
+def contacts(rows):
+    """Contact columns from rows (candidate, node, antagonist, wall, fn,
+    ft, fx, fy)."""
+    data = np.array(rows, dtype=float).reshape(-1, 8)
+    table = {name: data[:, j] for j, name in enumerate(obs.CONTACT_COLUMNS)}
+    for name in ("candidate", "node", "antagonist", "wall"):
+        table[name] = table[name].astype(np.int64)
+    return table
+
+
+def chain_contacts():
+    """Five particles (walls 0 left, 1 piston, 2 bottom, 3 top):
+
+    left | 0 | 1 | piston, balanced, each contact on two nodes;
+    2 touches 1 with one node and a force under f_p* (rattler);
+    3 pressed on the bottom wall by 2 x G (unbalanced);
+    4 rests on 3 only, with two small active nodes (rattler once 3 goes).
+    """
+    h = F / 2
+    return contacts([
+        (0, 10, -1, 0, h, 0, h, 0), (0, 11, -1, 0, h, 0, h, 0),
+        (0, 20, 1, -1, h, 0, -h, 0), (0, 21, 1, -1, h, 0, -h, 0),
+        (1, 30, -1, 1, h, 0, -h, 0), (1, 31, -1, 1, h, 0, -h, 0),
+        (2, 40, 1, -1, 0.2, 0, 0, -0.2),
+        (3, 50, -1, 2, G, 0, 0, G), (3, 51, -1, 2, G, 0, 0, G),
+        (4, 60, 3, -1, EPS_G, 0, EPS_G, 0), (4, 61, 3, -1, EPS_G, 0, EPS_G, 0),
+        (2, 41, 0, -1, 0.0, 0, 0, 0),  # an open contact: fn = 0
+    ])
+
+
+def test_cumulative_strain():
+    assert obs.cumulative_strain(0.0, 0.286) == 0.0
+    delta = 0.286 * (1 - math.exp(-0.1))
+    assert obs.cumulative_strain(delta, 0.286) == pytest.approx(0.1)
+
+
+def test_normalised_energy_is_E_over_WHLmu():
+    w, length, h, mu = 0.202, 0.286, 0.015, 0.15e6
+    per_length = 0.02 * w * length * mu  # J/m
+    e = h * per_length
+    assert obs.normalised_energy(per_length, w, length, mu) == \
+        pytest.approx(e / (w * h * length * mu))
+
+
+def test_coefficient_of_variation():
+    assert obs.coefficient_of_variation([1.0, 2.0, 3.0]) == \
+        pytest.approx(math.sqrt(2 / 3) / 2)
+    assert obs.coefficient_of_variation([2.0, 2.0]) == 0.0
+    assert math.isnan(obs.coefficient_of_variation([]))
+    assert math.isnan(obs.coefficient_of_variation([0.0, 0.0]))
+
+
+def test_active_mask_is_relative_to_largest_force():
+    mask = obs.active_mask([1.0, 1e-5, 0.0, 2e-4, 5e-5], 1e-4)
+    assert mask.tolist() == [True, False, False, True, False]
+
+
+@pytest.mark.parametrize("rule, expected", [
+    ("loaded_nodes", [(0, 1), (0, 3), (1, 2)]),
+    ("candidate_nodes", [(0, 3)]),
+])
+def test_two_node_rule(rule, expected):
+    c = contacts([
+        (0, 1, 1, -1, 1, 0, 0, 0), (0, 2, 1, -1, 1, 0, 0, 0),  # 2 nodes, 0->1
+        (1, 5, 2, -1, 1, 0, 0, 0), (2, 7, 1, -1, 1, 0, 0, 0),  # 1 each way
+        (2, 8, 3, -1, 1, 0, 0, 0),                             # 1 node only
+        (2, 8, 3, -1, 1, 0, 0, 0),                             # same node
+        (0, 3, 3, -1, 1, 0, 0, 0), (0, 4, 3, -1, 1, 0, 0, 0),  # 2 + 2 nodes
+        (3, 9, 0, -1, 1, 0, 0, 0), (3, 10, 0, -1, 1, 0, 0, 0),
+        (1, 6, 3, -1, 1e-9, 0, 0, 0), (1, 7, 3, -1, 1e-9, 0, 0, 0),  # ~0
+    ])
+    active = obs.active_mask(c["fn"], 1e-4)
+    pairs = obs.force_bearing_pairs(c["candidate"], c["node"],
+                                    c["antagonist"], active, rule)
+    assert [tuple(p) for p in pairs] == expected
+
+
+def test_wall_needs_two_nodes():
+    c = contacts([
+        (0, 1, -1, 2, 1, 0, 0, 1), (0, 2, -1, 2, 1, 0, 0, 1),
+        (1, 3, -1, 0, 1, 0, 1, 0), (1, 3, -1, 0, 1, 0, 1, 0),  # one node
+        (1, 4, -1, 3, 1, 0, 0, -1), (1, 5, -1, 1, 1, 0, -1, 0),  # two walls
+    ])
+    walls = obs.force_bearing_walls(c["candidate"], c["node"], c["wall"],
+                                    np.ones(6, bool))
+    assert [tuple(w) for w in walls] == [(0, 2)]
+
+
+def test_resultant_forces_are_opposite_on_antagonist():
+    c = chain_contacts()
+    total = obs.resultant_forces(c["candidate"], c["antagonist"], c["fx"],
+                                 c["fy"], 5)
+    assert np.allclose(total[0], 0) and np.allclose(total[1], [0, 0.2])
+    assert np.allclose(total[2], [0, -0.2])
+    assert np.allclose(total[3], [-2 * EPS_G, 2 * G])
+    assert np.allclose(total[4], [2 * EPS_G, 0])
+
+
+def test_connectivity_rattlers_and_unbalanced():
+    net = obs.contact_network(chain_contacts(), 5, F,
+                              force_threshold=1e-4, unbalanced_threshold=1e-3)
+    assert [tuple(p) for p in net.pairs] == [(0, 1), (3, 4)]
+    assert [tuple(w) for w in net.walls] == [(0, 0), (1, 1), (3, 2)]
+    assert net.unbalanced.tolist() == [False, False, False, True, False]
+    # 2 has no force-bearing contact; 4 only one with the unbalanced 3
+    assert net.rattler.tolist() == [False, False, True, False, True]
+    assert net.retained.tolist() == [True, True, False, False, False]
+    assert net.contacts.tolist() == [2, 2, 0, 2, 1]
+    assert net.wall_contacts.tolist() == [1, 1, 0, 1, 0]
+    assert net.z_contacts.tolist() == [2, 2, 0, 0, 0]
+    assert net.z == 2.0              # (2 x 1 pair + 2 walls) / 2 particles
+    assert net.z_without_walls == 1.0
+
+
+def test_unbalanced_threshold_is_relative_to_piston_force():
+    # f_p* = 0.5 x F keeps particle 3 (resultant ~ 2 G = 0.2 F): 3 and 4 in
+    net = obs.contact_network(chain_contacts(), 5, F,
+                              unbalanced_threshold=0.5)
+    assert not net.unbalanced.any()
+    assert net.retained.tolist() == [True, True, False, True, True]
+    assert net.z == pytest.approx((2 * 2 + 3) / 4)
+    assert net.z_without_walls == pytest.approx(2 * 2 / 4)
+
+
+def test_no_contacts_gives_nan_z():
+    net = obs.contact_network(contacts([]), 3, 0.0)
+    assert math.isnan(net.z) and net.rattler.all()
+
+
+# -- a whole fake run directory -------------------------------------------------
+
+LENGTH, WIDTH, THICKNESS, MU = 0.10, 0.05, 0.015, 0.15e6
+RADIUS = 0.008
+
+
+def write_fake_run(run_dir, n_steps=3):
+    """A run directory with raw output of 5 particles and ``n_steps`` rows.
+
+    Step k: piston at x = LENGTH - 1e-3 k, strain energy 1e-3 k (J/m),
+    particle p's energy (p + 1) 1e-5 k, the chain contacts at every step.
+    """
+    config = validate({"geometry": {
+        "length": LENGTH, "width": WIDTH, "thickness": THICKNESS,
+        "counts": [5], "diameters": [2 * RADIUS], "seed": 3},
+        "contact": {"friction": 0.1}}, "fake.toml")
+    (run_dir / "raw" / "contacts").mkdir(parents=True)
+    (run_dir / "mesh").mkdir()
+    (run_dir / "config.toml").write_text(to_toml(config))
+    from softpack.config import driver_input
+    (run_dir / "driver.json").write_text(json.dumps(
+        driver_input(config, run_dir / "mesh" / "packing.xdmf", run_dir)))
+    ref = math.pi * RADIUS**2
+    (run_dir / "mesh" / "packing.bodies.csv").write_text(
+        "body,x,y,radius,reference_area\n" + "".join(
+            f"{i},{0.01 + 0.02 * i},0.02,{RADIUS},{ref}\n" for i in range(5)))
+    walls = ["left", "piston", "bottom", "top"]
+    head = ("step,time,newton_iterations,nlgs_iterations,nlgs_error,"
+            "nlgs_converged,contacts,active_contacts,max_penetration,"
+            + "".join(f"{w}_x,{w}_y,{w}_fx,{w}_fy," for w in walls)
+            + "phi," + ",".join(obs.ENERGY_COLUMNS) + ",seconds\n")
+    steps, parts = [head], ["step,particle,area,strain_energy,reference_area\n"]
+    for k in range(n_steps):
+        step = 10 * k
+        x = LENGTH - 1e-3 * k
+        phi = "" if k == 0 else repr(5 * ref / (x * WIDTH))
+        energies = [1e-3 * k, 0, 2e-3 * k, 0, 5e-4 * k, 4e-4 * k, 0, 0,
+                    1e-4 * k]
+        steps.append(
+            f"{step},{1e-4 * step},2,7,1e-7,true,12,11,1e-6,"
+            f"0,0,-{F},0,{x},0,{F},0,0,0,0,{2 * G},0,{WIDTH},0,0,{phi},"
+            + ",".join(map(repr, energies)) + f",{0.5 * k}\n")
+        parts += [f"{step},{p},{ref},{(p + 1) * 1e-5 * k},{ref}\n"
+                  for p in range(5)]
+        c = chain_contacts()
+        lines = [",".join(obs.CONTACT_COLUMNS) + "\n"] + [
+            ",".join(repr(float(c[n][i])) if n in ("fn", "ft", "fx", "fy")
+                     else str(int(c[n][i])) for n in obs.CONTACT_COLUMNS)
+            + "\n" for i in range(len(c["fn"]))]
+        obs.contacts_path(run_dir, step).write_text("".join(lines))
+    (run_dir / "raw" / "steps.csv").write_text("".join(steps))
+    (run_dir / "raw" / "particles.csv").write_text("".join(parts))
+    return config
+
+
+def test_process_run(tmp_path):
+    write_fake_run(tmp_path)
+    series_csv, particles_csv = obs.process_run(tmp_path)
+    s = obs.read_table(series_csv)
+    assert list(s) == list(obs.SERIES_COLUMNS)
+    assert s["step"].tolist() == [0, 10, 20]
+    delta = np.array([0, 1e-3, 2e-3])
+    assert np.allclose(s["piston_displacement"], delta)
+    assert np.allclose(s["eps"], -np.log(1 - delta / LENGTH))
+    # row 0 has an empty phi: computed from areas and the box
+    ref = math.pi * RADIUS**2
+    assert np.allclose(s["phi"], 5 * ref / ((LENGTH - delta) * WIDTH))
+    assert np.allclose(s["E_over_WHLmu"],
+                       1e-3 * np.arange(3) / (WIDTH * LENGTH * MU))
+    assert np.allclose(s["piston_force"], F * THICKNESS)
+    assert np.allclose(s["strain_energy"], THICKNESS * 1e-3 * np.arange(3))
+    assert np.allclose(s["energy_residual_relative"][1:], 0.05)
+    assert s["z"].tolist() == [2.0] * 3
+    assert s["z_without_walls"].tolist() == [1.0] * 3
+    assert s["rattlers"].tolist() == [2] * 3
+    assert s["unbalanced"].tolist() == [1] * 3
+    psi = np.arange(1, 6) * 1e-5 / ref
+    assert math.isnan(s["cv_psi"][0])  # all Psi_p = 0 at step 0
+    assert s["cv_psi"][1] == pytest.approx(psi.std() / psi.mean(), rel=1e-9)
+    assert s["cv_psi_retained"][2] == pytest.approx(
+        psi[:2].std() / psi[:2].mean(), rel=1e-9)
+    p = obs.read_table(particles_csv)
+    assert list(p) == list(obs.PARTICLE_COLUMNS)
+    assert len(p["step"]) == 15
+    last = p["step"] == 20
+    assert p["contacts"][last].tolist() == [2, 2, 0, 2, 1]
+    assert p["rattler"][last].tolist() == [0, 0, 1, 0, 1]
+    assert np.allclose(p["psi_p"][last], 2 * psi)
+    assert np.allclose(p["radius"], RADIUS)
+
+
+def test_missing_contacts_file_gives_nan(tmp_path):
+    write_fake_run(tmp_path, n_steps=2)
+    obs.contacts_path(tmp_path, 10).unlink()
+    series_csv, _ = obs.process_run(tmp_path)
+    s = obs.read_table(series_csv)
+    assert s["z"][0] == 2.0 and math.isnan(s["z"][1])
+    assert not math.isnan(s["phi"][1])
