@@ -202,6 +202,7 @@ FclibLocalFile read_open_file(hid_t file)
   }
   out.title = h5::read_string_or_empty(file, local + "/info/title");
   out.solution_r = optional_vector(file, "/solution/r", 2 * nc);
+  out.solution_u = optional_vector(file, "/solution/u", 2 * nc);
   out.guess_r = optional_vector(file, "/guesses/1/r", 2 * nc);
   return out;
 }

@@ -32,6 +32,9 @@ struct FclibLocalFile
   /// /solution/r, if present (a reference answer)
   std::optional<std::vector<double>> solution_r;
 
+  /// /solution/u, if present (velocities of the reference answer)
+  std::optional<std::vector<double>> solution_u;
+
   /// /guesses/1/r, if present (e.g. the start of a failed solve)
   std::optional<std::vector<double>> guess_r;
 };

@@ -14,7 +14,10 @@ namespace softpack::contact::test
 {
 
 /// The FCLIB 2D set (../shared/data/fclib), from the build configuration.
-inline std::filesystem::path data_dir() { return SOFTPACK_FCLIB_DATA_DIR; }
+inline std::filesystem::path data_dir()
+{
+  return SOFTPACK_FCLIB_DATA_DIR;
+}
 
 /// One problem of the set and the error its README calls realistic.
 struct DataProblem
@@ -86,9 +89,9 @@ class TempDir
 public:
   TempDir()
   {
-    std::string tmpl
-        = (std::filesystem::temp_directory_path() / "softpack-contact-XXXXXX")
-              .string();
+    std::string tmpl =
+        (std::filesystem::temp_directory_path() / "softpack-contact-XXXXXX")
+            .string();
     _path = ::mkdtemp(tmpl.data());
   }
   ~TempDir()

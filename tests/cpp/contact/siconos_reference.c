@@ -57,8 +57,7 @@ static double norm2(const double* v, int n)
   return sqrt(s);
 }
 
-int siconos_fc2d_error(const char* path, const double* r, int n,
-                       double* error)
+int siconos_fc2d_error(const char* path, const double* r, int n, double* error)
 {
   FrictionContactProblem* problem = read_problem(path);
   if (!problem)

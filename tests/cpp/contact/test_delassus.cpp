@@ -62,8 +62,8 @@ TEST(Delassus, ProductMatchesDenseMatrix)
       dense.block<2, 2>(2 * a, 2 * b) = Eigen::Matrix2d::Random();
   const Eigen::VectorXd r = Eigen::VectorXd::Random(2 * nc);
   const Eigen::VectorXd q = Eigen::VectorXd::Random(2 * nc);
-  FrictionContactProblem2D p
-      = make_problem(dense, q, std::vector<double>(nc, 0.3));
+  FrictionContactProblem2D p =
+      make_problem(dense, q, std::vector<double>(nc, 0.3));
   EXPECT_EQ(p.W.num_offdiagonal_blocks(), 2u * (nc - 1));
 
   std::vector<double> u(q.data(), q.data() + q.size());
@@ -94,8 +94,8 @@ TEST(Validate, AcceptsAWellFormedProblem)
 
 TEST(Validate, NamesWhatIsWrong)
 {
-  auto expect_message = [](const FrictionContactProblem2D& p,
-                           const std::string& part)
+  auto expect_message =
+      [](const FrictionContactProblem2D& p, const std::string& part)
   {
     try
     {
@@ -108,7 +108,8 @@ TEST(Validate, NamesWhatIsWrong)
           << e.what();
     }
   };
-  const auto good = [] {
+  const auto good = []
+  {
     return make_problem(Eigen::MatrixXd::Identity(4, 4),
                         Eigen::VectorXd::Ones(4), {0.1, 0.2});
   };

@@ -15,7 +15,7 @@ TEST(Error, ProjectionOnTheCone)
 {
   const double mu = 0.5;
   EXPECT_EQ(project_on_cone({2, 0.5}, mu), Eigen::Vector2d(2, 0.5)); // in K
-  EXPECT_EQ(project_on_cone({-2, 0.5}, mu), Eigen::Vector2d(0, 0)); // polar
+  EXPECT_EQ(project_on_cone({-2, 0.5}, mu), Eigen::Vector2d(0, 0));  // polar
   // outside both: onto the edge r_t = mu r_n, orthogonally
   const Eigen::Vector2d x(1, 3), p = project_on_cone(x, mu);
   EXPECT_NEAR(p[1], mu * p[0], 1e-15);
@@ -31,14 +31,14 @@ TEST(Error, ZeroExactlyOnTheLaw)
   const double mu = 0.3;
   auto res = [mu](Eigen::Vector2d r, Eigen::Vector2d u)
   { return natural_map_residual_squared(r, u, mu); };
-  EXPECT_EQ(res({0, 0}, {2, -1}), 0.0);       // open
-  EXPECT_EQ(res({1, 0.2}, {0, 0}), 0.0);      // stick
-  EXPECT_EQ(res({1, -0.3}, {0, 0.7}), 0.0);   // slide, u_t > 0
-  EXPECT_EQ(res({1, 0.3}, {0, -0.7}), 0.0);   // slide, u_t < 0
-  EXPECT_GT(res({0, 0}, {-1, 0}), 0.0);       // penetration
-  EXPECT_GT(res({1, 0}, {0.5, 0}), 0.0);      // force while separating
-  EXPECT_GT(res({1, 0.5}, {0, 0}), 0.0);      // outside the cone
-  EXPECT_GT(res({1, 0.3}, {0, 0.7}), 0.0);    // friction pushes along u_t
+  EXPECT_EQ(res({0, 0}, {2, -1}), 0.0);     // open
+  EXPECT_EQ(res({1, 0.2}, {0, 0}), 0.0);    // stick
+  EXPECT_EQ(res({1, -0.3}, {0, 0.7}), 0.0); // slide, u_t > 0
+  EXPECT_EQ(res({1, 0.3}, {0, -0.7}), 0.0); // slide, u_t < 0
+  EXPECT_GT(res({0, 0}, {-1, 0}), 0.0);     // penetration
+  EXPECT_GT(res({1, 0}, {0.5, 0}), 0.0);    // force while separating
+  EXPECT_GT(res({1, 0.5}, {0, 0}), 0.0);    // outside the cone
+  EXPECT_GT(res({1, 0.3}, {0, 0.7}), 0.0);  // friction pushes along u_t
 }
 
 TEST(Error, RelativeToTheLargestOfRUAndQ)

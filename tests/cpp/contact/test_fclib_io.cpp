@@ -49,8 +49,7 @@ void write_dataset(hid_t file, const std::string& path, hid_t type,
 
 void write_file(const Spec& s, const std::filesystem::path& path)
 {
-  hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT,
-                         H5P_DEFAULT);
+  hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   for (const std::string g : {"", "/W", "/vectors"})
     H5Gclose(H5Gcreate2(file, (s.group + g).c_str(), H5P_DEFAULT, H5P_DEFAULT,
                         H5P_DEFAULT));
@@ -238,8 +237,8 @@ TEST_F(MalformedFile, OtherCsparseStoragesRead)
 TEST(DumpProblem, WritesReadsBackAndReplays)
 {
   TempDir dir;
-  const FclibLocalFile original
-      = read_fclib_local_file(hdf5_file("FrictionContactProblem00237"));
+  const FclibLocalFile original =
+      read_fclib_local_file(hdf5_file("FrictionContactProblem00237"));
   const FrictionContactProblem2D& p = original.problem;
   const std::filesystem::path path = dir.path() / "dump.hdf5";
   std::vector<double> guess(2 * p.num_contacts(), 0.5);
@@ -266,8 +265,8 @@ TEST(DumpProblem, FailedSolveIsDumpedAndReplays)
   // what the time loop does: a solve that fails writes its problem, and a
   // test replays it from the file with the same start
   TempDir dir;
-  const FrictionContactProblem2D p
-      = read_fclib_local(hdf5_file("FrictionContactProblem00071"));
+  const FrictionContactProblem2D p =
+      read_fclib_local(hdf5_file("FrictionContactProblem00071"));
   std::vector<double> r(2 * p.num_contacts(), 0.0), u(r.size());
   NlgsOptions opt;
   opt.max_sweeps = 5;

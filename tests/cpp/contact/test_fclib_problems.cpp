@@ -32,8 +32,8 @@ TEST_P(FclibProblem, SolvedToTheRealisticError)
   std::vector<double> r(2 * p.num_contacts(), 0.0), u(r.size());
   const NlgsResult res = solve_nlgs(p, r, u, opt);
   std::cout << "[ fclib    ] " << d.name << ": " << p.num_contacts()
-            << " contacts, " << res.iterations << " sweeps, error "
-            << res.error << (res.q_zero ? " (q = 0, absolute)" : "") << "\n";
+            << " contacts, " << res.iterations << " sweeps, error " << res.error
+            << (res.q_zero ? " (q = 0, absolute)" : "") << "\n";
   RecordProperty("sweeps", res.iterations);
   EXPECT_TRUE(res.converged);
   EXPECT_LE(res.error, d.tolerance);

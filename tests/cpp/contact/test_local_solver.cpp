@@ -101,7 +101,8 @@ TEST(LocalSolver, EveryAnswerSatisfiesTheLaw)
     // a symmetric positive definite block, sometimes far from diagonal
     Eigen::Matrix2d A;
     A << unit(gen), unit(gen), unit(gen), unit(gen);
-    const Eigen::Matrix2d W = A * A.transpose() + 1e-3 * Eigen::Matrix2d::Identity();
+    const Eigen::Matrix2d W =
+        A * A.transpose() + 1e-3 * Eigen::Matrix2d::Identity();
     const Eigen::Vector2d q(unit(gen), unit(gen));
     const double mu = k % 10 == 0 ? 0.0 : friction(gen);
     const LocalSolution s = solve_local(W, q, mu);
@@ -109,7 +110,8 @@ TEST(LocalSolver, EveryAnswerSatisfiesTheLaw)
     const double scale = std::max({s.r.norm(), u.norm(), q.norm()});
     ASSERT_LT(std::sqrt(natural_map_residual_squared(s.r, u, mu)),
               1e-12 * scale)
-        << "W =\n" << W << "\nq = " << q.transpose() << " mu = " << mu;
+        << "W =\n"
+        << W << "\nq = " << q.transpose() << " mu = " << mu;
     closest += s.status == ContactStatus::closest;
   }
   // rounding at a branch boundary is rare

@@ -102,8 +102,8 @@ TEST(Nlgs, RelaxationReachesTheSameAnswer)
   Eigen::VectorXd r_star(4), u_star(4);
   r_star << 1, 0.1, 2, -0.8;
   u_star << 0, 0, 0, 0.5;
-  const FrictionContactProblem2D p
-      = manufactured(coupled_W(), r_star, u_star, {0.4, 0.4});
+  const FrictionContactProblem2D p =
+      manufactured(coupled_W(), r_star, u_star, {0.4, 0.4});
   for (double omega : {0.6, 1.3})
   {
     NlgsOptions opt;
@@ -125,8 +125,8 @@ TEST(Nlgs, WarmStartFromTheAnswerTakesOneSweep)
   Eigen::VectorXd r_star(4), u_star(4);
   r_star << 1, 0.1, 2, -0.8;
   u_star << 0, 0, 0, 0.5;
-  const FrictionContactProblem2D p
-      = manufactured(coupled_W(), r_star, u_star, {0.4, 0.4});
+  const FrictionContactProblem2D p =
+      manufactured(coupled_W(), r_star, u_star, {0.4, 0.4});
   std::vector<double> r(r_star.data(), r_star.data() + 4), u(4);
   NlgsResult res = solve_nlgs(p, r, u);
   EXPECT_TRUE(res.converged);
@@ -148,8 +148,8 @@ TEST(Nlgs, MaxSweepsAndTolerance)
   Eigen::VectorXd r_star(4), u_star(4);
   r_star << 1, 0.1, 2, -0.8;
   u_star << 0, 0, 0, 0.5;
-  const FrictionContactProblem2D p
-      = manufactured(coupled_W(), r_star, u_star, {0.4, 0.4});
+  const FrictionContactProblem2D p =
+      manufactured(coupled_W(), r_star, u_star, {0.4, 0.4});
   std::vector<double> r(4, 0.0), u(4);
   NlgsOptions opt;
   opt.max_sweeps = 0;
@@ -185,8 +185,8 @@ TEST(Nlgs, QZeroGivesZeroReactionsWithoutASweep)
 
 TEST(Nlgs, RejectsWrongSizes)
 {
-  const FrictionContactProblem2D p = make_problem(
-      coupled_W(), Eigen::Vector4d(-1, 0, -1, 0), {0.4, 0.4});
+  const FrictionContactProblem2D p =
+      make_problem(coupled_W(), Eigen::Vector4d(-1, 0, -1, 0), {0.4, 0.4});
   std::vector<double> r(3), u(4);
   EXPECT_THROW(solve_nlgs(p, r, u), std::invalid_argument);
 }

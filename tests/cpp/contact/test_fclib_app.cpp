@@ -1,0 +1,107 @@
+// The `./softpack fclib` executable: JSON lines, reaction files, exit status
+// and messages naming the file.
+
+#include "fclib_io.h"
+#include "helpers.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+using namespace softpack::contact;
+using namespace softpack::contact::test;
+
+namespace
+{
+struct AppRun
+{
+  int status;
+  std::vector<nlohmann::ordered_json> lines;
+  std::string err;
+};
+
+/// Run softpack-fclib with arguments; stdout parsed line by line as JSON.
+AppRun run_app(const std::string& args, const TempDir& dir)
+{
+  const std::filesystem::path err = dir.path() / "stderr.txt";
+  const std::string cmd =
+      std::string(SOFTPACK_FCLIB_APP) + " " + args + " 2>" + err.string();
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  std::string out;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof(buffer), pipe))
+    out += buffer;
+  const int status = ::pclose(pipe);
+  AppRun run{WIFEXITED(status) ? WEXITSTATUS(status) : -1, {}, {}};
+  std::istringstream lines(out);
+  for (std::string line; std::getline(lines, line);)
+    run.lines.push_back(nlohmann::ordered_json::parse(line));
+  std::ifstream e(err);
+  run.err.assign(std::istreambuf_iterator<char>(e), {});
+  return run;
+}
+} // namespace
+
+TEST(FclibApp, SolvesAndWritesReactions)
+{
+  TempDir dir;
+  const std::string a = hdf5_file("FrictionContactProblem00071").string();
+  const std::string b = hdf5_file("FrictionContactProblem00394").string();
+  const AppRun run = run_app(a + " " + b + " --tol 1e-8 --solution-out " +
+                                 (dir.path() / "out").string(),
+                             dir);
+  EXPECT_EQ(run.status, 0) << run.err;
+  ASSERT_EQ(run.lines.size(), 2u);
+  const nlohmann::ordered_json& j = run.lines[0];
+  EXPECT_EQ(j["problem"], "FrictionContactProblem00071");
+  EXPECT_EQ(j["contacts"], 89);
+  EXPECT_GT(j["iterations"].get<int>(), 0);
+  EXPECT_LE(j["error"].get<double>(), 1e-8);
+  EXPECT_GE(j["seconds"].get<double>(), 0.0);
+  EXPECT_EQ(j["converged"], true);
+  std::vector<std::string> keys;
+  for (const auto& item : j.items())
+    keys.push_back(item.key());
+  EXPECT_EQ(keys, (std::vector<std::string>{"problem", "contacts", "iterations",
+                                            "error", "seconds", "converged"}));
+
+  std::ifstream csv(dir.path() / "out" / "FrictionContactProblem00071.r.csv");
+  std::vector<double> r;
+  for (double v; csv >> v;)
+    r.push_back(v);
+  EXPECT_EQ(r.size(), 178u);
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "out" /
+                                      "FrictionContactProblem00394.r.csv"));
+}
+
+TEST(FclibApp, NonConvergenceExitsNonZero)
+{
+  TempDir dir;
+  const std::string f =
+      hdf5_file("fc2d_granularflowonwall_02020_00213").string();
+  const AppRun run = run_app(f + " --tol 1e-8 --max-iter 50", dir);
+  EXPECT_NE(run.status, 0);
+  ASSERT_EQ(run.lines.size(), 1u);
+  EXPECT_EQ(run.lines[0]["converged"], false);
+  EXPECT_EQ(run.lines[0]["iterations"], 50);
+  EXPECT_NE(run.err.find(f), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("not converged"), std::string::npos) << run.err;
+}
+
+TEST(FclibApp, InvalidFileExitsNonZeroNamingIt)
+{
+  TempDir dir;
+  const std::filesystem::path bad = dir.path() / "bad.hdf5";
+  std::ofstream(bad) << "not hdf5";
+  const std::string good = hdf5_file("FrictionContactProblem00031").string();
+  const AppRun run = run_app(bad.string() + " " + good, dir);
+  EXPECT_NE(run.status, 0);
+  ASSERT_EQ(run.lines.size(), 1u); // the valid file is still solved
+  EXPECT_EQ(run.lines[0]["problem"], "FrictionContactProblem00031");
+  EXPECT_NE(run.err.find(bad.string() + ": not an HDF5 file"),
+            std::string::npos)
+      << run.err;
+}
