@@ -112,7 +112,8 @@ int main(int argc, char** argv)
       ->capture_default_str()
       ->check(CLI::Range(0.0, 2.0));
   app.add_option("--q-zero", args.options.q_zero_tolerance,
-                 "|q|_inf at or below this means q = 0 (answer r = 0)")
+                 "|q|_inf at or below this means q = 0: the answer is r = 0 "
+                 "and the error printed is absolute")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   app.add_option("--solution-out", args.solution_out,

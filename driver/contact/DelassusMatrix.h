@@ -23,6 +23,12 @@ namespace softpack::contact
 /// of contacts shares two bodies), then finalize(). Every row must end up with
 /// a diagonal block; a missing one is stored as zero and rejected by
 /// validate() of the problem.
+///
+/// The solvers only use diagonal() and offdiagonal_product(), one block row
+/// at a time. An "operator" form of W (products through the bodies'
+/// compliances, $W r = H^T (ar K^{-1} (H r))$, with per-contact
+/// updates of the body velocities) can offer the same two calls, so that the
+/// NLGS sweep stays O(stored blocks or touched body DOFs) per sweep.
 class DelassusMatrix
 {
 public:
@@ -37,6 +43,10 @@ public:
   /// @throws std::out_of_range if a or b is not a contact
   /// @throws std::logic_error after finalize()
   void add_block(std::size_t a, std::size_t b, const Eigen::Matrix2d& block);
+
+  /// Reserve room for contributions (builder phase).
+  /// @param[in] num_blocks Expected number of add_block() calls
+  void reserve(std::size_t num_blocks) { _pending.reserve(num_blocks); }
 
   /// Sort and merge the contributions into compressed block rows.
   void finalize();

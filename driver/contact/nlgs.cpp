@@ -21,6 +21,10 @@ void check_arguments(const FrictionContactProblem2D& problem,
                      const NlgsOptions& options)
 {
   const std::size_t n = 2 * problem.num_contacts();
+  if (!problem.W.finalized() or problem.W.num_contacts() != n / 2 or
+      problem.q.size() != n)
+    throw std::invalid_argument("solve_nlgs: problem not validated (W, q, mu "
+                                "sizes or W not finalized)");
   if (r.size() != n or u.size() != n)
     throw std::invalid_argument("solve_nlgs: r and u need 2 per contact");
   if (!(options.relaxation > 0 and options.relaxation < 2))
