@@ -173,8 +173,15 @@ void BodySet::build_bodies()
       if (entry.first == 1)
         body.boundary_segments.push_back(entry.second);
     std::sort(body.boundary_segments.begin(), body.boundary_segments.end());
-    for (const auto& s : body.boundary_segments)
+    body.segment_from.assign(body.nodes.size(), -1);
+    body.segment_to.assign(body.nodes.size(), -1);
+    for (std::size_t k = 0; k < body.boundary_segments.size(); ++k)
+    {
+      const auto& s = body.boundary_segments[k];
       body.boundary_nodes.push_back(s[0]);
+      body.segment_from[s[0]] = static_cast<std::int32_t>(k);
+      body.segment_to[s[1]] = static_cast<std::int32_t>(k);
+    }
     std::sort(body.boundary_nodes.begin(), body.boundary_nodes.end());
   }
 }

@@ -35,6 +35,9 @@ struct Body
   /// counter-clockwise (the body lies on the left of a -> b), so that the
   /// outward normal is the tangent rotated clockwise
   std::vector<std::array<std::int32_t, 2>> boundary_segments;
+  /// For each local node: index in boundary_segments of the segment that
+  /// starts at it and of the one that ends at it (-1 off the boundary)
+  std::vector<std::int32_t> segment_from, segment_to;
   /// Area of the body in the reference configuration
   double reference_area = 0;
 

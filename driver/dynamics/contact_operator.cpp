@@ -21,9 +21,8 @@ ContactOperator::ContactOperator(const std::vector<Contact>& contacts,
     _frames.push_back(frame);
     Eigen::Vector2d vw = Eigen::Vector2d::Zero();
     if (c.wall >= 0)
-      vw = frame.transpose()
-           * Eigen::Vector2d(walls[c.wall].velocity[0],
-                             walls[c.wall].velocity[1]);
+      vw = frame.transpose() * Eigen::Vector2d(walls[c.wall].velocity[0],
+                                               walls[c.wall].velocity[1]);
     _wall_velocity.push_back(vw);
   }
 }
@@ -53,8 +52,8 @@ void ContactOperator::add_impulses(std::span<const double> R,
 {
   for (std::size_t a = 0; a < size(); ++a)
   {
-    const Eigen::Vector2d impulse
-        = _frames[a] * Eigen::Vector2d(R[2 * a], R[2 * a + 1]);
+    const Eigen::Vector2d impulse =
+        _frames[a] * Eigen::Vector2d(R[2 * a], R[2 * a + 1]);
     for (const NodeTerm& term : terms(a))
       per_body[term.body].segment<2>(2 * term.node) += term.weight * impulse;
   }

@@ -37,8 +37,8 @@ contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
       if (list.empty() || list.back().contact != static_cast<std::int32_t>(a))
         list.push_back({static_cast<std::int32_t>(a), {}});
       const auto& nodes = touched[term.body];
-      const int slot = std::lower_bound(nodes.begin(), nodes.end(), term.node)
-                       - nodes.begin();
+      const int slot = std::lower_bound(nodes.begin(), nodes.end(), term.node) -
+                       nodes.begin();
       list.back().slots.push_back({slot, term.weight});
     }
 
@@ -69,8 +69,8 @@ contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
           for (const auto& [j, wj] : sb.slots)
             block += wi * wj * G.block<2, 2>(2 * i, 2 * j);
         W.add_block(sa.contact, sb.contact,
-                    H.frame(sa.contact).transpose() * block
-                        * H.frame(sb.contact));
+                    H.frame(sa.contact).transpose() * block *
+                        H.frame(sb.contact));
       }
   }
   W.finalize();

@@ -14,13 +14,13 @@ struct Box
   double x0, y0, x1, y1;
   bool overlaps(const Box& o, double margin) const
   {
-    return x0 - margin <= o.x1 && o.x0 - margin <= x1 && y0 - margin <= o.y1
-           && o.y0 - margin <= y1;
+    return x0 - margin <= o.x1 && o.x0 - margin <= x1 && y0 - margin <= o.y1 &&
+           o.y0 - margin <= y1;
   }
   bool contains(double x, double y, double margin) const
   {
-    return x >= x0 - margin && x <= x1 + margin && y >= y0 - margin
-           && y <= y1 + margin;
+    return x >= x0 - margin && x <= x1 + margin && y >= y0 - margin &&
+           y <= y1 + margin;
   }
 };
 
@@ -47,51 +47,131 @@ std::vector<Box> body_boxes(const bodies::BodySet& bodies,
   return boxes;
 }
 
-/// Nearest segment of `antagonist` to the candidate node, if within the
-/// gap window; appends the contact.
+/// Outward unit normal of a counter-clockwise boundary segment (the
+/// tangent turned clockwise).
+std::array<double, 2> segment_normal(std::span<const double> x, std::int32_t ga,
+                                     std::int32_t gb)
+{
+  const double tx = x[2 * gb] - x[2 * ga], ty = x[2 * gb + 1] - x[2 * ga + 1];
+  const double len = std::hypot(tx, ty);
+  return {ty / len, -tx / len};
+}
+
+/// Contact of a candidate node with the nearest feature of the antagonist's
+/// boundary: a face (the node projects inside a segment) or, in the shadow
+/// of a convex vertex, the vertex itself with the bisector of its two
+/// segments' normals as the contact normal. Appends the contact if the gap
+/// is within the window [-max_penetration, alert_distance].
 void node_to_body(const bodies::BodySet& bodies, std::span<const double> x,
                   int cand_body, std::int32_t cand_node, int ant_body,
                   const DetectionOptions& options,
                   std::vector<Contact>& contacts)
 {
-  const bodies::Body& cand = bodies.body(cand_body);
   const bodies::Body& ant = bodies.body(ant_body);
-  const std::int32_t gc = cand.nodes[cand_node];
+  const std::int32_t gc = bodies.body(cand_body).nodes[cand_node];
   const double px = x[2 * gc], py = x[2 * gc + 1];
 
-  double best_distance = std::numeric_limits<double>::infinity();
-  Contact best{};
-  for (const auto& seg : ant.boundary_segments)
+  double face_distance = std::numeric_limits<double>::infinity();
+  double vertex_distance = face_distance;
+  std::int32_t face = -1, vertex = -1;
+  double face_xi = 0;
+  for (std::size_t k = 0; k < ant.boundary_segments.size(); ++k)
   {
+    const auto& seg = ant.boundary_segments[k];
     const std::int32_t ga = ant.nodes[seg[0]], gb = ant.nodes[seg[1]];
     const double ax = x[2 * ga], ay = x[2 * ga + 1];
     const double tx = x[2 * gb] - ax, ty = x[2 * gb + 1] - ay;
-    const double len2 = tx * tx + ty * ty;
-    const double xi
-        = std::clamp(((px - ax) * tx + (py - ay) * ty) / len2, 0.0, 1.0);
-    const double dx = px - (ax + xi * tx), dy = py - (ay + xi * ty);
-    const double distance = std::hypot(dx, dy);
-    if (distance >= best_distance)
-      continue;
-    const double len = std::sqrt(len2);
-    // Outward normal of a counter-clockwise segment: tangent turned
-    // clockwise.
-    const std::array<double, 2> n = {ty / len, -tx / len};
-    const double gap = dx * n[0] + dy * n[1];
-    if (gap > options.alert_distance || gap < -options.max_penetration)
-      continue;
-    best_distance = distance;
-    best = Contact{cand_body, cand_node, ant_body, -1, seg, xi, n,
-                   {-n[1], n[0]}, gap};
+    const double xi = ((px - ax) * tx + (py - ay) * ty) / (tx * tx + ty * ty);
+    if (xi >= 0 && xi <= 1)
+    {
+      const double d =
+          std::abs((px - ax) * ty - (py - ay) * tx) / std::hypot(tx, ty);
+      if (d < face_distance)
+      {
+        face_distance = d;
+        face = static_cast<std::int32_t>(k);
+        face_xi = xi;
+      }
+    }
+    const double dv = std::hypot(px - ax, py - ay);
+    if (dv < vertex_distance)
+    {
+      vertex_distance = dv;
+      vertex = seg[0];
+    }
   }
-  if (std::isfinite(best_distance))
-    contacts.push_back(best);
+
+  Contact c{cand_body, cand_node, ant_body, -1, {-1, -1},
+            0.0,       {0, 0},    {0, 0},   0.0};
+  if (face >= 0 && face_distance <= vertex_distance)
+  {
+    const auto& seg = ant.boundary_segments[face];
+    c.segment = seg;
+    c.xi = face_xi;
+    c.n = segment_normal(x, ant.nodes[seg[0]], ant.nodes[seg[1]]);
+  }
+  else if (vertex >= 0)
+  {
+    const auto& next = ant.boundary_segments[ant.segment_from[vertex]];
+    const auto& prev = ant.boundary_segments[ant.segment_to[vertex]];
+    const auto n1 = segment_normal(x, ant.nodes[next[0]], ant.nodes[next[1]]);
+    const auto n0 = segment_normal(x, ant.nodes[prev[0]], ant.nodes[prev[1]]);
+    const double len = std::hypot(n0[0] + n1[0], n0[1] + n1[1]);
+    c.segment = next;
+    c.xi = 0;
+    c.vertex = true;
+    c.n = {(n0[0] + n1[0]) / len, (n0[1] + n1[1]) / len};
+  }
+  else
+    return;
+  const std::int32_t ga = ant.nodes[c.segment[0]], gb = ant.nodes[c.segment[1]];
+  const double qx = (1 - c.xi) * x[2 * ga] + c.xi * x[2 * gb];
+  const double qy = (1 - c.xi) * x[2 * ga + 1] + c.xi * x[2 * gb + 1];
+  c.gap = (px - qx) * c.n[0] + (py - qy) * c.n[1];
+  c.t = {-c.n[1], c.n[0]};
+  if (c.gap <= options.alert_distance && c.gap >= -options.max_penetration)
+    contacts.push_back(c);
+}
+/// Among contacts[first:] (one pair of bodies), drop a contact whose mirror
+/// is already kept: node a of A near node b of B and node b near node a,
+/// each within a quarter segment of the other. The two are (nearly) the
+/// same constraint; keeping both makes the contact problem degenerate and
+/// the NLGS slow, and one suffices where the meshes face node to node.
+void remove_mirrored_contacts(std::vector<Contact>& contacts, std::size_t first)
+{
+  auto near_node = [](const Contact& c) -> std::int32_t
+  {
+    if (c.vertex || c.xi <= 0.25)
+      return c.segment[0];
+    if (c.xi >= 0.75)
+      return c.segment[1];
+    return -1;
+  };
+  std::vector<std::array<std::int64_t, 2>> kept;
+  auto end = std::remove_if(
+      contacts.begin() + first, contacts.end(),
+      [&](const Contact& c)
+      {
+        const std::int32_t b = near_node(c);
+        if (b < 0)
+          return false;
+        const std::int64_t p =
+            (std::int64_t(c.candidate_body) << 32) | c.candidate_node;
+        const std::int64_t q = (std::int64_t(c.antagonist_body) << 32) | b;
+        const std::array<std::int64_t, 2> key = {std::min(p, q),
+                                                 std::max(p, q)};
+        if (std::find(kept.begin(), kept.end(), key) != kept.end())
+          return true;
+        kept.push_back(key);
+        return false;
+      });
+  contacts.erase(end, contacts.end());
 }
 } // namespace
 
-std::vector<std::array<int, 2>>
-near_body_pairs(const bodies::BodySet& bodies, std::span<const double> x,
-                double margin)
+std::vector<std::array<int, 2>> near_body_pairs(const bodies::BodySet& bodies,
+                                                std::span<const double> x,
+                                                double margin)
 {
   const std::vector<Box> boxes = body_boxes(bodies, x);
   if (boxes.empty())
@@ -139,14 +219,15 @@ std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
   const std::vector<Box> boxes = body_boxes(bodies, x);
   for (const auto& [a, b] : near_body_pairs(bodies, x, options.alert_distance))
   {
+    const std::size_t first = contacts.size();
     for (const auto& [cand, ant] : {std::pair{a, b}, std::pair{b, a}})
       for (std::int32_t node : bodies.body(cand).boundary_nodes)
       {
         const std::int32_t g = bodies.body(cand).nodes[node];
-        if (boxes[ant].contains(x[2 * g], x[2 * g + 1],
-                                options.alert_distance))
+        if (boxes[ant].contains(x[2 * g], x[2 * g + 1], options.alert_distance))
           node_to_body(bodies, x, cand, node, ant, options, contacts);
       }
+    remove_mirrored_contacts(contacts, first);
   }
 
   for (int w = 0; w < static_cast<int>(walls.size()); ++w)
@@ -157,7 +238,8 @@ std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
       for (std::int32_t node : bodies.body(b).boundary_nodes)
       {
         const std::int32_t g = bodies.body(b).nodes[node];
-        const double gap = (x[2 * g] - p[0]) * n[0] + (x[2 * g + 1] - p[1]) * n[1];
+        const double gap =
+            (x[2 * g] - p[0]) * n[0] + (x[2 * g + 1] - p[1]) * n[1];
         if (gap <= options.alert_distance && gap >= -options.max_penetration)
           contacts.push_back(
               Contact{b, node, -1, w, {-1, -1}, 0.0, n, {-n[1], n[0]}, gap});

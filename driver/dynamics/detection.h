@@ -34,6 +34,8 @@ struct Contact
   std::array<double, 2> n, t;
   /// Gap at detection
   double gap;
+  /// The antagonist feature is a vertex (segment[0]), not a face
+  bool vertex = false;
 };
 
 /// Options of the detection.
@@ -51,9 +53,12 @@ struct DetectionOptions
 /// Broad phase: body bounding boxes on a uniform grid (cell = largest body
 /// box), so the cost grows linearly with the number of bodies. Narrow
 /// phase: every boundary node of one body of a near pair against the
-/// segments of the other, in both directions; one contact per (node,
-/// antagonist body), the nearest segment; every boundary node against every
-/// wall.
+/// boundary of the other, in both directions; one contact per (node,
+/// antagonist body), with the nearest face or vertex. When two nodes face
+/// each other (each within a quarter segment of the other) in both
+/// directions, the two contacts are nearly the same constraint and only the
+/// first is kept (redundant constraints make the contact problem
+/// degenerate). Every boundary node against every wall.
 /// @param[in] bodies The bodies (reference configuration and boundaries)
 /// @param[in] x Current node coordinates (global, interleaved)
 /// @param[in] walls Walls
@@ -65,8 +70,8 @@ std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
 
 /// Pairs of bodies whose bounding boxes, inflated by `margin`, overlap
 /// (i < j). Exposed for tests and benchmarks.
-std::vector<std::array<int, 2>>
-near_body_pairs(const bodies::BodySet& bodies, std::span<const double> x,
-                double margin);
+std::vector<std::array<int, 2>> near_body_pairs(const bodies::BodySet& bodies,
+                                                std::span<const double> x,
+                                                double margin);
 
 } // namespace softpack::dynamics

@@ -17,12 +17,11 @@ EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
     bodies::BodyMatrix& M = _mass[b];
     for (int col = 0; col < M.outerSize(); ++col)
       for (bodies::BodyMatrix::InnerIterator it(M, col); it; ++it)
-        it.valueRef() = lumped_mass
-                            ? (it.row() == it.col()
-                                   ? bodies.lumped_mass()[b][it.row()]
-                                   : 0.0)
-                            : bodies.consistent_mass()[b].coeff(it.row(),
-                                                                it.col());
+        it.valueRef() =
+            lumped_mass
+                ? (it.row() == it.col() ? bodies.lumped_mass()[b][it.row()]
+                                        : 0.0)
+                : bodies.consistent_mass()[b].coeff(it.row(), it.col());
     _factors[b].analyzePattern(_kbar[b]);
   }
 }
@@ -39,11 +38,11 @@ void EffectiveStiffness::factorize(const std::vector<bodies::BodyMatrix>& K,
     for (Eigen::Index i = 0; i < _kbar[b].nonZeros(); ++i)
       a[i] = mass_coefficient * m[i] + stiffness_coefficient * k[i];
     _factors[b].factorize(_kbar[b]);
-    if (_factors[b].info() != Eigen::Success
-        || (_factors[b].vectorD().array() <= 0).any())
-      throw std::runtime_error("iteration matrix of body " + std::to_string(b)
-                               + " is not positive definite (element "
-                                 "inverted or time step too large)");
+    if (_factors[b].info() != Eigen::Success ||
+        (_factors[b].vectorD().array() <= 0).any())
+      throw std::runtime_error("iteration matrix of body " + std::to_string(b) +
+                               " is not positive definite (element "
+                               "inverted or time step too large)");
   }
   ++_count;
 }

@@ -60,7 +60,8 @@ MoreauJean::Vectors MoreauJean::gather(std::span<const double> global) const
   return out;
 }
 
-void MoreauJean::scatter(const Vectors& per_body, std::span<double> global) const
+void MoreauJean::scatter(const Vectors& per_body,
+                         std::span<double> global) const
 {
   for (int b = 0; b < _bodies.num_bodies(); ++b)
   {
@@ -103,6 +104,12 @@ double MoreauJean::kinetic_energy(std::span<const double> v) const
 
 StepReport MoreauJean::step()
 {
+  if (!_started)
+  {
+    // Initial velocities are set between construction and the first step.
+    _energy.kinetic = _energy.kinetic0 = kinetic_energy(_v);
+    _started = true;
+  }
   const double h = _options.time_step, th = _options.theta;
   const double alpha = _options.alpha, beta = _options.beta;
   const int nb = _bodies.num_bodies();
@@ -165,11 +172,10 @@ StepReport MoreauJean::step()
     f_int_b = gather(f_int);
     Vectors residual(nb);
     for (int b = 0; b < nb; ++b)
-      residual[b] = _kbar.mass(b) * (vk_b[b] - v_old_b[b])
-                    + h * th
-                          * (f_int_b[b] + damping_force(b, vk_b[b])
-                             - f_ext_b[b])
-                    - h * (1 - th) * f_old[b];
+      residual[b] =
+          _kbar.mass(b) * (vk_b[b] - v_old_b[b]) +
+          h * th * (f_int_b[b] + damping_force(b, vk_b[b]) - f_ext_b[b]) -
+          h * (1 - th) * f_old[b];
     const Vectors correction = solve(residual);
     Vectors v_new(nb);
     for (int b = 0; b < nb; ++b)
@@ -182,8 +188,8 @@ StepReport MoreauJean::step()
       const std::vector<double> U_free = H.relative_velocity(_bodies, v_free);
       for (std::size_t i = 0; i < 2 * nc; ++i)
         problem.q[i] = U_free[i] + shift[i];
-      const contact::NlgsResult nlgs
-          = contact::solve_nlgs(problem, _R, U, _options.nlgs);
+      const contact::NlgsResult nlgs =
+          contact::solve_nlgs(problem, _R, U, _options.nlgs);
       report.nlgs_iterations += nlgs.iterations;
       report.nlgs_error = nlgs.error;
       report.nlgs_converged = nlgs.converged;
@@ -203,8 +209,8 @@ StepReport MoreauJean::step()
       change = std::max(change, std::abs(v_next[i] - vk[i]));
     vk = std::move(v_next);
     report.newton_iterations = k + 1;
-    if (change <= _options.newton_tolerance
-                      * std::max(max_abs(vk), _options.velocity_scale))
+    if (change <= _options.newton_tolerance *
+                      std::max(max_abs(vk), _options.velocity_scale))
     {
       report.newton_converged = true;
       break;
@@ -230,9 +236,8 @@ StepReport MoreauJean::step()
   for (int b = 0; b < nb; ++b)
   {
     const Eigen::VectorXd dv = v_new_b[b] - v_old_b[b];
-    _energy.damping
-        += h * v_mid_b[b].dot(th * damping_force(b, v_new_b[b])
-                              + (1 - th) * damping_old[b]);
+    _energy.damping += h * v_mid_b[b].dot(th * damping_force(b, v_new_b[b]) +
+                                          (1 - th) * damping_old[b]);
     _energy.numerical += (th - 0.5) * dv.dot(_kbar.mass(b) * dv);
     _energy.external_work += h * v_mid_b[b].dot(f_ext_b[b]);
   }
@@ -243,8 +248,8 @@ StepReport MoreauJean::step()
     _energy.friction -= _R[2 * a + 1] * U_mid[2 * a + 1];
     _energy.contact_normal -= _R[2 * a] * U_mid[2 * a];
     if (_contacts[a].wall >= 0)
-      _energy.wall_work += _R[2 * a] * H.wall_velocity(a)[0]
-                           + _R[2 * a + 1] * H.wall_velocity(a)[1];
+      _energy.wall_work += _R[2 * a] * H.wall_velocity(a)[0] +
+                           _R[2 * a + 1] * H.wall_velocity(a)[1];
     const double gap = _contacts[a].gap + h * U_mid[2 * a];
     report.max_penetration = std::max(report.max_penetration, -gap);
     if (_R[2 * a] > 0)

@@ -66,9 +66,9 @@ struct EnergyBalance
   /// Energy supplied minus energy stored and dissipated
   double residual() const
   {
-    return wall_work + external_work
-           - (kinetic - kinetic0 + strain - strain0 + damping + friction
-              + contact_normal + numerical);
+    return wall_work + external_work -
+           (kinetic - kinetic0 + strain - strain0 + damping + friction +
+            contact_normal + numerical);
   }
 };
 
@@ -81,7 +81,7 @@ struct StepReport
   double nlgs_error = 0;   ///< error of the last contact solve
   bool nlgs_converged = true;
   int contacts = 0;
-  int active_contacts = 0; ///< R_n > 0
+  int active_contacts = 0;    ///< R_n > 0
   double max_penetration = 0; ///< max(-gap) at the end of the step, >= 0
 };
 
@@ -135,6 +135,7 @@ private:
   EffectiveStiffness _kbar;
   std::vector<bodies::BodyMatrix> _K;
   double _time = 0;
+  bool _started = false;
   std::vector<double> _v, _f_ext, _f_int;
   std::vector<Contact> _contacts;
   std::vector<double> _R;
