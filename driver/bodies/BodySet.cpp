@@ -86,6 +86,7 @@ BodySet::BodySet(BodyMesh mesh, const forms::MaterialForms& material,
   _tangent = make(*material.tangent, {_V, _V});
   _energy_density = make(*material.energy_density, {_Q});
   _current_area = make(*form_body_current_area, {_Q});
+  _reference_area = make(*form_body_reference_area, {_Q});
 
   build_bodies();
   build_mass();
@@ -302,6 +303,11 @@ std::vector<double> BodySet::cell_strain_energy() const
 std::vector<double> BodySet::body_strain_energy() const
 {
   return sum_per_body(cell_strain_energy());
+}
+
+std::vector<double> BodySet::cell_reference_area() const
+{
+  return assemble_cellwise(*_reference_area);
 }
 
 std::vector<double> BodySet::body_current_area() const

@@ -107,6 +107,15 @@ public:
   /// Strain energy of each body
   std::vector<double> body_strain_energy() const;
 
+  /// Reference area of each cell
+  std::vector<double> cell_reference_area() const;
+
+  /// The cell-wise constant (DG0) space, for cell fields in outputs
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> cell_space() const
+  {
+    return _Q;
+  }
+
   /// Current (deformed) area of each body
   std::vector<double> body_current_area() const;
 
@@ -138,7 +147,7 @@ private:
   std::map<std::string, std::shared_ptr<const dolfinx::fem::Constant<double>>>
       _constants;
   std::shared_ptr<dolfinx::fem::Form<double>> _energy, _residual, _tangent,
-      _energy_density, _current_area;
+      _energy_density, _current_area, _reference_area;
   std::vector<Body> _bodies;
   std::vector<double> _reference_x;
   /// body and local node of each global node

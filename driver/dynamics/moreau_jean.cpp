@@ -3,6 +3,7 @@
 #include "delassus.h"
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace softpack::dynamics
@@ -142,6 +143,15 @@ StepReport MoreauJean::step()
   auto damping_force = [&](int b, const Eigen::VectorXd& v)
   { return Eigen::VectorXd(alpha * (_kbar.mass(b) * v) + beta * (_K[b] * v)); };
 
+  contact::NlgsOptions nlgs_options = _options.nlgs;
+  if (!_options.failed_problem_directory.empty())
+  {
+    char name[32];
+    std::snprintf(name, sizeof(name), "step_%08ld.hdf5", _steps);
+    std::filesystem::create_directories(_options.failed_problem_directory);
+    nlgs_options.dump_on_failure = _options.failed_problem_directory / name;
+  }
+
   StepReport report;
   report.contacts = static_cast<int>(nc);
   std::vector<double> vk = v_old, f_int(u.size());
@@ -189,7 +199,7 @@ StepReport MoreauJean::step()
       for (std::size_t i = 0; i < 2 * nc; ++i)
         problem.q[i] = U_free[i] + shift[i];
       const contact::NlgsResult nlgs =
-          contact::solve_nlgs(problem, _R, U, _options.nlgs);
+          contact::solve_nlgs(problem, _R, U, nlgs_options);
       report.nlgs_iterations += nlgs.iterations;
       report.nlgs_error = nlgs.error;
       report.nlgs_converged = nlgs.converged;
@@ -224,6 +234,7 @@ StepReport MoreauJean::step()
     u[i] = u_old[i] + h * (th * _v[i] + (1 - th) * v_old[i]);
   _bodies.internal_force(_f_int);
   _time += h;
+  ++_steps;
   for (Wall& wall : _walls)
     for (int d = 0; d < 2; ++d)
       wall.point[d] += h * wall.velocity[d];

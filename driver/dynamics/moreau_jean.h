@@ -43,6 +43,9 @@ struct MoreauJeanOptions
   DetectionOptions detection;
   /// The frictional contact solver
   contact::NlgsOptions nlgs;
+  /// If not empty, contact problems the NLGS fails to solve are written
+  /// there as step_NNNNNNNN.hdf5 (FCLIB layout) for replay
+  std::filesystem::path failed_problem_directory;
 };
 
 /// Energy bookkeeping since the start (J per unit length along z).
@@ -135,6 +138,7 @@ private:
   EffectiveStiffness _kbar;
   std::vector<bodies::BodyMatrix> _K;
   double _time = 0;
+  long _steps = 0;
   bool _started = false;
   std::vector<double> _v, _f_ext, _f_int;
   std::vector<Contact> _contacts;

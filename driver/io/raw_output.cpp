@@ -1,0 +1,105 @@
+#include "raw_output.h"
+
+#include <cstdio>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+
+namespace softpack::io
+{
+
+RawOutput::RawOutput(const std::filesystem::path& directory,
+                     const std::vector<dynamics::Wall>& walls)
+    : _raw(directory / "raw")
+{
+  std::filesystem::create_directories(_raw / "contacts");
+  std::filesystem::remove(_raw / "done.json");
+  _steps.open(_raw / "steps.csv");
+  _particles.open(_raw / "particles.csv");
+  if (!_steps || !_particles)
+    throw std::runtime_error("cannot write in " + _raw.string());
+  _steps << std::setprecision(12);
+  _particles << std::setprecision(12);
+  _steps << "step,time,newton_iterations,nlgs_iterations,nlgs_error,"
+            "nlgs_converged,contacts,active_contacts,max_penetration";
+  for (const dynamics::Wall& w : walls)
+    _steps << ',' << w.name << "_x," << w.name << "_y," << w.name << "_fx,"
+           << w.name << "_fy";
+  _steps << ",phi,strain_energy,kinetic_energy,wall_work,external_work,"
+            "damping,friction,contact_normal,numerical,energy_residual,"
+            "seconds\n";
+  _particles << "step,particle,area,strain_energy,reference_area\n";
+}
+
+void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
+                      const dynamics::StepReport& r, std::optional<double> phi,
+                      double seconds, const bodies::BodySet& bodies)
+{
+  _steps << step << ',' << scheme.time() << ',' << r.newton_iterations << ','
+         << r.nlgs_iterations << ',' << r.nlgs_error << ','
+         << (r.nlgs_converged ? 1 : 0) << ',' << r.contacts << ','
+         << r.active_contacts << ',' << r.max_penetration;
+  const auto forces = scheme.wall_forces();
+  for (std::size_t w = 0; w < forces.size(); ++w)
+    _steps << ',' << scheme.walls()[w].point[0] << ','
+           << scheme.walls()[w].point[1] << ',' << forces[w][0] << ','
+           << forces[w][1];
+  const dynamics::EnergyBalance& e = scheme.energy();
+  _steps << ',';
+  if (phi)
+    _steps << *phi;
+  _steps << ',' << e.strain << ',' << e.kinetic << ',' << e.wall_work << ','
+         << e.external_work << ',' << e.damping << ',' << e.friction << ','
+         << e.contact_normal << ',' << e.numerical << ',' << e.residual() << ','
+         << seconds << '\n';
+  _steps.flush();
+  write_particles(step, bodies);
+  write_contacts(step, scheme);
+}
+
+void RawOutput::write_particles(long step, const bodies::BodySet& bodies)
+{
+  const std::vector<double> area = bodies.body_current_area();
+  const std::vector<double> energy = bodies.body_strain_energy();
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+    _particles << step << ',' << b << ',' << area[b] << ',' << energy[b] << ','
+               << bodies.body(b).reference_area << '\n';
+  _particles.flush();
+}
+
+void RawOutput::write_contacts(long step, const dynamics::MoreauJean& scheme)
+{
+  char name[40];
+  std::snprintf(name, sizeof(name), "step_%08ld.csv", step);
+  const std::filesystem::path path = _raw / "contacts" / name;
+  const std::filesystem::path tmp = _raw / "contacts" / ".tmp.csv";
+  {
+    std::ofstream out(tmp);
+    out << std::setprecision(10);
+    out << "candidate,node,antagonist,wall,segment0,segment1,xi,gap,fn,ft,fx,"
+           "fy\n";
+    const double h = scheme.options().time_step;
+    const auto& R = scheme.impulses();
+    for (std::size_t a = 0; a < scheme.contacts().size(); ++a)
+    {
+      const dynamics::Contact& c = scheme.contacts()[a];
+      const double fn = R[2 * a] / h, ft = R[2 * a + 1] / h;
+      out << c.candidate_body << ',' << c.candidate_node << ','
+          << c.antagonist_body << ',' << c.wall << ',' << c.segment[0] << ','
+          << c.segment[1] << ',' << c.xi << ',' << c.gap << ',' << fn << ','
+          << ft << ',' << fn * c.n[0] + ft * c.t[0] << ','
+          << fn * c.n[1] + ft * c.t[1] << '\n';
+    }
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+void RawOutput::finish(long steps, double seconds, const std::string& reason)
+{
+  const nlohmann::json done = {
+      {"steps", steps}, {"seconds", seconds}, {"reason", reason}};
+  const std::filesystem::path tmp = _raw / ".done.json";
+  std::ofstream(tmp) << done.dump(2) << '\n';
+  std::filesystem::rename(tmp, _raw / "done.json");
+}
+
+} // namespace softpack::io
