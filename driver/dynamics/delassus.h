@@ -9,10 +9,11 @@ namespace softpack::dynamics
 
 /// Build the Delassus operator \f$W = H^T \bar K^{-1} H\f$ body by body.
 ///
-/// Only the nodes a contact touches matter. For each body, the compliance
-/// \f$G_b = \bar K_b^{-1}\f$ restricted to those nodes is computed with one
-/// solve per touched DOF (the factorization is the body's own), and every
-/// pair of contacts touching the body receives
+/// Only boundary nodes carry contacts. Each body's compliance
+/// \f$G_b = \bar K_b^{-1}\f$ restricted to its boundary DOFs is kept by
+/// EffectiveStiffness while the factorization is unchanged, so rebuilding W
+/// for a new contact set costs only small dense products: every pair of
+/// contacts touching the body receives
 /// \f$\sum_{i,j} w_i w_j\, F_a^T G_b(i, j) F_b\f$ (F the contact frames,
 /// w the node weights). No global or dense W is formed.
 /// @param[in] bodies Bodies

@@ -23,7 +23,36 @@ EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
                                         : 0.0)
                 : bodies.consistent_mass()[b].coeff(it.row(), it.col());
     _factors[b].analyzePattern(_kbar[b]);
+    const bodies::Body& body = bodies.body(b);
+    _boundary.push_back(body.boundary_nodes);
+    _slot.emplace_back(body.nodes.size(), -1);
+    for (std::size_t i = 0; i < body.boundary_nodes.size(); ++i)
+      _slot[b][body.boundary_nodes[i]] = static_cast<std::int32_t>(i);
   }
+  _compliance.resize(bodies.num_bodies());
+  _compliance_ready.assign(bodies.num_bodies(), 0);
+}
+
+const Eigen::MatrixXd& EffectiveStiffness::boundary_compliance(int b) const
+{
+  if (_compliance_ready[b])
+    return _compliance[b];
+  const std::vector<std::int32_t>& nodes = _boundary[b];
+  const int m = 2 * static_cast<int>(nodes.size());
+  Eigen::MatrixXd& G = _compliance[b];
+  G.resize(m, m);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(_kbar[b].rows());
+  for (int j = 0; j < m; ++j)
+  {
+    const int dof = 2 * nodes[j / 2] + j % 2;
+    e[dof] = 1;
+    const Eigen::VectorXd x = _factors[b].solve(e);
+    e[dof] = 0;
+    for (int i = 0; i < m; ++i)
+      G(i, j) = x[2 * nodes[i / 2] + i % 2];
+  }
+  _compliance_ready[b] = 1;
+  return G;
 }
 
 void EffectiveStiffness::factorize(const std::vector<bodies::BodyMatrix>& K,
@@ -44,6 +73,7 @@ void EffectiveStiffness::factorize(const std::vector<bodies::BodyMatrix>& K,
                                " is not positive definite (element "
                                "inverted or time step too large)");
   }
+  std::fill(_compliance_ready.begin(), _compliance_ready.end(), 0);
   ++_count;
 }
 

@@ -38,6 +38,18 @@ public:
     return _factors[body].solve(y);
   }
 
+  /// Compliance \f$\bar K_b^{-1}\f$ of body b restricted to its boundary
+  /// DOFs (2 per boundary node, in the order of Body::boundary_nodes),
+  /// computed on first use after each factorization (one solve per
+  /// boundary DOF) and kept until the next one
+  const Eigen::MatrixXd& boundary_compliance(int body) const;
+
+  /// Position of a local node in Body::boundary_nodes (-1 if interior)
+  int boundary_slot(int body, std::int32_t node) const
+  {
+    return _slot[body][node];
+  }
+
   /// Mass matrix of body b, on the body's stiffness pattern
   const bodies::BodyMatrix& mass(int body) const { return _mass[body]; }
 
@@ -47,6 +59,9 @@ public:
 private:
   std::vector<bodies::BodyMatrix> _mass, _kbar;
   std::vector<Eigen::SimplicialLDLT<bodies::BodyMatrix>> _factors;
+  std::vector<std::vector<std::int32_t>> _boundary, _slot;
+  mutable std::vector<Eigen::MatrixXd> _compliance;
+  mutable std::vector<char> _compliance_ready;
   int _count = 0;
 };
 

@@ -2,6 +2,7 @@
 
 #include "delassus.h"
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -29,15 +30,15 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
                        MoreauJeanOptions options)
     : _bodies(bodies), _walls(std::move(walls)), _options(options),
       _kbar(bodies, options.lumped_mass), _K(bodies.create_matrices()),
-      _v(bodies.num_dofs(), 0.0), _f_ext(bodies.num_dofs(), 0.0),
-      _f_int(bodies.num_dofs(), 0.0)
+      _A(bodies.create_matrices()), _v(bodies.num_dofs(), 0.0),
+      _f_ext(bodies.num_dofs(), 0.0), _f_int(bodies.num_dofs(), 0.0)
 {
   if (!(options.time_step > 0))
     throw std::invalid_argument("time step must be positive");
   if (options.theta < 0.5 || options.theta > 1)
     throw std::invalid_argument("theta must be in [0.5, 1]");
   _bodies.internal_force(_f_int);
-  _energy.strain = _energy.strain0 = _bodies.strain_energy();
+  _energy.strain0 = _bodies.strain_energy();
 }
 
 void MoreauJean::set_external_force(std::vector<double> f)
@@ -103,113 +104,204 @@ double MoreauJean::kinetic_energy(std::span<const double> v) const
   return e;
 }
 
-StepReport MoreauJean::step()
+struct MoreauJean::StepContacts
 {
-  if (!_started)
-  {
-    // Initial velocities are set between construction and the first step.
-    _energy.kinetic = _energy.kinetic0 = kinetic_energy(_v);
-    _started = true;
-  }
-  const double h = _options.time_step, th = _options.theta;
-  const double alpha = _options.alpha, beta = _options.beta;
-  const int nb = _bodies.num_bodies();
-  std::span<double> u = _bodies.displacement();
-  const std::vector<double> u_old(u.begin(), u.end()), v_old = _v;
+  ContactOperator H;
+  /// Gap part of the solver's normal velocity: g~/(h th) - U_n+
+  std::vector<double> shift;
+  std::size_t size() const { return H.size(); }
+};
 
-  // Detection and contact frames at the start of the step.
+namespace
+{
+double seconds_since(std::chrono::steady_clock::time_point t0)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
+      .count();
+}
+} // namespace
+
+MoreauJean::StepContacts
+MoreauJean::prepare_contacts(const std::vector<double>& u_old,
+                             const std::vector<double>& v_old)
+{
+  const double h = _options.time_step, th = _options.theta;
   std::vector<double> x(_bodies.reference_coordinates().begin(),
                         _bodies.reference_coordinates().end());
   for (std::size_t i = 0; i < x.size(); ++i)
     x[i] += u_old[i];
   _contacts = detect_contacts(_bodies, x, _walls, _options.detection);
-  const ContactOperator H(_contacts, _walls);
-  const std::size_t nc = _contacts.size();
-  const std::vector<double> U_old = H.relative_velocity(_bodies, v_old);
+  StepContacts sc{ContactOperator(_contacts, _walls), {}};
+  const std::vector<double> U_old = sc.H.relative_velocity(_bodies, v_old);
   // Signorini on the predicted gap g~ = g + h((1-th) U_n- + th U_n+):
   // the solver's normal velocity is g~ / (h th).
-  std::vector<double> shift(2 * nc, 0.0);
-  for (std::size_t a = 0; a < nc; ++a)
-    shift[2 * a] = (_contacts[a].gap + h * (1 - th) * U_old[2 * a]) / (h * th);
+  sc.shift.assign(2 * sc.size(), 0.0);
+  for (std::size_t a = 0; a < sc.size(); ++a)
+    sc.shift[2 * a] =
+        (_contacts[a].gap + h * (1 - th) * U_old[2 * a]) / (h * th);
   _R = warm_start();
+  return sc;
+}
+
+bool MoreauJean::needs_refactorization() const
+{
+  return _matrix_age < 0 || _options.full_newton ||
+         _matrix_age >= _options.tangent_reuse_steps ||
+         _last_iterations > _options.refactor_above_iterations;
+}
+
+void MoreauJean::refactorize(const StepContacts& sc,
+                             contact::FrictionContactProblem2D& problem,
+                             StepReport& report)
+{
+  const double h = _options.time_step, th = _options.theta;
+  auto t0 = std::chrono::steady_clock::now();
+  _bodies.tangent(_K);
+  report.seconds.assembly += seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  _kbar.factorize(_K, 1 + h * th * _options.alpha,
+                  h * th * _options.beta + h * h * th * th);
+  // A = (1 + h th alpha) M + h th beta K multiplies v_k in the residual.
+  for (std::size_t b = 0; b < _A.size(); ++b)
+  {
+    const double* m = _kbar.mass(b).valuePtr();
+    const double* k = _K[b].valuePtr();
+    double* a = _A[b].valuePtr();
+    for (Eigen::Index i = 0; i < _A[b].nonZeros(); ++i)
+      a[i] =
+          (1 + h * th * _options.alpha) * m[i] + h * th * _options.beta * k[i];
+  }
+  _products_valid = false;
+  report.seconds.factorization += seconds_since(t0);
+  _matrix_age = 0;
+  report.refactorized = true;
+  if (sc.size() > 0)
+  {
+    t0 = std::chrono::steady_clock::now();
+    problem.W = build_delassus(_bodies, sc.H, _kbar);
+    report.seconds.delassus += seconds_since(t0);
+  }
+}
+
+contact::NlgsOptions MoreauJean::nlgs_options() const
+{
+  contact::NlgsOptions o = _options.nlgs;
+  if (!_options.failed_problem_directory.empty())
+  {
+    char name[32];
+    std::snprintf(name, sizeof(name), "step_%08ld.hdf5", _steps);
+    o.dump_on_failure = _options.failed_problem_directory / name;
+  }
+  return o;
+}
+
+StepReport MoreauJean::step()
+{
+  if (!_started)
+  {
+    // Initial velocities are set between construction and the first step.
+    _energy.kinetic0 = kinetic_energy(_v);
+    _started = true;
+  }
+  using clock = std::chrono::steady_clock;
+  const double h = _options.time_step, th = _options.theta;
+  const int nb = _bodies.num_bodies();
+  std::span<double> u = _bodies.displacement();
+  const std::vector<double> u_old(u.begin(), u.end()), v_old = _v;
+  StepReport report;
+
+  auto t0 = clock::now();
+  const StepContacts sc = prepare_contacts(u_old, v_old);
+  const std::size_t nc = sc.size();
+  report.contacts = static_cast<int>(nc);
+  report.seconds.detection = seconds_since(t0);
 
   contact::FrictionContactProblem2D problem;
   problem.mu.assign(nc, _options.friction);
   problem.q.resize(2 * nc);
   std::vector<double> U(2 * nc);
+  const contact::NlgsOptions nlgs_opts = nlgs_options();
 
-  const Vectors v_old_b = gather(v_old), f_ext_b = gather(_f_ext);
-  Vectors damping_old(nb), f_old(nb), f_int_b;
-  auto damping_force = [&](int b, const Eigen::VectorXd& v)
-  { return Eigen::VectorXd(alpha * (_kbar.mass(b) * v) + beta * (_K[b] * v)); };
-
-  contact::NlgsOptions nlgs_options = _options.nlgs;
-  if (!_options.failed_problem_directory.empty())
+  if (needs_refactorization())
+    refactorize(sc, problem, report);
+  else if (nc > 0)
   {
-    char name[32];
-    std::snprintf(name, sizeof(name), "step_%08ld.hdf5", _steps);
-    std::filesystem::create_directories(_options.failed_problem_directory);
-    nlgs_options.dump_on_failure = _options.failed_problem_directory / name;
+    t0 = clock::now();
+    problem.W = build_delassus(_bodies, sc.H, _kbar);
+    report.seconds.delassus += seconds_since(t0);
   }
 
-  StepReport report;
-  report.contacts = static_cast<int>(nc);
+  // The known part of the momentum balance, fixed during the step:
+  // b = M v- + h (1 - th) (F_ext - F_int(q-) - C v-).
+  t0 = clock::now();
+  const Vectors v_old_b = gather(v_old), f_ext_b = gather(_f_ext);
+  const Vectors f_int_old = gather(_f_int);
+  update_products(v_old_b);
+  const Vectors Mv_old = _Mv;
+  Vectors damping_old(nb), known(nb);
+  for (int b = 0; b < nb; ++b)
+  {
+    damping_old[b] = _options.alpha * _Mv[b] + _options.beta * _Kv[b];
+    known[b] =
+        _Mv[b] + h * (1 - th) * (f_ext_b[b] - f_int_old[b] - damping_old[b]);
+  }
+  std::vector<char> touched(nb, 0);
+  for (std::size_t a = 0; a < nc; ++a)
+    for (const NodeTerm& term : sc.H.terms(a))
+      touched[term.body] = 1;
+  report.seconds.solves += seconds_since(t0);
+
   std::vector<double> vk = v_old, f_int(u.size());
   for (int k = 0;; ++k)
   {
+    t0 = clock::now();
     for (std::size_t i = 0; i < u.size(); ++i)
       u[i] = u_old[i] + h * (th * vk[i] + (1 - th) * v_old[i]);
     _bodies.internal_force(f_int);
-    if (k == 0 || _options.full_newton)
-    {
-      _bodies.tangent(_K);
-      _kbar.factorize(_K, 1 + h * th * alpha, h * th * beta + h * h * th * th);
-      if (nc > 0)
-        problem.W = build_delassus(_bodies, H, _kbar);
-    }
-    if (k == 0)
-    {
-      const Vectors f_int_old = gather(_f_int);
-      for (int b = 0; b < nb; ++b)
-      {
-        damping_old[b] = damping_force(b, v_old_b[b]);
-        f_old[b] = f_ext_b[b] - f_int_old[b] - damping_old[b];
-      }
-    }
+    report.seconds.assembly += seconds_since(t0);
+    if (k > 0 && _options.full_newton)
+      refactorize(sc, problem, report);
 
-    // Free velocity: one (quasi-)Newton correction without contact.
-    const Vectors vk_b = gather(vk);
-    f_int_b = gather(f_int);
-    Vectors residual(nb);
-    for (int b = 0; b < nb; ++b)
-      residual[b] =
-          _kbar.mass(b) * (vk_b[b] - v_old_b[b]) +
-          h * th * (f_int_b[b] + damping_force(b, vk_b[b]) - f_ext_b[b]) -
-          h * (1 - th) * f_old[b];
-    const Vectors correction = solve(residual);
+    // Free velocity: one (quasi-)Newton correction without contact,
+    // residual r = [(1 + h th alpha) M + h th beta K] v_k
+    //              + h th (F_int(q_k) - F_ext) - b.
+    t0 = clock::now();
+    const Vectors vk_b = gather(vk), f_int_b = gather(f_int);
     Vectors v_new(nb);
     for (int b = 0; b < nb; ++b)
-      v_new[b] = vk_b[b] - correction[b];
+    {
+      const Eigen::VectorXd residual =
+          _A[b] * vk_b[b] + h * th * (f_int_b[b] - f_ext_b[b]) - known[b];
+      v_new[b] = vk_b[b] - _kbar.solve(b, residual);
+    }
+    report.seconds.solves += seconds_since(t0);
 
     if (nc > 0)
     {
+      t0 = clock::now();
       std::vector<double> v_free(u.size());
       scatter(v_new, v_free);
-      const std::vector<double> U_free = H.relative_velocity(_bodies, v_free);
+      const std::vector<double> U_free =
+          sc.H.relative_velocity(_bodies, v_free);
       for (std::size_t i = 0; i < 2 * nc; ++i)
-        problem.q[i] = U_free[i] + shift[i];
+        problem.q[i] = U_free[i] + sc.shift[i];
       const contact::NlgsResult nlgs =
-          contact::solve_nlgs(problem, _R, U, nlgs_options);
+          contact::solve_nlgs(problem, _R, U, nlgs_opts);
       report.nlgs_iterations += nlgs.iterations;
       report.nlgs_error = nlgs.error;
       report.nlgs_converged = nlgs.converged;
+      report.seconds.nlgs += seconds_since(t0);
+
+      // Only bodies that carry a contact receive an impulse.
+      t0 = clock::now();
       Vectors impulse(nb);
       for (int b = 0; b < nb; ++b)
-        impulse[b] = Eigen::VectorXd::Zero(_bodies.body(b).num_dofs());
-      H.add_impulses(_R, impulse);
-      const Vectors dv = solve(impulse);
+        impulse[b] = Eigen::VectorXd::Zero(touched[b] ? v_new[b].size() : 0);
+      sc.H.add_impulses(_R, impulse);
       for (int b = 0; b < nb; ++b)
-        v_new[b] += dv[b];
+        if (touched[b])
+          v_new[b] += _kbar.solve(b, impulse[b]);
+      report.seconds.solves += seconds_since(t0);
     }
 
     std::vector<double> v_next(u.size());
@@ -230,46 +322,91 @@ StepReport MoreauJean::step()
   }
 
   _v = vk;
+  t0 = clock::now();
   for (std::size_t i = 0; i < u.size(); ++i)
     u[i] = u_old[i] + h * (th * _v[i] + (1 - th) * v_old[i]);
   _bodies.internal_force(_f_int);
+  report.seconds.assembly += seconds_since(t0);
   _time += h;
   ++_steps;
+  ++_matrix_age;
+  _last_iterations = report.newton_iterations;
   for (Wall& wall : _walls)
     for (int d = 0; d < 2; ++d)
       wall.point[d] += h * wall.velocity[d];
+  t0 = clock::now();
+  const Vectors v_new_b = gather(_v);
+  _products_valid = false;
+  update_products(v_new_b);
+  account_energy(sc, v_old_b, v_new_b, Mv_old, damping_old, f_ext_b, report);
+  report.seconds.solves += seconds_since(t0);
+  return report;
+}
 
-  // Energy bookkeeping with the scheme's own quantities.
-  std::vector<double> v_mid(u.size());
-  for (std::size_t i = 0; i < u.size(); ++i)
-    v_mid[i] = th * _v[i] + (1 - th) * v_old[i];
-  const Vectors v_new_b = gather(_v), v_mid_b = gather(v_mid);
+void MoreauJean::update_products(const Vectors& v)
+{
+  if (_products_valid)
+    return;
+  const int nb = _bodies.num_bodies();
+  _Mv.resize(nb);
+  _Kv.resize(nb);
   for (int b = 0; b < nb; ++b)
   {
-    const Eigen::VectorXd dv = v_new_b[b] - v_old_b[b];
-    _energy.damping += h * v_mid_b[b].dot(th * damping_force(b, v_new_b[b]) +
-                                          (1 - th) * damping_old[b]);
-    _energy.numerical += (th - 0.5) * dv.dot(_kbar.mass(b) * dv);
+    _Mv[b] = _kbar.mass(b) * v[b];
+    _Kv[b] = _K[b] * v[b];
+  }
+  _products_valid = true;
+}
+
+void MoreauJean::account_energy(const StepContacts& sc, const Vectors& v_old_b,
+                                const Vectors& v_new_b, const Vectors& Mv_old,
+                                const Vectors& damping_old,
+                                const Vectors& f_ext_b, StepReport& report)
+{
+  const double h = _options.time_step, th = _options.theta;
+  Vectors v_mid_b(v_new_b.size());
+  for (std::size_t b = 0; b < v_new_b.size(); ++b)
+  {
+    v_mid_b[b] = th * v_new_b[b] + (1 - th) * v_old_b[b];
+    const Eigen::VectorXd damping_new =
+        _options.alpha * _Mv[b] + _options.beta * _Kv[b];
+    _energy.damping +=
+        h * v_mid_b[b].dot(th * damping_new + (1 - th) * damping_old[b]);
+    _energy.numerical +=
+        (th - 0.5) * (v_new_b[b] - v_old_b[b]).dot(_Mv[b] - Mv_old[b]);
     _energy.external_work += h * v_mid_b[b].dot(f_ext_b[b]);
   }
-  const std::vector<double> U_mid = H.relative_velocity(_bodies, v_mid);
+  std::vector<double> v_mid(_v.size());
+  scatter(v_mid_b, v_mid);
+  const std::vector<double> U_mid = sc.H.relative_velocity(_bodies, v_mid);
   _previous.clear();
-  for (std::size_t a = 0; a < nc; ++a)
+  for (std::size_t a = 0; a < sc.size(); ++a)
   {
     _energy.friction -= _R[2 * a + 1] * U_mid[2 * a + 1];
     _energy.contact_normal -= _R[2 * a] * U_mid[2 * a];
     if (_contacts[a].wall >= 0)
-      _energy.wall_work += _R[2 * a] * H.wall_velocity(a)[0] +
-                           _R[2 * a + 1] * H.wall_velocity(a)[1];
+      _energy.wall_work += _R[2 * a] * sc.H.wall_velocity(a)[0] +
+                           _R[2 * a + 1] * sc.H.wall_velocity(a)[1];
     const double gap = _contacts[a].gap + h * U_mid[2 * a];
     report.max_penetration = std::max(report.max_penetration, -gap);
     if (_R[2 * a] > 0)
       ++report.active_contacts;
     _previous[contact_key(_contacts[a])] = {_R[2 * a], _R[2 * a + 1]};
   }
-  _energy.kinetic = kinetic_energy(_v);
-  _energy.strain = _bodies.strain_energy();
-  return report;
+  _energy_stale = true;
+}
+
+const EnergyBalance& MoreauJean::energy() const
+{
+  if (_energy_stale)
+  {
+    _energy.strain = _bodies.strain_energy();
+    _energy.kinetic = kinetic_energy(_v);
+    if (!_started)
+      _energy.kinetic0 = _energy.kinetic;
+    _energy_stale = false;
+  }
+  return _energy;
 }
 
 std::vector<std::array<double, 2>> MoreauJean::wall_forces() const

@@ -35,10 +35,16 @@ struct MoreauJeanOptions
   /// Give up (and report) after this many Newton iterations
   int max_newton_iterations = 20;
   /// Reassemble and refactor the iteration matrix at every Newton
-  /// iteration (true: full Newton), or only at the first iteration of each
-  /// step (false: modified Newton; the iteration matrix is mass-dominated
-  /// at small h, so convergence stays fast)
+  /// iteration (true: full Newton), or keep it (false: modified Newton;
+  /// the iteration matrix is mass-dominated at small h, so a lagged one
+  /// still converges fast and the converged step is the same)
   bool full_newton = true;
+  /// With modified Newton: reuse the iteration matrix (and the per-body
+  /// compliances behind the Delassus operator) for up to this many steps
+  int tangent_reuse_steps = 1;
+  /// ... and refactor at the next step whenever a step needed more Newton
+  /// iterations than this
+  int refactor_above_iterations = 5;
   /// Contact detection
   DetectionOptions detection;
   /// The frictional contact solver
@@ -75,9 +81,23 @@ struct EnergyBalance
   }
 };
 
+/// Wall time spent in each part of a step (s).
+struct StepTimings
+{
+  double detection = 0, assembly = 0, factorization = 0, delassus = 0, nlgs = 0,
+         solves = 0;
+  double total() const
+  {
+    return detection + assembly + factorization + delassus + nlgs + solves;
+  }
+};
+
 /// What one step did.
 struct StepReport
 {
+  StepTimings seconds;
+  /// The iteration matrix was refactorized in this step
+  bool refactorized = false;
   int newton_iterations = 0;
   bool newton_converged = false;
   int nlgs_iterations = 0; ///< sweeps, summed over the Newton iterations
@@ -104,7 +124,8 @@ public:
 
   /// Current time
   double time() const { return _time; }
-  /// Global velocity vector (writable: initial conditions)
+  /// Global velocity vector (writable before the first step: initial
+  /// conditions)
   std::span<double> velocity() { return _v; }
   /// Constant external nodal forces (global vector; default zero)
   void set_external_force(std::vector<double> f);
@@ -114,8 +135,9 @@ public:
   const std::vector<double>& impulses() const { return _R; }
   /// Force each wall received during the last step (impulse / h)
   std::vector<std::array<double, 2>> wall_forces() const;
-  /// Energy balance since the start
-  const EnergyBalance& energy() const { return _energy; }
+  /// Energy balance since the start (strain and kinetic energies are
+  /// evaluated on demand: they are state functions, not needed to step)
+  const EnergyBalance& energy() const;
   /// The walls (writable: a wall's velocity may be changed between steps)
   std::vector<Wall>& walls() { return _walls; }
   const std::vector<Wall>& walls() const { return _walls; }
@@ -126,6 +148,20 @@ public:
 
 private:
   using Vectors = std::vector<Eigen::VectorXd>;
+  /// The contacts of a step and their data fixed during the step.
+  struct StepContacts;
+  StepContacts prepare_contacts(const std::vector<double>& u_old,
+                                const std::vector<double>& v_old);
+  bool needs_refactorization() const;
+  void refactorize(const StepContacts& sc,
+                   contact::FrictionContactProblem2D& problem,
+                   StepReport& report);
+  contact::NlgsOptions nlgs_options() const;
+  void update_products(const Vectors& v);
+  void account_energy(const StepContacts& sc, const Vectors& v_old_b,
+                      const Vectors& v_new_b, const Vectors& Mv_old,
+                      const Vectors& damping_old, const Vectors& f_ext_b,
+                      StepReport& report);
   Vectors gather(std::span<const double> global) const;
   void scatter(const Vectors& per_body, std::span<double> global) const;
   Vectors solve(const Vectors& rhs) const;
@@ -136,7 +172,12 @@ private:
   std::vector<Wall> _walls;
   MoreauJeanOptions _options;
   EffectiveStiffness _kbar;
-  std::vector<bodies::BodyMatrix> _K;
+  /// Tangent stiffness as last assembled, and
+  /// A = (1 + h th alpha) M + h th beta K on the same pattern
+  std::vector<bodies::BodyMatrix> _K, _A;
+  /// M v and K v at the current velocity (valid while K is unchanged)
+  Vectors _Mv, _Kv;
+  bool _products_valid = false;
   double _time = 0;
   long _steps = 0;
   bool _started = false;
@@ -145,7 +186,10 @@ private:
   std::vector<double> _R;
   /// Previous step's impulses by (candidate body, node, antagonist)
   std::map<std::tuple<int, int, int>, std::array<double, 2>> _previous;
-  EnergyBalance _energy;
+  mutable EnergyBalance _energy;
+  mutable bool _energy_stale = true;
+  int _matrix_age = -1; ///< steps since the last factorization (-1: none)
+  int _last_iterations = 0;
 };
 
 } // namespace softpack::dynamics

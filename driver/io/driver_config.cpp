@@ -109,6 +109,13 @@ void read_stepping(const Reader& r, const json& doc,
     r.fail(p + "full_newton", "must be true or false");
   o.full_newton = full.get<bool>();
   o.velocity_scale = r.number(t, "velocity_scale", p, 0);
+  // Optional keys (older driver.json files do not have them).
+  if (t.contains("tangent_reuse_steps"))
+    o.tangent_reuse_steps =
+        static_cast<int>(r.number(t, "tangent_reuse_steps", p, 1, 1e9));
+  if (t.contains("refactor_above_iterations"))
+    o.refactor_above_iterations =
+        static_cast<int>(r.number(t, "refactor_above_iterations", p, 1, 1000));
 
   const json& c = r.at(doc, "contact", "");
   const std::string q = "contact.";

@@ -26,13 +26,15 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
            << w.name << "_fy";
   _steps << ",phi,strain_energy,kinetic_energy,wall_work,external_work,"
             "damping,friction,contact_normal,numerical,energy_residual,"
-            "seconds\n";
+            "seconds,seconds_detection,seconds_assembly,seconds_factorization,"
+            "seconds_delassus,seconds_nlgs,seconds_solves,refactorized\n";
   _particles << "step,particle,area,strain_energy,reference_area\n";
 }
 
 void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
                       const dynamics::StepReport& r, std::optional<double> phi,
-                      double seconds, const bodies::BodySet& bodies)
+                      double seconds, const bodies::BodySet& bodies,
+                      const dynamics::StepTimings& spent)
 {
   _steps << step << ',' << scheme.time() << ',' << r.newton_iterations << ','
          << r.nlgs_iterations << ',' << r.nlgs_error << ','
@@ -93,10 +95,21 @@ void RawOutput::write_contacts(long step, const dynamics::MoreauJean& scheme)
   std::filesystem::rename(tmp, path);
 }
 
-void RawOutput::finish(long steps, double seconds, const std::string& reason)
+void RawOutput::finish(long steps, double seconds, const std::string& reason,
+                       const dynamics::StepTimings& spent, int factorizations)
 {
-  const nlohmann::json done = {
-      {"steps", steps}, {"seconds", seconds}, {"reason", reason}};
+  const nlohmann::json done
+      = {{"steps", steps},
+         {"seconds", seconds},
+         {"reason", reason},
+         {"factorizations", factorizations},
+         {"seconds_by_part",
+          {{"detection", spent.detection},
+           {"assembly", spent.assembly},
+           {"factorization", spent.factorization},
+           {"delassus", spent.delassus},
+           {"nlgs", spent.nlgs},
+           {"solves", spent.solves}}}};
   const std::filesystem::path tmp = _raw / ".done.json";
   std::ofstream(tmp) << done.dump(2) << '\n';
   std::filesystem::rename(tmp, _raw / "done.json");

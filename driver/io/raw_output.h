@@ -29,12 +29,15 @@ public:
   /// @param[in] phi Packing fraction, if there is a box
   /// @param[in] seconds Wall time since the start
   /// @param[in] bodies The bodies (areas and energies)
+  /// @param[in] spent Wall time per part of the step, summed since the start
   void write(long step, const dynamics::MoreauJean& scheme,
              const dynamics::StepReport& report, std::optional<double> phi,
-             double seconds, const bodies::BodySet& bodies);
+             double seconds, const bodies::BodySet& bodies,
+             const dynamics::StepTimings& spent);
 
   /// Mark the run complete.
-  void finish(long steps, double seconds, const std::string& reason);
+  void finish(long steps, double seconds, const std::string& reason,
+              const dynamics::StepTimings& spent, int factorizations);
 
 private:
   void write_particles(long step, const bodies::BodySet& bodies);

@@ -85,11 +85,12 @@ RunSummary run_simulation(const io::DriverConfig& config, bool quiet)
   };
 
   RunSummary summary;
+  dynamics::StepTimings spent;
   long outputs = 0;
   auto output =
       [&](long step, const dynamics::StepReport& r, std::optional<double> p)
   {
-    raw.write(step, scheme, r, p, elapsed(), bodies);
+    raw.write(step, scheme, r, p, elapsed(), bodies, spent);
     if (fields && outputs % config.fields_every_outputs == 0)
       fields->write(bodies, scheme.time());
     ++outputs;
@@ -101,6 +102,12 @@ RunSummary run_simulation(const io::DriverConfig& config, bool quiet)
   for (long step = 1;; ++step)
   {
     const dynamics::StepReport r = scheme.step();
+    spent.detection += r.seconds.detection;
+    spent.assembly += r.seconds.assembly;
+    spent.factorization += r.seconds.factorization;
+    spent.delassus += r.seconds.delassus;
+    spent.nlgs += r.seconds.nlgs;
+    spent.solves += r.seconds.solves;
     const std::optional<double> p = phi();
     const bool full = p && config.stop_packing_fraction &&
                       *p >= *config.stop_packing_fraction;
@@ -113,7 +120,8 @@ RunSummary run_simulation(const io::DriverConfig& config, bool quiet)
       break;
     }
   }
-  raw.finish(summary.steps, summary.seconds, summary.reason);
+  raw.finish(summary.steps, summary.seconds, summary.reason, spent,
+             scheme.factorizations());
   return summary;
 }
 
