@@ -59,6 +59,8 @@ void EffectiveStiffness::factorize(const std::vector<bodies::BodyMatrix>& K,
                                    double mass_coefficient,
                                    double stiffness_coefficient)
 {
+  bool ok = true;
+#pragma omp parallel for schedule(dynamic) reduction(&& : ok) if (_kbar.size() >= 16)
   for (std::size_t b = 0; b < _kbar.size(); ++b)
   {
     const double* m = _mass[b].valuePtr();
@@ -67,12 +69,14 @@ void EffectiveStiffness::factorize(const std::vector<bodies::BodyMatrix>& K,
     for (Eigen::Index i = 0; i < _kbar[b].nonZeros(); ++i)
       a[i] = mass_coefficient * m[i] + stiffness_coefficient * k[i];
     _factors[b].factorize(_kbar[b]);
-    if (_factors[b].info() != Eigen::Success ||
-        (_factors[b].vectorD().array() <= 0).any())
-      throw std::runtime_error("iteration matrix of body " + std::to_string(b) +
-                               " is not positive definite (element "
-                               "inverted or time step too large)");
+    ok = ok && _factors[b].info() == Eigen::Success &&
+         (_factors[b].vectorD().array() > 0).all();
   }
+  // No throwing inside the parallel loop.
+  if (!ok)
+    throw std::runtime_error("the iteration matrix of a body is not positive "
+                             "definite (element inverted or time step too "
+                             "large)");
   std::fill(_compliance_ready.begin(), _compliance_ready.end(), 0);
   ++_count;
 }

@@ -268,6 +268,7 @@ StepReport MoreauJean::step()
     t0 = clock::now();
     const Vectors vk_b = gather(vk), f_int_b = gather(f_int);
     Vectors v_new(nb);
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
     for (int b = 0; b < nb; ++b)
     {
       const Eigen::VectorXd residual =
@@ -298,6 +299,7 @@ StepReport MoreauJean::step()
       for (int b = 0; b < nb; ++b)
         impulse[b] = Eigen::VectorXd::Zero(touched[b] ? v_new[b].size() : 0);
       sc.H.add_impulses(_R, impulse);
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
       for (int b = 0; b < nb; ++b)
         if (touched[b])
           v_new[b] += _kbar.solve(b, impulse[b]);
@@ -350,6 +352,7 @@ void MoreauJean::update_products(const Vectors& v)
   const int nb = _bodies.num_bodies();
   _Mv.resize(nb);
   _Kv.resize(nb);
+#pragma omp parallel for schedule(static) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
   {
     _Mv[b] = _kbar.mass(b) * v[b];
