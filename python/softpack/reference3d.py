@@ -35,12 +35,20 @@ Profile (Fig. 3): u_x along the Lagrangian transverse diameter (Y = 0), i.e.
 the material line perpendicular to the loading through the centre, on the
 mid-plane z = 0 (the default CSV) and on the end face z = l/2 (extra CSV).
 w = X/R in [-1, 1] (the antisymmetry u_x(-X) = -u_x(X) gives the half x < 0);
-ux_over_D = u_x/D.  The paper's DIC sees the bottom face of the cylinders,
-which by the z-symmetry assumed here (both ends free; the real bottom lies on
-lubricated glass) is the end face: there the free surface bulges more in x
-(the cross-section is not in plane strain, material flows out of the end
-faces in the mid-plane and into x at the ends), so the end-face profile has
-somewhat larger |u_x| near w = +-1 than the mid-plane one.  Both are written.
+ux_over_D = u_x/D.
+
+Mid-plane vs bottom face. The paper's DIC sees the bottom face of the
+cylinders; with both ends free (as here) that is the end-face CSV, not the
+mid-plane one, and the two differ: the cylinder is not in plane strain. It
+lengthens (the end faces bulge out, u_z/D ~ 0.05 next to the contact lines,
+~ 0.02 at the centre and ~ 0 at x = +-R at eps = 0.2) and its lateral surface
+flares towards the ends: at eps = 0.2, u_x(R)/D = 0.029 on the mid-plane and
+0.040 on the end face: the end-face profile is ~ 1.37 x the mid-plane one
+along the whole diameter, at every strain (0.05-0.20) and mesh. (The
+mid-plane profile is also very slightly non-monotonic next to w = +-1 at
+eps = 0.2.) If the real bottom slid on the glass
+without lifting (u_z = 0 there), it would be the mid-plane of a cylinder of
+length 2l instead: not computed here.
 """
 
 import argparse
@@ -108,7 +116,8 @@ def build_mesh(half_length, element_size, comm=None):
 
     Lengths in units of R. The size is element_size within 0.5 of the contact
     line (x = 0, y = 1) and grows to 2 element_size beyond distance 1.
-    Returns (mesh, facet_tags).
+    Returns (mesh, facet_tags). Opens and closes its own gmsh session (do not
+    call it while another gmsh session is in use in the same process).
     """
     import gmsh
     from mpi4py import MPI
@@ -122,7 +131,7 @@ def build_mesh(half_length, element_size, comm=None):
         vol = gmsh.model.occ.addCylinder(0, 0, 0, 0, 0, half_length, 1.0,
                                          angle=math.pi / 2)
         gmsh.model.occ.synchronize()
-        _tag_surfaces(gmsh, vol, half_length)
+        _tag_surfaces(gmsh, vol)
         _size_field(gmsh, element_size)
         gmsh.model.mesh.generate(3)
         gmsh.model.mesh.setOrder(2)
@@ -132,7 +141,7 @@ def build_mesh(half_length, element_size, comm=None):
     return mesh, facets
 
 
-def _tag_surfaces(gmsh, vol, half_length):
+def _tag_surfaces(gmsh, vol):
     gmsh.model.addPhysicalGroup(3, [vol], 1)
     groups = {}
     for dim, tag in gmsh.model.getBoundary([(3, vol)], oriented=False):
@@ -529,9 +538,10 @@ def main(argv=None):
     parser.add_argument("--length", type=float, default=0.015)
     parser.add_argument("--mu", type=float, default=0.15e6)
     args = parser.parse_args(argv)
-    handler = logging.StreamHandler()
-    handler.setFormatter(logging.Formatter("%(asctime)s %(message)s", "%H:%M:%S"))
-    log.addHandler(handler)
+    if not log.handlers:
+        handler = logging.StreamHandler()
+        handler.setFormatter(logging.Formatter("%(asctime)s %(message)s", "%H:%M:%S"))
+        log.addHandler(handler)
     log.setLevel(logging.INFO)
     log.propagate = False
     logging.getLogger().setLevel(logging.WARNING)   # FFCx/cffi JIT chatter

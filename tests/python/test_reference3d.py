@@ -86,7 +86,10 @@ def test_nearly_incompressible_matches_incompressible(nearly_incompressible, inc
 
 
 def test_transverse_profile(nearly_incompressible):
-    """u_x along the transverse diameter: odd in w, outward, growing with eps."""
+    """u_x along the transverse diameter: odd in w, outward, growing with eps.
+
+    (Not monotonic in w: on fine meshes u_x dips slightly next to w = 1.)
+    """
     prof = nearly_incompressible.profiles_mid
     assert sorted(prof) == [0.05, 0.10, 0.15]
     edge = []
@@ -94,7 +97,7 @@ def test_transverse_profile(nearly_incompressible):
         w, ux = prof[eps]
         assert w[0] == pytest.approx(-1.0) and w[-1] == pytest.approx(1.0)
         np.testing.assert_allclose(ux, -ux[::-1], atol=1e-14)
-        assert np.all(np.diff(ux) > -1e-12)          # material moves away from the axis
+        assert np.all(ux[w > 0] > 0)                 # material moves away from the axis
         edge.append(ux[-1])
     assert np.all(np.diff(edge) > 0)
     # the lateral bulge is a fraction of the imposed approach delta/D = 1 - e^-eps
@@ -121,3 +124,16 @@ def test_johnson_estimate_is_the_inverse_of_the_formula():
     k = 4.0     # E*/mu for nu = 1/2, plane strain
     approach = 2 * p / (np.pi * k) * (2 * np.log(4 / np.sqrt(8 * p / (np.pi * k))) - 1)
     np.testing.assert_allclose(approach, 1 - np.exp(-np.array([0.02, 0.1])), rtol=1e-10)
+
+
+def test_cli_writes_the_csv_files(tmp_path):
+    """The module's CLI end to end on a tiny run (eps = 0.05 in 2 steps, 3 mm mesh)."""
+    argv = ["--out", str(tmp_path), "--element-size", "0.003", "--incompressible",
+            "--max-strain", "0.05", "--steps", "2"]
+    assert r3d.main(argv) == 0
+    force = np.genfromtxt(tmp_path / "force_3d_incompressible.csv", delimiter=",", names=True)
+    np.testing.assert_allclose(force["eps"], [0.0, 0.025, 0.05])
+    assert 0.04 < force["f_norm"][-1] < 0.06
+    for name in ("profile_3d_incompressible.csv", "profile_3d_incompressible_endface.csv",
+                 "energy_3d_incompressible.csv", "run_3d_incompressible.json"):
+        assert (tmp_path / name).stat().st_size > 0
