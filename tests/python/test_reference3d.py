@@ -97,7 +97,8 @@ def test_transverse_profile(nearly_incompressible):
         w, ux = prof[eps]
         assert w[0] == pytest.approx(-1.0) and w[-1] == pytest.approx(1.0)
         np.testing.assert_allclose(ux, -ux[::-1], atol=1e-14)
-        assert np.all(ux[w > 0] > 0)                 # material moves away from the axis
+        off_axis = w > 1e-9                          # w = 0 is computed as ~1e-18
+        assert np.all(ux[off_axis] > 0)              # material moves away from the axis
         edge.append(ux[-1])
     assert np.all(np.diff(edge) > 0)
     # the lateral bulge is a fraction of the imposed approach delta/D = 1 - e^-eps
