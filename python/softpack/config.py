@@ -158,7 +158,7 @@ SCHEMA = {
                                " candidates for the step", "m"),
         "max_penetration": _pos(5e-4, "deeper detections are taken as"
                                 " wrong-side and ignored", "m"),
-        "nlgs_tolerance": _fraction(1e-6, "relative tolerance of the NLGS"
+        "nlgs_tolerance": _fraction(1e-8, "relative tolerance of the NLGS"
                                     " contact solver"),
         "nlgs_max_sweeps": Key("int", 2000, "NLGS sweeps at most per solve",
                                low=1),
@@ -178,7 +178,15 @@ SCHEMA = {
         "newton_max_iterations": Key("int", 20, "Newton iterations at most"
                                      " per step", low=1),
         "full_newton": Key("bool", False, "refactor the iteration matrix at"
-                           " every Newton iteration (else once per step)"),
+                           " every Newton iteration (else keep it, see"
+                           " tangent_reuse_steps)"),
+        "tangent_reuse_steps": Key("int", 50, "with full_newton = false:"
+                                   " refactor the iteration matrix at least"
+                                   " every this many steps", low=1),
+        "refactor_above_iterations": Key("int", 5, "refactor at the next"
+                                         " step when a step needed more"
+                                         " Newton iterations than this",
+                                         low=1),
     },
     "damping": {
         "alpha": _nonneg(30.0, "Rayleigh mass coefficient (C = alpha M +"
@@ -190,6 +198,8 @@ SCHEMA = {
                            " time steps", low=1),
         "fields": Key("bool", True, "write fields.xdmf/.h5 for ParaView and"
                       " Fig. 7"),
+        "fields_every": Key("int", 10, "write fields at every this many"
+                            " output steps", low=1),
     },
     "observables": {
         "unbalanced_threshold": Key("float", 1e-3, "f_p* / piston force:"
@@ -414,6 +424,14 @@ def _check_consistency(source, sections) -> None:
             f"{source}: [mesh] element_size = {h!r}: must be <= {h_max:.4g} m"
             f" (at least {MIN_BOUNDARY_ELEMENTS} elements around the smallest"
             f" disk, D = {min(used):g} m)")
+    newton = sections["time"]["newton_tolerance"]
+    nlgs = sections["contact"]["nlgs_tolerance"]
+    if nlgs > 0.1 * newton:
+        raise ConfigError(
+            f"{source}: [contact] nlgs_tolerance = {nlgs!r}: must be <="
+            f" {0.1 * newton:.3g} (a tenth of [time] newton_tolerance: the"
+            " Newton iterations cannot converge below the noise of the"
+            " contact solve)")
     step, speed = sections["time"]["time_step"], \
         sections["loading"]["piston_speed"]
     alert = sections["contact"]["alert_distance"]
@@ -484,7 +502,9 @@ def driver_input(config, mesh_xdmf, out_dir) -> dict:
             "rayleigh_beta": d["beta"],
             "newton_tolerance": t["newton_tolerance"],
             "newton_max_iterations": t["newton_max_iterations"],
-            "full_newton": t["full_newton"], "velocity_scale": speed},
+            "full_newton": t["full_newton"], "velocity_scale": speed,
+            "tangent_reuse_steps": t["tangent_reuse_steps"],
+            "refactor_above_iterations": t["refactor_above_iterations"]},
         "contact": {key: c[key] for key in
                     ("friction", "alert_distance", "max_penetration",
                      "nlgs_tolerance", "nlgs_max_sweeps", "nlgs_relaxation")},
@@ -492,7 +512,8 @@ def driver_input(config, mesh_xdmf, out_dir) -> dict:
                  config["loading"]["target_packing_fraction"],
                  "max_time": config["loading"]["max_time"]},
         "output": {"directory": str(Path(out_dir).resolve()),
-                   "every_steps": o["every_steps"], "fields": o["fields"]},
+                   "every_steps": o["every_steps"],
+                   "fields": o["fields_every"] if o["fields"] else 0},
     }
 
 

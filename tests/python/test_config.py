@@ -176,6 +176,9 @@ def test_driver_json(tmp_path):
             ts["velocity_scale"], ts["mass"]) == (9e-6, 30.0, 1e-5, 0.1,
                                                   "consistent")
     assert doc["contact"]["friction"] == 0.3
+    assert doc["contact"]["nlgs_tolerance"] == 1e-8
     assert doc["stop"]["packing_fraction"] == 0.88
     assert doc["output"] == {"directory": str((tmp_path / "out").resolve()),
-                             "every_steps": 100, "fields": True}
+                             "every_steps": 100, "fields": 10}
+    assert (ts["tangent_reuse_steps"], ts["refactor_above_iterations"]) \
+        == (50, 5)
