@@ -29,6 +29,7 @@ configuration or command line, 130 interrupted.
 from __future__ import annotations
 
 import argparse
+import tomllib
 import json
 import math
 import os
@@ -70,6 +71,10 @@ def _parser() -> argparse.ArgumentParser:
                    help="override [geometry] seed (random packing)")
     p.add_argument("--friction", type=float,
                    help="override [contact] friction (mu_f)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   dest="settings",
+                   help="override any key, e.g. --set time.time_step=3.6e-5"
+                   " (VALUE in TOML syntax; repeatable)")
     p.add_argument("--force", action="store_true",
                    help="overwrite a complete run in DIR")
     p.add_argument("--observables-only", action="store_true",
@@ -88,6 +93,7 @@ def main(argv=None) -> int:
     if args.friction is not None:
         overrides["contact.friction"] = args.friction
     try:
+        overrides.update(_parse_settings(args.settings))
         config = load_config(path, overrides)
     except ConfigError as err:
         print(f"softpack run: {err}", file=sys.stderr)
@@ -104,6 +110,21 @@ def main(argv=None) -> int:
         print("\nsoftpack run: interrupted; no series.csv written",
               file=sys.stderr)
         return 130
+
+
+def _parse_settings(settings) -> dict:
+    """``["time.time_step=3.6e-5", ...]`` -> ``{"time.time_step": 3.6e-5}``."""
+    overrides = {}
+    for item in settings:
+        key, sep, value = item.partition("=")
+        if not sep or "." not in key:
+            raise ConfigError(f"--set {item!r}: expected SECTION.KEY=VALUE")
+        try:
+            overrides[key.strip()] = tomllib.loads(f"v = {value}")["v"]
+        except tomllib.TOMLDecodeError:
+            raise ConfigError(f"--set {item!r}: {value!r} is not a TOML"
+                              " value (strings need quotes)") from None
+    return overrides
 
 
 def _default_config() -> Path:

@@ -201,3 +201,15 @@ def test_default_out_dir_and_progress_line(tmp_path):
     assert "eps = 0.0465" in line and "Phi = 0.7500" in line
     assert " 52.1 %" in line
     assert os.fspath(run._default_config()).endswith("examples/paper.toml")
+
+
+def test_set_overrides_are_parsed_as_toml_values():
+    from softpack.config import ConfigError
+    from softpack.run import _parse_settings
+    assert _parse_settings(["time.time_step=3.6e-5", "material.name='x'",
+                            "output.fields = false"]) == {
+        "time.time_step": 3.6e-5, "material.name": "x",
+        "output.fields": False}
+    for bad in ("time_step=1", "time.time_step", "material.name=x"):
+        with pytest.raises(ConfigError, match="--set"):
+            _parse_settings([bad])
