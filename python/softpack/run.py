@@ -98,7 +98,8 @@ def main(argv=None) -> int:
     except ConfigError as err:
         print(f"softpack run: {err}", file=sys.stderr)
         return 2
-    out = args.out or default_out_dir(config, args.friction is not None)
+    # Absolute: the driver runs with the run directory as its cwd.
+    out = (args.out or default_out_dir(config, args.friction is not None)).resolve()
     try:
         if args.observables_only:
             return _postprocess(out, None)

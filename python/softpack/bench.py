@@ -1,0 +1,230 @@
+"""``./softpack bench``: the benchmarks under bench/ and the paper case's cost.
+
+Runs, in order, and prints a table (also written to
+``bench/results/bench-<date>.json``):
+
+1. ``softpack-bench-nlgs``: NLGS sweeps per second on the 2020-contact FCLIB
+   problem (../shared/data/fclib).
+2. ``softpack-bench-detection``: contact detection time for 100, 400 and 1600
+   disks and the fitted exponent of time ~ N^p.
+3. The paper case (100 disks, 92k triangles): ``--steps`` time steps from the
+   initial packing at the paper's settings (h = 9 us, Newton 1e-6, NLGS 1e-8)
+   and at the fast settings (h = 36 us, Newton 1e-4, NLGS 1e-6), with the
+   per-step cost split by part (assembly, factorization, solves, Delassus,
+   detection, NLGS) and the peak memory of the driver.
+4. Scaling with the number of disks (25, 100, 400; same element size, same
+   initial packing fraction, box scaled with sqrt(N), piston speed scaled
+   with the box length so that the strain rate is the same): cost per step
+   and per unit strain, and the fitted exponents.
+
+``--full`` also runs the whole paper case (fast settings, seed 0) with
+``./softpack run`` and reports its wall time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import datetime
+import json
+import math
+import os
+import resource
+import subprocess
+import sys
+from pathlib import Path
+
+from softpack import config as cfg
+from softpack.mesh import mesh_disks
+from softpack.packing import random_packing
+
+ROOT = Path(os.environ.get("SOFTPACK_ROOT", Path(__file__).resolve().parents[2]))
+BIN = Path(os.environ.get("SOFTPACK_BIN", ROOT / "build" / "bin"))
+WORK = ROOT / "bench" / "work"
+RESULTS = ROOT / "bench" / "results"
+
+PAPER = {"time.time_step": 9e-6, "time.newton_tolerance": 1e-6,
+         "contact.nlgs_tolerance": 1e-8}
+FAST = {"time.time_step": 3.6e-5, "time.newton_tolerance": 1e-4,
+        "contact.nlgs_tolerance": 1e-6}
+PARTS = ("assembly", "factorization", "solves", "delassus", "detection",
+         "nlgs")
+
+
+def _json_lines(command) -> list[dict]:
+    out = subprocess.run(command, check=True, capture_output=True,
+                         text=True).stdout
+    return [json.loads(line) for line in out.splitlines()
+            if line.startswith("{")]
+
+
+def bench_nlgs() -> dict:
+    """Sweeps per second of the NLGS on the 2020-contact problem."""
+    return _json_lines([str(BIN / "softpack-bench-nlgs")])[-1]
+
+
+def bench_detection() -> list[dict]:
+    """Detection time against the number of bodies, and the exponent."""
+    return _json_lines([str(BIN / "softpack-bench-detection")])
+
+
+def _scaled_config(n_scale: int, overrides: dict, steps: int):
+    """The paper's config with n_scale times the disks in a box scaled by
+    sqrt(n_scale), the piston speed scaled like the box length."""
+    base = cfg.load_config(ROOT / "examples" / "paper.toml")
+    g = base["geometry"]
+    s = math.sqrt(n_scale)
+    merged = {"geometry.counts": [round(c * n_scale) for c in g["counts"]],
+              "geometry.length": g["length"] * s,
+              "geometry.width": g["width"] * s,
+              "loading.piston_speed": base["loading"]["piston_speed"] * s,
+              "output.every_steps": steps, "output.fields": False}
+    merged.update(overrides)
+    config = cfg.load_config(ROOT / "examples" / "paper.toml", merged)
+    config["loading"]["max_time"] = steps * config["time"]["time_step"]
+    return config
+
+
+def _mesh_for(config, tag: str) -> Path:
+    """Mesh of the config's packing (seed 0), cached under bench/work/."""
+    stem = WORK / f"mesh-{tag}"
+    xdmf = stem.with_suffix(".xdmf")
+    if not Path(str(stem) + ".bodies.csv").exists():
+        g = config["geometry"]
+        packing = random_packing(g["seed"], counts=tuple(g["counts"]),
+                                 diameters=tuple(g["diameters"]),
+                                 length=g["length"], width=g["width"],
+                                 gap=g["gap"])
+        mesh_disks(packing.centres, packing.radii,
+                   config["mesh"]["element_size"], stem)
+    return xdmf
+
+
+def run_driver(config, mesh: Path, name: str) -> dict:
+    """Run softpack-simulate; its done.json plus steps, cost and memory."""
+    out = WORK / name
+    out.mkdir(parents=True, exist_ok=True)
+    cfg.to_driver_json(config, mesh, out)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    subprocess.run([str(BIN / "softpack-simulate"), str(out / "driver.json"),
+                    "--quiet"], check=True, stdout=subprocess.DEVNULL)
+    peak_kb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    done = json.loads((out / "raw" / "done.json").read_text())
+    steps = done["steps"]
+    with open(out / "raw" / "steps.csv") as f:
+        rows = list(csv.DictReader(f))
+    # Time stepping only: from the step-0 output row (written after reading
+    # the mesh and building the bodies) to the last.
+    stepping = float(rows[-1]["seconds"]) - float(rows[0]["seconds"])
+    result = {"name": name, "steps": steps, "seconds": stepping,
+              "setup_seconds": float(rows[0]["seconds"]),
+              "ms_per_step": 1e3 * stepping / steps,
+              "factorizations": done["factorizations"],
+              # ru_maxrss of children is the largest child so far
+              "peak_memory_mb": max(peak_kb, before) / 1024}
+    for part in PARTS:
+        result[f"ms_{part}"] = 1e3 * done["seconds_by_part"][part] / steps
+    return result
+
+
+def bench_paper(steps: int) -> list[dict]:
+    """Per-step cost of the paper case at the paper's and the fast settings."""
+    results = []
+    for label, overrides in (("paper-settings", PAPER), ("fast-settings", FAST)):
+        config = _scaled_config(1, overrides, steps)
+        results.append(run_driver(config, _mesh_for(config, "n100"),
+                                  f"paper-{label}"))
+    return results
+
+
+def bench_scaling(steps: int) -> dict:
+    """Cost per step and per unit strain for 25, 100 and 400 disks."""
+    rows = []
+    for scale in (0.25, 1, 4):
+        config = _scaled_config(scale, FAST, steps)
+        n = sum(config["geometry"]["counts"])
+        r = run_driver(config, _mesh_for(config, f"n{n}"), f"scaling-n{n}")
+        # strain rate v / L is the same for every size
+        strain_per_step = (config["loading"]["piston_speed"]
+                           * config["time"]["time_step"]
+                           / config["geometry"]["length"])
+        r.update(disks=n, seconds_per_unit_strain=r["seconds"] / steps
+                 / strain_per_step)
+        rows.append(r)
+
+    def exponent(key, a, b):
+        return (math.log(rows[b][key] / rows[a][key])
+                / math.log(rows[b]["disks"] / rows[a]["disks"]))
+
+    return {"rows": rows,
+            "exponent_25_400": exponent("seconds_per_unit_strain", 0, 2),
+            "exponent_100_400": exponent("seconds_per_unit_strain", 1, 2)}
+
+
+def bench_full() -> dict:
+    """The whole paper case, fast settings, seed 0, through ./softpack run."""
+    out = WORK / "full-paper-fast-seed0"
+    sets = [f"--set={k}={v}" for k, v in FAST.items()]
+    cmd = [sys.executable, "-m", "softpack.cli", "run",
+           str(ROOT / "examples" / "paper.toml"), "--out", str(out), "--force",
+           "--set=output.every_steps=25", *sets]
+    subprocess.run(cmd, check=True)
+    done = json.loads((out / "raw" / "done.json").read_text())
+    return {"steps": done["steps"], "seconds": done["seconds"],
+            "minutes": done["seconds"] / 60, "reason": done["reason"]}
+
+
+def _table(report: dict) -> str:
+    lines = [f"NLGS, 2020 contacts: {report['nlgs'].get('sweeps_per_second', report['nlgs'])}"]
+    for row in report["detection"]:
+        if row.get("bench") == "detection":
+            lines.append(f"detection, {row['bodies']:5d} bodies:"
+                         f" {1e3 * row['seconds']:8.2f} ms")
+        else:
+            lines.append(f"detection exponent (100-1600 bodies):"
+                         f" {row['exponent']:.3f}")
+    header = "case              ms/step " + " ".join(f"{p[:7]:>8}" for p in PARTS)
+    lines += ["", header]
+    for row in report["paper"] + report.get("scaling", {}).get("rows", []):
+        lines.append(f"{row['name']:<17} {row['ms_per_step']:7.1f} "
+                     + " ".join(f"{row['ms_' + p]:8.1f}" for p in PARTS)
+                     + f"   peak {row['peak_memory_mb']:.0f} MB")
+    if "scaling" in report:
+        s = report["scaling"]
+        lines.append(f"cost per unit strain ~ N^p: p = {s['exponent_25_400']:.2f}"
+                     f" (25-400), {s['exponent_100_400']:.2f} (100-400)")
+    if "full" in report:
+        f = report["full"]
+        lines.append(f"full paper case (fast settings): {f['minutes']:.1f} min,"
+                     f" {f['steps']} steps")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="softpack bench",
+                                     description=__doc__.split("\n\n")[0])
+    parser.add_argument("--steps", type=int, default=100,
+                        help="time steps per paper-case measurement")
+    parser.add_argument("--no-scaling", action="store_true",
+                        help="skip the 25/100/400-disk scaling runs")
+    parser.add_argument("--full", action="store_true",
+                        help="also run the whole paper case (fast settings)")
+    args = parser.parse_args(argv)
+    WORK.mkdir(parents=True, exist_ok=True)
+    report = {"date": datetime.datetime.now().isoformat(timespec="seconds"),
+              "cores": os.cpu_count(), "nlgs": bench_nlgs(),
+              "detection": bench_detection(), "paper": bench_paper(args.steps)}
+    if not args.no_scaling:
+        report["scaling"] = bench_scaling(args.steps)
+    if args.full:
+        report["full"] = bench_full()
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    path = RESULTS / f"bench-{report['date'].replace(':', '')}.json"
+    path.write_text(json.dumps(report, indent=2) + "\n")
+    print(_table(report))
+    print(f"\nwritten: {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
