@@ -52,7 +52,9 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
   _steps << ',' << e.strain << ',' << e.kinetic << ',' << e.wall_work << ','
          << e.external_work << ',' << e.damping << ',' << e.friction << ','
          << e.contact_normal << ',' << e.numerical << ',' << e.residual() << ','
-         << seconds << '\n';
+         << seconds << ',' << spent.detection << ',' << spent.assembly << ','
+         << spent.factorization << ',' << spent.delassus << ',' << spent.nlgs
+         << ',' << spent.solves << ',' << (r.refactorized ? 1 : 0) << '\n';
   _steps.flush();
   write_particles(step, bodies);
   write_contacts(step, scheme);
