@@ -252,6 +252,7 @@ StepReport MoreauJean::step()
   report.seconds.solves += seconds_since(t0);
 
   std::vector<double> vk = v_old, f_int(u.size());
+  double previous_change = 0;
   for (int k = 0;; ++k)
   {
     t0 = clock::now();
@@ -313,8 +314,14 @@ StepReport MoreauJean::step()
       change = std::max(change, std::abs(v_next[i] - vk[i]));
     vk = std::move(v_next);
     report.newton_iterations = k + 1;
-    if (change <= _options.newton_tolerance *
-                      std::max(max_abs(vk), _options.velocity_scale))
+    // The iterations contract at the rate rho = change / previous change;
+    // the distance of vk to the converged velocity is then at most
+    // change * rho / (1 - rho) (Banach), which is what the tolerance bounds.
+    const double rho = k > 0 ? change / previous_change : 1.0;
+    const double error = rho < 0.5 ? change * rho / (1 - rho) : change;
+    previous_change = change;
+    if (error <= _options.newton_tolerance
+                     * std::max(max_abs(vk), _options.velocity_scale))
     {
       report.newton_converged = true;
       break;

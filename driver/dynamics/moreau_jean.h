@@ -27,7 +27,9 @@ struct MoreauJeanOptions
   bool lumped_mass = false;
   /// Coulomb coefficient of every contact (body-body and body-wall)
   double friction = 0.3;
-  /// Newton stops when ||v_{k+1} - v_k||_inf <= tol * max(||v||_inf,
+  /// Newton stops when the estimated error of the iterate, ||v_{k+1} -
+  /// v_k||_inf rho / (1 - rho) with rho the observed contraction rate (or
+  /// the increment itself while rho >= 1/2), is <= tol * max(||v||_inf,
   /// velocity_scale)
   double newton_tolerance = 1e-6;
   /// Velocity below which changes do not matter (e.g. the piston speed)
