@@ -161,6 +161,53 @@ def bench_scaling(steps: int) -> dict:
             "exponent_100_400": exponent("seconds_per_unit_strain", 1, 2)}
 
 
+def bench_invariance(max_strain: float) -> dict:
+    """Phi(eps), E(Phi) and Z(Phi) at the fast settings against the paper's
+    settings, from the initial packing (seed 0) to eps = max_strain."""
+    from softpack.run import run
+
+    series = {}
+    for label, overrides in (("paper", PAPER), ("fast", FAST)):
+        sets = dict(overrides)
+        sets["output.every_steps"] = round(9e-4 / sets["time.time_step"])
+        config = cfg.load_config(ROOT / "examples" / "paper.toml", sets)
+        g, speed = config["geometry"], config["loading"]["piston_speed"]
+        config["loading"]["max_time"] = (g["length"] * (1 - math.exp(-max_strain))
+                                         / speed)
+        out = WORK / f"invariance-{label}"
+        if run(config, out, force=True) != 0:
+            raise RuntimeError(f"invariance run {label} failed")
+        with open(out / "series.csv") as f:
+            rows = list(csv.DictReader(f))
+        series[label] = {k: [float(r[k]) if r[k] not in ("", "nan") else math.nan
+                             for r in rows] for k in rows[0]}
+    return compare_series(series["paper"], series["fast"])
+
+
+def compare_series(reference: dict, other: dict) -> dict:
+    """Largest differences of Phi(eps), E(Phi) and Z(Phi) between two runs,
+    on the reference's output points inside the common range."""
+    import numpy as np
+
+    def on(x_key, y_key):
+        x0, y0 = np.array(reference[x_key]), np.array(reference[y_key])
+        x1, y1 = np.array(other[x_key]), np.array(other[y_key])
+        keep = (x0 >= x1.min()) & (x0 <= x1.max()) & np.isfinite(y0)
+        return x0[keep], y0[keep], np.interp(x0[keep], x1, y1)
+
+    eps, phi0, phi1 = on("eps", "phi")
+    _, e0, e1 = on("phi", "E_over_WHLmu")
+    big = e0 > 0.05 * np.nanmax(e0)  # relative differences where E matters
+    _, z0, z1 = on("phi", "z")
+    both = np.isfinite(z0) & np.isfinite(z1)
+    return {"eps_range": [float(eps.min()), float(eps.max())],
+            "phi_max_relative_difference": float(np.max(np.abs(phi1 / phi0 - 1))),
+            "energy_max_relative_difference":
+                float(np.max(np.abs(e1[big] / e0[big] - 1))) if big.any() else None,
+            "z_max_difference": float(np.max(np.abs(z1[both] - z0[both])))
+                if both.any() else None}
+
+
 def bench_full() -> dict:
     """The whole paper case, fast settings, seed 0, through ./softpack run."""
     out = WORK / "full-paper-fast-seed0"
@@ -209,8 +256,18 @@ def main(argv=None) -> int:
                         help="skip the 25/100/400-disk scaling runs")
     parser.add_argument("--full", action="store_true",
                         help="also run the whole paper case (fast settings)")
+    parser.add_argument("--invariance", type=float, metavar="EPS",
+                        help="only compare the fast and the paper's settings"
+                        " from the start to this strain")
     args = parser.parse_args(argv)
     WORK.mkdir(parents=True, exist_ok=True)
+    if args.invariance:
+        result = bench_invariance(args.invariance)
+        RESULTS.mkdir(parents=True, exist_ok=True)
+        path = RESULTS / "invariance.json"
+        path.write_text(json.dumps(result, indent=2) + "\n")
+        print(json.dumps(result, indent=2))
+        return 0
     report = {"date": datetime.datetime.now().isoformat(timespec="seconds"),
               "cores": os.cpu_count(), "nlgs": bench_nlgs(),
               "detection": bench_detection(), "paper": bench_paper(args.steps)}
