@@ -74,14 +74,6 @@ void MoreauJean::scatter(const Vectors& per_body,
   }
 }
 
-MoreauJean::Vectors MoreauJean::solve(const Vectors& rhs) const
-{
-  Vectors x(rhs.size());
-  for (std::size_t b = 0; b < rhs.size(); ++b)
-    x[b] = _kbar.solve(static_cast<int>(b), rhs[b]);
-  return x;
-}
-
 std::vector<double> MoreauJean::warm_start() const
 {
   std::vector<double> R(2 * _contacts.size(), 0.0);
@@ -195,6 +187,58 @@ contact::NlgsOptions MoreauJean::nlgs_options() const
   return o;
 }
 
+MoreauJean::Vectors MoreauJean::free_velocity(const Vectors& vk,
+                                              const Vectors& f_int,
+                                              const Vectors& f_ext,
+                                              const Vectors& known) const
+{
+  // One (quasi-)Newton correction without contact, with the residual
+  // r = [(1 + h th alpha) M + h th beta K] v_k + h th (F_int(q_k) - F_ext) - b.
+  const double h = _options.time_step, th = _options.theta;
+  const int nb = _bodies.num_bodies();
+  Vectors v_free(nb);
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int b = 0; b < nb; ++b)
+  {
+    const Eigen::VectorXd residual =
+        _A[b] * vk[b] + h * th * (f_int[b] - f_ext[b]) - known[b];
+    v_free[b] = vk[b] - _kbar.solve(b, residual);
+  }
+  return v_free;
+}
+
+void MoreauJean::add_contact_impulses(
+    const StepContacts& sc, const std::vector<char>& touched,
+    const contact::NlgsOptions& nlgs_options,
+    contact::FrictionContactProblem2D& problem, Vectors& v, StepReport& report)
+{
+  const int nb = _bodies.num_bodies();
+  auto t0 = std::chrono::steady_clock::now();
+  std::vector<double> v_free(_v.size()), U(2 * sc.size());
+  scatter(v, v_free);
+  const std::vector<double> U_free = sc.H.relative_velocity(_bodies, v_free);
+  for (std::size_t i = 0; i < U_free.size(); ++i)
+    problem.q[i] = U_free[i] + sc.shift[i];
+  const contact::NlgsResult nlgs =
+      contact::solve_nlgs(problem, _R, U, nlgs_options);
+  report.nlgs_iterations += nlgs.iterations;
+  report.nlgs_error = nlgs.error;
+  report.nlgs_converged = nlgs.converged;
+  report.seconds.nlgs += seconds_since(t0);
+
+  // v = v_free + Kbar^-1 H R; only bodies that carry a contact change.
+  t0 = std::chrono::steady_clock::now();
+  Vectors impulse(nb);
+  for (int b = 0; b < nb; ++b)
+    impulse[b] = Eigen::VectorXd::Zero(touched[b] ? v[b].size() : 0);
+  sc.H.add_impulses(_R, impulse);
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int b = 0; b < nb; ++b)
+    if (touched[b])
+      v[b] += _kbar.solve(b, impulse[b]);
+  report.seconds.solves += seconds_since(t0);
+}
+
 StepReport MoreauJean::step()
 {
   if (!_started)
@@ -219,7 +263,6 @@ StepReport MoreauJean::step()
   contact::FrictionContactProblem2D problem;
   problem.mu.assign(nc, _options.friction);
   problem.q.resize(2 * nc);
-  std::vector<double> U(2 * nc);
   const contact::NlgsOptions nlgs_opts = nlgs_options();
 
   if (needs_refactorization())
@@ -263,49 +306,11 @@ StepReport MoreauJean::step()
     if (k > 0 && _options.full_newton)
       refactorize(sc, problem, report);
 
-    // Free velocity: one (quasi-)Newton correction without contact,
-    // residual r = [(1 + h th alpha) M + h th beta K] v_k
-    //              + h th (F_int(q_k) - F_ext) - b.
     t0 = clock::now();
-    const Vectors vk_b = gather(vk), f_int_b = gather(f_int);
-    Vectors v_new(nb);
-#pragma omp parallel for schedule(dynamic) if (nb >= 16)
-    for (int b = 0; b < nb; ++b)
-    {
-      const Eigen::VectorXd residual =
-          _A[b] * vk_b[b] + h * th * (f_int_b[b] - f_ext_b[b]) - known[b];
-      v_new[b] = vk_b[b] - _kbar.solve(b, residual);
-    }
+    Vectors v_new = free_velocity(gather(vk), gather(f_int), f_ext_b, known);
     report.seconds.solves += seconds_since(t0);
-
     if (nc > 0)
-    {
-      t0 = clock::now();
-      std::vector<double> v_free(u.size());
-      scatter(v_new, v_free);
-      const std::vector<double> U_free =
-          sc.H.relative_velocity(_bodies, v_free);
-      for (std::size_t i = 0; i < 2 * nc; ++i)
-        problem.q[i] = U_free[i] + sc.shift[i];
-      const contact::NlgsResult nlgs =
-          contact::solve_nlgs(problem, _R, U, nlgs_opts);
-      report.nlgs_iterations += nlgs.iterations;
-      report.nlgs_error = nlgs.error;
-      report.nlgs_converged = nlgs.converged;
-      report.seconds.nlgs += seconds_since(t0);
-
-      // Only bodies that carry a contact receive an impulse.
-      t0 = clock::now();
-      Vectors impulse(nb);
-      for (int b = 0; b < nb; ++b)
-        impulse[b] = Eigen::VectorXd::Zero(touched[b] ? v_new[b].size() : 0);
-      sc.H.add_impulses(_R, impulse);
-#pragma omp parallel for schedule(dynamic) if (nb >= 16)
-      for (int b = 0; b < nb; ++b)
-        if (touched[b])
-          v_new[b] += _kbar.solve(b, impulse[b]);
-      report.seconds.solves += seconds_since(t0);
-    }
+      add_contact_impulses(sc, touched, nlgs_opts, problem, v_new, report);
 
     std::vector<double> v_next(u.size());
     scatter(v_new, v_next);
@@ -320,8 +325,8 @@ StepReport MoreauJean::step()
     const double rho = k > 0 ? change / previous_change : 1.0;
     const double error = rho < 0.5 ? change * rho / (1 - rho) : change;
     previous_change = change;
-    if (error <= _options.newton_tolerance
-                     * std::max(max_abs(vk), _options.velocity_scale))
+    if (error <= _options.newton_tolerance *
+                     std::max(max_abs(vk), _options.velocity_scale))
     {
       report.newton_converged = true;
       break;

@@ -159,6 +159,13 @@ private:
                    contact::FrictionContactProblem2D& problem,
                    StepReport& report);
   contact::NlgsOptions nlgs_options() const;
+  Vectors free_velocity(const Vectors& vk, const Vectors& f_int,
+                        const Vectors& f_ext, const Vectors& known) const;
+  void add_contact_impulses(const StepContacts& sc,
+                            const std::vector<char>& touched,
+                            const contact::NlgsOptions& nlgs_options,
+                            contact::FrictionContactProblem2D& problem,
+                            Vectors& v, StepReport& report);
   void update_products(const Vectors& v);
   void account_energy(const StepContacts& sc, const Vectors& v_old_b,
                       const Vectors& v_new_b, const Vectors& Mv_old,
@@ -166,7 +173,6 @@ private:
                       StepReport& report);
   Vectors gather(std::span<const double> global) const;
   void scatter(const Vectors& per_body, std::span<double> global) const;
-  Vectors solve(const Vectors& rhs) const;
   std::vector<double> warm_start() const;
   double kinetic_energy(std::span<const double> v) const;
 
