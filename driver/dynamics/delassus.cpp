@@ -32,7 +32,11 @@ contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
   {
     if (shares[b].empty())
       continue;
-    const Eigen::MatrixXd& G = Kbar.boundary_compliance(b);
+    std::vector<int> slots;
+    for (const BodyShare& share : shares[b])
+      for (const auto& [slot, weight] : share.slots)
+        slots.push_back(slot);
+    const Eigen::MatrixXd& G = Kbar.boundary_compliance(b, slots);
     for (const BodyShare& sa : shares[b])
       for (const BodyShare& sb : shares[b])
       {

@@ -30,28 +30,37 @@ EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
       _slot[b][body.boundary_nodes[i]] = static_cast<std::int32_t>(i);
   }
   _compliance.resize(bodies.num_bodies());
-  _compliance_ready.assign(bodies.num_bodies(), 0);
+  _column_ready.resize(bodies.num_bodies());
 }
 
-const Eigen::MatrixXd& EffectiveStiffness::boundary_compliance(int b) const
+const Eigen::MatrixXd&
+EffectiveStiffness::boundary_compliance(int b, std::span<const int> slots) const
 {
-  if (_compliance_ready[b])
-    return _compliance[b];
   const std::vector<std::int32_t>& nodes = _boundary[b];
   const int m = 2 * static_cast<int>(nodes.size());
   Eigen::MatrixXd& G = _compliance[b];
-  G.resize(m, m);
-  Eigen::VectorXd e = Eigen::VectorXd::Zero(_kbar[b].rows());
-  for (int j = 0; j < m; ++j)
+  std::vector<char>& ready = _column_ready[b];
+  if (ready.empty())
   {
-    const int dof = 2 * nodes[j / 2] + j % 2;
-    e[dof] = 1;
-    const Eigen::VectorXd x = _factors[b].solve(e);
-    e[dof] = 0;
-    for (int i = 0; i < m; ++i)
-      G(i, j) = x[2 * nodes[i / 2] + i % 2];
+    G.resize(m, m);
+    ready.assign(nodes.size(), 0);
   }
-  _compliance_ready[b] = 1;
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(_kbar[b].rows());
+  for (int slot : slots)
+  {
+    if (ready[slot])
+      continue;
+    for (int c = 0; c < 2; ++c)
+    {
+      const int j = 2 * slot + c, dof = 2 * nodes[slot] + c;
+      e[dof] = 1;
+      const Eigen::VectorXd x = _factors[b].solve(e);
+      e[dof] = 0;
+      for (int i = 0; i < m; ++i)
+        G(i, j) = x[2 * nodes[i / 2] + i % 2];
+    }
+    ready[slot] = 1;
+  }
   return G;
 }
 
@@ -77,7 +86,8 @@ void EffectiveStiffness::factorize(const std::vector<bodies::BodyMatrix>& K,
     throw std::runtime_error("the iteration matrix of a body is not positive "
                              "definite (element inverted or time step too "
                              "large)");
-  std::fill(_compliance_ready.begin(), _compliance_ready.end(), 0);
+  for (std::vector<char>& ready : _column_ready)
+    ready.clear();
   ++_count;
 }
 

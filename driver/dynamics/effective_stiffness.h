@@ -2,6 +2,7 @@
 
 #include <Eigen/SparseCholesky>
 #include <bodies/BodySet.h>
+#include <span>
 #include <vector>
 
 namespace softpack::dynamics
@@ -39,10 +40,13 @@ public:
   }
 
   /// Compliance \f$\bar K_b^{-1}\f$ of body b restricted to its boundary
-  /// DOFs (2 per boundary node, in the order of Body::boundary_nodes),
-  /// computed on first use after each factorization (one solve per
-  /// boundary DOF) and kept until the next one
-  const Eigen::MatrixXd& boundary_compliance(int body) const;
+  /// DOFs (2 per boundary node, in the order of Body::boundary_nodes). Only
+  /// the columns of the given boundary slots are guaranteed: they are
+  /// computed on first demand after each factorization (one solve per DOF)
+  /// and kept until the next one, so the cost follows the nodes that
+  /// actually carry contacts.
+  const Eigen::MatrixXd& boundary_compliance(int body,
+                                             std::span<const int> slots) const;
 
   /// Position of a local node in Body::boundary_nodes (-1 if interior)
   int boundary_slot(int body, std::int32_t node) const
@@ -61,7 +65,7 @@ private:
   std::vector<Eigen::SimplicialLDLT<bodies::BodyMatrix>> _factors;
   std::vector<std::vector<std::int32_t>> _boundary, _slot;
   mutable std::vector<Eigen::MatrixXd> _compliance;
-  mutable std::vector<char> _compliance_ready;
+  mutable std::vector<std::vector<char>> _column_ready;
   int _count = 0;
 };
 
