@@ -1,0 +1,532 @@
+"""``./softpack single-disk``: one soft disk squeezed between two rigid plates.
+
+The 2D half of the paper's single-cylinder check (Figs. 2 and 3, METHOD.md
+§5): a neo-Hookean disk (plane strain, mu = 0.15 MPa, lambda~ = 2 mu, i.e.
+nu~ = 1/3, rho = 1180 kg/m^3) of diameter D between two rigid frictionless
+plates normal to y, run with the project's own contact driver
+``softpack-simulate`` (Moreau–Jean + NLGS, docs/driver_io.md) slowly enough to
+be quasi-static, up to eps = -ln(1 - delta/D) = 0.25.
+
+Set-up (what :func:`driver_document` writes)
+  * the disk is meshed by :func:`softpack.mesh.mesh_disks` at the origin;
+  * the plates start touching the mesh (bottom at y = min Y, top at y = max
+    Y of the nodes: the inscribed polygon's extreme nodes lie a few
+    micrometres inside the circle, and eps is counted from first contact)
+    and BOTH move towards the centre at ``speed`` each (approach speed
+    2 speed), as in the 3D reference: the disk's centre then stays at rest
+    and the mass-proportional Rayleigh damping (alpha M v), which resists
+    absolute velocities, does not resist a rigid-body translation (with one
+    plate fixed the centre would move at half the approach speed and alpha M
+    v would add alpha m v/2 to the moving plate's force);
+  * friction 0.01 by default (--friction 0 for exactly frictionless
+    plates). A frictionless disk between frictionless plates has two
+    undetermined rigid-body modes: the x-translation and the ROLLING
+    (rotation about its axis: a circle's energy does not change when it
+    turns). Nothing in the driver pins them, and the mesh's asymmetry
+    drives the rolling: with friction 0 the D = 20 mm disk (h = 1.065 mm)
+    turns by 0.16 rad by eps = 0.25, which tilts the material line of
+    Fig. 3 (u_x/D at w = 1 and eps = 0.2: 0.0280 instead of 0.0320). A
+    friction coefficient of 0.01 stops both (largest rotation 1.2e-4 rad)
+    while changing f_norm by at most 0.15 % (friction 0, 0.001 and 0.01
+    compared in docs/single_disk/README.md). The profile is moreover taken
+    relative to the displacement of the disk's centre (below);
+  * Rayleigh damping alpha = 200 1/s, beta = 1e-5 s, theta = 0.5, time step
+    1e-4 s, plate speed 0.01 m/s (approach 0.02 m/s); stop.max_time is the
+    time to reach delta_max = D (1 - exp(-max_strain)).
+
+Outputs in ``--out DIR`` (default ``runs/single-disk``):
+
+``force_2d.csv``  ``eps,f_norm`` (and ``f_norm_top,f_norm_bottom``)
+    f = mean of the two plates' forces (per unit length, N/m), f_norm =
+    f/(D mu) = f/(D l mu) with f the force per length l. The two plates'
+    forces differ by the inertia and damping forces only (recorded). eps =
+    -ln(1 - delta/D), delta the sum of the two plates' displacements, D the
+    nominal diameter. One row per driver output (every ``--every`` steps).
+``profile_2d.csv``  ``eps,w,ux_over_D``
+    the displacement u_x/D along the Lagrangian transverse diameter (the
+    material line Y = 0, perpendicular to the loading), w = X/R in [-1, 1]
+    (the same normalisation as ``profile_3d_*.csv`` of
+    :mod:`softpack.reference3d`), at eps = 0.05, 0.10, 0.15, 0.20: the P1
+    field is interpolated in space (barycentric, in the reference
+    triangle containing (X, 0)) and linearly in eps between the two
+    bracketing field outputs; u_x(0, 0) (the centre's rigid drift) is
+    subtracted.
+``run_2d.json``
+    parameters, mesh size, run time, the largest plate-force mismatch,
+    energies, the centre's drift, the largest rigid rotation (rolling).
+``sim/``
+    the driver's input and raw output (driver.json, raw/steps.csv,
+    fields.h5, mesh/).
+
+The small-strain limit (Johnson, Contact Mechanics, §5.5, line contact
+between two plates) is :func:`softpack.reference3d.johnson_line_contact` with
+nu = 1/3, plane strain (E* = E/(1 - nu^2) = 3 mu).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+#: The paper's material (METHOD.md §1-2): shear modulus (Pa), density.
+MU = 0.15e6
+LMBDA = 2.0 * MU  # nu~ = 1/3, plane strain
+DENSITY = 1180.0
+#: Strains of the Fig. 3 profiles.
+PROFILE_STRAINS = (0.05, 0.10, 0.15, 0.20)
+#: w = X/R of the profile rows (the 3D CSVs' grid).
+PROFILE_W = np.round(np.linspace(-1.0, 1.0, 41), 10)
+
+
+@dataclass
+class Params:
+    """Everything that defines a single-disk run (SI units)."""
+
+    diameter: float = 0.020
+    element_size: float = 1.065e-3
+    max_strain: float = 0.25
+    speed: float = 0.01          # each plate, m/s (approach speed 2 speed)
+    time_step: float = 1e-4
+    alpha: float = 200.0
+    beta: float = 1e-5
+    theta: float = 0.5
+    friction: float = 1e-2       # pins the rolling mode (module doc)
+    every: int = 10              # output every this many steps
+    alert_distance: float = 2e-4
+    newton_tolerance: float = 1e-6
+    nlgs_tolerance: float = 1e-8
+    mass: str = "consistent"
+    orientation: str = "node_up"  # or "as_meshed" (see put_node_up)
+
+    @property
+    def radius(self) -> float:
+        return 0.5 * self.diameter
+
+    @property
+    def max_approach(self) -> float:
+        """delta_max = D (1 - exp(-max_strain))."""
+        return self.diameter * (1.0 - math.exp(-self.max_strain))
+
+    @property
+    def duration(self) -> float:
+        """Time for the two plates to approach by delta_max."""
+        return self.max_approach / (2.0 * self.speed)
+
+
+class SingleDiskError(RuntimeError):
+    """The driver failed or its output is unusable."""
+
+
+# ---------------------------------------------------------------- set-up
+
+def driver_document(params: Params, mesh_xdmf, y_bottom, y_top, out_dir):
+    """The driver.json of docs/driver_io.md for one disk between two plates."""
+    v = params.speed
+    # a few steps beyond the target so that the last output passes it
+    max_time = params.duration + 2 * params.every * params.time_step
+
+    def wall(name, y, normal_y, vy):
+        return {"name": name, "point": [0.0, y], "normal": [0.0, normal_y],
+                "velocity": [0.0, vy]}
+
+    return {
+        "mesh": str(Path(mesh_xdmf).resolve()),
+        "material": {"name": "neo_hookean",
+                     "parameters": {"mu": MU, "lmbda": LMBDA},
+                     "density": DENSITY},
+        "walls": [wall("bottom", y_bottom, 1.0, v),
+                  wall("top", y_top, -1.0, -v)],
+        "time_stepping": {
+            "time_step": params.time_step, "theta": params.theta,
+            "mass": params.mass, "rayleigh_alpha": params.alpha,
+            "rayleigh_beta": params.beta,
+            "newton_tolerance": params.newton_tolerance,
+            "newton_max_iterations": 50, "full_newton": False,
+            "velocity_scale": v},
+        "contact": {"friction": params.friction,
+                    "alert_distance": params.alert_distance,
+                    "max_penetration": 0.25 * params.element_size,
+                    "nlgs_tolerance": params.nlgs_tolerance,
+                    "nlgs_max_sweeps": 5000, "nlgs_relaxation": 1.0},
+        "stop": {"max_time": max_time},
+        "output": {"directory": str(Path(out_dir).resolve()),
+                   "every_steps": params.every, "fields": True},
+    }
+
+
+def driver_executable() -> Path:
+    """``$SOFTPACK_BIN/softpack-simulate``, else the repository's build/bin."""
+    root = Path(os.environ.get("SOFTPACK_ROOT",
+                               Path(__file__).resolve().parents[2]))
+    exe = Path(os.environ.get("SOFTPACK_BIN") or root / "build" / "bin") \
+        / "softpack-simulate"
+    if not (exe.is_file() and os.access(exe, os.X_OK)):
+        raise SingleDiskError(f"{exe} not found: build it with ./softpack"
+                              " build (or set SOFTPACK_BIN)")
+    return exe
+
+
+def simulate(params: Params, sim_dir, quiet=True) -> dict:
+    """Mesh, write driver.json, run softpack-simulate in ``sim_dir``.
+
+    Returns a dict with the mesh size, the plates' initial positions and the
+    driver's wall time.
+    """
+    from softpack.mesh import mesh_disks
+
+    sim_dir = Path(sim_dir)
+    sim_dir.mkdir(parents=True, exist_ok=True)
+    for stale in ("raw/done.json", "raw/steps.csv", "fields.h5",
+                  "fields.xdmf"):
+        (sim_dir / stale).unlink(missing_ok=True)
+    info = mesh_disks([(0.0, 0.0)], [params.radius], params.element_size,
+                      sim_dir / "mesh" / "disk")
+    rotation = 0.0
+    if params.orientation == "node_up":
+        rotation = put_node_up(info.h5, params.radius)
+    nodes = reference_nodes(info.h5)
+    y_bottom, y_top = float(nodes[:, 1].min()), float(nodes[:, 1].max())
+    doc = driver_document(params, info.xdmf, y_bottom, y_top, sim_dir)
+    (sim_dir / "driver.json").write_text(json.dumps(doc, indent=2) + "\n")
+    exe = driver_executable()
+    started = time.time()
+    with open(sim_dir / "driver.log", "w") as log:
+        status = subprocess.run(
+            [str(exe), str(sim_dir / "driver.json")], cwd=sim_dir,
+            stdin=subprocess.DEVNULL, stdout=log,
+            stderr=subprocess.STDOUT).returncode
+    seconds = time.time() - started
+    if status != 0 or not (sim_dir / "raw" / "done.json").exists():
+        tail = (sim_dir / "driver.log").read_text().splitlines()[-15:]
+        raise SingleDiskError(
+            f"softpack-simulate failed (exit status {status}); last lines of"
+            f" {sim_dir / 'driver.log'}:\n" + "\n".join(tail))
+    return {"triangles": info.n_triangles, "nodes": int(len(nodes)),
+            "boundary_nodes": int(np.sum(on_circle(nodes, params.radius))),
+            "mesh_rotation_rad": rotation,
+            "y_bottom0": y_bottom, "y_top0": y_top,
+            "driver_seconds": seconds}
+
+
+def on_circle(x, radius) -> np.ndarray:
+    """Mask of the nodes on the disk's circle (the boundary nodes)."""
+    return np.abs(np.hypot(x[:, 0], x[:, 1]) - radius) < 1e-9 * radius
+
+
+def put_node_up(mesh_h5, radius) -> float:
+    """Rotate a disk mesh about its centre: a boundary node on the +y axis.
+
+    gmsh puts the n boundary nodes at the angles 2 pi k / n, so the node
+    nearest the top is generally a little off the loading axis (for the
+    paper's h = 1.065 mm and D = 20 mm, n = 59, by 0.027 rad). Turned so
+    that one node is at angle pi/2, the boundary polygon is mirror-symmetric
+    about the loading axis (for any n; for an even n a node is also at
+    -pi/2), so that the two plates touch it symmetrically. Rewrites the
+    geometry of ``mesh_h5`` in place; returns the angle (rad).
+    """
+    import h5py
+
+    with h5py.File(mesh_h5, "r+") as f:
+        geometry = f["/Mesh/mesh/geometry"]
+        x = np.array(geometry)
+        boundary = on_circle(x[:, :2], radius)
+        angles = np.arctan2(x[boundary, 1], x[boundary, 0])
+        angle = float(math.pi / 2 - angles[np.argmax(x[boundary, 1])])
+        c, s = math.cos(angle), math.sin(angle)
+        y = x.copy()
+        y[:, 0] = c * x[:, 0] - s * x[:, 1]
+        y[:, 1] = s * x[:, 0] + c * x[:, 1]
+        geometry[...] = y
+    return angle
+
+
+# ---------------------------------------------------------------- reading
+
+def reference_nodes(mesh_h5) -> np.ndarray:
+    """Node coordinates (n, 2) of a mesh written by mesh_disks."""
+    import h5py
+
+    with h5py.File(mesh_h5, "r") as f:
+        return np.asarray(f["/Mesh/mesh/geometry"])[:, :2]
+
+
+def read_steps(path) -> dict:
+    """``raw/steps.csv`` as a dict of float arrays keyed by column."""
+    with open(path) as f:
+        names = f.readline().strip().split(",")
+    rows = []
+    with open(path) as f:
+        next(f)
+        for line in f:
+            row = [_number(x) for x in line.strip().split(",")]
+            # tolerate rows shorter than the header (trailing columns
+            # missing: a driver whose header is ahead of its rows)
+            rows.append((row + [math.nan] * len(names))[:len(names)])
+    data = np.array(rows, dtype=float).reshape(-1, len(names))
+    return {name: data[:, j] for j, name in enumerate(names)}
+
+
+def _number(text) -> float:
+    text = text.strip().lower()
+    if text in ("true", "false"):
+        return float(text == "true")
+    return float(text) if text else math.nan
+
+
+def force_curve(steps: dict, params: Params, y_bottom0, y_top0) -> dict:
+    """eps, f_norm (mean of the plates), and each plate's f_norm."""
+    delta = (y_top0 - steps["top_y"]) + (steps["bottom_y"] - y_bottom0)
+    eps = -np.log(1.0 - delta / params.diameter)
+    scale = params.diameter * MU
+    top = steps["top_fy"] / scale          # the disk pushes the top plate up
+    bottom = -steps["bottom_fy"] / scale   # ... and the bottom plate down
+    return {"eps": eps, "delta": delta, "f_norm": 0.5 * (top + bottom),
+            "f_norm_top": top, "f_norm_bottom": bottom}
+
+
+def read_fields(fields_h5):
+    """Geometry (n, 2), triangles (k, 3), and [(time, u (n, 2))] by time."""
+    import h5py
+
+    with h5py.File(fields_h5, "r") as f:
+        x = np.asarray(f["/Mesh/mesh/geometry"])[:, :2]
+        cells = np.asarray(f["/Mesh/mesh/topology"]).astype(np.int64)
+        group = f["/Function/displacement"]
+        snaps = sorted((float(key.replace("_", ".")),
+                        np.asarray(group[key])[:, :2]) for key in group)
+    return x, cells, snaps
+
+
+def line_interpolator(x, cells, points):
+    """(cell, barycentric weights) of each point, for P1 interpolation.
+
+    A point outside every triangle (a boundary point a hair outside the
+    polygon) takes the triangle where its smallest barycentric coordinate
+    is largest (a tiny extrapolation).
+    """
+    a, b, c = x[cells[:, 0]], x[cells[:, 1]], x[cells[:, 2]]
+    det = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) \
+        - (c[:, 0] - a[:, 0]) * (b[:, 1] - a[:, 1])
+    out = []
+    for p in np.atleast_2d(points):
+        l1 = ((p[0] - a[:, 0]) * (c[:, 1] - a[:, 1])
+              - (c[:, 0] - a[:, 0]) * (p[1] - a[:, 1])) / det
+        l2 = ((b[:, 0] - a[:, 0]) * (p[1] - a[:, 1])
+              - (p[0] - a[:, 0]) * (b[:, 1] - a[:, 1])) / det
+        lam = np.column_stack([1 - l1 - l2, l1, l2])
+        k = int(np.argmax(lam.min(axis=1)))
+        out.append((k, lam[k]))
+    return out
+
+
+def interpolate(u, cells, stencil) -> np.ndarray:
+    """P1 values (m, 2) of a nodal field at the stencil's points."""
+    return np.array([w @ u[cells[k]] for k, w in stencil])
+
+
+def transverse_profiles(fields_h5, steps, curve, params: Params,
+                        strains=PROFILE_STRAINS, w=PROFILE_W) -> dict:
+    """eps -> u_x/D at w = X/R on the material line Y = 0.
+
+    The field of each output is matched to its row of steps.csv by time;
+    at each target strain the two bracketing outputs are interpolated
+    linearly in eps. u_x at the centre (X = Y = 0) is subtracted.
+    """
+    x, cells, snaps = read_fields(fields_h5)
+    points = np.column_stack([w * params.radius, np.zeros_like(w)])
+    stencil = line_interpolator(x, cells, np.vstack([points, [0.0, 0.0]]))
+    times = np.array([t for t, _ in snaps])
+    tol = 0.5 * params.time_step
+    eps_of = np.interp(times, steps["time"], curve["eps"])
+    if np.any(np.abs(np.interp(times, steps["time"], steps["time"]) - times)
+              > tol):
+        raise SingleDiskError("field output times do not match steps.csv")
+    profiles, drift = {}, 0.0
+    for target in strains:
+        if target > eps_of[-1]:
+            continue  # a run stopped below this strain
+        after = int(np.searchsorted(eps_of, target))
+        if after == 0 or after >= len(snaps):
+            raise SingleDiskError(f"no field output brackets eps = {target}"
+                                  f" (outputs reach {eps_of[-1]:.4f})")
+        e0, e1 = eps_of[after - 1], eps_of[after]
+        s = (target - e0) / (e1 - e0)
+        u = (1 - s) * snaps[after - 1][1] + s * snaps[after][1]
+        values = interpolate(u, cells, stencil)
+        drift = max(drift, abs(values[-1, 0]))
+        profiles[target] = (values[:-1, 0] - values[-1, 0]) / params.diameter
+    profiles["centre_drift_over_D"] = drift / params.diameter
+    profiles["max_rotation_rad"] = float(max(
+        abs(rigid_rotation(x, cells, u)) for _, u in snaps))
+    return profiles
+
+
+def rigid_rotation(x, cells, u) -> float:
+    """Rotation angle (rad) of the area-averaged deformation gradient.
+
+    F_mean = (1/A) int F dA (P1: one F per triangle); the angle is
+    atan2(F21 - F12, F11 + F22): zero for any deformation symmetric about
+    the axes (whatever the mesh), the rolling angle of a disk that rolls.
+    """
+    p = x[cells]
+    q = p + u[cells]
+    dX = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]], axis=2)
+    dx = np.stack([q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]], axis=2)
+    area = 0.5 * np.abs(np.linalg.det(dX))
+    F = np.einsum("k,kij->ij", area, dx @ np.linalg.inv(dX)) / area.sum()
+    return float(np.arctan2(F[1, 0] - F[0, 1], F[0, 0] + F[1, 1]))
+
+
+# ---------------------------------------------------------------- run
+
+def run(params: Params, out_dir, quiet=True) -> dict:
+    """Simulate and write force_2d.csv, profile_2d.csv, run_2d.json."""
+    out_dir = Path(out_dir)
+    sim_dir = out_dir / "sim"
+    started = time.time()
+    meta = simulate(params, sim_dir, quiet)
+    steps = read_steps(sim_dir / "raw" / "steps.csv")
+    curve = force_curve(steps, params, meta["y_bottom0"], meta["y_top0"])
+    profiles = transverse_profiles(sim_dir / "fields.h5", steps, curve,
+                                   params)
+    write_outputs(out_dir, params, steps, curve, profiles, meta,
+                  time.time() - started)
+    return {"curve": curve, "profiles": profiles, "meta": meta,
+            "steps": steps}
+
+
+def write_outputs(out_dir, params, steps, curve, profiles, meta, seconds):
+    """force_2d.csv, profile_2d.csv, run_2d.json into out_dir."""
+    out_dir = Path(out_dir)
+    # every row up to the first at or beyond max_strain
+    last = int(np.searchsorted(curve["eps"], params.max_strain - 1e-12))
+    keep = np.arange(len(curve["eps"])) <= last
+    np.savetxt(out_dir / "force_2d.csv",
+               np.column_stack([curve["eps"][keep], curve["f_norm"][keep],
+                                curve["f_norm_top"][keep],
+                                curve["f_norm_bottom"][keep]]),
+               delimiter=",", header="eps,f_norm,f_norm_top,f_norm_bottom",
+               comments="", fmt="%.7g")
+    rows = [(e, w, u) for e in PROFILE_STRAINS if e in profiles
+            for w, u in zip(PROFILE_W, profiles[e])]
+    np.savetxt(out_dir / "profile_2d.csv", np.array(rows).reshape(-1, 3),
+               delimiter=",",
+               header="eps,w,ux_over_D", comments="", fmt="%.7g")
+    loaded = curve["f_norm"] > 0.0
+    mismatch = np.abs(curve["f_norm_top"] - curve["f_norm_bottom"])[loaded]
+    energy = {key: float(steps[key][keep][-1]) for key in
+              ("strain_energy", "kinetic_energy", "wall_work", "damping",
+               "numerical", "energy_residual") if key in steps}
+    doc = {"params": asdict(params), "mesh": {
+        "triangles": meta["triangles"], "nodes": meta["nodes"],
+        "boundary_nodes": meta["boundary_nodes"],
+        "rotation_rad": meta["mesh_rotation_rad"]},
+        "plates_initial_y": [meta["y_bottom0"], meta["y_top0"]],
+        "steps": int(steps["step"][-1]),
+        "driver_seconds": round(meta["driver_seconds"], 1),
+        "total_seconds": round(seconds, 1),
+        "max_plate_force_mismatch_f_norm": float(mismatch.max())
+        if mismatch.size else 0.0,
+        "max_penetration_m": float(np.nanmax(steps["max_penetration"])),
+        "centre_drift_over_D": profiles["centre_drift_over_D"],
+        "max_rigid_rotation_rad": profiles["max_rotation_rad"],
+        "energies_at_end_J_per_m": energy,
+        "eps": "-ln(1 - delta/D), delta = sum of the plates' displacements",
+        "f_norm": "mean plate force per unit length / (D mu)",
+        "w": "X/R on the material line Y = 0; u_x relative to the centre"}
+    (out_dir / "run_2d.json").write_text(json.dumps(doc, indent=1) + "\n")
+
+
+def value_at(curve, eps) -> np.ndarray:
+    """f_norm interpolated at the given strains."""
+    return np.interp(eps, curve["eps"], curve["f_norm"])
+
+
+def _parser():
+    p = argparse.ArgumentParser(
+        prog="softpack single-disk",
+        description="2D plane-strain neo-Hookean disk between two rigid "
+        "frictionless plates (paper Figs. 2-3): writes DIR/force_2d.csv "
+        "(eps,f_norm) and DIR/profile_2d.csv (eps,w,ux_over_D).")
+    d = Params()
+    p.add_argument("--diameter", type=float, default=d.diameter,
+                   help="disk diameter D (m, default 0.02)")
+    p.add_argument("--element-size", type=float, default=d.element_size,
+                   help="triangle size h (m, default 1.065e-3)")
+    p.add_argument("--max-strain", type=float, default=d.max_strain,
+                   help="final eps = -ln(1 - delta/D) (default 0.25)")
+    p.add_argument("--out", type=Path, default=Path("runs/single-disk"),
+                   help="output directory (default runs/single-disk)")
+    p.add_argument("--speed", type=float, default=d.speed,
+                   help="speed of each plate (m/s, default 0.01)")
+    p.add_argument("--time-step", type=float, default=d.time_step,
+                   help="time step (s, default 1e-4)")
+    p.add_argument("--alpha", type=float, default=d.alpha,
+                   help="Rayleigh mass coefficient (1/s, default 200)")
+    p.add_argument("--beta", type=float, default=d.beta,
+                   help="Rayleigh stiffness coefficient (s, default 1e-5)")
+    p.add_argument("--friction", type=float, default=d.friction,
+                   help="plate friction coefficient (default 1e-2: pins"
+                   " the disk's rolling; 0 = exactly frictionless)")
+    p.add_argument("--orientation", choices=("node_up", "as_meshed"),
+                   default=d.orientation,
+                   help="node_up (default): turn the mesh so that a boundary"
+                   " node lies on the loading axis; as_meshed: as gmsh made"
+                   " it")
+    p.add_argument("--every", type=int, default=d.every,
+                   help="output every this many steps (default 10)")
+    return p
+
+
+def main(argv=None) -> int:
+    args = _parser().parse_args(argv)
+    params = Params(diameter=args.diameter, element_size=args.element_size,
+                    max_strain=args.max_strain, speed=args.speed,
+                    time_step=args.time_step, alpha=args.alpha,
+                    beta=args.beta, friction=args.friction,
+                    every=args.every, orientation=args.orientation)
+    if not 0 < params.max_strain < 1:
+        print("softpack single-disk: --max-strain must be in (0, 1)",
+              file=sys.stderr)
+        return 2
+    if params.max_strain < max(PROFILE_STRAINS):
+        print("softpack single-disk: note: --max-strain < 0.2: the"
+              " profiles beyond it are not written", flush=True)
+    if params.speed * params.time_step > params.alert_distance:
+        print("softpack single-disk: speed * time step exceeds the alert"
+              " distance", file=sys.stderr)
+        return 2
+    args.out.mkdir(parents=True, exist_ok=True)
+    print(f"softpack single-disk: D = {params.diameter:g} m, h ="
+          f" {params.element_size:g} m, up to eps = {params.max_strain:g}"
+          f" ({int(round(params.duration / params.time_step))} steps) ->"
+          f" {args.out}", flush=True)
+    try:
+        result = run(params, args.out)
+    except SingleDiskError as err:
+        print(f"softpack single-disk: {err}", file=sys.stderr)
+        return 1
+    curve, meta = result["curve"], result["meta"]
+    from softpack.reference3d import johnson_line_contact
+    for e in (0.01, 0.05, 0.10, 0.15, 0.20):
+        if e <= curve["eps"][-1]:
+            print(f"  eps = {e:.2f}: f_norm = {value_at(curve, e):.5g}"
+                  f"  (Johnson nu = 1/3: "
+                  f"{johnson_line_contact(e, 1 / 3)[0]:.5g})")
+    print(f"softpack single-disk: {meta['triangles']} triangles, driver"
+          f" {meta['driver_seconds']:.0f} s; wrote {args.out}/force_2d.csv,"
+          " profile_2d.csv, run_2d.json")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
