@@ -54,6 +54,9 @@ def plot_force(directory, curves, out):
 
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for data, label, style in curves:
+        if style.get("ls") == "none" and len(data) > 40:
+            # a driver run writes hundreds of rows: about 25 markers
+            style = dict(style, markevery=max(1, len(data) // 25))
         ax.plot(data["eps"], data["f_norm"], color="k", label=label, **style)
     eps = np.linspace(0.0, 0.25, 101)
     ax.plot(eps, johnson_line_contact(eps, 0.495, plane_strain=True), color="tab:red", lw=1,

@@ -24,22 +24,30 @@ Set-up (what :func:`driver_document` writes)
     (rotation about its axis: a circle's energy does not change when it
     turns). Nothing in the driver pins them, and the mesh's asymmetry
     drives the rolling: with friction 0 the D = 20 mm disk (h = 1.065 mm)
-    turns by 0.16 rad by eps = 0.25, which tilts the material line of
-    Fig. 3 (u_x/D at w = 1 and eps = 0.2: 0.0280 instead of 0.0320). A
-    friction coefficient of 0.01 stops both (largest rotation 1.2e-4 rad)
-    while changing f_norm by at most 0.15 % (friction 0, 0.001 and 0.01
-    compared in docs/single_disk/README.md). The profile is moreover taken
-    relative to the displacement of the disk's centre (below);
+    turns by 0.19 rad by eps = 0.25, which tilts the material line of
+    Fig. 3 (u_x/D at w = 1 and eps = 0.2: 0.0260 instead of 0.0321). A
+    friction coefficient of 0.01 stops both (largest rotation 5e-4 rad;
+    0.001 leaves 4e-3 rad) while changing f_norm by at most 0.13 %
+    (friction 0, 0.001 and 0.01 compared in docs/single_disk/README.md).
+    The profile is moreover taken relative to the displacement of the
+    disk's centre (below);
+  * the mesh is turned about the centre so that a boundary node lies on
+    the loading axis (:func:`put_node_up`; ``--orientation as_meshed``
+    keeps gmsh's): the two plates then touch a boundary polygon that is
+    mirror-symmetric about the axis. As meshed, the nodes nearest the
+    plates are off the axis (by 0.27 mm for h = 1.065 mm), which changes
+    f_norm at eps = 0.02 by 3 % (README);
   * Rayleigh damping alpha = 200 1/s, beta = 1e-5 s, theta = 0.5, time step
     1e-4 s, plate speed 0.01 m/s (approach 0.02 m/s); stop.max_time is the
     time to reach delta_max = D (1 - exp(-max_strain)).
 
 Outputs in ``--out DIR`` (default ``runs/single-disk``):
 
-``force_2d.csv``  ``eps,f_norm`` (and ``f_norm_top,f_norm_bottom``)
+``force_2d.csv``  ``eps,f_norm``
     f = mean of the two plates' forces (per unit length, N/m), f_norm =
     f/(D mu) = f/(D l mu) with f the force per length l. The two plates'
-    forces differ by the inertia and damping forces only (recorded). eps =
+    forces differ by the inertia and damping forces only (the largest
+    difference is in run_2d.json). eps =
     -ln(1 - delta/D), delta the sum of the two plates' displacements, D the
     nominal diameter. One row per driver output (every ``--every`` steps).
 ``profile_2d.csv``  ``eps,w,ux_over_D``
@@ -285,7 +293,8 @@ def _number(text) -> float:
 def force_curve(steps: dict, params: Params, y_bottom0, y_top0) -> dict:
     """eps, f_norm (mean of the plates), and each plate's f_norm."""
     delta = (y_top0 - steps["top_y"]) + (steps["bottom_y"] - y_bottom0)
-    eps = -np.log(1.0 - delta / params.diameter)
+    delta[np.abs(delta) < 1e-12 * params.diameter] = 0.0  # round-off at t = 0
+    eps = 0.0 - np.log(1.0 - delta / params.diameter)  # 0, not -0, at t = 0
     scale = params.diameter * MU
     top = steps["top_fy"] / scale          # the disk pushes the top plate up
     bottom = -steps["bottom_fy"] / scale   # ... and the bottom plate down
@@ -411,11 +420,8 @@ def write_outputs(out_dir, params, steps, curve, profiles, meta, seconds):
     last = int(np.searchsorted(curve["eps"], params.max_strain - 1e-12))
     keep = np.arange(len(curve["eps"])) <= last
     np.savetxt(out_dir / "force_2d.csv",
-               np.column_stack([curve["eps"][keep], curve["f_norm"][keep],
-                                curve["f_norm_top"][keep],
-                                curve["f_norm_bottom"][keep]]),
-               delimiter=",", header="eps,f_norm,f_norm_top,f_norm_bottom",
-               comments="", fmt="%.7g")
+               np.column_stack([curve["eps"][keep], curve["f_norm"][keep]]),
+               delimiter=",", header="eps,f_norm", comments="", fmt="%.7g")
     rows = [(e, w, u) for e in PROFILE_STRAINS if e in profiles
             for w, u in zip(PROFILE_W, profiles[e])]
     np.savetxt(out_dir / "profile_2d.csv", np.array(rows).reshape(-1, 3),
@@ -425,7 +431,7 @@ def write_outputs(out_dir, params, steps, curve, profiles, meta, seconds):
     mismatch = np.abs(curve["f_norm_top"] - curve["f_norm_bottom"])[loaded]
     energy = {key: float(steps[key][keep][-1]) for key in
               ("strain_energy", "kinetic_energy", "wall_work", "damping",
-               "numerical", "energy_residual") if key in steps}
+               "friction", "numerical", "energy_residual") if key in steps}
     doc = {"params": asdict(params), "mesh": {
         "triangles": meta["triangles"], "nodes": meta["nodes"],
         "boundary_nodes": meta["boundary_nodes"],
