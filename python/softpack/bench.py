@@ -29,7 +29,6 @@ import datetime
 import json
 import math
 import os
-import resource
 import subprocess
 import sys
 from pathlib import Path
@@ -105,10 +104,15 @@ def run_driver(config, mesh: Path, name: str) -> dict:
     out = WORK / name
     out.mkdir(parents=True, exist_ok=True)
     cfg.to_driver_json(config, mesh, out)
-    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-    subprocess.run([str(BIN / "softpack-simulate"), str(out / "driver.json"),
-                    "--quiet"], check=True, stdout=subprocess.DEVNULL)
-    peak_kb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    proc = subprocess.Popen([str(BIN / "softpack-simulate"),
+                             str(out / "driver.json"), "--quiet"],
+                            stdout=subprocess.DEVNULL)
+    # wait4 gives this child's own peak resident memory (kB on Linux)
+    _, status, usage = os.wait4(proc.pid, 0)
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    if proc.returncode != 0:
+        raise RuntimeError(f"softpack-simulate failed on {out / 'driver.json'}")
+    peak_kb = usage.ru_maxrss
     done = json.loads((out / "raw" / "done.json").read_text())
     steps = done["steps"]
     with open(out / "raw" / "steps.csv") as f:
@@ -120,8 +124,7 @@ def run_driver(config, mesh: Path, name: str) -> dict:
               "setup_seconds": float(rows[0]["seconds"]),
               "ms_per_step": 1e3 * stepping / steps,
               "factorizations": done["factorizations"],
-              # ru_maxrss of children is the largest child so far
-              "peak_memory_mb": max(peak_kb, before) / 1024}
+              "peak_memory_mb": peak_kb / 1024}
     for part in PARTS:
         result[f"ms_{part}"] = 1e3 * done["seconds_by_part"][part] / steps
     return result
