@@ -24,14 +24,7 @@ def main(argv=None):
         print(f"softpack: expected one of {', '.join(COMMANDS)}", file=sys.stderr)
         return 2
     name, rest = argv[0], argv[1:]
-    try:
-        module = importlib.import_module(COMMANDS[name])
-    except ModuleNotFoundError as err:
-        if err.name == COMMANDS[name]:
-            print(f"softpack: '{name}' is not implemented yet", file=sys.stderr)
-            return 2
-        raise
-    return module.main(rest)
+    return importlib.import_module(COMMANDS[name]).main(rest)
 
 
 if __name__ == "__main__":
