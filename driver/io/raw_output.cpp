@@ -34,13 +34,15 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
 void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
                       const dynamics::StepReport& r, std::optional<double> phi,
                       double seconds, const bodies::BodySet& bodies,
-                      const dynamics::StepTimings& spent)
+                      const dynamics::StepTimings& spent,
+                      const dynamics::ContactForceAverage& average)
 {
   _steps << step << ',' << scheme.time() << ',' << r.newton_iterations << ','
          << r.nlgs_iterations << ',' << r.nlgs_error << ','
          << (r.nlgs_converged ? 1 : 0) << ',' << r.contacts << ','
          << r.active_contacts << ',' << r.max_penetration;
-  const auto forces = scheme.wall_forces();
+  std::vector<std::array<double, 2>> forces = average.wall_forces();
+  forces.resize(scheme.walls().size(), {0, 0});
   for (std::size_t w = 0; w < forces.size(); ++w)
     _steps << ',' << scheme.walls()[w].point[0] << ','
            << scheme.walls()[w].point[1] << ',' << forces[w][0] << ','
@@ -57,7 +59,7 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
          << ',' << spent.solves << ',' << (r.refactorized ? 1 : 0) << '\n';
   _steps.flush();
   write_particles(step, bodies);
-  write_contacts(step, scheme);
+  write_contacts(step, average);
 }
 
 void RawOutput::write_particles(long step, const bodies::BodySet& bodies)
@@ -70,7 +72,8 @@ void RawOutput::write_particles(long step, const bodies::BodySet& bodies)
   _particles.flush();
 }
 
-void RawOutput::write_contacts(long step, const dynamics::MoreauJean& scheme)
+void RawOutput::write_contacts(long step,
+                               const dynamics::ContactForceAverage& average)
 {
   char name[40];
   std::snprintf(name, sizeof(name), "step_%08ld.csv", step);
@@ -80,18 +83,17 @@ void RawOutput::write_contacts(long step, const dynamics::MoreauJean& scheme)
     std::ofstream out(tmp);
     out << std::setprecision(10);
     out << "candidate,node,antagonist,wall,segment0,segment1,xi,gap,fn,ft,fx,"
-           "fy\n";
-    const double h = scheme.options().time_step;
-    const auto& R = scheme.impulses();
-    for (std::size_t a = 0; a < scheme.contacts().size(); ++a)
+           "fy,steps\n";
+    for (const dynamics::AveragedContactForce& m : average.contact_forces())
     {
-      const dynamics::Contact& c = scheme.contacts()[a];
-      const double fn = R[2 * a] / h, ft = R[2 * a + 1] / h;
+      const dynamics::Contact& c = m.contact;
+      const double fn = m.force[0] * c.n[0] + m.force[1] * c.n[1];
+      const double ft = m.force[0] * c.t[0] + m.force[1] * c.t[1];
       out << c.candidate_body << ',' << c.candidate_node << ','
           << c.antagonist_body << ',' << c.wall << ',' << c.segment[0] << ','
           << c.segment[1] << ',' << c.xi << ',' << c.gap << ',' << fn << ','
-          << ft << ',' << fn * c.n[0] + ft * c.t[0] << ','
-          << fn * c.n[1] + ft * c.t[1] << '\n';
+          << ft << ',' << m.force[0] << ',' << m.force[1] << ',' << m.steps
+          << '\n';
     }
   }
   std::filesystem::rename(tmp, path);

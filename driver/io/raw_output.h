@@ -1,6 +1,7 @@
 #pragma once
 
 #include <bodies/BodySet.h>
+#include <dynamics/contact_force_average.h>
 #include <dynamics/moreau_jean.h>
 #include <filesystem>
 #include <fstream>
@@ -30,10 +31,13 @@ public:
   /// @param[in] seconds Wall time since the start
   /// @param[in] bodies The bodies (areas and energies)
   /// @param[in] spent Wall time per part of the step, summed since the start
+  /// @param[in] forces Contact and wall forces averaged since the previous
+  /// output step (the forces written)
   void write(long step, const dynamics::MoreauJean& scheme,
              const dynamics::StepReport& report, std::optional<double> phi,
              double seconds, const bodies::BodySet& bodies,
-             const dynamics::StepTimings& spent);
+             const dynamics::StepTimings& spent,
+             const dynamics::ContactForceAverage& forces);
 
   /// Mark the run complete.
   void finish(long steps, double seconds, const std::string& reason,
@@ -41,7 +45,7 @@ public:
 
 private:
   void write_particles(long step, const bodies::BodySet& bodies);
-  void write_contacts(long step, const dynamics::MoreauJean& scheme);
+  void write_contacts(long step, const dynamics::ContactForceAverage& forces);
 
   std::filesystem::path _raw;
   std::ofstream _steps, _particles;

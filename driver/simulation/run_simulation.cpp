@@ -86,11 +86,13 @@ RunSummary run_simulation(const io::DriverConfig& config, bool quiet)
 
   RunSummary summary;
   dynamics::StepTimings spent;
+  dynamics::ContactForceAverage average;
   long outputs = 0;
   auto output =
       [&](long step, const dynamics::StepReport& r, std::optional<double> p)
   {
-    raw.write(step, scheme, r, p, elapsed(), bodies, spent);
+    raw.write(step, scheme, r, p, elapsed(), bodies, spent, average);
+    average.reset();
     if (fields && outputs % config.fields_every_outputs == 0)
       fields->write(bodies, scheme.time());
     ++outputs;
@@ -102,6 +104,7 @@ RunSummary run_simulation(const io::DriverConfig& config, bool quiet)
   for (long step = 1;; ++step)
   {
     const dynamics::StepReport r = scheme.step();
+    average.add_step(scheme);
     spent.detection += r.seconds.detection;
     spent.assembly += r.seconds.assembly;
     spent.factorization += r.seconds.factorization;

@@ -1,0 +1,66 @@
+#include "contact_force_average.h"
+
+namespace softpack::dynamics
+{
+
+void ContactForceAverage::add_step(const MoreauJean& scheme)
+{
+  const std::vector<Contact>& contacts = scheme.contacts();
+  const std::vector<double>& R = scheme.impulses();
+  _wall_impulse.resize(scheme.walls().size(), {0, 0});
+  for (std::size_t a = 0; a < contacts.size(); ++a)
+  {
+    const Contact& c = contacts[a];
+    const std::array<double, 2> impulse
+        = {R[2 * a] * c.n[0] + R[2 * a + 1] * c.t[0],
+           R[2 * a] * c.n[1] + R[2 * a + 1] * c.t[1]};
+    const Key key{c.candidate_body, c.candidate_node,
+                  c.antagonist_body >= 0 ? c.antagonist_body : -1 - c.wall};
+    auto [it, added] = _index.try_emplace(key, _sum.size());
+    if (added)
+      _sum.push_back({c, {0, 0}, 0});
+    AveragedContactForce& s = _sum[it->second];
+    s.contact = c;
+    s.force[0] += impulse[0];
+    s.force[1] += impulse[1];
+    ++s.steps;
+    if (c.wall >= 0)
+    {
+      // The wall receives the opposite of the candidate's impulse.
+      _wall_impulse[c.wall][0] -= impulse[0];
+      _wall_impulse[c.wall][1] -= impulse[1];
+    }
+  }
+  _duration += scheme.options().time_step;
+}
+
+std::vector<AveragedContactForce> ContactForceAverage::contact_forces() const
+{
+  std::vector<AveragedContactForce> mean = _sum;
+  if (_duration > 0)
+    for (AveragedContactForce& m : mean)
+      for (double& f : m.force)
+        f /= _duration;
+  return mean;
+}
+
+std::vector<std::array<double, 2>> ContactForceAverage::wall_forces() const
+{
+  std::vector<std::array<double, 2>> mean = _wall_impulse;
+  if (_duration > 0)
+    for (auto& f : mean)
+      for (double& x : f)
+        x /= _duration;
+  return mean;
+}
+
+void ContactForceAverage::reset()
+{
+  _index.clear();
+  _sum.clear();
+  for (auto& f : _wall_impulse)
+    f = {0, 0};
+  _duration = 0;
+}
+
+} // namespace softpack::dynamics
