@@ -1,5 +1,6 @@
 #include "BodySet.h"
 
+#include "parallel_residual.h"
 #include <algorithm>
 #include <body.h>
 #include <dolfinx/fem/assembler.h>
@@ -90,7 +91,12 @@ BodySet::BodySet(BodyMesh mesh, const forms::MaterialForms& material,
 
   build_bodies();
   build_mass();
+  _parallel_residual =
+      std::make_unique<ParallelResidual>(*_residual, _u, _bodies);
 }
+
+BodySet::BodySet(BodySet&&) noexcept = default;
+BodySet::~BodySet() = default;
 
 std::span<double> BodySet::displacement()
 {
@@ -266,7 +272,15 @@ void BodySet::internal_force(std::span<double> f) const
   if (f.size() != num_dofs())
     throw std::invalid_argument("internal_force: wrong vector size");
   std::fill(f.begin(), f.end(), 0.0);
-  fem::assemble_vector(f, *_residual);
+  if (_parallel_residual->supported())
+    _parallel_residual->assemble(f, _bodies);
+  else
+    fem::assemble_vector(f, *_residual);
+}
+
+bool BodySet::parallel_residual() const
+{
+  return _parallel_residual->supported();
 }
 
 double BodySet::strain_energy() const
@@ -310,9 +324,32 @@ std::vector<double> BodySet::cell_reference_area() const
   return assemble_cellwise(*_reference_area);
 }
 
+std::vector<double> BodySet::cell_current_area() const
+{
+  return assemble_cellwise(*_current_area);
+}
+
 std::vector<double> BodySet::body_current_area() const
 {
-  return sum_per_body(assemble_cellwise(*_current_area));
+  // The integral of det F over a P1 body is the signed area of its
+  // deformed boundary polygon (shoelace): a pass over the boundary instead
+  // of an assembly over every cell, cheap enough for every time step.
+  const std::span<const double> u = _u->x()->array();
+  std::vector<double> area(_bodies.size(), 0.0);
+  for (std::size_t b = 0; b < _bodies.size(); ++b)
+  {
+    const Body& body = _bodies[b];
+    auto x = [&](std::int32_t local, int c)
+    {
+      const std::int32_t g = body.nodes[local];
+      return _reference_x[2 * g + c] + u[2 * g + c];
+    };
+    double twice = 0;
+    for (const auto& [p, q] : body.boundary_segments)
+      twice += x(p, 0) * x(q, 1) - x(q, 0) * x(p, 1);
+    area[b] = 0.5 * twice;
+  }
+  return area;
 }
 
 } // namespace softpack::bodies

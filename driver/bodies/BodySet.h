@@ -16,6 +16,7 @@
 /// Deformable bodies: finite-strain hyperelastic FEM, one DOF block per body.
 namespace softpack::bodies
 {
+class ParallelResidual;
 
 /// Sparse symmetric matrix of one body, in the body's local DOF numbering
 /// (2 per node: x then y).
@@ -62,6 +63,8 @@ public:
   /// @throws std::invalid_argument if a parameter is missing or unknown
   BodySet(BodyMesh mesh, const forms::MaterialForms& material,
           const std::map<std::string, double>& parameters, double density);
+  BodySet(BodySet&&) noexcept;
+  ~BodySet();
 
   /// Number of bodies
   int num_bodies() const { return static_cast<int>(_bodies.size()); }
@@ -116,8 +119,12 @@ public:
     return _Q;
   }
 
-  /// Current (deformed) area of each body
+  /// Current (deformed) area of each body, \f$\int \det F\,dX\f$,
+  /// from its boundary polygon
   std::vector<double> body_current_area() const;
+
+  /// Current area of each cell (assembled from the UFL form)
+  std::vector<double> cell_current_area() const;
 
   /// Body id of each cell
   const std::vector<int>& cell_body() const { return _cell_body; }
@@ -131,6 +138,13 @@ public:
 
   /// The mesh of all bodies
   std::shared_ptr<const dolfinx::mesh::Mesh> mesh() const { return _mesh; }
+
+  /// The internal force form (for checks against dolfinx's assembler)
+  const dolfinx::fem::Form<double>& residual_form() const { return *_residual; }
+
+  /// Whether internal_force runs body by body on all cores
+  /// (ParallelResidual) rather than through dolfinx's serial assembler
+  bool parallel_residual() const;
 
 private:
   void build_bodies();
@@ -154,6 +168,7 @@ private:
   std::vector<std::int32_t> _node_body, _node_local;
   std::vector<BodyMatrix> _mass;
   std::vector<Eigen::VectorXd> _lumped_mass;
+  std::unique_ptr<ParallelResidual> _parallel_residual;
 };
 
 } // namespace softpack::bodies

@@ -424,6 +424,53 @@ const EnergyBalance& MoreauJean::energy() const
   return _energy;
 }
 
+SchemeState MoreauJean::state() const
+{
+  SchemeState s;
+  s.time = _time;
+  s.steps = _steps;
+  const std::span<const double> u =
+      _bodies.displacement_function()->x()->array();
+  s.u.assign(u.begin(), u.end());
+  s.v = _v;
+  for (const Wall& w : _walls)
+    s.wall_points.push_back(w.point);
+  for (const auto& [key, R] : _previous)
+    s.reactions.push_back(
+        {{std::get<0>(key), std::get<1>(key), std::get<2>(key)}, R});
+  s.energy = energy();
+  return s;
+}
+
+void MoreauJean::restore(const SchemeState& s)
+{
+  std::span<double> u = _bodies.displacement();
+  if (s.u.size() != u.size() || s.v.size() != _v.size())
+    throw std::invalid_argument("state: " + std::to_string(s.u.size()) +
+                                " DOFs, the bodies have " +
+                                std::to_string(u.size()));
+  if (s.wall_points.size() != _walls.size())
+    throw std::invalid_argument("state: " +
+                                std::to_string(s.wall_points.size()) +
+                                " walls, the run has " +
+                                std::to_string(_walls.size()));
+  std::copy(s.u.begin(), s.u.end(), u.begin());
+  _v = s.v;
+  for (std::size_t w = 0; w < _walls.size(); ++w)
+    _walls[w].point = s.wall_points[w];
+  _previous.clear();
+  for (const auto& [key, R] : s.reactions)
+    _previous[{key[0], key[1], key[2]}] = R;
+  _time = s.time;
+  _steps = s.steps;
+  _bodies.internal_force(_f_int);
+  _energy = s.energy;
+  _energy_stale = true;
+  _started = true;
+  _matrix_age = -1;
+  _products_valid = false;
+}
+
 std::vector<std::array<double, 2>> MoreauJean::wall_forces() const
 {
   std::vector<std::array<double, 2>> force(_walls.size(), {0, 0});

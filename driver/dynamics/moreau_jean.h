@@ -110,6 +110,23 @@ struct StepReport
   double max_penetration = 0; ///< max(-gap) at the end of the step, >= 0
 };
 
+/// Everything the time stepping carries from one step to the next: enough
+/// to continue a run from where it was (the factorized iteration matrix is
+/// rebuilt at the first step after a restore).
+struct SchemeState
+{
+  double time = 0;
+  long steps = 0;
+  /// Global displacement and velocity
+  std::vector<double> u, v;
+  /// Each wall's current point
+  std::vector<std::array<double, 2>> wall_points;
+  /// Last impulses (warm start) by (candidate body, node, antagonist key)
+  std::vector<std::pair<std::array<int, 3>, std::array<double, 2>>> reactions;
+  /// The energy accounts since the start of the run
+  EnergyBalance energy;
+};
+
 /// The Moreau–Jean theta-method with Newton iterations on finite-strain
 /// bodies and Signorini–Coulomb contacts solved by NLGS (METHOD.md §3).
 class MoreauJean
@@ -145,6 +162,13 @@ public:
   const std::vector<Wall>& walls() const { return _walls; }
   /// Options
   const MoreauJeanOptions& options() const { return _options; }
+  /// The state after the last step
+  SchemeState state() const;
+  /// Continue from a state saved by state() on the same bodies and walls.
+  /// @throws std::invalid_argument if the sizes do not match
+  void restore(const SchemeState& state);
+  /// Steps done so far (including those before a restore)
+  long steps() const { return _steps; }
   /// Factorizations of the iteration matrix so far
   int factorizations() const { return _kbar.factorizations(); }
 

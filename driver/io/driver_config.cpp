@@ -201,6 +201,14 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
       c.fields_every_outputs =
           static_cast<int>(r.number(out, "fields", "output.", 0));
   }
+  if (out.contains("state"))
+  {
+    if (!out.at("state").is_boolean())
+      r.fail("output.state", "must be true or false");
+    c.write_state = out.at("state").get<bool>();
+  }
+  if (doc.contains("initial_state"))
+    c.initial_state = r.string(doc, "initial_state", "");
   return c;
 }
 

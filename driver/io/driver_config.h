@@ -34,6 +34,10 @@ struct DriverConfig
   int output_every_steps = 100;
   /// Write fields every this many output steps (0: never)
   int fields_every_outputs = 1;
+  /// Write raw/state.bin at every output step
+  bool write_state = false;
+  /// Start from this state file (io/state_file.h) instead of rest
+  std::optional<std::filesystem::path> initial_state;
 };
 
 /// Parse and check a driver.json file.

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <io/field_output.h>
 #include <io/raw_output.h>
+#include <io/state_file.h>
 #include <material_registry.h>
 #include <numeric>
 
@@ -64,6 +65,8 @@ RunSummary run_simulation(const io::DriverConfig& config, bool quiet)
   options.failed_problem_directory =
       config.output_directory / "raw" / "failed_contact_problems";
   dynamics::MoreauJean scheme(bodies, config.walls, options);
+  if (config.initial_state)
+    scheme.restore(io::read_state(*config.initial_state));
   io::RawOutput raw(config.output_directory, config.walls);
   std::unique_ptr<io::FieldOutput> fields;
   if (config.fields_every_outputs > 0)
@@ -93,6 +96,9 @@ RunSummary run_simulation(const io::DriverConfig& config, bool quiet)
   {
     raw.write(step, scheme, r, p, elapsed(), bodies, spent, average);
     average.reset();
+    if (config.write_state)
+      io::write_state(config.output_directory / "raw" / "state.bin",
+                      scheme.state());
     if (fields && outputs % config.fields_every_outputs == 0)
       fields->write(bodies, scheme.time());
     ++outputs;
@@ -100,8 +106,9 @@ RunSummary run_simulation(const io::DriverConfig& config, bool quiet)
       print_progress(progress(p), step, scheme, p, r, elapsed());
   };
 
-  output(0, dynamics::StepReport{}, phi0);
-  for (long step = 1;; ++step)
+  const long first = scheme.steps();
+  output(first, dynamics::StepReport{}, phi0);
+  for (long step = first + 1;; ++step)
   {
     const dynamics::StepReport r = scheme.step();
     average.add_step(scheme);

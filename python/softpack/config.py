@@ -513,7 +513,10 @@ def driver_input(config, mesh_xdmf, out_dir) -> dict:
                  "max_time": config["loading"]["max_time"]},
         "output": {"directory": str(Path(out_dir).resolve()),
                    "every_steps": o["every_steps"],
-                   "fields": o["fields_every"] if o["fields"] else 0},
+                   "fields": o["fields_every"] if o["fields"] else 0,
+                   # raw/state.bin: the last output step's state, to
+                   # continue from (bench --from-state) or inspect
+                   "state": True},
     }
 
 

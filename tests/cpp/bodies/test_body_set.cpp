@@ -99,6 +99,20 @@ TEST(BodySet, AreasAreThePolygonAreasAndFollowTheDeformation)
   const std::vector<double> area = bodies.body_current_area();
   EXPECT_NEAR(area[0] / bodies.body(0).reference_area, 1.0, 1e-13);
   EXPECT_NEAR(area[1] / bodies.body(1).reference_area, 1.08, 1e-13);
+  // The boundary polygon's area is the integral of det F (the UFL form),
+  // also under a non-affine deformation.
+  for (std::size_t i = 0; i < u.size(); ++i)
+    u[i] += 1e-4 * std::sin(1e3 * X[i] + i);
+  const std::vector<double> per_cell = bodies.cell_current_area();
+  std::vector<double> from_cells(2, 0.0);
+  for (std::size_t c = 0; c < per_cell.size(); ++c)
+    from_cells[bodies.cell_body()[c]] += per_cell[c];
+  const std::vector<double> from_boundary = bodies.body_current_area();
+  for (int b = 0; b < 2; ++b)
+    EXPECT_NEAR(from_boundary[b] / from_cells[b], 1.0, 1e-13);
+  for (std::size_t i = 0; i < u.size(); ++i)
+    u[i] -= 1e-4 * std::sin(1e3 * X[i] + i);
+
   const std::vector<double> energy = bodies.body_strain_energy();
   EXPECT_EQ(energy[0], 0.0);
   EXPECT_GT(energy[1], 0.0);
