@@ -106,9 +106,11 @@ softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
   double working_tolerance = options.tolerance;
   bool full_error_current = false;
   NaturalMapError full;
+  double omega = options.relaxation;
+  double window_start_error = std::numeric_limits<double>::infinity();
   while (!result.q_zero and result.iterations < options.max_sweeps)
   {
-    const auto [change, norm] = sweep(problem, r.data(), options.relaxation);
+    const auto [change, norm] = sweep(problem, r.data(), omega);
     ++result.iterations;
     const double scale = std::sqrt(norm);
     result.cheap_error = std::sqrt(change);
@@ -117,6 +119,16 @@ softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
     full_error_current = false;
     if (!std::isfinite(result.cheap_error))
       break;
+    if (omega != 1.0 and options.relaxation_window > 0 and
+        result.iterations % options.relaxation_window == 0)
+    {
+      if (result.cheap_error > 0.9 * window_start_error)
+      {
+        omega = 1.0;
+        result.relaxation_dropped = true;
+      }
+      window_start_error = result.cheap_error;
+    }
     if (result.cheap_error > working_tolerance)
       continue;
     full = compute_error(problem, r, u, options.q_zero_tolerance);

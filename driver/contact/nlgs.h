@@ -20,8 +20,15 @@ struct NlgsOptions
 
   /// Relaxation \f$\omega \in (0, 2)\f$: \f$r_a \leftarrow \omega
   /// r_a^{local} + (1 - \omega) r_a\f$, projected on the cone if
-  /// \f$\omega > 1\f$
+  /// \f$\omega > 1\f$. Over-relaxation cuts the sweeps several times on
+  /// the well-conditioned problems of deformable bodies, but need not
+  /// converge on others (rigid granular ones): when the cheap error has
+  /// not dropped by 10 % over `relaxation_window` sweeps, the solve goes on
+  /// with \f$\omega = 1\f$.
   double relaxation = 1.0;
+
+  /// Sweeps over which an over-relaxed solve must make progress
+  int relaxation_window = 50;
 
   /// Start from the reactions passed in (else from r = 0)
   bool warm_start = true;
@@ -52,6 +59,9 @@ struct NlgsResult
 
   /// q was zero (see NlgsOptions::q_zero_tolerance): r = 0, no sweep
   bool q_zero = false;
+
+  /// The relaxation was dropped to 1 for lack of progress
+  bool relaxation_dropped = false;
 
   /// Where the problem was dumped after a failure (empty if not dumped)
   std::filesystem::path dumped_to;

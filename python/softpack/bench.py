@@ -12,10 +12,15 @@ Runs, in order, and prints a table (also written to
    and at the fast settings (h = 36 us, Newton 1e-4, NLGS 1e-6), with the
    per-step cost split by part (assembly, factorization, solves, Delassus,
    detection, NLGS) and the peak memory of the driver.
-4. Scaling with the number of disks (25, 100, 400; same element size, same
-   initial packing fraction, box scaled with sqrt(N), piston speed scaled
-   with the box length so that the strain rate is the same): cost per step
-   and per unit strain, and the fitted exponents.
+4. Scaling with the number of disks (25, 100, 400; same element size, box
+   scaled with sqrt(N), piston speed scaled with the box length so that the
+   strain rate is the same), each compressed from its initial packing to the
+   same packing fraction (``--scaling-phi``, 0.80): cost per unit strain and
+   the fitted exponents.
+
+``--from-state FILE`` times ``--steps`` steps of the paper case (seed 0 mesh)
+from a state a run wrote (``runs/<run>/raw/state.bin``), at both settings:
+the crowded end of the compaction without recomputing its start.
 
 ``--full`` also runs the whole paper case (fast settings, seed 0) with
 ``./softpack run`` and reports its wall time.
@@ -29,6 +34,7 @@ import datetime
 import json
 import math
 import os
+import struct
 import subprocess
 import sys
 from pathlib import Path
@@ -99,11 +105,24 @@ def _mesh_for(config, tag: str) -> Path:
     return xdmf
 
 
-def run_driver(config, mesh: Path, name: str) -> dict:
+def state_time(path: Path) -> float:
+    """Time (s) of a state file (layout: driver/io/state_file.h)."""
+    with open(path, "rb") as f:
+        head = f.read(16 + 3 * 8 + 8)
+    if len(head) < 48 or head[:16] != b"softpack-state-1":
+        raise ValueError(f"{path}: not a softpack state file")
+    return struct.unpack("<d", head[40:48])[0]
+
+
+def run_driver(config, mesh: Path, name: str, initial_state: Path | None = None,
+               ) -> dict:
     """Run softpack-simulate; its done.json plus steps, cost and memory."""
     out = WORK / name
     out.mkdir(parents=True, exist_ok=True)
-    cfg.to_driver_json(config, mesh, out)
+    driver = cfg.to_driver_json(config, mesh, out)
+    if initial_state is not None:
+        driver["initial_state"] = str(Path(initial_state).resolve())
+        (out / "driver.json").write_text(json.dumps(driver, indent=2) + "\n")
     proc = subprocess.Popen([str(BIN / "softpack-simulate"),
                              str(out / "driver.json"), "--quiet"],
                             stdout=subprocess.DEVNULL)
@@ -120,6 +139,7 @@ def run_driver(config, mesh: Path, name: str) -> dict:
     # Time stepping only: from the step-0 output row (written after reading
     # the mesh and building the bodies) to the last.
     stepping = float(rows[-1]["seconds"]) - float(rows[0]["seconds"])
+    steps -= int(rows[0]["step"])  # a run from a state starts past 0
     result = {"name": name, "steps": steps, "seconds": stepping,
               "setup_seconds": float(rows[0]["seconds"]),
               "ms_per_step": 1e3 * stepping / steps,
@@ -140,19 +160,35 @@ def bench_paper(steps: int) -> list[dict]:
     return results
 
 
-def bench_scaling(steps: int) -> dict:
-    """Cost per step and per unit strain for 25, 100 and 400 disks."""
+def bench_late(state: Path, steps: int) -> list[dict]:
+    """Per-step cost of the paper case from a saved state, both settings."""
+    t0 = state_time(state)
+    results = []
+    for label, overrides in (("paper-settings", PAPER), ("fast-settings", FAST)):
+        config = _scaled_config(1, overrides, steps)
+        config["loading"]["max_time"] = t0 + steps * config["time"]["time_step"]
+        results.append(run_driver(config, _mesh_for(config, "n100"),
+                                  f"late-{label}", initial_state=state))
+    return results
+
+
+def bench_scaling(target_phi: float) -> dict:
+    """Cost per unit strain for 25, 100 and 400 disks, each compressed from
+    its initial packing to the packing fraction target_phi."""
     rows = []
     for scale in (0.25, 1, 4):
-        config = _scaled_config(scale, FAST, steps)
+        config = _scaled_config(scale, FAST, 100)
+        config["loading"]["target_packing_fraction"] = target_phi
+        config["loading"]["max_time"] = (config["geometry"]["length"] / 2
+                                         / config["loading"]["piston_speed"])
         n = sum(config["geometry"]["counts"])
         r = run_driver(config, _mesh_for(config, f"n{n}"), f"scaling-n{n}")
-        # strain rate v / L is the same for every size
-        strain_per_step = (config["loading"]["piston_speed"]
-                           * config["time"]["time_step"]
-                           / config["geometry"]["length"])
-        r.update(disks=n, seconds_per_unit_strain=r["seconds"] / steps
-                 / strain_per_step)
+        with open(WORK / f"scaling-n{n}" / "raw" / "steps.csv") as f:
+            last = list(csv.DictReader(f))[-1]
+        piston = config["geometry"]["length"] - float(last["piston_x"])
+        strain = -math.log(1 - piston / config["geometry"]["length"])
+        r.update(disks=n, strain=strain, final_phi=float(last["phi"]),
+                 seconds_per_unit_strain=r["seconds"] / strain)
         rows.append(r)
 
     def exponent(key, a, b):
@@ -239,8 +275,16 @@ def _table(report: dict) -> str:
         lines.append(f"{row['name']:<17} {row['ms_per_step']:7.1f} "
                      + " ".join(f"{row['ms_' + p]:8.1f}" for p in PARTS)
                      + f"   peak {row['peak_memory_mb']:.0f} MB")
+    for row in report.get("late", []):
+        lines.append(f"{row['name']:<17} {row['ms_per_step']:7.1f} "
+                     + " ".join(f"{row['ms_' + p]:8.1f}" for p in PARTS)
+                     + f"   (from {report['late_state']})")
     if "scaling" in report:
         s = report["scaling"]
+        for row in s["rows"]:
+            lines.append(f"{row['disks']:4d} disks to Phi = {row['final_phi']:.3f}:"
+                         f" {row['seconds']:.0f} s, {row['steps']} steps,"
+                         f" {row['seconds_per_unit_strain']:.0f} s per unit strain")
         lines.append(f"cost per unit strain ~ N^p: p = {s['exponent_25_400']:.2f}"
                      f" (25-400), {s['exponent_100_400']:.2f} (100-400)")
     if "full" in report:
@@ -257,6 +301,11 @@ def main(argv=None) -> int:
                         help="time steps per paper-case measurement")
     parser.add_argument("--no-scaling", action="store_true",
                         help="skip the 25/100/400-disk scaling runs")
+    parser.add_argument("--scaling-phi", type=float, default=0.80,
+                        help="packing fraction the scaling runs stop at")
+    parser.add_argument("--from-state", type=Path, metavar="FILE",
+                        help="also time --steps steps from this state of the"
+                        " seed-0 paper case (a run's raw/state.bin)")
     parser.add_argument("--full", action="store_true",
                         help="also run the whole paper case (fast settings)")
     parser.add_argument("--invariance", type=float, metavar="EPS",
@@ -274,8 +323,11 @@ def main(argv=None) -> int:
     report = {"date": datetime.datetime.now().isoformat(timespec="seconds"),
               "cores": os.cpu_count(), "nlgs": bench_nlgs(),
               "detection": bench_detection(), "paper": bench_paper(args.steps)}
+    if args.from_state:
+        report["late_state"] = str(args.from_state)
+        report["late"] = bench_late(args.from_state, args.steps)
     if not args.no_scaling:
-        report["scaling"] = bench_scaling(args.steps)
+        report["scaling"] = bench_scaling(args.scaling_phi)
     if args.full:
         report["full"] = bench_full()
     RESULTS.mkdir(parents=True, exist_ok=True)

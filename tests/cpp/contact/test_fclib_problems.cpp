@@ -41,6 +41,46 @@ TEST_P(FclibProblem, SolvedToTheRealisticError)
     ASSERT_TRUE(std::isfinite(v));
 }
 
+TEST_P(FclibProblem, OverRelaxedSolveStillConverges)
+{
+  // omega = 1.8 cuts the sweeps on deformable-body problems several times;
+  // where it would not converge (rigid granular problems), the solver drops
+  // back to omega = 1 and still reaches the realistic error.
+  const DataProblem& d = GetParam();
+  const FclibLocalFile file = read_fclib_local_file(hdf5_file(d.name));
+  NlgsOptions opt;
+  opt.tolerance = d.tolerance;
+  opt.max_sweeps = 10000;
+  opt.relaxation = 1.8;
+  std::vector<double> r(2 * file.problem.num_contacts(), 0.0), u(r.size());
+  const NlgsResult res = solve_nlgs(file.problem, r, u, opt);
+  std::cout << "[ fclib    ] " << d.name << ", omega 1.8: " << res.iterations
+            << " sweeps" << (res.relaxation_dropped ? " (dropped to 1)" : "")
+            << ", error " << res.error << "\n";
+  EXPECT_TRUE(res.converged);
+  EXPECT_LE(res.error, d.tolerance);
+}
+
+TEST(FclibProblemRelaxation, WithoutTheFallbackTheGranularProblemFails)
+{
+  // Why the fallback exists: plain over-relaxation does not converge on the
+  // 2020-contact granular problem.
+  const FclibLocalFile file =
+      read_fclib_local_file(hdf5_file("fc2d_granularflowonwall_02020_00213"));
+  NlgsOptions opt;
+  opt.tolerance = 1e-6;
+  opt.max_sweeps = 5000;
+  opt.relaxation = 1.8;
+  opt.relaxation_window = 0;
+  std::vector<double> r(2 * file.problem.num_contacts(), 0.0), u(r.size());
+  EXPECT_FALSE(solve_nlgs(file.problem, r, u, opt).converged);
+  opt.relaxation_window = 50;
+  std::fill(r.begin(), r.end(), 0.0);
+  const NlgsResult res = solve_nlgs(file.problem, r, u, opt);
+  EXPECT_TRUE(res.converged);
+  EXPECT_TRUE(res.relaxation_dropped);
+}
+
 TEST_P(FclibProblem, BlockFormReproducesTheStoredVelocities)
 {
   // The file's /solution holds u = W r + q computed with its scalar CSR W:
