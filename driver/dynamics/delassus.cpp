@@ -27,8 +27,11 @@ contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
           {Kbar.boundary_slot(term.body, term.node), term.weight});
     }
 
-  contact::DelassusMatrix W(H.size());
-  for (int b = 0; b < bodies.num_bodies(); ++b)
+  // The compliance columns (one solve per new boundary DOF) body by body on
+  // all cores; then the blocks, in order.
+  const int nb = bodies.num_bodies();
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int b = 0; b < nb; ++b)
   {
     if (shares[b].empty())
       continue;
@@ -36,7 +39,15 @@ contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
     for (const BodyShare& share : shares[b])
       for (const auto& [slot, weight] : share.slots)
         slots.push_back(slot);
-    const Eigen::MatrixXd& G = Kbar.boundary_compliance(b, slots);
+    Kbar.boundary_compliance(b, slots);
+  }
+
+  contact::DelassusMatrix W(H.size());
+  for (int b = 0; b < nb; ++b)
+  {
+    if (shares[b].empty())
+      continue;
+    const Eigen::MatrixXd& G = Kbar.boundary_compliance(b, {});
     for (const BodyShare& sa : shares[b])
       for (const BodyShare& sb : shares[b])
       {

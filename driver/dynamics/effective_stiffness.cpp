@@ -30,6 +30,7 @@ EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
       _slot[b][body.boundary_nodes[i]] = static_cast<std::int32_t>(i);
   }
   _compliance.resize(bodies.num_bodies());
+  _columns.resize(bodies.num_bodies());
   _column_ready.resize(bodies.num_bodies());
 }
 
@@ -39,10 +40,12 @@ EffectiveStiffness::boundary_compliance(int b, std::span<const int> slots) const
   const std::vector<std::int32_t>& nodes = _boundary[b];
   const int m = 2 * static_cast<int>(nodes.size());
   Eigen::MatrixXd& G = _compliance[b];
+  Eigen::MatrixXd& C = _columns[b];
   std::vector<char>& ready = _column_ready[b];
   if (ready.empty())
   {
     G.resize(m, m);
+    C.resize(_kbar[b].rows(), m);
     ready.assign(nodes.size(), 0);
   }
   Eigen::VectorXd e = Eigen::VectorXd::Zero(_kbar[b].rows());
@@ -54,7 +57,8 @@ EffectiveStiffness::boundary_compliance(int b, std::span<const int> slots) const
     {
       const int j = 2 * slot + c, dof = 2 * nodes[slot] + c;
       e[dof] = 1;
-      const Eigen::VectorXd x = _factors[b].solve(e);
+      C.col(j) = _factors[b].solve(e);
+      const auto x = C.col(j);
       e[dof] = 0;
       for (int i = 0; i < m; ++i)
         G(i, j) = x[2 * nodes[i / 2] + i % 2];

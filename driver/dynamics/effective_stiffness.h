@@ -48,6 +48,18 @@ public:
   const Eigen::MatrixXd& boundary_compliance(int body,
                                              std::span<const int> slots) const;
 
+  /// \f$(\bar K_b^{-1} y)\f$ at the two DOFs of a boundary slot, from the
+  /// kept compliance columns (\f$\bar K\f$ is symmetric: a row of the
+  /// inverse is a column): two dot products instead of a solve.
+  /// @pre boundary_compliance() was called with this slot since the last
+  /// factorization
+  Eigen::Vector2d boundary_response(int body, int slot,
+                                    const Eigen::VectorXd& y) const
+  {
+    const Eigen::MatrixXd& C = _columns[body];
+    return {C.col(2 * slot).dot(y), C.col(2 * slot + 1).dot(y)};
+  }
+
   /// Position of a local node in Body::boundary_nodes (-1 if interior)
   int boundary_slot(int body, std::int32_t node) const
   {
@@ -64,7 +76,9 @@ private:
   std::vector<bodies::BodyMatrix> _mass, _kbar;
   std::vector<Eigen::SimplicialLDLT<bodies::BodyMatrix>> _factors;
   std::vector<std::vector<std::int32_t>> _boundary, _slot;
-  mutable std::vector<Eigen::MatrixXd> _compliance;
+  /// Boundary rows (G) and whole columns (C) of each body's compliance at
+  /// its boundary DOFs; columns are filled on demand
+  mutable std::vector<Eigen::MatrixXd> _compliance, _columns;
   mutable std::vector<std::vector<char>> _column_ready;
   int _count = 0;
 };

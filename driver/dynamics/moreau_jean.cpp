@@ -31,7 +31,8 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
     : _bodies(bodies), _walls(std::move(walls)), _options(options),
       _kbar(bodies, options.lumped_mass), _K(bodies.create_matrices()),
       _A(bodies.create_matrices()), _v(bodies.num_dofs(), 0.0),
-      _f_ext(bodies.num_dofs(), 0.0), _f_int(bodies.num_dofs(), 0.0)
+      _f_ext(bodies.num_dofs(), 0.0), _f_int(bodies.num_dofs(), 0.0),
+      _v_contact(bodies.num_dofs(), 0.0)
 {
   if (!(options.time_step > 0))
     throw std::invalid_argument("time step must be positive");
@@ -101,6 +102,8 @@ struct MoreauJean::StepContacts
   ContactOperator H;
   /// Gap part of the solver's normal velocity: g~/(h th) - U_n+
   std::vector<double> shift;
+  /// Local nodes of each body that carry a contact term (unique)
+  std::vector<std::vector<std::int32_t>> contact_nodes;
   std::size_t size() const { return H.size(); }
 };
 
@@ -131,6 +134,15 @@ MoreauJean::prepare_contacts(const std::vector<double>& u_old,
   for (std::size_t a = 0; a < sc.size(); ++a)
     sc.shift[2 * a] =
         (_contacts[a].gap + h * (1 - th) * U_old[2 * a]) / (h * th);
+  sc.contact_nodes.resize(_bodies.num_bodies());
+  for (std::size_t a = 0; a < sc.size(); ++a)
+    for (const NodeTerm& term : sc.H.terms(a))
+      sc.contact_nodes[term.body].push_back(term.node);
+  for (std::vector<std::int32_t>& nodes : sc.contact_nodes)
+  {
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  }
   _R = warm_start();
   return sc;
 }
@@ -187,38 +199,54 @@ contact::NlgsOptions MoreauJean::nlgs_options() const
   return o;
 }
 
-MoreauJean::Vectors MoreauJean::free_velocity(const Vectors& vk,
-                                              const Vectors& f_int,
-                                              const Vectors& f_ext,
-                                              const Vectors& known) const
+MoreauJean::Vectors MoreauJean::residual(const Vectors& vk,
+                                         const Vectors& f_int,
+                                         const Vectors& f_ext,
+                                         const Vectors& known) const
 {
-  // One (quasi-)Newton correction without contact, with the residual
-  // r = [(1 + h th alpha) M + h th beta K] v_k + h th (F_int(q_k) - F_ext) - b.
+  // r = [(1 + h th alpha) M + h th beta K] v_k + h th (F_int(q_k) - F_ext) - b
   const double h = _options.time_step, th = _options.theta;
   const int nb = _bodies.num_bodies();
-  Vectors v_free(nb);
+  Vectors r(nb);
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int b = 0; b < nb; ++b)
+    r[b] = _A[b] * vk[b] + h * th * (f_int[b] - f_ext[b]) - known[b];
+  return r;
+}
+
+void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
+                                Vectors& residual,
+                                const contact::NlgsOptions& nlgs_options,
+                                contact::FrictionContactProblem2D& problem,
+                                StepReport& report)
+{
+  // The free velocity v_k - Kbar^-1 r is needed only at the contact nodes:
+  // there it is read off the compliance columns that the Delassus operator
+  // already required, and the one solve per body comes after the contact
+  // solve, with the impulses in the right-hand side.
+  const int nb = _bodies.num_bodies();
+  auto t0 = std::chrono::steady_clock::now();
+  std::fill(_v_contact.begin(), _v_contact.end(), 0.0);
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
   {
-    const Eigen::VectorXd residual =
-        _A[b] * vk[b] + h * th * (f_int[b] - f_ext[b]) - known[b];
-    v_free[b] = vk[b] - _kbar.solve(b, residual);
+    const bodies::Body& body = _bodies.body(b);
+    for (const std::int32_t node : sc.contact_nodes[b])
+    {
+      const Eigen::Vector2d dv = _kbar.boundary_response(
+          b, _kbar.boundary_slot(b, node), residual[b]);
+      for (int c = 0; c < 2; ++c)
+        _v_contact[2 * body.nodes[node] + c] = vk[b][2 * node + c] - dv[c];
+    }
   }
-  return v_free;
-}
+  const std::vector<double> U_free =
+      sc.H.relative_velocity(_bodies, _v_contact);
+  report.seconds.solves += seconds_since(t0);
 
-void MoreauJean::add_contact_impulses(
-    const StepContacts& sc, const std::vector<char>& touched,
-    const contact::NlgsOptions& nlgs_options,
-    contact::FrictionContactProblem2D& problem, Vectors& v, StepReport& report)
-{
-  const int nb = _bodies.num_bodies();
-  auto t0 = std::chrono::steady_clock::now();
-  std::vector<double> v_free(_v.size()), U(2 * sc.size());
-  scatter(v, v_free);
-  const std::vector<double> U_free = sc.H.relative_velocity(_bodies, v_free);
+  t0 = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < U_free.size(); ++i)
     problem.q[i] = U_free[i] + sc.shift[i];
+  std::vector<double> U(U_free.size());
   const contact::NlgsResult nlgs =
       contact::solve_nlgs(problem, _R, U, nlgs_options);
   report.nlgs_iterations += nlgs.iterations;
@@ -226,16 +254,16 @@ void MoreauJean::add_contact_impulses(
   report.nlgs_converged = nlgs.converged;
   report.seconds.nlgs += seconds_since(t0);
 
-  // v = v_free + Kbar^-1 H R; only bodies that carry a contact change.
+  // r <- r - H R: the impulses enter the bodies' right-hand sides.
   t0 = std::chrono::steady_clock::now();
   Vectors impulse(nb);
   for (int b = 0; b < nb; ++b)
-    impulse[b] = Eigen::VectorXd::Zero(touched[b] ? v[b].size() : 0);
+    impulse[b] = Eigen::VectorXd::Zero(
+        sc.contact_nodes[b].empty() ? 0 : residual[b].size());
   sc.H.add_impulses(_R, impulse);
-#pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
-    if (touched[b])
-      v[b] += _kbar.solve(b, impulse[b]);
+    if (!sc.contact_nodes[b].empty())
+      residual[b] -= impulse[b];
   report.seconds.solves += seconds_since(t0);
 }
 
@@ -288,10 +316,6 @@ StepReport MoreauJean::step()
     known[b] =
         _Mv[b] + h * (1 - th) * (f_ext_b[b] - f_int_old[b] - damping_old[b]);
   }
-  std::vector<char> touched(nb, 0);
-  for (std::size_t a = 0; a < nc; ++a)
-    for (const NodeTerm& term : sc.H.terms(a))
-      touched[term.body] = 1;
   report.seconds.solves += seconds_since(t0);
 
   std::vector<double> vk = v_old, f_int(u.size());
@@ -307,10 +331,18 @@ StepReport MoreauJean::step()
       refactorize(sc, problem, report);
 
     t0 = clock::now();
-    Vectors v_new = free_velocity(gather(vk), gather(f_int), f_ext_b, known);
+    const Vectors vk_b = gather(vk);
+    Vectors r = residual(vk_b, gather(f_int), f_ext_b, known);
     report.seconds.solves += seconds_since(t0);
     if (nc > 0)
-      add_contact_impulses(sc, touched, nlgs_opts, problem, v_new, report);
+      solve_contacts(sc, vk_b, r, nlgs_opts, problem, report);
+    // v_{k+1} = v_k - Kbar^-1 (r - H R), one solve per body
+    t0 = clock::now();
+    Vectors v_new(nb);
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+    for (int b = 0; b < nb; ++b)
+      v_new[b] = vk_b[b] - _kbar.solve(b, r[b]);
+    report.seconds.solves += seconds_since(t0);
 
     std::vector<double> v_next(u.size());
     scatter(v_new, v_next);

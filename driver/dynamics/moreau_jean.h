@@ -183,13 +183,16 @@ private:
                    contact::FrictionContactProblem2D& problem,
                    StepReport& report);
   contact::NlgsOptions nlgs_options() const;
-  Vectors free_velocity(const Vectors& vk, const Vectors& f_int,
-                        const Vectors& f_ext, const Vectors& known) const;
-  void add_contact_impulses(const StepContacts& sc,
-                            const std::vector<char>& touched,
-                            const contact::NlgsOptions& nlgs_options,
-                            contact::FrictionContactProblem2D& problem,
-                            Vectors& v, StepReport& report);
+  /// Newton residual of every body at the iterate v_k
+  Vectors residual(const Vectors& vk, const Vectors& f_int,
+                   const Vectors& f_ext, const Vectors& known) const;
+  /// Solve the contact problem at the free velocity v_k - Kbar^-1 r and
+  /// subtract the impulses H R from the residual r
+  void solve_contacts(const StepContacts& sc, const Vectors& vk,
+                      Vectors& residual,
+                      const contact::NlgsOptions& nlgs_options,
+                      contact::FrictionContactProblem2D& problem,
+                      StepReport& report);
   void update_products(const Vectors& v);
   void account_energy(const StepContacts& sc, const Vectors& v_old_b,
                       const Vectors& v_new_b, const Vectors& Mv_old,
@@ -214,6 +217,8 @@ private:
   long _steps = 0;
   bool _started = false;
   std::vector<double> _v, _f_ext, _f_int;
+  /// Free velocity at contact nodes only (work array)
+  std::vector<double> _v_contact;
   std::vector<Contact> _contacts;
   std::vector<double> _R;
   /// Previous step's impulses by (candidate body, node, antagonist)

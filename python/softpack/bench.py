@@ -119,10 +119,7 @@ def run_driver(config, mesh: Path, name: str, initial_state: Path | None = None,
     """Run softpack-simulate; its done.json plus steps, cost and memory."""
     out = WORK / name
     out.mkdir(parents=True, exist_ok=True)
-    driver = cfg.to_driver_json(config, mesh, out)
-    if initial_state is not None:
-        driver["initial_state"] = str(Path(initial_state).resolve())
-        (out / "driver.json").write_text(json.dumps(driver, indent=2) + "\n")
+    cfg.to_driver_json(config, mesh, out, initial_state=initial_state)
     proc = subprocess.Popen([str(BIN / "softpack-simulate"),
                              str(out / "driver.json"), "--quiet"],
                             stdout=subprocess.DEVNULL)
@@ -200,21 +197,28 @@ def bench_scaling(target_phi: float) -> dict:
             "exponent_100_400": exponent("seconds_per_unit_strain", 1, 2)}
 
 
-def bench_invariance(max_strain: float) -> dict:
+def bench_invariance(max_strain: float | None = None,
+                     state: Path | None = None,
+                     to_phi: float | None = None) -> dict:
     """Phi(eps), E(Phi) and Z(Phi) at the fast settings against the paper's
-    settings, from the initial packing (seed 0) to eps = max_strain."""
+    settings (seed 0): from the initial packing to eps = max_strain, or from
+    a saved state to the packing fraction to_phi."""
     from softpack.run import run
 
     series = {}
     for label, overrides in (("paper", PAPER), ("fast", FAST)):
         sets = dict(overrides)
         sets["output.every_steps"] = round(9e-4 / sets["time.time_step"])
+        sets["output.fields"] = False
+        if to_phi is not None:
+            sets["loading.target_packing_fraction"] = to_phi
         config = cfg.load_config(ROOT / "examples" / "paper.toml", sets)
         g, speed = config["geometry"], config["loading"]["piston_speed"]
-        config["loading"]["max_time"] = (g["length"] * (1 - math.exp(-max_strain))
-                                         / speed)
+        if max_strain is not None:
+            config["loading"]["max_time"] = (
+                g["length"] * (1 - math.exp(-max_strain)) / speed)
         out = WORK / f"invariance-{label}"
-        if run(config, out, force=True) != 0:
+        if run(config, out, force=True, initial_state=state) != 0:
             raise RuntimeError(f"invariance run {label} failed")
         with open(out / "series.csv") as f:
             rows = list(csv.DictReader(f))
@@ -311,12 +315,24 @@ def main(argv=None) -> int:
     parser.add_argument("--invariance", type=float, metavar="EPS",
                         help="only compare the fast and the paper's settings"
                         " from the start to this strain")
+    parser.add_argument("--invariance-from", type=Path, metavar="STATE",
+                        help="only compare the fast and the paper's settings"
+                        " from this state (seed 0) to --to-phi")
+    parser.add_argument("--to-phi", type=float, default=0.84,
+                        help="packing fraction that ends --invariance-from")
     args = parser.parse_args(argv)
     WORK.mkdir(parents=True, exist_ok=True)
-    if args.invariance:
-        result = bench_invariance(args.invariance)
+    if args.invariance or args.invariance_from:
+        if args.invariance_from:
+            result = bench_invariance(state=args.invariance_from,
+                                      to_phi=args.to_phi)
+            result["from_state"] = str(args.invariance_from)
+            name = f"invariance-{args.invariance_from.stem}-to-{args.to_phi:g}.json"
+        else:
+            result = bench_invariance(args.invariance)
+            name = "invariance.json"
         RESULTS.mkdir(parents=True, exist_ok=True)
-        path = RESULTS / "invariance.json"
+        path = RESULTS / name
         path.write_text(json.dumps(result, indent=2) + "\n")
         print(json.dumps(result, indent=2))
         return 0

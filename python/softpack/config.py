@@ -520,7 +520,7 @@ def driver_input(config, mesh_xdmf, out_dir) -> dict:
     }
 
 
-def to_driver_json(config, mesh_xdmf, out_dir) -> dict:
+def to_driver_json(config, mesh_xdmf, out_dir, initial_state=None) -> dict:
     """Write ``out_dir/driver.json`` for ``softpack-simulate``; return it.
 
     Parameters
@@ -531,6 +531,8 @@ def to_driver_json(config, mesh_xdmf, out_dir) -> dict:
         The mesh written by :func:`softpack.mesh.mesh_disks`.
     out_dir : str or Path
         The run directory: the driver writes its raw output there.
+    initial_state : str or Path, optional
+        A state file to start from (docs/driver_io.md).
 
     Returns
     -------
@@ -538,6 +540,8 @@ def to_driver_json(config, mesh_xdmf, out_dir) -> dict:
         The document written (see :func:`driver_input`).
     """
     document = driver_input(config, mesh_xdmf, out_dir)
+    if initial_state is not None:
+        document["initial_state"] = str(Path(initial_state).resolve())
     path = Path(out_dir) / "driver.json"
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(".driver.json.tmp")

@@ -77,6 +77,11 @@ def _parser() -> argparse.ArgumentParser:
                    " (VALUE in TOML syntax; repeatable)")
     p.add_argument("--force", action="store_true",
                    help="overwrite a complete run in DIR")
+    p.add_argument("--from-state", type=Path, metavar="FILE",
+                   help="start from a state another run wrote"
+                   " (DIR/raw/state.bin: its last output step) instead of"
+                   " from rest; the config must give the same packing and"
+                   " mesh (sizes are checked), other settings may differ")
     p.add_argument("--observables-only", action="store_true",
                    help="only recompute series.csv and particles.csv from"
                    " DIR's raw output and DIR/config.toml")
@@ -103,7 +108,8 @@ def main(argv=None) -> int:
     try:
         if args.observables_only:
             return _postprocess(out, None)
-        return run(config, out, force=args.force)
+        return run(config, out, force=args.force,
+                   initial_state=args.from_state)
     except RunError as err:
         print(f"softpack run: {err}", file=sys.stderr)
         return 1
@@ -167,8 +173,12 @@ def prepare_directory(out: Path, force: bool) -> None:
     out.mkdir(parents=True, exist_ok=True)
 
 
-def run(config, out: Path, force=False) -> int:
+def run(config, out: Path, force=False, initial_state: Path | None = None,
+        ) -> int:
     """Packing, mesh, driver, observables into ``out``; returns 0.
+
+    ``initial_state``: a state file (``raw/state.bin`` of a run on the same
+    packing) to start from instead of rest.
 
     Raises
     ------
@@ -178,6 +188,14 @@ def run(config, out: Path, force=False) -> int:
     from softpack.packing import PackingError, random_packing
 
     exe = driver_executable()
+    if initial_state is not None:
+        initial_state = Path(initial_state).resolve()
+        if not initial_state.is_file():
+            raise RunError(f"--from-state: {initial_state}: no such file")
+        if initial_state.is_relative_to(out.resolve()):
+            raise RunError(f"--from-state: {initial_state} is inside the"
+                           f" run directory {out}, which is cleared first;"
+                           " copy it elsewhere")
     prepare_directory(out, force)
     (out / "config.toml").write_text(to_toml(config))
     with open(out / "run.log", "a", buffering=1) as log:
@@ -197,7 +215,10 @@ def run(config, out: Path, force=False) -> int:
         say(f"packing: {packing.n_particles} disks, seed {g['seed']},"
             f" Phi0 = {packing.packing_fraction:.4f}; mesh: "
             f"{info.n_triangles} triangles")
-        to_driver_json(config, info.xdmf, out)
+        to_driver_json(config, info.xdmf, out,
+                       initial_state=initial_state)
+        if initial_state is not None:
+            say(f"starting from {initial_state}")
         say(f"{exe} {out / 'driver.json'}")
         started = time.time()
         status = _simulate(exe, out, config, log)

@@ -67,3 +67,36 @@ def test_initial_packing_has_no_overlap(small_run):
     packing = Packing.from_csv(next((out / "mesh").glob("*.packing.csv")))
     assert packing.min_particle_gap() > 0
     assert packing.min_wall_gap() > 0
+
+
+def test_a_run_continues_from_a_state(small_run, tmp_path):
+    """--from-state: a second run starts where the first one's last output
+    step left it (same step, time, Phi and energy accounts) and goes on."""
+    config, out, s = small_run
+    state = tmp_path / "state.bin"
+    state.write_bytes((out / "raw" / "state.bin").read_bytes())
+    more = cfg.load_config(ROOT / "examples" / "small.toml",
+                           {"loading.target_packing_fraction": 0.81,
+                            "output.fields": False})
+    second = tmp_path / "continued"
+    assert run(more, second, initial_state=state) == 0
+    with open(second / "series.csv") as f:
+        rows = list(csv.DictReader(f))
+    first_row, last_row = rows[0], rows[-1]
+    assert int(first_row["step"]) == int(s["step"][-1])
+    assert float(first_row["time"]) == pytest.approx(s["time"][-1], rel=1e-12)
+    assert float(first_row["phi"]) == pytest.approx(s["phi"][-1], rel=1e-12)
+    assert float(first_row["wall_work"]) == pytest.approx(s["wall_work"][-1],
+                                                          rel=1e-12)
+    assert float(last_row["phi"]) >= 0.81
+    # the balance still closes over the continued run
+    assert abs(float(last_row["energy_residual"])) < 0.01 * float(
+        last_row["wall_work"])
+
+
+def test_a_state_inside_the_run_directory_is_refused(small_run):
+    from softpack.run import RunError
+    config, out, _ = small_run
+    with pytest.raises(RunError, match="inside the run directory"):
+        run(config, out, force=True,
+            initial_state=out / "raw" / "state.bin")
