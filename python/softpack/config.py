@@ -162,7 +162,7 @@ SCHEMA = {
                                     " contact solver"),
         "nlgs_max_sweeps": Key("int", 2000, "NLGS sweeps at most per solve",
                                low=1),
-        "nlgs_relaxation": Key("float", 1.0, "NLGS relaxation factor",
+        "nlgs_relaxation": Key("float", 1.8, "NLGS relaxation factor",
                                low=0.0, high=2.0, low_open=True,
                                high_open=True),
     },
