@@ -1,5 +1,7 @@
 #include "delassus.h"
 
+#include <cmath>
+
 namespace softpack::dynamics
 {
 namespace
@@ -14,7 +16,8 @@ struct BodyShare
 
 contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
                                        const ContactOperator& H,
-                                       const EffectiveStiffness& Kbar)
+                                       const EffectiveStiffness& Kbar,
+                                       double drop_tolerance)
 {
   std::vector<std::vector<BodyShare>> shares(bodies.num_bodies());
   for (std::size_t a = 0; a < H.size(); ++a)
@@ -43,18 +46,32 @@ contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
   }
 
   contact::DelassusMatrix W(H.size());
+  auto body_block = [&](const Eigen::MatrixXd& G, const BodyShare& sa,
+                        const BodyShare& sb)
+  {
+    Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
+    for (const auto& [i, wi] : sa.slots)
+      for (const auto& [j, wj] : sb.slots)
+        block += wi * wj * G.block<2, 2>(2 * i, 2 * j);
+    return block;
+  };
   for (int b = 0; b < nb; ++b)
   {
     if (shares[b].empty())
       continue;
     const Eigen::MatrixXd& G = Kbar.boundary_compliance(b, {});
-    for (const BodyShare& sa : shares[b])
-      for (const BodyShare& sb : shares[b])
+    // Each contact's own block on this body, for the drop test.
+    std::vector<double> own(shares[b].size());
+    for (std::size_t k = 0; k < shares[b].size(); ++k)
+      own[k] = body_block(G, shares[b][k], shares[b][k]).norm();
+    for (std::size_t ka = 0; ka < shares[b].size(); ++ka)
+      for (std::size_t kb = 0; kb < shares[b].size(); ++kb)
       {
-        Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
-        for (const auto& [i, wi] : sa.slots)
-          for (const auto& [j, wj] : sb.slots)
-            block += wi * wj * G.block<2, 2>(2 * i, 2 * j);
+        const BodyShare &sa = shares[b][ka], &sb = shares[b][kb];
+        const Eigen::Matrix2d block = body_block(G, sa, sb);
+        if (sa.contact != sb.contact && drop_tolerance > 0 &&
+            block.norm() < drop_tolerance * std::sqrt(own[ka] * own[kb]))
+          continue;
         W.add_block(sa.contact, sb.contact,
                     H.frame(sa.contact).transpose() * block *
                         H.frame(sb.contact));

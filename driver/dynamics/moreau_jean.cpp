@@ -182,7 +182,8 @@ void MoreauJean::refactorize(const StepContacts& sc,
   if (sc.size() > 0)
   {
     t0 = std::chrono::steady_clock::now();
-    problem.W = build_delassus(_bodies, sc.H, _kbar);
+    problem.W = build_delassus(_bodies, sc.H, _kbar,
+                               _options.delassus_drop_tolerance);
     report.seconds.delassus += seconds_since(t0);
   }
 }
@@ -298,7 +299,8 @@ StepReport MoreauJean::step()
   else if (nc > 0)
   {
     t0 = clock::now();
-    problem.W = build_delassus(_bodies, sc.H, _kbar);
+    problem.W = build_delassus(_bodies, sc.H, _kbar,
+                               _options.delassus_drop_tolerance);
     report.seconds.delassus += seconds_since(t0);
   }
 

@@ -49,6 +49,9 @@ struct MoreauJeanOptions
   int refactor_above_iterations = 5;
   /// Contact detection
   DetectionOptions detection;
+  /// Off-diagonal Delassus blocks below this fraction of their contacts'
+  /// diagonal blocks are dropped (see build_delassus; 0 keeps all)
+  double delassus_drop_tolerance = 0;
   /// The frictional contact solver
   contact::NlgsOptions nlgs;
   /// If not empty, contact problems the NLGS fails to solve are written

@@ -125,6 +125,9 @@ void read_stepping(const Reader& r, const json& doc,
   o.nlgs.tolerance = r.number(c, "nlgs_tolerance", q, 1e-16, 1);
   o.nlgs.max_sweeps = static_cast<int>(r.number(c, "nlgs_max_sweeps", q, 1));
   o.nlgs.relaxation = r.number(c, "nlgs_relaxation", q, 1e-3, 1.999);
+  if (c.contains("delassus_drop_tolerance"))
+    o.delassus_drop_tolerance =
+        r.number(c, "delassus_drop_tolerance", q, 0, 1e-3);
 }
 } // namespace
 

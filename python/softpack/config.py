@@ -165,6 +165,10 @@ SCHEMA = {
         "nlgs_relaxation": Key("float", 1.8, "NLGS relaxation factor",
                                low=0.0, high=2.0, low_open=True,
                                high_open=True),
+        "delassus_drop_tolerance": Key(
+            "float", None, "off-diagonal Delassus blocks below this fraction"
+            " of their contacts' diagonal blocks are dropped (default"
+            " nlgs_tolerance / 1000)", low=0.0, high=1e-3),
     },
     "time": {
         "time_step": Key("float", 9e-6, "time step h", "s", low=0.0,
@@ -390,6 +394,9 @@ def _derive(sections) -> None:
     if loading["max_time"] is None:
         loading["max_time"] = (sections["geometry"]["length"]
                                / (2.0 * loading["piston_speed"]))
+    contact = sections["contact"]
+    if contact["delassus_drop_tolerance"] is None:
+        contact["delassus_drop_tolerance"] = 1e-3 * contact["nlgs_tolerance"]
 
 
 def _check_consistency(source, sections) -> None:
@@ -507,7 +514,8 @@ def driver_input(config, mesh_xdmf, out_dir) -> dict:
             "refactor_above_iterations": t["refactor_above_iterations"]},
         "contact": {key: c[key] for key in
                     ("friction", "alert_distance", "max_penetration",
-                     "nlgs_tolerance", "nlgs_max_sweeps", "nlgs_relaxation")},
+                     "nlgs_tolerance", "nlgs_max_sweeps", "nlgs_relaxation",
+                     "delassus_drop_tolerance")},
         "stop": {"packing_fraction":
                  config["loading"]["target_packing_fraction"],
                  "max_time": config["loading"]["max_time"]},

@@ -177,8 +177,12 @@ def test_driver_json(tmp_path):
                                                   "consistent")
     assert doc["contact"]["friction"] == 0.3
     assert doc["contact"]["nlgs_tolerance"] == 1e-8
+    assert doc["contact"]["nlgs_relaxation"] == 1.8
+    # the dropped Delassus couplings are far below what the NLGS resolves
+    assert doc["contact"]["delassus_drop_tolerance"] == pytest.approx(1e-11)
     assert doc["stop"]["packing_fraction"] == 0.88
     assert doc["output"] == {"directory": str((tmp_path / "out").resolve()),
-                             "every_steps": 100, "fields": 10}
+                             "every_steps": 100, "fields": 10,
+                             "state": True}
     assert (ts["tangent_reuse_steps"], ts["refactor_above_iterations"]) \
         == (50, 5)
