@@ -291,8 +291,15 @@ def _number(text) -> float:
 
 
 def force_curve(steps: dict, params: Params, y_bottom0, y_top0) -> dict:
-    """eps, f_norm (mean of the plates), and each plate's f_norm."""
-    delta = (y_top0 - steps["top_y"]) + (steps["bottom_y"] - y_bottom0)
+    """eps, f_norm (mean of the plates), and each plate's f_norm.
+
+    The driver's wall forces are averages over the steps since the previous
+    output row (docs/driver_io.md); the plates move at constant speed, so
+    they belong to the approach midway between the two rows.
+    """
+    end = (y_top0 - steps["top_y"]) + (steps["bottom_y"] - y_bottom0)
+    delta = end.copy()
+    delta[1:] = 0.5 * (end[1:] + end[:-1])
     delta[np.abs(delta) < 1e-12 * params.diameter] = 0.0  # round-off at t = 0
     eps = 0.0 - np.log(1.0 - delta / params.diameter)  # 0, not -0, at t = 0
     scale = params.diameter * MU
