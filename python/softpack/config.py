@@ -158,7 +158,7 @@ SCHEMA = {
                                " candidates for the step", "m"),
         "max_penetration": _pos(5e-4, "deeper detections are taken as"
                                 " wrong-side and ignored", "m"),
-        "nlgs_tolerance": _fraction(1e-8, "relative tolerance of the NLGS"
+        "nlgs_tolerance": _fraction(1e-6, "relative tolerance of the NLGS"
                                     " contact solver"),
         "nlgs_max_sweeps": Key("int", 2000, "NLGS sweeps at most per solve",
                                low=1),
@@ -171,13 +171,13 @@ SCHEMA = {
             " nlgs_tolerance / 1000)", low=0.0, high=1e-3),
     },
     "time": {
-        "time_step": Key("float", 9e-6, "time step h", "s", low=0.0,
+        "time_step": Key("float", 7.2e-5, "time step h", "s", low=0.0,
                          high=1e-2, low_open=True),
-        "theta": Key("float", 0.5, "theta of the theta-method", low=0.5,
+        "theta": Key("float", 0.55, "theta of the theta-method", low=0.5,
                      high=1.0),
         "mass": Key("str", "consistent", "mass matrix",
                     choices=("consistent", "lumped")),
-        "newton_tolerance": _fraction(1e-6, "relative velocity-increment"
+        "newton_tolerance": _fraction(1e-4, "relative velocity-increment"
                                       " tolerance of the Newton iterations"),
         "newton_max_iterations": Key("int", 20, "Newton iterations at most"
                                      " per step", low=1),
@@ -198,7 +198,7 @@ SCHEMA = {
         "beta": _nonneg(1e-5, "Rayleigh stiffness coefficient", "s"),
     },
     "output": {
-        "every_steps": Key("int", 100, "write raw output every this many"
+        "every_steps": Key("int", 12, "write raw output every this many"
                            " time steps", low=1),
         "fields": Key("bool", True, "write fields.xdmf/.h5 for ParaView and"
                       " Fig. 7"),
