@@ -17,16 +17,15 @@ ParallelResidual::ParallelResidual(
   std::size_t num_cells = 0;
   for (const Body& body : bodies)
     num_cells += body.cells.size();
-  _supported =
-      L.rank() == 1 && ids.size() == 1 && ids[0] == -1 &&
-      L.integral_ids(fem::IntegralType::exterior_facet).empty() &&
-      L.integral_ids(fem::IntegralType::interior_facet).empty() &&
-      L.coefficients().size() == 1 && L.coefficients()[0] == _u &&
-      _u->function_space()->dofmap() == V.dofmap() &&
-      !V.element()->needs_dof_transformations() && V.dofmap()->bs() == 2 &&
-      V.dofmap()->cell_dofs(0).size() == 3 &&
-      mesh.geometry().dofmap().num_links(0) == 3 &&
-      L.cell_domains(-1).size() == num_cells;
+  _supported = L.rank() == 1 && ids.size() == 1 && ids[0] == -1 &&
+               L.integral_ids(fem::IntegralType::exterior_facet).empty() &&
+               L.integral_ids(fem::IntegralType::interior_facet).empty() &&
+               L.coefficients().size() == 1 && L.coefficients()[0] == _u &&
+               _u->function_space()->dofmap() == V.dofmap() &&
+               !V.element()->needs_dof_transformations() &&
+               V.dofmap()->bs() == 2 && V.dofmap()->cell_dofs(0).size() == 3 &&
+               mesh.geometry().dofmap().num_links(0) == 3 &&
+               L.cell_domains(-1).size() == num_cells;
 }
 
 void ParallelResidual::assemble(std::span<double> b,

@@ -73,8 +73,7 @@ void dump_after_failure(const FrictionContactProblem2D& problem,
       std::to_string(options.tolerance) + "; guess = starting reactions";
   try
   {
-    std::filesystem::create_directories(
-        options.dump_on_failure.parent_path());
+    std::filesystem::create_directories(options.dump_on_failure.parent_path());
     dump_problem(problem, options.dump_on_failure, why, start);
     result.dumped_to = options.dump_on_failure;
   }

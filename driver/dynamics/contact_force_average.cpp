@@ -11,9 +11,9 @@ void ContactForceAverage::add_step(const MoreauJean& scheme)
   for (std::size_t a = 0; a < contacts.size(); ++a)
   {
     const Contact& c = contacts[a];
-    const std::array<double, 2> impulse
-        = {R[2 * a] * c.n[0] + R[2 * a + 1] * c.t[0],
-           R[2 * a] * c.n[1] + R[2 * a + 1] * c.t[1]};
+    const std::array<double, 2> impulse = {
+        R[2 * a] * c.n[0] + R[2 * a + 1] * c.t[0],
+        R[2 * a] * c.n[1] + R[2 * a + 1] * c.t[1]};
     const Key key{c.candidate_body, c.candidate_node,
                   c.antagonist_body >= 0 ? c.antagonist_body : -1 - c.wall};
     auto [it, added] = _index.try_emplace(key, _sum.size());

@@ -46,8 +46,8 @@ contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
   }
 
   contact::DelassusMatrix W(H.size());
-  auto body_block = [&](const Eigen::MatrixXd& G, const BodyShare& sa,
-                        const BodyShare& sb)
+  auto body_block =
+      [&](const Eigen::MatrixXd& G, const BodyShare& sa, const BodyShare& sb)
   {
     Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
     for (const auto& [i, wi] : sa.slots)

@@ -182,8 +182,8 @@ void MoreauJean::refactorize(const StepContacts& sc,
   if (sc.size() > 0)
   {
     t0 = std::chrono::steady_clock::now();
-    problem.W = build_delassus(_bodies, sc.H, _kbar,
-                               _options.delassus_drop_tolerance);
+    problem.W =
+        build_delassus(_bodies, sc.H, _kbar, _options.delassus_drop_tolerance);
     report.seconds.delassus += seconds_since(t0);
   }
 }
@@ -234,8 +234,8 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
     const bodies::Body& body = _bodies.body(b);
     for (const std::int32_t node : sc.contact_nodes[b])
     {
-      const Eigen::Vector2d dv = _kbar.boundary_response(
-          b, _kbar.boundary_slot(b, node), residual[b]);
+      const Eigen::Vector2d dv =
+          _kbar.boundary_response(b, _kbar.boundary_slot(b, node), residual[b]);
       for (int c = 0; c < 2; ++c)
         _v_contact[2 * body.nodes[node] + c] = vk[b][2 * node + c] - dv[c];
     }
@@ -299,8 +299,8 @@ StepReport MoreauJean::step()
   else if (nc > 0)
   {
     t0 = clock::now();
-    problem.W = build_delassus(_bodies, sc.H, _kbar,
-                               _options.delassus_drop_tolerance);
+    problem.W =
+        build_delassus(_bodies, sc.H, _kbar, _options.delassus_drop_tolerance);
     report.seconds.delassus += seconds_since(t0);
   }
 
@@ -484,10 +484,9 @@ void MoreauJean::restore(const SchemeState& s)
                                 " DOFs, the bodies have " +
                                 std::to_string(u.size()));
   if (s.wall_points.size() != _walls.size())
-    throw std::invalid_argument("state: " +
-                                std::to_string(s.wall_points.size()) +
-                                " walls, the run has " +
-                                std::to_string(_walls.size()));
+    throw std::invalid_argument(
+        "state: " + std::to_string(s.wall_points.size()) +
+        " walls, the run has " + std::to_string(_walls.size()));
   std::copy(s.u.begin(), s.u.end(), u.begin());
   _v = s.v;
   for (std::size_t w = 0; w < _walls.size(); ++w)

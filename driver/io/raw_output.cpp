@@ -102,18 +102,17 @@ void RawOutput::write_contacts(long step,
 void RawOutput::finish(long steps, double seconds, const std::string& reason,
                        const dynamics::StepTimings& spent, int factorizations)
 {
-  const nlohmann::json done
-      = {{"steps", steps},
-         {"seconds", seconds},
-         {"reason", reason},
-         {"factorizations", factorizations},
-         {"seconds_by_part",
-          {{"detection", spent.detection},
-           {"assembly", spent.assembly},
-           {"factorization", spent.factorization},
-           {"delassus", spent.delassus},
-           {"nlgs", spent.nlgs},
-           {"solves", spent.solves}}}};
+  const nlohmann::json done = {{"steps", steps},
+                               {"seconds", seconds},
+                               {"reason", reason},
+                               {"factorizations", factorizations},
+                               {"seconds_by_part",
+                                {{"detection", spent.detection},
+                                 {"assembly", spent.assembly},
+                                 {"factorization", spent.factorization},
+                                 {"delassus", spent.delassus},
+                                 {"nlgs", spent.nlgs},
+                                 {"solves", spent.solves}}}};
   const std::filesystem::path tmp = _raw / ".done.json";
   std::ofstream(tmp) << done.dump(2) << '\n';
   std::filesystem::rename(tmp, _raw / "done.json");

@@ -14,19 +14,17 @@ constexpr char magic[16] = {'s', 'o', 'f', 't', 'p', 'a', 'c', 'k',
 /// The energy accounts in file order.
 std::array<double*, 10> energy_fields(dynamics::EnergyBalance& e)
 {
-  return {&e.wall_work, &e.external_work, &e.kinetic,  &e.kinetic0,
-          &e.strain,    &e.strain0,       &e.damping,  &e.friction,
+  return {&e.wall_work,      &e.external_work, &e.kinetic, &e.kinetic0,
+          &e.strain,         &e.strain0,       &e.damping, &e.friction,
           &e.contact_normal, &e.numerical};
 }
 
-template <typename T>
-void put(std::ofstream& out, const T& x)
+template <typename T> void put(std::ofstream& out, const T& x)
 {
   out.write(reinterpret_cast<const char*>(&x), sizeof(T));
 }
 
-template <typename T>
-void put(std::ofstream& out, const std::vector<T>& x)
+template <typename T> void put(std::ofstream& out, const std::vector<T>& x)
 {
   out.write(reinterpret_cast<const char*>(x.data()), sizeof(T) * x.size());
 }

@@ -35,8 +35,7 @@ dynamics::MoreauJeanOptions paper_like_options()
 
 /// Momentum of the single body along y: 1^T M v (the row sums of the
 /// consistent P1 mass are the lumped mass).
-double momentum_y(const bodies::BodySet& bodies,
-                  dynamics::MoreauJean& scheme)
+double momentum_y(const bodies::BodySet& bodies, dynamics::MoreauJean& scheme)
 {
   const bodies::Body& body = bodies.body(0);
   const Eigen::VectorXd& m = bodies.lumped_mass()[0];
@@ -47,8 +46,8 @@ double momentum_y(const bodies::BodySet& bodies,
 }
 
 /// Resultant on the body (the candidate of every contact here).
-std::array<double, 2> resultant(
-    const std::vector<dynamics::AveragedContactForce>& forces)
+std::array<double, 2>
+resultant(const std::vector<dynamics::AveragedContactForce>& forces)
 {
   std::array<double, 2> f = {0, 0};
   for (const dynamics::AveragedContactForce& c : forces)
@@ -62,13 +61,12 @@ std::array<double, 2> resultant(
 
 TEST(ContactForceAverage, BalancesMomentumAndRemovesTheAlternation)
 {
-  bodies::BodySet bodies(
-      test::bodies_mesh({test::disk(0, 0, R, 6)}),
-      forms::find_material("neo_hookean"), bodies::plane_strain_parameters(mu),
-      rho);
-  std::vector<dynamics::Wall> walls
-      = {{"bottom", {0, -R - 1e-6}, {0, 1}, {0, 0}},
-         {"top", {0, R + 1e-6}, {0, -1}, {0, -speed}}};
+  bodies::BodySet bodies(test::bodies_mesh({test::disk(0, 0, R, 6)}),
+                         forms::find_material("neo_hookean"),
+                         bodies::plane_strain_parameters(mu), rho);
+  std::vector<dynamics::Wall> walls = {
+      {"bottom", {0, -R - 1e-6}, {0, 1}, {0, 0}},
+      {"top", {0, R + 1e-6}, {0, -1}, {0, -speed}}};
   dynamics::MoreauJean scheme(bodies, walls, paper_like_options());
   const double h = scheme.options().time_step;
 

@@ -40,7 +40,8 @@ TEST(DelassusDrop, FarContactsOnOneDiskDoNotCoupleAndKeptBlocksAreExact)
   bodies.tangent(K);
   kbar.factorize(K, 1 + h * th * alpha, h * th * beta + h * h * th * th);
 
-  const contact::DelassusMatrix full = dynamics::build_delassus(bodies, H, kbar);
+  const contact::DelassusMatrix full =
+      dynamics::build_delassus(bodies, H, kbar);
   const contact::DelassusMatrix kept =
       dynamics::build_delassus(bodies, H, kbar, 1e-9);
 

@@ -3,8 +3,8 @@
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
-#include <fstream>
 #include <dynamics/moreau_jean.h>
+#include <fstream>
 #include <gtest/gtest.h>
 #include <io/state_file.h>
 #include <material_registry.h>
@@ -18,10 +18,10 @@ constexpr double R = 0.01, speed = 0.05;
 
 bodies::BodySet two_stacked_disks()
 {
-  return bodies::BodySet(
-      test::bodies_mesh({test::disk(0, 0, R, 5), test::disk(0, 2 * R + 1e-5, R, 5)}),
-      forms::find_material("neo_hookean"),
-      bodies::plane_strain_parameters(0.15e6), 1180);
+  return bodies::BodySet(test::bodies_mesh({test::disk(0, 0, R, 5),
+                                            test::disk(0, 2 * R + 1e-5, R, 5)}),
+                         forms::find_material("neo_hookean"),
+                         bodies::plane_strain_parameters(0.15e6), 1180);
 }
 
 std::vector<dynamics::Wall> plates()
