@@ -74,7 +74,8 @@ struct EnergyBalance
   double friction = 0;
   /// Normal part (nonzero only through gap corrections)
   double contact_normal = 0;
-  /// Dissipation of the theta scheme, (theta - 1/2) |v+ - v-|_M^2
+  /// Dissipation of the theta scheme, (theta - 1/2) (|v+ - v-|_M^2 +
+  /// dq . (F_int(q+) - F_int(q-))), dq = q+ - q-
   double numerical = 0;
 
   /// Energy supplied minus energy stored and dissipated
