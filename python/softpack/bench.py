@@ -81,8 +81,12 @@ def _scaled_config(n_scale: int, overrides: dict, steps: int):
     sqrt(n_scale), the piston speed scaled like the box length."""
     base = cfg.load_config(ROOT / "examples" / "paper.toml")
     g = base["geometry"]
-    s = math.sqrt(n_scale)
-    merged = {"geometry.counts": [round(c * n_scale) for c in g["counts"]],
+    counts = [round(c * n_scale) for c in g["counts"]]
+    # box scaled with the disks' total area (not n_scale: counts are
+    # rounded), so that every size starts at the same packing fraction
+    area = lambda cs: sum(c * d * d for c, d in zip(cs, g["diameters"]))
+    s = math.sqrt(area(counts) / area(g["counts"]))
+    merged = {"geometry.counts": counts,
               "geometry.length": g["length"] * s,
               "geometry.width": g["width"] * s,
               "loading.piston_speed": base["loading"]["piston_speed"] * s,
