@@ -314,7 +314,7 @@ def _table(report: dict) -> str:
                      f" (25-400), {s['exponent_100_400']:.2f} (100-400)")
     if "full" in report:
         f = report["full"]
-        lines.append(f"full paper case (fast settings): {f['minutes']:.1f} min,"
+        lines.append(f"full paper case (defaults): {f['minutes']:.1f} min,"
                      f" {f['steps']} steps")
     return "\n".join(lines)
 
@@ -332,12 +332,12 @@ def main(argv=None) -> int:
                         help="also time --steps steps from this state of the"
                         " seed-0 paper case (a run's raw/state.bin)")
     parser.add_argument("--full", action="store_true",
-                        help="also run the whole paper case (fast settings)")
+                        help="also run the whole paper case (the defaults)")
     parser.add_argument("--invariance", type=float, metavar="EPS",
-                        help="only compare the fast and the paper's settings"
+                        help="only compare the defaults and the paper's settings"
                         " from the start to this strain")
     parser.add_argument("--invariance-from", type=Path, metavar="STATE",
-                        help="only compare the fast and the paper's settings"
+                        help="only compare the defaults and the paper's settings"
                         " from this state (seed 0) to --to-phi")
     parser.add_argument("--to-phi", type=float, default=0.84,
                         help="packing fraction that ends --invariance-from")
