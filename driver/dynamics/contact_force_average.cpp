@@ -14,9 +14,7 @@ void ContactForceAverage::add_step(const MoreauJean& scheme)
     const std::array<double, 2> impulse = {
         R[2 * a] * c.n[0] + R[2 * a + 1] * c.t[0],
         R[2 * a] * c.n[1] + R[2 * a + 1] * c.t[1]};
-    const Key key{c.candidate_body, c.candidate_node,
-                  c.antagonist_body >= 0 ? c.antagonist_body : -1 - c.wall};
-    auto [it, added] = _index.try_emplace(key, _sum.size());
+    auto [it, added] = _index.try_emplace(contact_key(c), _sum.size());
     if (added)
       _sum.push_back({c, {0, 0}, 0});
     AveragedContactForce& s = _sum[it->second];

@@ -52,8 +52,7 @@ public:
   void reset();
 
 private:
-  using Key = std::tuple<int, int, int>;
-  std::map<Key, std::size_t> _index;
+  std::map<ContactKey, std::size_t> _index;
   std::vector<AveragedContactForce> _sum;
   std::vector<std::array<double, 2>> _wall_impulse;
   double _duration = 0;

@@ -11,12 +11,6 @@ namespace softpack::dynamics
 {
 namespace
 {
-std::tuple<int, int, int> contact_key(const Contact& c)
-{
-  return {c.candidate_body, c.candidate_node,
-          c.antagonist_body >= 0 ? c.antagonist_body : -1 - c.wall};
-}
-
 double max_abs(const std::vector<double>& v)
 {
   double m = 0;

@@ -226,7 +226,7 @@ private:
   std::vector<Contact> _contacts;
   std::vector<double> _R;
   /// Previous step's impulses by (candidate body, node, antagonist)
-  std::map<std::tuple<int, int, int>, std::array<double, 2>> _previous;
+  std::map<ContactKey, std::array<double, 2>> _previous;
   mutable EnergyBalance _energy;
   mutable bool _energy_stale = true;
   int _matrix_age = -1; ///< steps since the last factorization (-1: none)
