@@ -154,25 +154,17 @@ def run_driver(config, mesh: Path, name: str, initial_state: Path | None = None,
     return result
 
 
-def bench_paper(steps: int) -> list[dict]:
-    """Per-step cost of the paper case at the paper's and the fast settings."""
-    results = []
-    for label, overrides in (("paper-settings", PAPER), ("fast-settings", FAST)):
-        config = _scaled_config(1, overrides, steps)
-        results.append(run_driver(config, _mesh_for(config, "n100"),
-                                  f"paper-{label}"))
-    return results
-
-
-def bench_late(state: Path, steps: int) -> list[dict]:
-    """Per-step cost of the paper case from a saved state, both settings."""
-    t0 = state_time(state)
+def bench_paper(steps: int, state: Path | None = None) -> list[dict]:
+    """Per-step cost of the paper case at the paper's settings and at the
+    defaults: ``steps`` steps from the initial packing, or from ``state``."""
+    t0 = state_time(state) if state is not None else 0.0
+    prefix = "late" if state is not None else "paper"
     results = []
     for label, overrides in (("paper-settings", PAPER), ("fast-settings", FAST)):
         config = _scaled_config(1, overrides, steps)
         config["loading"]["max_time"] = t0 + steps * config["time"]["time_step"]
         results.append(run_driver(config, _mesh_for(config, "n100"),
-                                  f"late-{label}", initial_state=state))
+                                  f"{prefix}-{label}", initial_state=state))
     return results
 
 
@@ -362,7 +354,7 @@ def main(argv=None) -> int:
               "detection": bench_detection(), "paper": bench_paper(args.steps)}
     if args.from_state:
         report["late_state"] = str(args.from_state)
-        report["late"] = bench_late(args.from_state, args.steps)
+        report["late"] = bench_paper(args.steps, args.from_state)
     if not args.no_scaling:
         report["scaling"] = bench_scaling(args.scaling_phi)
     if args.full:
