@@ -40,12 +40,11 @@ import subprocess
 import sys
 from pathlib import Path
 
-from softpack import config as cfg
-from softpack.mesh import mesh_disks
-from softpack.packing import random_packing
+from softpack.scene import config as cfg
+from softpack.scene.mesh import mesh_disks
+from softpack.scene.packing import random_packing
 
-ROOT = Path(os.environ.get("SOFTPACK_ROOT", Path(__file__).resolve().parents[2]))
-BIN = Path(os.environ.get("SOFTPACK_BIN", ROOT / "build" / "bin"))
+from softpack.paths import BIN, ROOT
 WORK = ROOT / "bench" / "work"
 RESULTS = ROOT / "bench" / "results"
 
@@ -202,7 +201,7 @@ def bench_invariance(max_strain: float | None = None,
     """Phi(eps), E(Phi) and Z(Phi) at the fast settings against the paper's
     settings (seed 0): from the initial packing to eps = max_strain, or from
     a saved state to the packing fraction to_phi."""
-    from softpack.run import run
+    from softpack.simulation.run import run
 
     series = {}
     for label, overrides in (("paper", PAPER), ("fast", FAST)):

@@ -9,11 +9,11 @@ import importlib
 import sys
 
 COMMANDS = {
-    "run": "softpack.run",
-    "mesh": "softpack.mesh",
-    "single-disk": "softpack.single_disk",
-    "plot-single-disk": "softpack.plots_single_disk",
-    "plot": "softpack.plots",
+    "run": "softpack.simulation.run",
+    "mesh": "softpack.scene.mesh",
+    "single-disk": "softpack.references.single_disk",
+    "plot-single-disk": "softpack.plots.single_disk",
+    "plot": "softpack.plots.paper",
     "bench": "softpack.bench",
 }
 

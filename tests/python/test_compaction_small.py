@@ -13,9 +13,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from softpack import config as cfg
-from softpack.packing import Packing
-from softpack.run import driver_executable, run
+from softpack.scene import config as cfg
+from softpack.scene.packing import Packing
+from softpack.simulation.run import driver_executable, run
 
 ROOT = Path(os.environ.get("SOFTPACK_ROOT", Path(__file__).resolve().parents[2]))
 
@@ -95,7 +95,7 @@ def test_a_run_continues_from_a_state(small_run, tmp_path):
 
 
 def test_a_state_inside_the_run_directory_is_refused(small_run):
-    from softpack.run import RunError
+    from softpack.simulation.run import RunError
     config, out, _ = small_run
     with pytest.raises(RunError, match="inside the run directory"):
         run(config, out, force=True,

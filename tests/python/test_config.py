@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from softpack.config import (SCHEMA, ConfigError, defaults,
+from softpack.scene.config import (SCHEMA, ConfigError, defaults,
                              initial_packing_fraction, load_config,
                              to_driver_json, to_toml, validate)
 

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
-import softpack.mesh as mesh_module
-from softpack.mesh import (PAPER_ELEMENT_SIZE, mesh_disks, output_paths,
+import softpack.scene.mesh as mesh_module
+from softpack.scene.mesh import (PAPER_ELEMENT_SIZE, mesh_disks, output_paths,
                            read_bodies, signed_areas)
-from softpack.packing import Packing, random_packing
+from softpack.scene.packing import Packing, random_packing
 
 H = PAPER_ELEMENT_SIZE
 

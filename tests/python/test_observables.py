@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from softpack import observables as obs
-from softpack.config import to_toml, validate
+from softpack.analysis import observables as obs
+from softpack.scene.config import to_toml, validate
 
 F = 1000.0   # piston force (N/m), two nodes of F/2 at each end of the chain
 G = 100.0    # per-node force of an unbalanced particle on the bottom wall
@@ -162,7 +162,7 @@ def write_fake_run(run_dir, n_steps=3):
     (run_dir / "raw" / "contacts").mkdir(parents=True)
     (run_dir / "mesh").mkdir()
     (run_dir / "config.toml").write_text(to_toml(config))
-    from softpack.config import driver_input
+    from softpack.scene.config import driver_input
     (run_dir / "driver.json").write_text(json.dumps(
         driver_input(config, run_dir / "mesh" / "packing.xdmf", run_dir)))
     ref = math.pi * RADIUS**2

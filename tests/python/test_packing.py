@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from softpack.packing import (DEFAULT_GAP, Packing, PackingError,
+from softpack.scene.packing import (DEFAULT_GAP, Packing, PackingError,
                               random_packing)
 
 SMALL = dict(counts=(8, 4), diameters=(20e-3, 30e-3), length=0.12,

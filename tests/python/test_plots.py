@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from softpack import plots
-from softpack.config import to_toml, validate
-from softpack.observables import SERIES_COLUMNS, write_table
+from softpack.plots import paper as plots
+from softpack.scene.config import to_toml, validate
+from softpack.analysis.observables import SERIES_COLUMNS, write_table
 
 PNG = b"\x89PNG\r\n\x1a\n"
 

@@ -1,4 +1,4 @@
-"""Physical checks of the 3D single-cylinder reference (softpack.reference3d).
+"""Physical checks of the 3D single-cylinder reference (softpack.references.cylinder3d).
 
 CI-sized: a coarse mesh (2 mm tetrahedra near the contact, 263 cells, P2) up
 to eps = 0.15 in 15 steps, once per model; about 30 s on one core with a warm
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("dolfinx")
-from softpack import reference3d as r3d  # noqa: E402  (python/ on sys.path: conftest.py)
+from softpack.references import cylinder3d as r3d  # noqa: E402  (python/ on sys.path: conftest.py)
 
 CI_MESH = dict(element_size=0.002, max_strain=0.15, n_steps=15)
 
@@ -114,7 +114,7 @@ def test_csv_files_and_plots(nearly_incompressible, tmp_path):
     assert prof.dtype.names == ("eps", "w", "ux_over_D")
     assert set(np.round(prof["eps"], 6)) == {0.05, 0.10, 0.15}
 
-    from softpack import plots_single_disk
+    from softpack.plots import single_disk as plots_single_disk
     assert plots_single_disk.main([str(tmp_path)]) == 0    # 3D files only
     assert (tmp_path / "fig2_force.png").stat().st_size > 0
     assert (tmp_path / "fig3_profile.png").stat().st_size > 0

@@ -13,8 +13,9 @@ from pathlib import Path
 
 import pytest
 
-from softpack import observables, run
-from softpack.mesh import MeshInfo, output_paths
+from softpack.analysis import observables
+from softpack.simulation import run
+from softpack.scene.mesh import MeshInfo, output_paths
 
 SMALL = Path(__file__).resolve().parents[2] / "examples" / "small.toml"
 
@@ -103,7 +104,7 @@ def fake_mesh(monkeypatch):
             for i, (c, r, a) in enumerate(zip(centres, radii, areas))))
         return MeshInfo(xdmf, h5, bodies, (1,) * len(radii),
                         (3,) * len(radii), tuple(areas))
-    monkeypatch.setattr("softpack.mesh.mesh_disks", mesh_disks)
+    monkeypatch.setattr("softpack.scene.mesh.mesh_disks", mesh_disks)
 
 
 def test_bad_config_exits_2_and_writes_nothing(tmp_path, capsys):
@@ -189,7 +190,7 @@ def test_observables_only_uses_the_runs_config(tmp_path, fake_bin,
 
 
 def test_default_out_dir_and_progress_line(tmp_path):
-    from softpack.config import load_config
+    from softpack.scene.config import load_config
     config = load_config(SMALL, {"geometry.seed": 4,
                                  "contact.friction": 0.7})
     assert run.default_out_dir(config) == Path("runs/small-seed4")
@@ -204,8 +205,8 @@ def test_default_out_dir_and_progress_line(tmp_path):
 
 
 def test_set_overrides_are_parsed_as_toml_values():
-    from softpack.config import ConfigError
-    from softpack.run import _parse_settings
+    from softpack.scene.config import ConfigError
+    from softpack.simulation.run import _parse_settings
     assert _parse_settings(["time.time_step=3.6e-5", "material.name='x'",
                             "output.fields = false"]) == {
         "time.time_step": 3.6e-5, "material.name": "x",

@@ -1,4 +1,4 @@
-"""The 2D single-disk check (softpack.single_disk, paper Figs. 2 and 3).
+"""The 2D single-disk check (softpack.references.single_disk, paper Figs. 2 and 3).
 
 Helpers are tested on hand-made data; the physics with softpack-simulate
 (skipped when it is not built) on three CI-sized runs, each driver call a
@@ -22,8 +22,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from softpack import single_disk as sd
-from softpack.reference3d import johnson_line_contact
+from softpack.references import single_disk as sd
+from softpack.references.cylinder3d import johnson_line_contact
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "single_disk"
 FORCE_3D = DOCS / "force_3d_nu0495.csv"
@@ -92,7 +92,7 @@ def test_rigid_rotation_sees_rolling_and_ignores_symmetric_stretch():
 
 def test_put_node_up_turns_the_mesh_about_its_centre(tmp_path):
     pytest.importorskip("dolfinx")
-    from softpack.mesh import mesh_disks
+    from softpack.scene.mesh import mesh_disks
 
     radius = 0.01
     info = mesh_disks([(0.0, 0.0)], [radius], 1.065e-3, tmp_path / "disk")
@@ -249,7 +249,7 @@ def test_profile_is_antisymmetric_and_grows_with_strain(paper_mesh):
 
 def test_plot_single_disk_uses_the_2d_files(coarse, tmp_path):
     pytest.importorskip("matplotlib")
-    from softpack import plots_single_disk
+    from softpack.plots import single_disk as plots_single_disk
 
     for name in ("force_2d.csv", "profile_2d.csv"):
         (tmp_path / name).write_text((coarse / name).read_text())

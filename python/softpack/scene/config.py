@@ -35,7 +35,7 @@ from pathlib import Path
 
 #: Materials of forms/materials/ (the driver's registry).
 MATERIALS = ("neo_hookean", "saint_venant_kirchhoff")
-#: Fewest elements around the smallest disk (as softpack.mesh demands).
+#: Fewest elements around the smallest disk (as softpack.scene.mesh demands).
 MIN_BOUNDARY_ELEMENTS = 8
 #: Densest packing fraction of rigid disks (hexagonal).
 HEXAGONAL_FRACTION = math.pi / (2 * math.sqrt(3))

@@ -62,7 +62,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-log = logging.getLogger("softpack.reference3d")
+log = logging.getLogger("softpack.references.cylinder3d")
 
 PROFILE_STRAINS = (0.05, 0.10, 0.15, 0.20)
 # physical surface tags of the eighth cylinder
@@ -524,7 +524,7 @@ def energy_balance(res):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="softpack.reference3d", description=__doc__.split("\n")[0])
+    parser = argparse.ArgumentParser(prog="softpack.references.cylinder3d", description=__doc__.split("\n")[0])
     parser.add_argument("--out", required=True, help="directory for the CSV files")
     parser.add_argument("--element-size", type=float, default=0.001,
                         help="tetrahedron size near the contact line, m (default 0.001; 2x far from it)")

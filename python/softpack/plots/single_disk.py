@@ -50,7 +50,7 @@ def _load(directory, files, used, missing):
 
 def plot_force(directory, curves, out):
     import matplotlib.pyplot as plt
-    from softpack.reference3d import johnson_line_contact
+    from softpack.references.cylinder3d import johnson_line_contact
 
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for data, label, style in curves:

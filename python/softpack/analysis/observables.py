@@ -357,8 +357,8 @@ class RunSetup:
 
 def read_setup(run_dir) -> RunSetup:
     """Read ``config.toml``, ``driver.json`` and the mesh's body table."""
-    from softpack.config import load_config
-    from softpack.mesh import output_paths, read_bodies
+    from softpack.scene.config import load_config
+    from softpack.scene.mesh import output_paths, read_bodies
 
     run_dir = Path(run_dir)
     config = load_config(run_dir / "config.toml")

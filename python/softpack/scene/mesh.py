@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from softpack.packing import (DEFAULT_GAP, PAPER_COUNTS, PAPER_DIAMETERS,
+from softpack.scene.packing import (DEFAULT_GAP, PAPER_COUNTS, PAPER_DIAMETERS,
                               PAPER_LENGTH, PAPER_WIDTH, Packing, PackingError,
                               random_packing)
 

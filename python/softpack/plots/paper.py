@@ -76,8 +76,8 @@ def load_runs(directories) -> list[Run]:
 
     Directories without them are reported on stderr and skipped.
     """
-    from softpack.config import ConfigError, load_config
-    from softpack.observables import read_table
+    from softpack.scene.config import ConfigError, load_config
+    from softpack.analysis.observables import read_table
 
     runs = []
     for d in map(Path, directories):

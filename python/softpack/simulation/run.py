@@ -12,7 +12,7 @@
    when ``SOFTPACK_BIN`` is unset); its output goes to ``DIR/run.log``,
    and the terminal shows progress (percent, strain, Phi, ETA) read from
    ``raw/steps.csv`` as the driver writes it.
-4. Post-process (:mod:`softpack.observables`) into ``particles.csv`` and
+4. Post-process (:mod:`softpack.analysis.observables`) into ``particles.csv`` and
    then ``series.csv``, each written to a temporary file and renamed.
 
 A directory with ``series.csv`` holds a complete run: it is not overwritten
@@ -39,11 +39,10 @@ import sys
 import time
 from pathlib import Path
 
-from softpack.config import (ConfigError, initial_packing_fraction,
+from softpack.scene.config import (ConfigError, initial_packing_fraction,
                              load_config, to_driver_json, to_toml)
 
-ROOT = Path(os.environ.get("SOFTPACK_ROOT",
-                           Path(__file__).resolve().parents[2]))
+from softpack.paths import ROOT
 DRIVER = "softpack-simulate"
 #: What a run writes into its directory (removed by --force, nothing else).
 RUN_OUTPUTS = ("series.csv", "particles.csv", "raw", "fields.xdmf",
@@ -184,8 +183,8 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
     ------
     RunError
     """
-    from softpack.mesh import mesh_disks
-    from softpack.packing import PackingError, random_packing
+    from softpack.scene.mesh import mesh_disks
+    from softpack.scene.packing import PackingError, random_packing
 
     exe = driver_executable()
     if initial_state is not None:
@@ -358,7 +357,7 @@ def _tail(path: Path, lines=20) -> str:
 
 def _postprocess(out: Path, say) -> int:
     """Check the driver finished, write the observables, print a summary."""
-    from softpack.observables import process_run, read_table
+    from softpack.analysis.observables import process_run, read_table
 
     done = out / "raw" / "done.json"
     if not done.is_file():

@@ -54,7 +54,7 @@ Outputs in ``--out DIR`` (default ``runs/single-disk``):
     the displacement u_x/D along the Lagrangian transverse diameter (the
     material line Y = 0, perpendicular to the loading), w = X/R in [-1, 1]
     (the same normalisation as ``profile_3d_*.csv`` of
-    :mod:`softpack.reference3d`), at eps = 0.05, 0.10, 0.15, 0.20: the P1
+    :mod:`softpack.references.cylinder3d`), at eps = 0.05, 0.10, 0.15, 0.20: the P1
     field is interpolated in space (barycentric, in the reference
     triangle containing (X, 0)) and linearly in eps between the two
     bracketing field outputs; u_x(0, 0) (the centre's rigid drift) is
@@ -173,10 +173,8 @@ def driver_document(params: Params, mesh_xdmf, y_bottom, y_top, out_dir):
 
 def driver_executable() -> Path:
     """``$SOFTPACK_BIN/softpack-simulate``, else the repository's build/bin."""
-    root = Path(os.environ.get("SOFTPACK_ROOT",
-                               Path(__file__).resolve().parents[2]))
-    exe = Path(os.environ.get("SOFTPACK_BIN") or root / "build" / "bin") \
-        / "softpack-simulate"
+    from softpack.paths import BIN
+    exe = BIN / "softpack-simulate"
     if not (exe.is_file() and os.access(exe, os.X_OK)):
         raise SingleDiskError(f"{exe} not found: build it with ./softpack"
                               " build (or set SOFTPACK_BIN)")
@@ -189,7 +187,7 @@ def simulate(params: Params, sim_dir, quiet=True) -> dict:
     Returns a dict with the mesh size, the plates' initial positions and the
     driver's wall time.
     """
-    from softpack.mesh import mesh_disks
+    from softpack.scene.mesh import mesh_disks
 
     sim_dir = Path(sim_dir)
     sim_dir.mkdir(parents=True, exist_ok=True)
@@ -529,7 +527,7 @@ def main(argv=None) -> int:
         print(f"softpack single-disk: {err}", file=sys.stderr)
         return 1
     curve, meta = result["curve"], result["meta"]
-    from softpack.reference3d import johnson_line_contact
+    from softpack.references.cylinder3d import johnson_line_contact
     for e in (0.01, 0.05, 0.10, 0.15, 0.20):
         if e <= curve["eps"][-1]:
             print(f"  eps = {e:.2f}: f_norm = {value_at(curve, e):.5g}"
