@@ -44,7 +44,7 @@ def chain_contacts():
     ])
 
 
-def test_cumulative_strain():
+def test_cumulative_strain_is_eq_11():
     assert obs.cumulative_strain(0.0, 0.286) == 0.0
     delta = 0.286 * (1 - math.exp(-0.1))
     assert obs.cumulative_strain(delta, 0.286) == pytest.approx(0.1)

@@ -63,16 +63,14 @@ piston force
 
 from __future__ import annotations
 
-import csv
-import io
 import json
-import math
-import os
-import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
+from softpack.analysis.strain import cumulative_strain
+from softpack.analysis.tables import read_table, write_table
 
 RULES = ("loaded_nodes", "candidate_nodes")
 ENERGY_COLUMNS = ("strain_energy", "kinetic_energy", "wall_work",
@@ -94,11 +92,6 @@ CONTACT_COLUMNS = ("candidate", "node", "antagonist", "wall", "fn", "ft",
 
 
 # -- pure functions on arrays ------------------------------------------------
-
-def cumulative_strain(delta, length0):
-    """Cumulative compressive strain ``-ln(1 - delta / L0)`` (paper Eq. 11)."""
-    return -np.log1p(-np.asarray(delta, dtype=float) / length0)
-
 
 def normalised_energy(strain_energy, width, length, shear_modulus):
     """``E / (W H L mu)`` from the 2D strain energy per unit length.
@@ -285,29 +278,6 @@ def _count(indices, n) -> np.ndarray:
 
 
 # -- reading the raw output --------------------------------------------------
-
-def read_table(path) -> dict:
-    """A CSV file with a header as ``{column: float array}``.
-
-    Empty fields become NaN; ``true``/``false`` become 1/0.
-    """
-    with open(path, newline="") as f:
-        header = next(csv.reader(f), None)
-        if header is None:
-            raise ValueError(f"{path}: empty file (no header)")
-        text = f.read()
-    try:  # fast path: plain numbers
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            data = np.loadtxt(io.StringIO(text), delimiter=",", ndmin=2)
-    except ValueError:
-        values = {"": math.nan, "true": 1.0, "false": 0.0}
-        data = np.array([[values[v.strip()] if v.strip() in values
-                          else float(v) for v in row]
-                         for row in csv.reader(io.StringIO(text)) if row])
-    data = data.reshape(-1, len(header))
-    return {name.strip(): data[:, j] for j, name in enumerate(header)}
-
 
 def contacts_path(run_dir, step) -> Path:
     """``raw/contacts/step_NNNNNNNN.csv`` of an output step."""
@@ -500,34 +470,6 @@ def _particle_rows(step, time, phi, setup, ref, area, psi, net) -> dict:
         "resultant_force": missing if net is None else h * net.resultant,
         "unbalanced": missing if net is None else net.unbalanced,
         "rattler": missing if net is None else net.rattler}
-
-
-def write_table(path, columns: dict, names) -> Path:
-    """Write columns as CSV atomically (temporary file, then rename).
-
-    Integral values are written as integers, others with 12 significant
-    digits, NaN as ``nan`` (pandas reads it as missing).
-    """
-    path = Path(path)
-    data = [np.asarray(columns[name]) for name in names]
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    try:
-        with open(tmp, "w") as f:
-            f.write(",".join(names) + "\n")
-            for row in zip(*data):
-                f.write(",".join(_format(v) for v in row) + "\n")
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
-    return path
-
-
-def _format(value) -> str:
-    """One CSV field."""
-    value = float(value)
-    if math.isfinite(value) and value == int(value) and abs(value) < 2**53:
-        return str(int(value))
-    return f"{value:.12g}"
 
 
 def process_run(run_dir, setup: RunSetup | None = None) -> tuple[Path, Path]:

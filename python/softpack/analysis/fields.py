@@ -1,0 +1,157 @@
+"""The one reader of ``fields.h5`` (the driver's field output).
+
+The driver writes ``fields.xdmf`` + ``fields.h5`` with dolfinx's XDMFFile
+(``driver/io/field_output.cpp``); in the HDF5 file:
+
+``/Mesh/<mesh>/geometry``
+    reference node coordinates, shape ``(n, 2)`` (or ``(n, 3)``);
+``/Mesh/<mesh>/topology``
+    triangles, shape ``(m, 3)``;
+``/Function/<name>/<time>``
+    a function at a time, the key being ``repr(time)`` with ``.`` written
+    ``_``: ``displacement`` (nodal, ``(n, 3)``), ``Psi`` (strain energy per
+    reference area of each cell, J/m^3 per unit length, ``(m, 1)``) and
+    ``particle`` (the body id of each cell, ``(m, 1)``).
+
+Function names are matched without regard to case.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+DISPLACEMENT, PSI, BODY = "displacement", "Psi", "particle"
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    """The fields of one stored time.
+
+    Attributes
+    ----------
+    time : float
+        The stored time read (s).
+    points : ndarray, shape (n, 2)
+        Reference node coordinates (m).
+    cells : ndarray of int, shape (m, 3)
+    displacement : ndarray, shape (n, 2)
+    psi : ndarray, shape (m,) or None
+        Strain energy per reference area of each cell (J/m^3); None when
+        the file has no ``Psi``.
+    body : ndarray of int, shape (m,) or None
+        Body (particle) id of each cell; None when the file has none.
+    """
+
+    time: float
+    points: np.ndarray
+    cells: np.ndarray
+    displacement: np.ndarray
+    psi: np.ndarray | None
+    body: np.ndarray | None
+
+    @property
+    def current(self) -> np.ndarray:
+        """Current node positions ``points + displacement``."""
+        return self.points + self.displacement
+
+
+def _h5py():
+    import h5py
+    return h5py
+
+
+def _mesh_group(f, path):
+    if "Mesh" not in f or not len(f["Mesh"]):
+        raise KeyError(f"{path}: no /Mesh group")
+    return f["Mesh"][next(iter(f["Mesh"]))]
+
+
+def _function_group(f, name, path):
+    """The group ``/Function/<name>`` (case-insensitive), or KeyError."""
+    names = {key.lower(): key for key in f.get("Function", {})}
+    if name.lower() not in names:
+        raise KeyError(f"{path}: no function {name!r}, has"
+                       f" {sorted(names.values())}")
+    return f["Function"][names[name.lower()]]
+
+
+def _times(group) -> dict:
+    """``{stored time: key}`` of a function group."""
+    return {float(key.replace("_", ".")): key for key in group}
+
+
+def read_mesh(path):
+    """Reference node coordinates ``(n, 2)`` and triangles ``(m, 3)``."""
+    with _h5py().File(path, "r") as f:
+        mesh = _mesh_group(f, path)
+        return (np.asarray(mesh["geometry"])[:, :2],
+                np.asarray(mesh["topology"]).astype(np.int64))
+
+
+def stored_times(path, name=DISPLACEMENT) -> np.ndarray:
+    """The times at which function ``name`` is stored, ascending."""
+    with _h5py().File(path, "r") as f:
+        return np.array(sorted(_times(_function_group(f, name, path))))
+
+
+def read_function(path, name, time):
+    """Values of function ``name`` at the stored time nearest ``time``.
+
+    Returns
+    -------
+    (ndarray, float)
+        The values (``(n, 2)`` for a vector function, its in-plane part;
+        ``(m,)`` for a cell function) and the stored time read.
+    """
+    with _h5py().File(path, "r") as f:
+        return _read_at(_function_group(f, name, path), time)
+
+
+def _read_at(group, time):
+    times = _times(group)
+    stored = min(times, key=lambda t: abs(t - time))
+    values = np.asarray(group[times[stored]])
+    values = values[:, :2] if values.shape[1] >= 2 else values.reshape(-1)
+    return values, stored
+
+
+def read_snapshot(path, time) -> Snapshot:
+    """Mesh, displacement, Psi and body ids at the stored time nearest ``time``.
+
+    Raises
+    ------
+    KeyError
+        When the file has no mesh or no displacement.
+    """
+    with _h5py().File(path, "r") as f:
+        mesh = _mesh_group(f, path)
+        u, stored = _read_at(_function_group(f, DISPLACEMENT, path), time)
+        optional = {}
+        for name in (PSI, BODY):
+            try:
+                optional[name] = _read_at(_function_group(f, name, path),
+                                          stored)[0]
+            except KeyError:
+                optional[name] = None
+        body = optional[BODY]
+        return Snapshot(
+            time=stored, points=np.asarray(mesh["geometry"])[:, :2],
+            cells=np.asarray(mesh["topology"]).astype(np.int64),
+            displacement=u, psi=optional[PSI],
+            body=None if body is None else np.rint(body).astype(np.int64))
+
+
+def read_displacements(path):
+    """Every stored displacement, by time.
+
+    Returns
+    -------
+    list of (float, ndarray)
+        ``(time, u (n, 2))`` in ascending time.
+    """
+    with _h5py().File(path, "r") as f:
+        group = _function_group(f, DISPLACEMENT, path)
+        return [(t, np.asarray(group[key])[:, :2])
+                for t, key in sorted(_times(group).items())]

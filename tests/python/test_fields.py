@@ -1,0 +1,58 @@
+"""The one fields.h5 reader on a hand-written file in the dolfinx layout."""
+
+import numpy as np
+import pytest
+
+from softpack.analysis import fields
+
+h5py = pytest.importorskip("h5py")
+
+
+def write_fields(path, times):
+    """Two triangles (bodies 0 and 1), u = (t, -2t), Psi = 1000 t per cell.
+
+    Keys as dolfinx writes them: repr(time) with '.' as '_'.
+    """
+    with h5py.File(path, "w") as f:
+        f["Mesh/mesh/geometry"] = np.array([[0, 0], [1, 0], [1, 1], [0, 1.]])
+        f["Mesh/mesh/topology"] = np.array([[0, 1, 2], [0, 2, 3]])
+        for t in times:
+            key = repr(float(t)).replace(".", "_")
+            u = np.zeros((4, 3))
+            u[:, 0], u[:, 1] = t, -2 * t
+            f[f"Function/displacement/{key}"] = u
+            f[f"Function/Psi/{key}"] = np.full((2, 1), 1000.0 * t)
+            f[f"Function/particle/{key}"] = np.array([[0.0], [1.0]])
+    return path
+
+
+def test_snapshot_at_the_nearest_stored_time(tmp_path):
+    path = write_fields(tmp_path / "fields.h5", [0.0, 0.0010000000000000002,
+                                                 0.003])
+    snap = fields.read_snapshot(path, 0.0012)
+    assert snap.time == 0.0010000000000000002
+    assert snap.points.shape == (4, 2) and snap.cells.shape == (2, 3)
+    assert np.allclose(snap.displacement, [[0.001, -0.002]] * 4)
+    assert np.allclose(snap.current, snap.points + [0.001, -0.002])
+    assert np.allclose(snap.psi, 1.0) and snap.psi.shape == (2,)
+    assert list(snap.body) == [0, 1]
+    assert np.array_equal(fields.stored_times(path),
+                          [0.0, 0.0010000000000000002, 0.003])
+    psi, t = fields.read_function(path, "psi", 0.0029)
+    assert t == 0.003 and np.allclose(psi, 3.0)
+
+
+def test_displacements_in_time_order_and_missing_functions(tmp_path):
+    path = write_fields(tmp_path / "fields.h5", [0.003, 0.0, 0.001])
+    series = fields.read_displacements(path)
+    assert [t for t, _ in series] == [0.0, 0.001, 0.003]
+    assert np.allclose(series[2][1][:, 1], -0.006)
+    points, cells = fields.read_mesh(path)
+    assert points.shape == (4, 2) and cells.dtype == np.int64
+    with pytest.raises(KeyError, match="no function 'velocity'"):
+        fields.read_function(path, "velocity", 0.0)
+    with h5py.File(tmp_path / "bare.h5", "w") as f:
+        f["Mesh/mesh/geometry"] = np.zeros((3, 2))
+        f["Mesh/mesh/topology"] = np.array([[0, 1, 2]])
+    with pytest.raises(KeyError, match="displacement"):
+        fields.read_snapshot(tmp_path / "bare.h5", 0.0)
