@@ -1,0 +1,405 @@
+"""Generate the driver's parameter structs and their reader from the schema.
+
+Run by CMake at build time (``/usr/bin/python3``, tomllib)::
+
+    generate_parameters.py SCHEMA OUT_DIR
+
+reads ``SCHEMA`` (schema/parameters.toml) and writes ``OUT_DIR/parameters.h``
+and ``OUT_DIR/parameters.cpp`` (``#include <softpack/parameters.h>``). Every
+section with ``_stage = "driver"`` that is neither a ``_list`` nor a ``_map``
+becomes a struct of ``softpack::parameters`` named after the section in
+CamelCase, one member per key with the schema's name, type and default, and
+two functions:
+
+- ``read(json, Section&, where)`` requires every key, refuses unknown keys and
+  checks type, range and choices (except ``"@materials"``, checked by the
+  body set against the forms registry), throwing ``std::runtime_error`` that
+  names ``where`` (the file), the key path (``contact.friction``) and what is
+  allowed;
+- ``to_json(const Section&)``.
+
+The material section also carries ``std::map<std::string, double>
+parameters`` (the law's own constants, declared in forms/materials/LAW.py).
+
+Nothing here repeats a name, range or default of the schema: they are all
+read from it, so the schema stays the one place where they are defined.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import sys
+import tomllib
+from pathlib import Path
+
+CPP_TYPES = {
+    "float": "double",
+    "int": "int",
+    "bool": "bool",
+    "str": "std::string",
+    "float_pair": "std::array<double, 2>",
+}
+
+# The member of Material that is not a schema key: the law's parameters.
+MATERIAL_PARAMETERS = "parameters"
+
+
+def camel_case(name: str) -> str:
+    """Return ``name`` in CamelCase (``time_step`` -> ``TimeStep``)."""
+    return "".join(part.capitalize() for part in name.split("_"))
+
+
+def cpp_string(text: str) -> str:
+    """Return a C++ string literal for ``text`` (JSON escapes are valid C++)."""
+    return json.dumps(text, ensure_ascii=True)
+
+
+def cpp_double(x: float) -> str:
+    """Return a C++ double literal that round-trips ``x``."""
+    x = float(x)
+    if math.isinf(x):
+        return ("-" if x < 0 else "") + "std::numeric_limits<double>::infinity()"
+    text = repr(x)
+    return text if any(c in text for c in ".en") else text + ".0"
+
+
+def cpp_value(kind: str, value) -> str:
+    """Return the C++ initialiser of a default ``value`` of schema type ``kind``."""
+    if kind == "float":
+        return cpp_double(value)
+    if kind == "int":
+        return str(int(value))
+    if kind == "bool":
+        return "true" if value else "false"
+    if kind == "str":
+        return cpp_string(value)
+    if kind == "float_pair":
+        return "{" + ", ".join(cpp_double(v) for v in value) + "}"
+    raise ValueError(f"unknown type {kind!r}")
+
+
+INTERVAL = re.compile(r"^\s*([\[(])\s*([^,]+?)\s*,\s*([^,]+?)\s*([\])])\s*$")
+
+
+def parse_range(text: str, where: str) -> tuple[float, bool, float, bool]:
+    """Parse an interval ``"(0, inf)"`` into (low, low_closed, high, high_closed)."""
+    match = INTERVAL.match(text)
+    if not match:
+        raise SystemExit(f"{where}: range {text!r} is not an interval like '[0, inf)'")
+    left, low, high, right = match.groups()
+    return float(low), left == "[", float(high), right == "]"
+
+
+def driver_sections(schema: dict) -> list[tuple[str, dict]]:
+    """Return the (name, table) of each driver section read into a struct."""
+    return [
+        (name, table)
+        for name, table in schema.items()
+        if isinstance(table, dict)
+        and table.get("_stage") == "driver"
+        and not table.get("_list")
+        and not table.get("_map")
+    ]
+
+
+def keys_of(table: dict) -> list[tuple[str, dict]]:
+    """Return the (key, spec) pairs of a section, metadata excluded."""
+    return [(k, v) for k, v in table.items() if not k.startswith("_")]
+
+
+def comment(text: str, indent: str) -> str:
+    """Return ``text`` as ``///`` comment lines of at most ~80 columns."""
+    lines, line = [], ""
+    for word in text.split():
+        if line and len(indent) + 4 + len(line) + 1 + len(word) > 80:
+            lines.append(line)
+            line = word
+        else:
+            line = f"{line} {word}" if line else word
+    lines.append(line)
+    return "".join(f"{indent}/// {l}\n" for l in lines)
+
+
+def member_doc(spec: dict) -> str:
+    """Return the doc comment of a key: meaning, unit, range or choices."""
+    extra = []
+    if spec.get("unit"):
+        extra.append(f"unit {spec['unit']}")
+    if "range" in spec:
+        extra.append(f"range {spec['range']}")
+    if "choices" in spec:
+        choices = spec["choices"]
+        extra.append("choices " + (choices if isinstance(choices, str) else ", ".join(choices)))
+    return spec["doc"] + (f" ({'; '.join(extra)})" if extra else "")
+
+
+def header(schema: dict, sections: list[tuple[str, dict]]) -> str:
+    """Return the text of parameters.h."""
+    out = [
+        "// Generated by driver/io/generate_parameters.py from schema/parameters.toml.",
+        "// Do not edit: change the schema.",
+        "#pragma once",
+        "",
+        "#include <array>",
+        "#include <limits>",
+        "#include <map>",
+        "#include <nlohmann/json.hpp>",
+        "#include <string>",
+        "",
+        "/// The driver's parameters, one struct per driver section of the schema.",
+        "namespace softpack::parameters",
+        "{",
+        "",
+        f"/// Version of schema/parameters.toml these structs were generated from",
+        f"inline constexpr int schema_version = {int(schema['schema_version'])};",
+        "",
+    ]
+    for name, table in sections:
+        out.append(comment(table.get("_doc", name), "").rstrip("\n"))
+        out.append(f"struct {camel_case(name)}\n{{")
+        for key, spec in keys_of(table):
+            out.append(comment(member_doc(spec), "  ").rstrip("\n"))
+            out.append(f"  {CPP_TYPES[spec['type']]} {key} = "
+                       f"{cpp_value(spec['type'], spec['default'])};")
+        if name == "material":
+            out.append("  /// The law's own parameters (keys: its UFL constants, checked by")
+            out.append("  /// the body set against the forms registry)")
+            out.append(f"  std::map<std::string, double> {MATERIAL_PARAMETERS};")
+        out.append("};\n")
+    out.append("/// Every driver section")
+    out.append("struct Parameters\n{")
+    for name, _ in sections:
+        out.append(f"  {camel_case(name)} {name};")
+    out.append("};\n")
+    for name, _ in sections:
+        cls = camel_case(name)
+        out.append(f"/// Read section `{name}` from `j`: every key required, unknown keys")
+        out.append("/// refused, types, ranges and choices checked.")
+        out.append("/// @throws std::runtime_error naming `where`, the key path and what is")
+        out.append("/// allowed")
+        out.append(f"void read(const nlohmann::json& j, {cls}& out, const std::string& where);")
+        out.append(f"/// Section `{name}` as JSON (the keys of the schema)")
+        out.append(f"nlohmann::json to_json(const {cls}& section);\n")
+    out.append("/// Read every section from the object `j` that holds them under their")
+    out.append("/// names (other keys of `j` are not looked at).")
+    out.append("void read(const nlohmann::json& j, Parameters& out, const std::string& where);")
+    out.append("/// Every section under its name")
+    out.append("nlohmann::json to_json(const Parameters& parameters);\n")
+    out.append("} // namespace softpack::parameters")
+    return "\n".join(out) + "\n"
+
+
+# Hand-written helpers of the reader: generic checks, no schema content.
+HELPERS = r"""
+namespace
+{
+using json = nlohmann::json;
+
+[[noreturn]] void fail(const std::string& where, const std::string& path,
+                       const std::string& what)
+{
+  throw std::runtime_error(where + ": " + path + ": " + what);
+}
+
+/// Refuse a non-object, a missing key and an unknown key.
+void check_keys(const json& j, const std::string& where,
+                const std::string& section,
+                const std::vector<std::string>& keys)
+{
+  std::string allowed;
+  for (const std::string& k : keys)
+    allowed += (allowed.empty() ? "" : ", ") + k;
+  if (!j.is_object())
+    fail(where, section, "must be a table with the keys " + allowed);
+  for (const std::string& k : keys)
+    if (!j.contains(k))
+      fail(where, section + "." + k, "missing (" + section + " needs " +
+                                         allowed + ")");
+  for (const auto& item : j.items())
+    if (std::find(keys.begin(), keys.end(), item.key()) == keys.end())
+      fail(where, section + "." + item.key(),
+           "unknown key (" + section + " has " + allowed + ")");
+}
+
+std::string shown(const json& v) { return v.dump(); }
+
+double read_number(const json& v, const std::string& where,
+                   const std::string& path, double lo, bool lo_closed,
+                   double hi, bool hi_closed, const char* range)
+{
+  if (!v.is_number())
+    fail(where, path, "= " + shown(v) + " must be a number in " + range);
+  const double x = v.get<double>();
+  const bool above = lo_closed ? x >= lo : x > lo;
+  const bool below = hi_closed ? x <= hi : x < hi;
+  if (!(above && below))
+    fail(where, path, "= " + shown(v) + " is out of the range " + range);
+  return x;
+}
+
+int read_int(const json& v, const std::string& where, const std::string& path,
+             double lo, bool lo_closed, double hi, bool hi_closed,
+             const char* range)
+{
+  if (!v.is_number_integer())
+    fail(where, path, "= " + shown(v) + " must be an integer in " + range);
+  const double x = read_number(v, where, path, lo, lo_closed, hi, hi_closed,
+                               range);
+  if (std::abs(x) > std::numeric_limits<int>::max())
+    fail(where, path, "= " + shown(v) + " is too large");
+  return v.get<int>();
+}
+
+bool read_bool(const json& v, const std::string& where, const std::string& path)
+{
+  if (!v.is_boolean())
+    fail(where, path, "= " + shown(v) + " must be true or false");
+  return v.get<bool>();
+}
+
+std::string read_string(const json& v, const std::string& where,
+                        const std::string& path,
+                        const std::vector<std::string>& choices)
+{
+  if (!v.is_string())
+    fail(where, path, "= " + shown(v) + " must be a string");
+  std::string s = v.get<std::string>();
+  if (!choices.empty() &&
+      std::find(choices.begin(), choices.end(), s) == choices.end())
+  {
+    std::string allowed;
+    for (const std::string& c : choices)
+      allowed += (allowed.empty() ? "\"" : ", \"") + c + "\"";
+    fail(where, path, "= " + shown(v) + " is not one of " + allowed);
+  }
+  return s;
+}
+
+std::array<double, 2> read_pair(const json& v, const std::string& where,
+                                const std::string& path)
+{
+  if (!v.is_array() || v.size() != 2 || !v[0].is_number() ||
+      !v[1].is_number())
+    fail(where, path, "= " + shown(v) + " must be a pair of numbers [x, y]");
+  return {v[0].get<double>(), v[1].get<double>()};
+}
+
+/// The law's parameters: a table of numbers (its keys are checked against
+/// the law's constants by the body set).
+std::map<std::string, double> read_number_table(const json& v,
+                                                const std::string& where,
+                                                const std::string& path)
+{
+  if (!v.is_object())
+    fail(where, path, "must be a table of numbers");
+  std::map<std::string, double> out;
+  for (const auto& item : v.items())
+  {
+    if (!item.value().is_number())
+      fail(where, path + "." + item.key(),
+           "= " + shown(item.value()) + " must be a number");
+    out[item.key()] = item.value().get<double>();
+  }
+  return out;
+}
+} // namespace
+"""
+
+
+def read_statement(section: str, key: str, spec: dict) -> str:
+    """Return the C++ statement that reads ``key`` of ``section`` into ``out``."""
+    path = cpp_string(f"{section}.{key}")
+    value = f"j.at({cpp_string(key)})"
+    kind = spec["type"]
+    if kind in ("float", "int"):
+        if "range" not in spec:
+            raise SystemExit(f"schema: {section}.{key} is a number without a range")
+        lo, lo_closed, hi, hi_closed = parse_range(spec["range"], f"schema: {section}.{key}")
+        func = "read_number" if kind == "float" else "read_int"
+        args = (f"{cpp_double(lo)}, {str(lo_closed).lower()}, {cpp_double(hi)}, "
+                f"{str(hi_closed).lower()}, {cpp_string(spec['range'])}")
+        return f"  out.{key} = {func}({value}, where, {path}, {args});"
+    if kind == "bool":
+        return f"  out.{key} = read_bool({value}, where, {path});"
+    if kind == "str":
+        choices = spec.get("choices", [])
+        # "@materials" names the forms registry: the body set checks the law.
+        listed = [] if isinstance(choices, str) else choices
+        init = "{" + ", ".join(cpp_string(c) for c in listed) + "}"
+        return f"  out.{key} = read_string({value}, where, {path}, {init});"
+    if kind == "float_pair":
+        return f"  out.{key} = read_pair({value}, where, {path});"
+    raise SystemExit(f"schema: {section}.{key}: unknown type {kind!r}")
+
+
+def source(sections: list[tuple[str, dict]]) -> str:
+    """Return the text of parameters.cpp."""
+    out = [
+        "// Generated by driver/io/generate_parameters.py from schema/parameters.toml.",
+        "// Do not edit: change the schema.",
+        "#include <softpack/parameters.h>",
+        "",
+        "#include <algorithm>",
+        "#include <cmath>",
+        "#include <limits>",
+        "#include <stdexcept>",
+        "#include <vector>",
+        HELPERS,
+        "namespace softpack::parameters",
+        "{",
+    ]
+    for name, table in sections:
+        cls = camel_case(name)
+        keys = [k for k, _ in keys_of(table)]
+        if name == "material":
+            keys.append(MATERIAL_PARAMETERS)
+        out.append(f"void read(const nlohmann::json& j, {cls}& out, const std::string& where)\n{{")
+        out.append(f"  check_keys(j, where, {cpp_string(name)}, "
+                   "{" + ", ".join(cpp_string(k) for k in keys) + "});")
+        for key, spec in keys_of(table):
+            out.append(read_statement(name, key, spec))
+        if name == "material":
+            out.append(f"  out.{MATERIAL_PARAMETERS} = read_number_table("
+                       f"j.at({cpp_string(MATERIAL_PARAMETERS)}), where, "
+                       f"{cpp_string(name + '.' + MATERIAL_PARAMETERS)});")
+        out.append("}\n")
+        out.append(f"nlohmann::json to_json(const {cls}& section)\n{{")
+        out.append("  nlohmann::json j = nlohmann::json::object();")
+        for key, _ in keys_of(table):
+            out.append(f"  j[{cpp_string(key)}] = section.{key};")
+        if name == "material":
+            out.append(f"  j[{cpp_string(MATERIAL_PARAMETERS)}] = section.{MATERIAL_PARAMETERS};")
+        out.append("  return j;\n}\n")
+    out.append("void read(const nlohmann::json& j, Parameters& out, const std::string& where)\n{")
+    for name, _ in sections:
+        out.append(f"  if (!j.is_object() || !j.contains({cpp_string(name)}))")
+        out.append(f"    fail(where, {cpp_string(name)}, \"missing section\");")
+        out.append(f"  read(j.at({cpp_string(name)}), out.{name}, where);")
+    out.append("}\n")
+    out.append("nlohmann::json to_json(const Parameters& parameters)\n{")
+    out.append("  nlohmann::json j = nlohmann::json::object();")
+    for name, _ in sections:
+        out.append(f"  j[{cpp_string(name)}] = to_json(parameters.{name});")
+    out.append("  return j;\n}\n")
+    out.append("} // namespace softpack::parameters")
+    return "\n".join(out) + "\n"
+
+
+def main(argv: list[str]) -> int:
+    """Generate parameters.{h,cpp} from the schema; see the module docstring."""
+    if len(argv) != 3:
+        print("usage: generate_parameters.py SCHEMA OUT_DIR", file=sys.stderr)
+        return 2
+    schema = tomllib.loads(Path(argv[1]).read_text())
+    sections = driver_sections(schema)
+    out_dir = Path(argv[2])
+    out_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / "parameters.h").write_text(header(schema, sections))
+    (out_dir / "parameters.cpp").write_text(source(sections))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
