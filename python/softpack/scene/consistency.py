@@ -1,0 +1,126 @@
+"""Checks and derivations that involve several keys of a configuration.
+
+:func:`derive` fills the schema's derived keys that the user left out (the
+rule is the schema's ``derived`` text); :func:`check` refuses values that
+are each in range but do not fit together. Both work on the sections of a
+:class:`softpack.scene.config.Config` being built and raise
+:class:`Inconsistent` with a message naming the keys; the config stage
+prefixes the file name.
+"""
+
+from __future__ import annotations
+
+import math
+
+from softpack.scene.species import present, total_area
+from softpack.scene.walls import scene_walls, fastest
+
+#: Fewest elements around the smallest particle (as the mesher demands).
+MIN_BOUNDARY_ELEMENTS = 8
+#: Densest packing fraction of equal disks (hexagonal).
+HEXAGONAL_FRACTION = math.pi / (2 * math.sqrt(3))
+#: The Newton tolerance over the contact solver's: at least this.
+NEWTON_OVER_NLGS = 10.0
+
+
+class Inconsistent(ValueError):
+    """Values that do not fit together; the message names the keys."""
+
+
+def derive(sections) -> None:
+    """Fill ``stop.max_time`` and ``contact.delassus_drop_tolerance``."""
+    contact = sections["contact"]
+    if contact["delassus_drop_tolerance"] is None:
+        contact["delassus_drop_tolerance"] = 1e-3 * contact["nlgs_tolerance"]
+    stop = sections["stop"]
+    if stop["max_time"] is None:
+        wall = fastest(scene_walls(sections))
+        if not sections["box"]["enabled"] or wall is None or wall.speed == 0:
+            raise Inconsistent(
+                "[stop] max_time missing: it is derived as [box] length /"
+                " (2 x the fastest wall speed) only with a box and a moving"
+                " wall; give it")
+        stop["max_time"] = sections["box"]["length"] / (2.0 * wall.speed)
+
+
+def initial_packing_fraction(sections) -> float:
+    """Area of the rigid particles over the box's (0 without a box)."""
+    box = sections["box"]
+    if not box["enabled"]:
+        return 0.0
+    return total_area(sections["species"]) / (box["length"] * box["width"])
+
+
+def check(sections) -> None:
+    """Refuse what does not fit together (see the module doc)."""
+    _check_particles(sections)
+    _check_box(sections)
+    _check_solvers(sections)
+
+
+def _check_particles(sections) -> None:
+    """At least one particle; elements small enough for the smallest."""
+    used = present(sections["species"])
+    if not used:
+        raise Inconsistent("[[species]] count: there must be at least one"
+                           " particle")
+    smallest = min(used, key=lambda s: s["diameter"])
+    h = sections["mesh"]["element_size"]
+    h_max = math.pi * smallest["diameter"] / MIN_BOUNDARY_ELEMENTS
+    if h > h_max:
+        raise Inconsistent(
+            f"[mesh] element_size = {h!r}: must be <= {h_max:.4g} m (at least"
+            f" {MIN_BOUNDARY_ELEMENTS} elements around the smallest particle,"
+            f" species {smallest['name']}, D = {smallest['diameter']:g} m)")
+
+
+def _check_box(sections) -> None:
+    """Particles fit in the box; Phi0 below the target; no box, no Phi."""
+    box, stop = sections["box"], sections["stop"]
+    target = stop["packing_fraction"]
+    if not box["enabled"]:
+        if target > 0:
+            raise Inconsistent(
+                f"[stop] packing_fraction = {target!r}: must be 0 with [box]"
+                " enabled = false (Phi is measured inside the box)")
+        if sum(s["count"] for s in sections["species"]) != 1:
+            raise Inconsistent(
+                "[[species]] count: without a box the scene holds one"
+                " particle, at the origin (the random packing needs a box)")
+        return
+    used = present(sections["species"])
+    largest = max(used, key=lambda s: s["diameter"])
+    room = min(box["length"], box["width"]) - 2 * sections["packing"]["gap"]
+    if largest["diameter"] >= room:
+        raise Inconsistent(
+            f"[[species]] diameter = {largest['diameter']!r} (species"
+            f" {largest['name']}): must be < {room:g} m (the box's shorter"
+            " side minus twice [packing] gap)")
+    phi0 = initial_packing_fraction(sections)
+    limit = min(target, HEXAGONAL_FRACTION) if target > 0 \
+        else HEXAGONAL_FRACTION
+    if phi0 >= limit:
+        raise Inconsistent(
+            f"[box] the particles fill {phi0:.3f} of the box: must be <"
+            f" [stop] packing_fraction = {target:g} and <"
+            f" {HEXAGONAL_FRACTION:.4f} (hexagonal packing)")
+
+
+def _check_solvers(sections) -> None:
+    """NLGS below Newton; no wall moves past the alert distance per step."""
+    newton = sections["time"]["newton_tolerance"]
+    nlgs = sections["contact"]["nlgs_tolerance"]
+    if nlgs > newton / NEWTON_OVER_NLGS:
+        raise Inconsistent(
+            f"[contact] nlgs_tolerance = {nlgs!r}: must be <="
+            f" {newton / NEWTON_OVER_NLGS:.3g} (a tenth of [time]"
+            " newton_tolerance: the Newton iterations cannot converge below"
+            " the noise of the contact solve)")
+    wall = fastest(scene_walls(sections))
+    step = sections["time"]["time_step"]
+    alert = sections["contact"]["alert_distance"]
+    if wall is not None and wall.speed * step > alert:
+        raise Inconsistent(
+            f"[time] time_step = {step!r}: must be <= {alert / wall.speed:.4g}"
+            f" s ([contact] alert_distance / the speed of [walls.{wall.name}]"
+            ": no wall may move more than the alert distance in one step)")
