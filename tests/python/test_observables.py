@@ -1,13 +1,19 @@
 """The paper's observables on small hand-built raw outputs (no C++ needed)."""
 
-import json
 import math
 
 import numpy as np
 import pytest
 
+from fake_runs import write_rules, write_setup
+from softpack.analysis import connectivity as net_
 from softpack.analysis import observables as obs
-from softpack.scene.config import to_toml, validate
+from softpack.analysis.setup import Rules
+from softpack.analysis.strain import cumulative_strain
+from softpack.analysis.tables import read_table
+
+RULES = Rules(force_threshold=1e-4, unbalanced_threshold=1e-3,
+              rule="loaded_nodes")
 
 F = 1000.0   # piston force (N/m), two nodes of F/2 at each end of the chain
 G = 100.0    # per-node force of an unbalanced particle on the bottom wall
@@ -18,7 +24,7 @@ def contacts(rows):
     """Contact columns from rows (candidate, node, antagonist, wall, fn,
     ft, fx, fy)."""
     data = np.array(rows, dtype=float).reshape(-1, 8)
-    table = {name: data[:, j] for j, name in enumerate(obs.CONTACT_COLUMNS)}
+    table = {name: data[:, j] for j, name in enumerate(net_.CONTACT_COLUMNS)}
     for name in ("candidate", "node", "antagonist", "wall"):
         table[name] = table[name].astype(np.int64)
     return table
@@ -45,9 +51,9 @@ def chain_contacts():
 
 
 def test_cumulative_strain_is_eq_11():
-    assert obs.cumulative_strain(0.0, 0.286) == 0.0
+    assert cumulative_strain(0.0, 0.286) == 0.0
     delta = 0.286 * (1 - math.exp(-0.1))
-    assert obs.cumulative_strain(delta, 0.286) == pytest.approx(0.1)
+    assert cumulative_strain(delta, 0.286) == pytest.approx(0.1)
 
 
 def test_normalised_energy_is_E_over_WHLmu():
@@ -67,7 +73,7 @@ def test_coefficient_of_variation():
 
 
 def test_active_mask_is_relative_to_largest_force():
-    mask = obs.active_mask([1.0, 1e-5, 0.0, 2e-4, 5e-5], 1e-4)
+    mask = net_.active_mask([1.0, 1e-5, 0.0, 2e-4, 5e-5], 1e-4)
     assert mask.tolist() == [True, False, False, True, False]
 
 
@@ -85,8 +91,8 @@ def test_two_node_rule(rule, expected):
         (3, 9, 0, -1, 1, 0, 0, 0), (3, 10, 0, -1, 1, 0, 0, 0),
         (1, 6, 3, -1, 1e-9, 0, 0, 0), (1, 7, 3, -1, 1e-9, 0, 0, 0),  # ~0
     ])
-    active = obs.active_mask(c["fn"], 1e-4)
-    pairs = obs.force_bearing_pairs(c["candidate"], c["node"],
+    active = net_.active_mask(c["fn"], 1e-4)
+    pairs = net_.force_bearing_pairs(c["candidate"], c["node"],
                                     c["antagonist"], active, rule)
     assert [tuple(p) for p in pairs] == expected
 
@@ -97,14 +103,14 @@ def test_wall_needs_two_nodes():
         (1, 3, -1, 0, 1, 0, 1, 0), (1, 3, -1, 0, 1, 0, 1, 0),  # one node
         (1, 4, -1, 3, 1, 0, 0, -1), (1, 5, -1, 1, 1, 0, -1, 0),  # two walls
     ])
-    walls = obs.force_bearing_walls(c["candidate"], c["node"], c["wall"],
+    walls = net_.force_bearing_walls(c["candidate"], c["node"], c["wall"],
                                     np.ones(6, bool))
     assert [tuple(w) for w in walls] == [(0, 2)]
 
 
 def test_resultant_forces_are_opposite_on_antagonist():
     c = chain_contacts()
-    total = obs.resultant_forces(c["candidate"], c["antagonist"], c["fx"],
+    total = net_.resultant_forces(c["candidate"], c["antagonist"], c["fx"],
                                  c["fy"], 5)
     assert np.allclose(total[0], 0) and np.allclose(total[1], [0, 0.2])
     assert np.allclose(total[2], [0, -0.2])
@@ -113,8 +119,7 @@ def test_resultant_forces_are_opposite_on_antagonist():
 
 
 def test_connectivity_rattlers_and_unbalanced():
-    net = obs.contact_network(chain_contacts(), 5, F,
-                              force_threshold=1e-4, unbalanced_threshold=1e-3)
+    net = net_.contact_network(chain_contacts(), 5, F, RULES)
     assert [tuple(p) for p in net.pairs] == [(0, 1), (3, 4)]
     assert [tuple(w) for w in net.walls] == [(0, 0), (1, 1), (3, 2)]
     assert net.unbalanced.tolist() == [False, False, False, True, False]
@@ -130,8 +135,8 @@ def test_connectivity_rattlers_and_unbalanced():
 
 def test_unbalanced_threshold_is_relative_to_piston_force():
     # f_p* = 0.5 x F keeps particle 3 (resultant ~ 2 G = 0.2 F): 3 and 4 in
-    net = obs.contact_network(chain_contacts(), 5, F,
-                              unbalanced_threshold=0.5)
+    net = net_.contact_network(chain_contacts(), 5, F, Rules(
+        force_threshold=1e-4, unbalanced_threshold=0.5, rule="loaded_nodes"))
     assert not net.unbalanced.any()
     assert net.retained.tolist() == [True, True, False, True, True]
     assert net.z == pytest.approx((2 * 2 + 3) / 4)
@@ -139,7 +144,7 @@ def test_unbalanced_threshold_is_relative_to_piston_force():
 
 
 def test_no_contacts_gives_nan_z():
-    net = obs.contact_network(contacts([]), 3, 0.0)
+    net = net_.contact_network(contacts([]), 3, 0.0, RULES)
     assert math.isnan(net.z) and net.rattler.all()
 
 
@@ -155,21 +160,12 @@ def write_fake_run(run_dir, n_steps=3):
     Step k: piston at x = LENGTH - 1e-3 k, strain energy 1e-3 k (J/m),
     particle p's energy (p + 1) 1e-5 k, the chain contacts at every step.
     """
-    config = validate({"geometry": {
-        "length": LENGTH, "width": WIDTH, "thickness": THICKNESS,
-        "counts": [5], "diameters": [2 * RADIUS], "seed": 3},
-        "contact": {"friction": 0.1}}, "fake.toml")
+    write_setup(run_dir, length=LENGTH, width=WIDTH, thickness=THICKNESS,
+                diameters=(2 * RADIUS,), species=[0] * 5, shear_modulus=MU)
+    write_rules(run_dir)
     (run_dir / "raw" / "contacts").mkdir(parents=True)
-    (run_dir / "mesh").mkdir()
-    (run_dir / "config.toml").write_text(to_toml(config))
-    from softpack.scene.config import driver_input
-    (run_dir / "driver.json").write_text(json.dumps(
-        driver_input(config, run_dir / "mesh" / "packing.xdmf", run_dir)))
     ref = math.pi * RADIUS**2
-    (run_dir / "mesh" / "packing.bodies.csv").write_text(
-        "body,x,y,radius,reference_area\n" + "".join(
-            f"{i},{0.01 + 0.02 * i},0.02,{RADIUS},{ref}\n" for i in range(5)))
-    walls = ["left", "piston", "bottom", "top"]
+    walls = ["left", "right", "bottom", "top"]
     head = ("step,time,newton_iterations,nlgs_iterations,nlgs_error,"
             "nlgs_converged,contacts,active_contacts,max_penetration,"
             + "".join(f"{w}_x,{w}_y,{w}_fx,{w}_fy," for w in walls)
@@ -188,20 +184,19 @@ def write_fake_run(run_dir, n_steps=3):
         parts += [f"{step},{p},{ref},{(p + 1) * 1e-5 * k},{ref}\n"
                   for p in range(5)]
         c = chain_contacts()
-        lines = [",".join(obs.CONTACT_COLUMNS) + "\n"] + [
+        lines = [",".join(net_.CONTACT_COLUMNS) + "\n"] + [
             ",".join(repr(float(c[n][i])) if n in ("fn", "ft", "fx", "fy")
-                     else str(int(c[n][i])) for n in obs.CONTACT_COLUMNS)
+                     else str(int(c[n][i])) for n in net_.CONTACT_COLUMNS)
             + "\n" for i in range(len(c["fn"]))]
-        obs.contacts_path(run_dir, step).write_text("".join(lines))
+        net_.contacts_path(run_dir, step).write_text("".join(lines))
     (run_dir / "raw" / "steps.csv").write_text("".join(steps))
     (run_dir / "raw" / "particles.csv").write_text("".join(parts))
-    return config
 
 
 def test_process_run(tmp_path):
     write_fake_run(tmp_path)
     series_csv, particles_csv = obs.process_run(tmp_path)
-    s = obs.read_table(series_csv)
+    s = read_table(series_csv)
     assert list(s) == list(obs.SERIES_COLUMNS)
     assert s["step"].tolist() == [0, 10, 20]
     delta = np.array([0, 1e-3, 2e-3])
@@ -224,7 +219,7 @@ def test_process_run(tmp_path):
     assert s["cv_psi"][1] == pytest.approx(psi.std() / psi.mean(), rel=1e-9)
     assert s["cv_psi_retained"][2] == pytest.approx(
         psi[:2].std() / psi[:2].mean(), rel=1e-9)
-    p = obs.read_table(particles_csv)
+    p = read_table(particles_csv)
     assert list(p) == list(obs.PARTICLE_COLUMNS)
     assert len(p["step"]) == 15
     last = p["step"] == 20
@@ -236,8 +231,39 @@ def test_process_run(tmp_path):
 
 def test_missing_contacts_file_gives_nan(tmp_path):
     write_fake_run(tmp_path, n_steps=2)
-    obs.contacts_path(tmp_path, 10).unlink()
+    net_.contacts_path(tmp_path, 10).unlink()
     series_csv, _ = obs.process_run(tmp_path)
-    s = obs.read_table(series_csv)
+    s = read_table(series_csv)
     assert s["z"][0] == 2.0 and math.isnan(s["z"][1])
     assert not math.isnan(s["phi"][1])
+
+
+def test_why_z_is_undefined_is_written(tmp_path):
+    """No silent NaN: contacts_file and retained say why, z_report counts."""
+    write_fake_run(tmp_path, n_steps=3)
+    net_.contacts_path(tmp_path, 10).unlink()
+    # step 20: only the open contact is left -> every particle a rattler
+    net_.contacts_path(tmp_path, 20).write_text(
+        ",".join(net_.CONTACT_COLUMNS) + "\n2,41,0,-1,0,0,0,0\n")
+    series_csv, _ = obs.process_run(tmp_path)
+    s = read_table(series_csv)
+    assert s["contacts_file"].tolist() == [1, 0, 1]
+    assert math.isnan(s["retained"][1]) and s["retained"][2] == 0
+    assert s["rattlers"][2] == 5 and math.isnan(s["z"][2])
+    assert obs.z_report(s) == (
+        "Z undefined at 2 of 3 output steps: 1 with no retained particle"
+        " (all rattlers or unbalanced), 1 without a raw/contacts file")
+    assert obs.z_report({"z": [2.0], "contacts_file": [1],
+                         "retained": [3]}) == ""
+
+
+def test_no_box_leaves_box_columns_nan(tmp_path):
+    """A scene without left/right walls: eps, Phi of the box, piston NaN."""
+    write_fake_run(tmp_path, n_steps=2)
+    write_setup(tmp_path, length=LENGTH, width=WIDTH, thickness=THICKNESS,
+                diameters=(2 * RADIUS,), species=[0] * 5, shear_modulus=MU,
+                box=False)
+    s = read_table(obs.process_run(tmp_path)[0])
+    assert np.isnan(s["eps"]).all() and np.isnan(s["piston_force"]).all()
+    assert np.isnan(s["phi"][0]) and not np.isnan(s["phi"][1])  # driver's
+    assert np.allclose(s["strain_energy"], THICKNESS * 1e-3 * np.arange(2))

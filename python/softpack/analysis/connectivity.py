@@ -1,0 +1,229 @@
+"""The contact network of one output step: the paper's Z (Sec. VI).
+
+Reads ``raw/contacts/step_NNNNNNNN.csv`` (one row per nodal contact:
+``candidate`` particle, its boundary ``node``, ``antagonist`` particle or -1,
+``wall`` index or -1, forces ``fn``, ``ft``, ``fx``, ``fy`` per unit length)
+and applies the rules of :class:`softpack.analysis.setup.Rules`.
+
+force-bearing contact (two-node rule)
+    A nodal contact is active when its normal force ``fn`` exceeds
+    ``contact_force_threshold`` x the largest ``fn`` of the output step.
+    A particle pair is in contact when at least two nodes of each particle
+    carry force (Sec. VI). With ``rule="loaded_nodes"`` the loaded nodes of
+    a particle are its own active candidate nodes plus the two end nodes of
+    the segment that an active candidate of the other particle presses on;
+    so a pair counts when it has >= 2 distinct active candidate nodes, all
+    in one direction or some in each. (A candidate exactly at a segment
+    end, loading one node only, is not distinguished.) With
+    ``rule="candidate_nodes"`` each particle needs >= 2 active candidate
+    nodes of its own against the other. A particle touches a wall when
+    >= 2 of its nodes are active against it; that is one contact.
+unbalanced particles
+    ``|sum of contact forces on the particle| > f_p*``,
+    ``f_p* = unbalanced_threshold x piston force`` (the paper 0.05 % ...
+    0.1 %). Resultants include all contacts, active or not.
+rattlers (floating particles)
+    Particles that are not unbalanced and have no force-bearing contact with
+    a wall or with a particle that is not unbalanced.
+Z
+    Retained particles: neither unbalanced nor rattlers. ``Z = (2 N_pp +
+    N_pw) / N_retained``, N_pp the force-bearing contacts between retained
+    particles, N_pw those between retained particles and walls;
+    ``z_without_walls = 2 N_pp / N_retained`` over the same particles. NaN
+    when no particle is retained (``retained`` = 0 says so).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from softpack.analysis.setup import Rules
+from softpack.analysis.tables import read_table
+
+RULES = ("loaded_nodes", "candidate_nodes")
+CONTACT_COLUMNS = ("candidate", "node", "antagonist", "wall", "fn", "ft",
+                   "fx", "fy")
+
+
+def active_mask(fn, threshold) -> np.ndarray:
+    """Nodal contacts whose normal force is nonzero.
+
+    ``fn > threshold x max(fn)`` and ``fn > 0``.
+    """
+    fn = np.asarray(fn, dtype=float)
+    if fn.size == 0:
+        return np.zeros(0, dtype=bool)
+    return (fn > 0.0) & (fn > threshold * fn.max())
+
+
+def force_bearing_pairs(candidate, node, antagonist, active,
+                        rule) -> np.ndarray:
+    """Particle pairs in contact by the two-node rule (see the module doc).
+
+    Parameters
+    ----------
+    candidate, node, antagonist : array_like of int
+        Per nodal contact: candidate particle, its boundary node, antagonist
+        particle (negative for a wall).
+    active : array_like of bool
+        Which nodal contacts carry a nonzero normal force.
+    rule : {"loaded_nodes", "candidate_nodes"}
+
+    Returns
+    -------
+    ndarray of int, shape (k, 2)
+        Pairs ``(i, j)`` with ``i < j``, sorted.
+    """
+    if rule not in RULES:
+        raise ValueError(f"rule must be one of {RULES}, got {rule!r}")
+    c, nd, a = (np.asarray(v, dtype=np.int64) for v in
+                (candidate, node, antagonist))
+    keep = np.asarray(active, dtype=bool) & (a >= 0) & (a != c)
+    if not keep.any():
+        return np.zeros((0, 2), dtype=np.int64)
+    c, nd, a = np.unique(np.stack([c[keep], nd[keep], a[keep]], axis=1),
+                         axis=0).T
+    low = np.minimum(c, a)
+    pairs, inverse = np.unique(np.stack([low, np.maximum(c, a)], axis=1),
+                               axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    from_low = np.bincount(inverse, weights=(c == low), minlength=len(pairs))
+    from_high = np.bincount(inverse, weights=(c != low),
+                            minlength=len(pairs))
+    if rule == "loaded_nodes":
+        counted = from_low + from_high >= 2
+    else:
+        counted = (from_low >= 2) & (from_high >= 2)
+    return pairs[counted]
+
+
+def force_bearing_walls(candidate, node, wall, active) -> np.ndarray:
+    """``(particle, wall)`` pairs with >= 2 active nodes of the particle.
+
+    Returns
+    -------
+    ndarray of int, shape (k, 2)
+    """
+    c, nd, w = (np.asarray(v, dtype=np.int64) for v in (candidate, node, wall))
+    keep = np.asarray(active, dtype=bool) & (w >= 0)
+    if not keep.any():
+        return np.zeros((0, 2), dtype=np.int64)
+    nodes = np.unique(np.stack([c[keep], w[keep], nd[keep]], axis=1), axis=0)
+    walls, counts = np.unique(nodes[:, :2], axis=0, return_counts=True)
+    return walls[counts >= 2]
+
+
+def resultant_forces(candidate, antagonist, fx, fy, n_particles):
+    """Sum of the contact forces on each particle, shape ``(n, 2)``.
+
+    The candidate receives ``(fx, fy)``; a particle antagonist the opposite.
+    """
+    c = np.asarray(candidate, dtype=np.int64)
+    a = np.asarray(antagonist, dtype=np.int64)
+    f = np.stack([np.asarray(fx, float), np.asarray(fy, float)], axis=1)
+    total = np.zeros((n_particles, 2))
+    np.add.at(total, c, f)
+    np.add.at(total, a[a >= 0], -f[a >= 0])
+    return total
+
+
+@dataclass(frozen=True)
+class ContactNetwork:
+    """Force-bearing contacts of one output step and what Z retains.
+
+    Attributes
+    ----------
+    pairs, walls : ndarray of int, shape (k, 2)
+        Force-bearing particle pairs ``(i, j)`` and ``(particle, wall)``.
+    contacts, wall_contacts : ndarray of int, shape (n,)
+        Force-bearing contacts of each particle (walls included) and those
+        with walls.
+    z_contacts : ndarray of int, shape (n,)
+        Contacts counted in Z (0 for particles not retained).
+    resultant : ndarray, shape (n,)
+        Magnitude of the resultant contact force on each particle.
+    unbalanced, rattler, retained : ndarray of bool, shape (n,)
+    z, z_without_walls : float
+    """
+
+    pairs: np.ndarray
+    walls: np.ndarray
+    contacts: np.ndarray
+    wall_contacts: np.ndarray
+    z_contacts: np.ndarray
+    resultant: np.ndarray
+    unbalanced: np.ndarray
+    rattler: np.ndarray
+    retained: np.ndarray
+    z: float
+    z_without_walls: float
+
+
+def contact_network(contacts: dict, n_particles: int, piston_force: float,
+                    rules: Rules) -> ContactNetwork:
+    """Connectivity, rattlers and unbalanced particles of one output step.
+
+    Parameters
+    ----------
+    contacts : dict of array_like
+        Columns of :data:`CONTACT_COLUMNS` (one entry per nodal contact).
+    n_particles : int
+    piston_force : float
+        Force on the piston in the units of the contact forces.
+    rules : Rules
+        Relative thresholds of :func:`active_mask` and of f_p*, and the
+        two-node rule (see the module doc).
+
+    Returns
+    -------
+    ContactNetwork
+    """
+    active = active_mask(contacts["fn"], rules.force_threshold)
+    pairs = force_bearing_pairs(contacts["candidate"], contacts["node"],
+                                contacts["antagonist"], active, rules.rule)
+    walls = force_bearing_walls(contacts["candidate"], contacts["node"],
+                                contacts["wall"], active)
+    resultant = np.linalg.norm(resultant_forces(
+        contacts["candidate"], contacts["antagonist"], contacts["fx"],
+        contacts["fy"], n_particles), axis=1)
+    unbalanced = resultant > rules.unbalanced_threshold * piston_force
+    pair_ok = ~unbalanced[pairs[:, 0]] & ~unbalanced[pairs[:, 1]]
+    wall_ok = ~unbalanced[walls[:, 0]]
+    pp = _count(pairs.reshape(-1), n_particles)
+    pw = _count(walls[:, 0], n_particles)
+    z_pp = _count(pairs[pair_ok].reshape(-1), n_particles)
+    z_pw = _count(walls[wall_ok, 0], n_particles)
+    rattler = ~unbalanced & (z_pp + z_pw == 0)
+    retained = ~unbalanced & ~rattler
+    n = int(retained.sum())
+    z_contacts = np.where(retained, z_pp + z_pw, 0)
+    return ContactNetwork(
+        pairs=pairs, walls=walls, contacts=pp + pw, wall_contacts=pw,
+        z_contacts=z_contacts, resultant=resultant, unbalanced=unbalanced,
+        rattler=rattler, retained=retained,
+        z=z_contacts.sum() / n if n else float("nan"),
+        z_without_walls=z_pp[retained].sum() / n if n else float("nan"))
+
+
+def _count(indices, n) -> np.ndarray:
+    """How many times each of ``0..n-1`` occurs in ``indices``."""
+    return np.bincount(np.asarray(indices, dtype=np.int64), minlength=n)
+
+
+def contacts_path(run_dir, step) -> Path:
+    """``raw/contacts/step_NNNNNNNN.csv`` of an output step."""
+    return Path(run_dir) / "raw" / "contacts" / f"step_{int(step):08d}.csv"
+
+
+def read_contacts(path) -> dict:
+    """One ``raw/contacts`` file as arrays (ints for the index columns)."""
+    table = read_table(path)
+    missing = set(CONTACT_COLUMNS) - table.keys()
+    if missing:
+        raise ValueError(f"{path}: missing columns {sorted(missing)}")
+    for name in ("candidate", "node", "antagonist", "wall"):
+        table[name] = table[name].astype(np.int64)
+    return table

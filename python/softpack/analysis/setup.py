@@ -1,0 +1,241 @@
+"""What the analysis knows about a run: ``raw/setup.json`` and the rules.
+
+The driver writes ``DIR/raw/setup.json`` before its first step
+(``docs/contract.md`` section 5): the scene, the material, the walls at
+t = 0, the solver parameters and the bodies. :func:`read_setup` turns it into
+a :class:`RunSetup`; the analysis never re-reads ``driver.json``, the mesh
+or the user's TOML file. The observables' own rules (which a user may change
+after a run and recompute) are the ``[observables]`` section of
+``DIR/config.toml``, read by :func:`read_rules` (that section only).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+SCHEMA_VERSION = 2
+#: The walls that make a box, and which coordinate of their point locates it.
+BOX_WALLS = ("left", "right", "bottom", "top")
+#: The loaded box wall (the paper's piston).
+PISTON = "right"
+
+
+class SetupError(ValueError):
+    """``raw/setup.json`` or the ``[observables]`` rules are unusable."""
+
+
+@dataclass(frozen=True)
+class Wall:
+    """A rigid wall at t = 0: a point, its inward unit normal, a velocity."""
+
+    name: str
+    point: np.ndarray
+    normal: np.ndarray
+    velocity: np.ndarray
+
+
+@dataclass(frozen=True)
+class RunSetup:
+    """The run identity and geometry the later stages need (SI units).
+
+    Attributes
+    ----------
+    path : Path
+        The ``setup.json`` read.
+    thickness : float
+        The 2D model's depth H (m).
+    walls : dict of str -> Wall
+        In the driver's order.
+    length, width : float
+        The initial box L0 (right - left) and W0 (top - bottom); NaN when
+        the scene has no box (walls left/right/bottom/top).
+    shear_modulus : float
+        ``material.parameters.shear_modulus``, NaN when the law has none
+        (see ``notes``).
+    law : str
+    friction : float
+    seed : int
+    species : list of dict
+        ``scene.species`` (name, shape, diameter, count).
+    body_species : ndarray of int, shape (n,)
+    reference_area : ndarray, shape (n,)
+        Each body's reference area (m^2).
+    diameters : ndarray, shape (n,)
+        Each body's species diameter (m).
+    notes : tuple of str
+        What could not be read and why.
+    """
+
+    path: Path
+    thickness: float
+    walls: dict
+    length: float
+    width: float
+    shear_modulus: float
+    law: str
+    friction: float
+    seed: int
+    species: list
+    body_species: np.ndarray
+    reference_area: np.ndarray
+    diameters: np.ndarray
+    notes: tuple = field(default=())
+
+    @property
+    def has_box(self) -> bool:
+        """Whether the walls left/right/bottom/top exist."""
+        return all(name in self.walls for name in BOX_WALLS)
+
+    @property
+    def radii(self) -> np.ndarray:
+        """Each body's species radius (m)."""
+        return 0.5 * self.diameters
+
+    @property
+    def count(self) -> int:
+        """Number of bodies."""
+        return len(self.body_species)
+
+
+@dataclass(frozen=True)
+class Rules:
+    """The observables' rules (``[observables]`` of ``config.toml``).
+
+    Attributes
+    ----------
+    force_threshold : float
+        ``contact_force_threshold``: a nodal normal force counts above this
+        fraction of the output step's largest one.
+    unbalanced_threshold : float
+        ``unbalanced_threshold``: f_p* as a fraction of the piston force.
+    rule : str
+        ``two_node_rule``, one of
+        :data:`softpack.analysis.connectivity.RULES`.
+    """
+
+    force_threshold: float
+    unbalanced_threshold: float
+    rule: str
+
+
+def setup_path(run_dir) -> Path:
+    """``DIR/raw/setup.json``."""
+    return Path(run_dir) / "raw" / "setup.json"
+
+
+def read_setup(run_dir) -> RunSetup:
+    """Read ``DIR/raw/setup.json`` (schema version 2).
+
+    Raises
+    ------
+    SetupError
+        When the file is missing, of another schema version, or lacks a key
+        the analysis needs (the message names the file and the key).
+    """
+    path = setup_path(run_dir)
+    try:
+        doc = json.loads(path.read_text())
+    except FileNotFoundError:
+        raise SetupError(f"{path} missing: the driver writes it before its"
+                         " first step") from None
+    version = doc.get("schema_version")
+    if version != SCHEMA_VERSION:
+        raise SetupError(f"{path}: schema_version {version!r}, this analysis"
+                         f" reads {SCHEMA_VERSION}")
+    try:
+        return _from_document(path, doc)
+    except KeyError as err:
+        raise SetupError(f"{path}: missing key {err}") from None
+
+
+def _from_document(path, doc) -> RunSetup:
+    scene, material = doc["scene"], doc["material"]
+    walls = {w["name"]: Wall(w["name"], *(np.asarray(w[k], dtype=float)
+                                          for k in ("point", "normal",
+                                                    "velocity")))
+             for w in doc["walls"]}
+    notes = []
+    if all(name in walls for name in BOX_WALLS):
+        length = float(walls["right"].point[0] - walls["left"].point[0])
+        width = float(walls["top"].point[1] - walls["bottom"].point[1])
+    else:
+        length = width = math.nan
+        notes.append("no box (walls left/right/bottom/top): L0, W0, the"
+                     " piston and the box's Phi are undefined")
+    law_parameters = material["parameters"]
+    if "shear_modulus" in law_parameters:
+        mu = float(law_parameters["shear_modulus"])
+    else:
+        mu = math.nan
+        notes.append(f"material law {material['law']!r} has no"
+                     " shear_modulus: E/(W H L mu) and Psi/mu are undefined")
+    bodies = doc["bodies"]
+    species_of = np.asarray(bodies["species"], dtype=np.int64)
+    species = list(scene["species"])
+    diameters = np.array([float(species[s]["diameter"]) for s in species_of])
+    reference_area = np.asarray(bodies["reference_area"], dtype=float)
+    if not len(species_of) == len(reference_area) == int(bodies["count"]):
+        raise SetupError(f"{path}: bodies.count {bodies['count']}, "
+                         f"{len(species_of)} species, {len(reference_area)}"
+                         " reference areas")
+    return RunSetup(
+        path=path, thickness=float(scene["model"]["thickness"]), walls=walls,
+        length=length, width=width, shear_modulus=mu, law=material["law"],
+        friction=float(doc["parameters"]["contact"]["friction"]),
+        seed=int(scene["packing"]["seed"]), species=species,
+        body_species=species_of, reference_area=reference_area,
+        diameters=diameters, notes=tuple(notes))
+
+
+def read_rules(run_dir) -> Rules:
+    """The ``[observables]`` section of ``DIR/config.toml``.
+
+    ``config.toml`` is the resolved configuration (every key explicit), so
+    a missing key is an error, not a default.
+
+    Raises
+    ------
+    SetupError
+    """
+    path = Path(run_dir) / "config.toml"
+    try:
+        with open(path, "rb") as f:
+            section = tomllib.load(f)["observables"]
+    except FileNotFoundError:
+        raise SetupError(f"{path} missing") from None
+    except KeyError:
+        raise SetupError(f"{path}: no [observables] section") from None
+    except tomllib.TOMLDecodeError as err:
+        raise SetupError(f"{path}: {err}") from None
+    names = {"contact_force_threshold": "force_threshold",
+             "unbalanced_threshold": "unbalanced_threshold",
+             "two_node_rule": "rule"}
+    unknown = set(section) - set(names)
+    missing = set(names) - set(section)
+    if unknown or missing:
+        raise SetupError(f"{path} [observables]: unknown keys"
+                         f" {sorted(unknown)}, missing keys {sorted(missing)}")
+    _check_against_schema(path, section)
+    return Rules(**{names[k]: v for k, v in section.items()})
+
+
+def _check_against_schema(path, section) -> None:
+    """Types, ranges and choices of the rules, from schema/parameters.toml."""
+    from softpack.scene.schema import load_schema
+
+    for key, spec in load_schema()["observables"].parameters.items():
+        value = section[key]
+        if spec.type == "str":
+            ok = isinstance(value, str) and value in (spec.choices or (value,))
+        else:
+            ok = isinstance(value, (int, float)) and not isinstance(
+                value, bool) and spec.in_range(value)
+        if not ok:
+            raise SetupError(f"{path} [observables] {key} = {value!r}:"
+                             f" {spec.allowed()}")

@@ -1,0 +1,76 @@
+"""Hand-made run directories for the analysis tests (no C++ needed).
+
+``setup_document`` follows docs/contract.md section 5 (raw/setup.json).
+"""
+
+import json
+import math
+
+
+def setup_document(length=0.10, width=0.05, thickness=0.015,
+                   diameters=(0.016,), species=None, friction=0.1, seed=3,
+                   shear_modulus=0.15e6, law="neo_hookean", box=True,
+                   piston_speed=-0.1):
+    """A raw/setup.json document: a box of walls left/right/bottom/top.
+
+    ``species`` is the body -> species index list (default: one body of
+    each diameter); reference areas are the disks' pi D^2 / 4.
+    """
+    if species is None:
+        species = list(range(len(diameters)))
+    walls = [("left", [0, 0], [1, 0], [0, 0]),
+             ("right", [length, 0], [-1, 0], [piston_speed, 0]),
+             ("bottom", [0, 0], [0, 1], [0, 0]),
+             ("top", [0, width], [0, -1], [0, 0])]
+    if not box:
+        walls = walls[2:]
+    parameters = {"c1": 1.0} if shear_modulus is None else {
+        "shear_modulus": shear_modulus, "lame_lambda": 2 * shear_modulus}
+    kinds = [{"name": f"s{i}", "shape": "disk", "diameter": d,
+              "count": species.count(i)} for i, d in enumerate(diameters)]
+    return {
+        "schema_version": 2,
+        "units": {"length": "m", "time": "s", "mass": "kg", "force": "N/m",
+                  "energy": "J/m", "stress": "Pa", "note": "2D model"},
+        "scene": {"model": {"thickness": thickness},
+                  "box": {"enabled": box, "length": length, "width": width},
+                  "packing": {"seed": seed, "gap": 1e-4},
+                  "species": kinds, "mesh": {"element_size": 1e-3},
+                  "bodies": {"mesh": "/nowhere/packing.xdmf",
+                             "species": species}},
+        "material": {"law": law, "density": 1180.0, "parameters": parameters},
+        "walls": [{"name": n, "point": p, "normal": q, "velocity": v}
+                  for n, p, q, v in walls],
+        "parameters": {"stop": {}, "contact": {"friction": friction},
+                       "time": {}, "damping": {}, "output": {}},
+        "initial_state": None,
+        "bodies": {"count": len(species), "species": species,
+                   "reference_area": [math.pi * diameters[s]**2 / 4
+                                      for s in species],
+                   "nodes": [], "triangles": []},
+    }
+
+
+def write_setup(run_dir, **kwargs):
+    """Write ``run_dir/raw/setup.json``; returns the document."""
+    doc = setup_document(**kwargs)
+    (run_dir / "raw").mkdir(parents=True, exist_ok=True)
+    (run_dir / "raw" / "setup.json").write_text(json.dumps(doc))
+    return doc
+
+
+def write_rules(run_dir, unbalanced=1e-3, force=1e-4, rule="loaded_nodes",
+                other_sections=True):
+    """A config.toml whose [observables] section holds the rules.
+
+    Other sections hold values the analysis must not read (nonsense on
+    purpose, so that a test fails if it does).
+    """
+    text = ("[observables]\n"
+            f"unbalanced_threshold = {unbalanced!r}\n"
+            f"contact_force_threshold = {force!r}\n"
+            f"two_node_rule = \"{rule}\"\n")
+    if other_sections:
+        text = ("[model]\nthickness = -1.0\n[contact]\nfriction = 99.0\n\n"
+                + text)
+    (run_dir / "config.toml").write_text(text)
