@@ -12,13 +12,10 @@ from __future__ import annotations
 
 import math
 
+from softpack.scene.mesh import MIN_BOUNDARY_ELEMENTS
+from softpack.scene.packing import HEXAGONAL_FRACTION
 from softpack.scene.species import present, total_area
 from softpack.scene.walls import scene_walls, fastest
-
-#: Fewest elements around the smallest particle (as the mesher demands).
-MIN_BOUNDARY_ELEMENTS = 8
-#: Densest packing fraction of equal disks (hexagonal).
-HEXAGONAL_FRACTION = math.pi / (2 * math.sqrt(3))
 #: The Newton tolerance over the contact solver's: at least this.
 NEWTON_OVER_NLGS = 10.0
 

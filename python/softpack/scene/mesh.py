@@ -35,12 +35,15 @@ from pathlib import Path
 
 import numpy as np
 
+from softpack.paths import MESHES
+from softpack.scene.schema import load_schema
 from softpack.scene.packing import (DEFAULT_GAP, PAPER_COUNTS, PAPER_DIAMETERS,
                               PAPER_LENGTH, PAPER_WIDTH, Packing, PackingError,
                               random_packing)
 
-#: The paper's element size (m): kappa = h / (D2 / 2) = 0.071.
-PAPER_ELEMENT_SIZE = 1.065e-3
+#: The paper's element size (m): kappa = h / (D2 / 2) = 0.071 (the
+#: schema's default).
+PAPER_ELEMENT_SIZE = load_schema()["mesh"].parameters["element_size"].default
 #: Fewest elements allowed around a disk's circumference.
 MIN_BOUNDARY_ELEMENTS = 8
 BODIES_COLUMNS = "body,x,y,radius,reference_area"
@@ -120,8 +123,17 @@ def check_disks(centres, radii, element_size) -> tuple[np.ndarray, np.ndarray]:
     return centres, radii
 
 
-def disk_triangulation(radii, element_size) -> dict:
-    """Mesh disks centred at the origin with gmsh, one per distinct radius.
+def shape_file(shape: str = "disk") -> Path:
+    """The gmsh geometry of a particle shape: ``meshes/SHAPE.geo``."""
+    path = MESHES / f"{shape}.geo"
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no geometry for the particle shape"
+                                f" {shape!r} (meshes/README.md)")
+    return path
+
+
+def disk_triangulation(radii, element_size, shape="disk") -> dict:
+    """Mesh particles centred at the origin, one per distinct radius.
 
     Parameters
     ----------
@@ -129,6 +141,9 @@ def disk_triangulation(radii, element_size) -> dict:
         Radii (m); each distinct value is meshed once.
     element_size : float
         Target edge length h (m), the same everywhere.
+    shape : str
+        The geometry ``meshes/SHAPE.geo`` (:func:`shape_file`), opened with
+        its ONELAB parameter ``Parameters/radius`` set to each radius.
 
     Returns
     -------
@@ -142,29 +157,40 @@ def disk_triangulation(radii, element_size) -> dict:
     """
     import gmsh
 
+    geometry = shape_file(shape)
     gmsh.initialize(readConfigFiles=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
-        for name, value in (("Mesh.MeshSizeMin", element_size),
-                            ("Mesh.MeshSizeMax", element_size),
-                            ("Mesh.MeshSizeFromPoints", 0),
-                            ("Mesh.MeshSizeFromCurvature", 0),
-                            ("Mesh.MeshSizeExtendFromBoundary", 0),
-                            ("Mesh.Algorithm", 6),  # Frontal-Delaunay
-                            ("Mesh.ElementOrder", 1)):
-            gmsh.option.setNumber(name, value)
-        return {float(r): _gmsh_disk(gmsh, float(r))
+        return {float(r): _gmsh_shape(gmsh, geometry, float(r),
+                                      float(element_size))
                 for r in sorted(set(np.asarray(radii, dtype=float).tolist()))}
     finally:
         gmsh.finalize()
 
 
-def _gmsh_disk(gmsh, radius) -> tuple[np.ndarray, np.ndarray]:
-    """Mesh one disk in a fresh gmsh model; return points and triangles."""
-    gmsh.model.add(f"disk_{radius!r}")
+def _mesh_options(gmsh, element_size) -> None:
+    """One absolute element size, Frontal-Delaunay, linear triangles."""
+    for name, value in (("Mesh.MeshSizeMin", element_size),
+                        ("Mesh.MeshSizeMax", element_size),
+                        ("Mesh.MeshSizeFromPoints", 0),
+                        ("Mesh.MeshSizeFromCurvature", 0),
+                        ("Mesh.MeshSizeExtendFromBoundary", 0),
+                        ("Mesh.Algorithm", 6),  # Frontal-Delaunay
+                        ("Mesh.ElementOrder", 1)):
+        gmsh.option.setNumber(name, value)
+
+
+def _gmsh_shape(gmsh, geometry, radius, element_size):
+    """Mesh one shape of the given radius; return points and triangles."""
+    gmsh.onelab.setNumber("Parameters/radius", [radius])
+    gmsh.open(str(geometry))  # a new model, the geometry file's
     try:
-        surface = gmsh.model.occ.addDisk(0.0, 0.0, 0.0, radius, radius)
-        gmsh.model.occ.synchronize()
+        _mesh_options(gmsh, element_size)
+        surfaces = gmsh.model.getEntities(2)
+        if len(surfaces) != 1:
+            raise RuntimeError(f"{geometry}: {len(surfaces)} surfaces, the"
+                               " mesher expects one")
+        surface = surfaces[0][1]
         gmsh.model.mesh.generate(2)
         tags, coords, _ = gmsh.model.mesh.getNodes(
             2, surface, includeBoundary=True, returnParametricCoord=False)
@@ -290,9 +316,9 @@ def _write_outputs(xdmf, mesh, tags, bodies_csv, rows) -> None:
 
 def read_bodies(path) -> dict:
     """Read ``NAME.bodies.csv``: a dict of arrays keyed by column name."""
-    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    columns = BODIES_COLUMNS.split(",")
-    table = {name: data[:, j] for j, name in enumerate(columns)}
+    from softpack.analysis.tables import read_table
+
+    table = read_table(path)
     table["body"] = table["body"].astype(int)
     return table
 

@@ -28,13 +28,30 @@ from pathlib import Path
 
 import numpy as np
 
-#: The paper's set-up (metres).
-PAPER_COUNTS = (70, 30)
-PAPER_DIAMETERS = (20e-3, 30e-3)
-PAPER_LENGTH = 286e-3
-PAPER_WIDTH = 202e-3
+from softpack.scene.schema import load_schema
+from softpack.scene.species import particle_table
+
+
+
+def _schema_defaults() -> dict:
+    """The paper's set-up as the schema's defaults (metres)."""
+    schema = load_schema()
+    species = schema["species"].default_list
+    box, packing = schema["box"].parameters, schema["packing"].parameters
+    return {"counts": tuple(int(s["count"]) for s in species),
+            "diameters": tuple(float(s["diameter"]) for s in species),
+            "length": box["length"].default, "width": box["width"].default,
+            "gap": packing["gap"].default}
+
+
+_DEFAULTS = _schema_defaults()
+#: The paper's set-up (schema/parameters.toml defaults, metres).
+PAPER_COUNTS = _DEFAULTS["counts"]
+PAPER_DIAMETERS = _DEFAULTS["diameters"]
+PAPER_LENGTH = _DEFAULTS["length"]
+PAPER_WIDTH = _DEFAULTS["width"]
 #: Default clearance between disks and between disks and walls (metres).
-DEFAULT_GAP = 0.1e-3
+DEFAULT_GAP = _DEFAULTS["gap"]
 
 CSV_COLUMNS = "particle,x,y,radius,area"
 #: Relaxation sweeps over which the largest overlap must shrink by 10 %.
@@ -100,7 +117,10 @@ class Packing:
 
     @property
     def packing_fraction(self) -> float:
-        """Initial packing fraction ``sum(pi r^2) / (L W)``."""
+        """Initial packing fraction ``sum(pi r^2) / (L W)`` (NaN without
+        a box, ``length = width = 0``)."""
+        if not self.length * self.width > 0:
+            return float("nan")
         return float(self.areas.sum() / (self.length * self.width))
 
     def min_particle_gap(self) -> float:
@@ -253,6 +273,32 @@ def random_packing(seed: int, *, counts=PAPER_COUNTS,
     centres[order] = placed
     return Packing(centres=centres, radii=radii, length=length, width=width,
                    seed=seed)
+
+
+def scene_packing(config) -> Packing:
+    """The packing of a configuration's species (body order: species by
+    species, in the file's order).
+
+    With ``[box] enabled`` the random packing of :func:`random_packing`
+    (seed and gap from ``[packing]``); without a box the scene holds one
+    particle, at the origin (the configuration refuses more), and the
+    packing's box is ``length = width = 0``.
+
+    Raises
+    ------
+    PackingError
+        When the particles cannot be placed.
+    """
+    diameters, _ = particle_table(config["species"])
+    box = config["box"]
+    if not box["enabled"]:
+        return Packing(centres=np.zeros((1, 2)), radii=diameters[:1] / 2,
+                       length=0.0, width=0.0)
+    species = config["species"]
+    return random_packing(
+        config["packing"]["seed"], counts=[s["count"] for s in species],
+        diameters=[s["diameter"] for s in species], length=box["length"],
+        width=box["width"], gap=config["packing"]["gap"])
 
 
 def _check_arguments(seed, counts, diameters, length, width, gap, trials,

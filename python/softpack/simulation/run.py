@@ -1,19 +1,21 @@
 """``./softpack run [CONFIG] [--out DIR]``: one compaction, start to finish.
 
-1. Validate CONFIG (default ``examples/paper.toml``) with the command-line
-   overrides ``--seed`` and ``--friction``; on error print the message and
-   exit with status 2 before writing anything.
+1. Validate CONFIG (default ``examples/paper.toml``,
+   :mod:`softpack.scene.config`) with the command-line overrides
+   (``--seed`` = ``packing.seed``, ``--friction`` = ``contact.friction``,
+   ``--set SECTION.KEY=VALUE``); on error print the message and exit with
+   status 2 before writing anything.
 2. Write into DIR (default ``runs/<config stem>-seed<seed>``, with
    ``-mu<friction>`` appended when ``--friction`` is given):
-   ``config.toml`` (the resolved configuration, every key),
-   ``mesh/packing.{xdmf,h5,bodies.csv,packing.csv}`` (random packing and
-   its mesh), ``driver.json`` (``docs/driver_io.md``).
-3. Run ``$SOFTPACK_BIN/softpack-simulate DIR/driver.json`` (``build/bin``
-   when ``SOFTPACK_BIN`` is unset); its output goes to ``DIR/run.log``,
-   and the terminal shows progress (percent, strain, Phi, ETA) read from
-   ``raw/steps.csv`` as the driver writes it.
-4. Post-process (:mod:`softpack.analysis.observables`) into ``particles.csv`` and
-   then ``series.csv``, each written to a temporary file and renamed.
+   ``config.toml`` (the resolved configuration, every key), the scene
+   (:func:`softpack.scene.build.build_scene`:
+   ``mesh/packing.{xdmf,h5,bodies.csv,packing.csv}``) and ``driver.json``
+   (:mod:`softpack.simulation.driver_input`, docs/contract.md section 4).
+3. Run the driver (:mod:`softpack.simulation.driver`) in DIR; its output
+   goes to ``DIR/run.log``, and the terminal shows progress (percent, Phi,
+   ETA) read from ``raw/steps.csv`` as the driver writes it.
+4. Post-process (:func:`softpack.analysis.observables.process_run`) into
+   ``particles.csv`` and then ``series.csv``.
 
 A directory with ``series.csv`` holds a complete run: it is not overwritten
 without ``--force``. A crashed or interrupted run leaves no ``series.csv``
@@ -29,21 +31,20 @@ configuration or command line, 130 interrupted.
 from __future__ import annotations
 
 import argparse
-import tomllib
 import json
-import math
-import os
 import shutil
-import subprocess
 import sys
 import time
+import tomllib
 from pathlib import Path
 
-from softpack.scene.config import (ConfigError, initial_packing_fraction,
-                             load_config, to_driver_json, to_toml)
-
 from softpack.paths import ROOT
-DRIVER = "softpack-simulate"
+from softpack.scene.config import (ConfigError, initial_packing_fraction,
+                                   load_config, to_toml)
+from softpack.simulation import driver
+from softpack.simulation.driver import DRIVER, DriverError
+from softpack.simulation.driver_input import write_driver_json
+
 #: What a run writes into its directory (removed by --force, nothing else).
 RUN_OUTPUTS = ("series.csv", "particles.csv", "raw", "fields.xdmf",
                "fields.h5", "mesh", "driver.json", "run.log", "config.toml")
@@ -67,7 +68,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="run directory (default: runs/<config stem>-seed"
                    "<seed>[-mu<friction>])")
     p.add_argument("--seed", type=int,
-                   help="override [geometry] seed (random packing)")
+                   help="override [packing] seed (random packing)")
     p.add_argument("--friction", type=float,
                    help="override [contact] friction (mu_f)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
@@ -93,7 +94,7 @@ def main(argv=None) -> int:
     path = args.config or _default_config()
     overrides = {}
     if args.seed is not None:
-        overrides["geometry.seed"] = args.seed
+        overrides["packing.seed"] = args.seed
     if args.friction is not None:
         overrides["contact.friction"] = args.friction
     try:
@@ -141,20 +142,18 @@ def _default_config() -> Path:
 
 def default_out_dir(config, with_friction=False) -> Path:
     """``runs/<stem>-seed<seed>``, plus ``-mu<friction>`` if asked."""
-    name = f"{config.stem}-seed{config['geometry']['seed']}"
+    name = f"{config.stem}-seed{config['packing']['seed']}"
     if with_friction:
         name += f"-mu{config['contact']['friction']:g}"
     return Path("runs") / name
 
 
 def driver_executable() -> Path:
-    """``$SOFTPACK_BIN/softpack-simulate``, else ``build/bin``'s."""
-    bin_dir = os.environ.get("SOFTPACK_BIN") or ROOT / "build" / "bin"
-    exe = Path(bin_dir) / DRIVER
-    if not (exe.is_file() and os.access(exe, os.X_OK)):
-        raise RunError(f"{exe} not found: build it with ./softpack build"
-                       " (or set SOFTPACK_BIN)")
-    return exe
+    """The driver's executable (raises RunError when it is not built)."""
+    try:
+        return driver.executable()
+    except DriverError as err:
+        raise RunError(str(err)) from None
 
 
 def prepare_directory(out: Path, force: bool) -> None:
@@ -183,10 +182,10 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
     ------
     RunError
     """
-    from softpack.scene.mesh import mesh_disks
-    from softpack.scene.packing import PackingError, random_packing
+    from softpack.scene.build import build_scene
+    from softpack.scene.packing import PackingError
 
-    exe = driver_executable()
+    driver_executable()
     if initial_state is not None:
         initial_state = Path(initial_state).resolve()
         if not initial_state.is_file():
@@ -200,27 +199,20 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
     with open(out / "run.log", "a", buffering=1) as log:
         say = _reporter(log)
         say(f"{config.source} -> {out}")
-        g = config["geometry"]
         try:
-            packing = random_packing(
-                g["seed"], counts=g["counts"], diameters=g["diameters"],
-                length=g["length"], width=g["width"], gap=g["gap"])
+            scene = build_scene(config, out / "mesh" / "packing")
         except PackingError as err:
             raise RunError(f"packing: {err}") from None
-        info = mesh_disks(packing.centres, packing.radii,
-                          config["mesh"]["element_size"],
-                          out / "mesh" / "packing")
-        packing.to_csv(out / "mesh" / "packing.packing.csv")
-        say(f"packing: {packing.n_particles} disks, seed {g['seed']},"
-            f" Phi0 = {packing.packing_fraction:.4f}; mesh: "
-            f"{info.n_triangles} triangles")
-        to_driver_json(config, info.xdmf, out,
-                       initial_state=initial_state)
+        phi0 = scene.packing.packing_fraction
+        say(f"packing: {scene.packing.n_particles} particles, seed"
+            f" {config['packing']['seed']}, Phi0 = {phi0:.4f}; mesh:"
+            f" {scene.mesh.n_triangles} triangles")
+        write_driver_json(config, scene.record(), out, initial_state)
         if initial_state is not None:
             say(f"starting from {initial_state}")
-        say(f"{exe} {out / 'driver.json'}")
+        say(f"{DRIVER} {out / 'driver.json'}")
         started = time.time()
-        status = _simulate(exe, out, config, log)
+        status = _simulate(out, config, log)
         if status != 0:
             say(f"{DRIVER} failed with exit status {status}")
             raise RunError(f"{DRIVER} failed (exit status {status});"
@@ -239,24 +231,17 @@ def _reporter(log):
     return say
 
 
-def _simulate(exe, out, config, log) -> int:
+def _simulate(out, config, log) -> int:
     """Run the driver, its output to the log; show progress; exit status."""
     progress = Progress(config, out / "raw" / "steps.csv")
     log.flush()
-    proc = subprocess.Popen([str(exe), str(out / "driver.json")], cwd=out,
-                            stdin=subprocess.DEVNULL, stdout=log,
-                            stderr=subprocess.STDOUT)
+    proc = driver.start(out / "driver.json", log)
     try:
         while proc.poll() is None:
             time.sleep(POLL_SECONDS)
             progress.update(log)
     except BaseException:
-        proc.terminate()
-        try:
-            proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
+        driver.stop(proc)
         raise
     progress.update(log, final=True)
     return proc.returncode
@@ -265,41 +250,43 @@ def _simulate(exe, out, config, log) -> int:
 class Progress:
     """Progress of a running driver from the rows of ``raw/steps.csv``.
 
-    The fraction done is the larger of ``(Phi - Phi0) / (target - Phi0)``
-    and ``time / max_time`` (the two stopping criteria); the ETA assumes the
-    rest goes at the same pace.
+    The fraction done is the largest of ``(Phi - Phi0) / (target - Phi0)``,
+    ``time / max_time`` and ``steps / stop.steps`` (the stopping criteria);
+    the ETA assumes the rest goes at the same pace.
     """
 
     def __init__(self, config, steps_csv: Path):
         self.steps_csv = steps_csv
         self.phi0 = initial_packing_fraction(config)
-        self.target = config["loading"]["target_packing_fraction"]
-        self.max_time = config["loading"]["max_time"]
-        self.length = config["geometry"]["length"]
-        self.piston_speed = config["loading"]["piston_speed"]
+        self.target = config["stop"]["packing_fraction"]
+        self.max_time = config["stop"]["max_time"]
+        self.max_steps = config["stop"]["steps"]
+        self.first_step = None
         self.started = time.time()
         self.tty = sys.stdout.isatty()
         self.logged = -1  # last 5 % mark written to the log / non-tty
 
-    def fraction(self, phi, t) -> float:
+    def fraction(self, row) -> float:
         """Fraction of the run done, in [0, 1]."""
-        done = max((phi - self.phi0) / (self.target - self.phi0)
-                   if phi == phi else 0.0, t / self.max_time)
+        phi, t = row.get("phi", float("nan")), row["time"]
+        done = t / self.max_time
+        if self.target > 0 and phi == phi:
+            done = max(done, (phi - self.phi0) / (self.target - self.phi0))
+        if self.max_steps > 0:
+            if self.first_step is None:
+                self.first_step = row["step"]
+            done = max(done, (row["step"] - self.first_step) / self.max_steps)
         return min(max(done, 0.0), 1.0)
 
     def line(self, row) -> str:
         """One progress line from the last row of ``steps.csv``."""
         t, phi = row["time"], row.get("phi", float("nan"))
-        length = row.get("piston_x", float("nan")) - row.get("left_x", 0.0)
-        if not length > 0:  # no wall columns: assume the nominal speed
-            length = self.length - self.piston_speed * t
-        eps = -math.log(length / self.length) if length > 0 else math.inf
-        done = self.fraction(phi, t)
+        done = self.fraction(row)
         elapsed = time.time() - self.started
         eta = elapsed * (1 - done) / done if done > 0 else float("nan")
         return (f"{100 * done:5.1f} %  step {int(row['step'])}  t = {t:.4g}"
-                f" s  eps = {eps:.4f}  Phi = {phi:.4f}  elapsed"
-                f" {_duration(elapsed)}  ETA {_duration(eta)}")
+                f" s  Phi = {phi:.4f}  elapsed {_duration(elapsed)}  ETA"
+                f" {_duration(eta)}")
 
     def update(self, log, final=False) -> None:
         """Show the latest row: a live line on a terminal, 5 % marks else."""
@@ -307,8 +294,7 @@ class Progress:
         if row is None:
             return
         text = self.line(row)
-        mark = int(20 * self.fraction(row.get("phi", float("nan")),
-                                      row["time"]))
+        mark = int(20 * self.fraction(row))
         if self.tty:
             print(f"\r{text}", end="\n" if final else "", flush=True)
         if mark > self.logged or final:
@@ -357,7 +343,8 @@ def _tail(path: Path, lines=20) -> str:
 
 def _postprocess(out: Path, say) -> int:
     """Check the driver finished, write the observables, print a summary."""
-    from softpack.analysis.observables import process_run, read_table
+    from softpack.analysis.observables import process_run
+    from softpack.analysis.tables import read_table
 
     done = out / "raw" / "done.json"
     if not done.is_file():

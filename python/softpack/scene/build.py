@@ -1,0 +1,93 @@
+"""The scene of a configuration: walls, particles, packing and mesh.
+
+:func:`build_scene` turns a validated :class:`~softpack.scene.config.Config`
+into a :class:`Scene`: the packing of its species (body order: species by
+species, in the file's order), the mesh of every body (one dolfinx mesh,
+cells tagged by body), each body's species index, and the walls in
+driver.json order. :meth:`Scene.record` is the ``scene`` object of
+driver.json (docs/contract.md section 4).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from softpack.scene.mesh import MeshInfo, mesh_disks
+from softpack.scene.packing import Packing, scene_packing
+from softpack.scene.schema import load_schema
+from softpack.scene.species import particle_table
+from softpack.scene.walls import scene_walls
+
+
+@dataclass(frozen=True)
+class Scene:
+    """What the scene stage built (SI units).
+
+    Attributes
+    ----------
+    config : Config
+        The configuration it was built from.
+    packing : Packing
+        Particle centres and radii in body order.
+    mesh : MeshInfo
+        The mesh files and sizes per body.
+    species : ndarray of int
+        Each body's species index (position in ``config["species"]``).
+    walls : list of Wall
+        In driver.json order.
+    """
+
+    config: dict
+    packing: Packing
+    mesh: MeshInfo
+    species: np.ndarray
+    walls: list
+
+    def record(self) -> dict:
+        """driver.json's ``scene``: the scene-stage sections and bodies."""
+        out = {}
+        for name, section in load_schema().items():
+            if section.stage == "scene":
+                out[name] = _plain(self.config[name])
+        out["bodies"] = {"mesh": str(Path(self.mesh.xdmf).resolve()),
+                         "species": [int(s) for s in self.species]}
+        return out
+
+
+def _plain(value):
+    """A copy of a config value with plain lists and dicts (for JSON)."""
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    return value
+
+
+def build_scene(config, mesh_stem) -> Scene:
+    """Pack and mesh a configuration's particles.
+
+    Parameters
+    ----------
+    config : Config
+        A validated configuration.
+    mesh_stem : str or Path
+        Writes ``STEM.xdmf``, ``STEM.h5``, ``STEM.bodies.csv`` and, with a
+        box, ``STEM.packing.csv``.
+
+    Raises
+    ------
+    softpack.scene.packing.PackingError
+        When the particles cannot be placed.
+    """
+    packing = scene_packing(config)
+    _, species = particle_table(config["species"])
+    info = mesh_disks(packing.centres, packing.radii,
+                      config["mesh"]["element_size"], mesh_stem)
+    if config["box"]["enabled"]:
+        stem = info.xdmf.with_suffix("")
+        packing.to_csv(stem.with_name(stem.name + ".packing.csv"))
+    return Scene(config=config, packing=packing, mesh=info, species=species,
+                 walls=scene_walls(config))
