@@ -1,15 +1,29 @@
-"""Configuration: defaults, examples, and the promised error messages."""
+"""Configuration: the schema's defaults, the examples, and the promised
+error messages (file, [section] key = value, what is allowed)."""
 
-import json
+import math
+import subprocess
+import sys
+import tomllib
 from pathlib import Path
 
 import pytest
 
-from softpack.scene.config import (SCHEMA, ConfigError, defaults,
-                             initial_packing_fraction, load_config,
-                             to_driver_json, to_toml, validate)
+from material_registry import use_registry
+from softpack import paths
+from softpack.scene import materials
+from softpack.scene.config import (ConfigError, initial_packing_fraction,
+                                   load_config, to_toml, validate)
+from softpack.scene.schema import load_schema, markdown, parse_range
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+#: The piston of the paper's case, as examples/paper.toml sets it.
+PISTON = {"walls": {"right": {"velocity": [-0.1, 0.0]}}}
+
+
+@pytest.fixture(autouse=True)
+def registry(tmp_path_factory, monkeypatch):
+    return use_registry(tmp_path_factory, monkeypatch)
 
 
 def write(tmp_path, text, name="x.toml"):
@@ -18,7 +32,11 @@ def write(tmp_path, text, name="x.toml"):
     return path
 
 
-def error_of(tmp_path, text):
+def error_of(tmp_path, text, piston=True):
+    """The message of a file refused; the paper's piston added unless
+    the text sets walls itself."""
+    if piston and "[walls" not in text:
+        text = "[walls.right]\nvelocity = [-0.1, 0.0]\n" + text
     path = write(tmp_path, text)
     with pytest.raises(ConfigError) as info:
         load_config(path)
@@ -27,64 +45,83 @@ def error_of(tmp_path, text):
     return message
 
 
-def test_defaults_are_the_papers_values():
-    """Every physical parameter is the paper's; the numerical settings are
-    softpack's (examples/paper_9us.toml restores the paper's)."""
-    c = defaults()
-    g = c["geometry"]
-    assert (g["length"], g["width"], g["thickness"]) == (0.286, 0.202, 0.015)
-    assert g["counts"] == [70, 30] and g["diameters"] == [0.020, 0.030]
-    assert c["mesh"]["element_size"] == 1.065e-3
-    assert c["material"]["shear_modulus"] == 0.15e6
-    assert c["material"]["lmbda"] == 0.3e6  # derived: 2 mu
-    assert c["material"]["density"] == 1180.0
-    assert c["loading"]["piston_speed"] == 0.1
-    assert c["loading"]["target_packing_fraction"] == 0.88
-    assert c["loading"]["max_time"] == pytest.approx(0.286 / 0.2)
-    assert c["contact"]["friction"] == 0.3
-    assert (c["damping"]["alpha"], c["damping"]["beta"]) == (30.0, 1e-5)
-    assert c["time"]["time_step"] == 7.2e-5 and c["time"]["theta"] == 0.55
-    paper = load_config(EXAMPLES / "paper_9us.toml")
-    assert paper["time"]["time_step"] == 9e-6 and paper["time"]["theta"] == 0.5
-    assert (paper["time"]["newton_tolerance"],
-            paper["contact"]["nlgs_tolerance"]) == (1e-6, 1e-8)
-    # both write an output every 0.9 ms (within a step)
-    for conf in (c, paper):
+def test_paper_example_is_the_schema_defaults_plus_the_piston():
+    """Every value of examples/paper.toml is the schema's default; the
+    only other key is the piston's velocity."""
+    paper = load_config(EXAMPLES / "paper.toml")
+    assert dict(paper) == dict(validate(PISTON, "piston"))
+    schema = load_schema()
+    for name, section in schema.items():
+        if section.is_list or section.is_map:
+            continue
+        for key, spec in section.parameters.items():
+            if spec.derived is None:
+                assert paper[name][key] == spec.default, (name, key)
+            else:  # the rule's value in the paper's case
+                assert paper[name][key] == pytest.approx(spec.default)
+    assert paper["species"] == [dict(s) for s in
+                                schema["species"].default_list]
+    text = (EXAMPLES / "paper.toml").read_text()
+    for name, section in schema.items():
+        if not (section.is_list or section.is_map):
+            assert f"\n[{name}]" in text, name
+            for key in section.parameters:
+                assert f"\n{key} =" in text or f"\n# {key} =" in text, key
+
+
+def test_derived_values_and_material_defaults():
+    paper = load_config(EXAMPLES / "paper.toml")
+    # max_time: the piston would have crossed half the box
+    assert paper["stop"]["max_time"] == pytest.approx(0.286 / (2 * 0.1))
+    assert paper["contact"]["delassus_drop_tolerance"] == pytest.approx(
+        1e-3 * paper["contact"]["nlgs_tolerance"])
+    law = paper["material"]["parameters"]
+    assert law["lame_lambda"] == pytest.approx(2 * law["shear_modulus"])
+    c = validate({**PISTON, "material": {"parameters":
+                                         {"shear_modulus": 1e5}}}, "a.toml")
+    assert c["material"]["parameters"]["lame_lambda"] == 2e5
+    assert initial_packing_fraction(paper) == pytest.approx(0.7477, abs=1e-4)
+
+
+def test_the_paper_settings_file_changes_only_the_numerics():
+    paper, slow = (load_config(EXAMPLES / f"{n}.toml")
+                   for n in ("paper", "paper_9us"))
+    assert slow["time"]["time_step"] == 9e-6 and slow["time"]["theta"] == 0.5
+    assert (slow["time"]["newton_tolerance"],
+            slow["contact"]["nlgs_tolerance"]) == (1e-6, 1e-8)
+    for name in ("model", "box", "packing", "species", "mesh", "material",
+                 "walls", "damping", "observables"):
+        assert slow[name] == paper[name], name
+    for conf in (paper, slow):  # both write an output every 0.9 ms
         interval = conf["output"]["every_steps"] * conf["time"]["time_step"]
         assert interval == pytest.approx(9e-4, rel=0.05)
-    assert c["observables"]["unbalanced_threshold"] == 1e-3
-    assert initial_packing_fraction(c) == pytest.approx(0.7477, abs=1e-4)
-
-
-def test_paper_example_sets_every_default():
-    paper = load_config(EXAMPLES / "paper.toml")
-    assert dict(paper) == dict(defaults())
-    text = (EXAMPLES / "paper.toml").read_text()
-    for section, keys in SCHEMA.items():
-        assert f"[{section}]" in text
-        for key in keys:
-            assert f"\n{key} =" in text or f"\n# {key} =" in text, key
 
 
 def test_small_example_is_ci_sized():
     small = load_config(EXAMPLES / "small.toml")
-    assert sum(small["geometry"]["counts"]) <= 16
+    assert sum(s["count"] for s in small["species"]) <= 16
     assert small["mesh"]["element_size"] >= 2.5e-3
-    # steps until a rigid compression reaches the target packing fraction
     phi0 = initial_packing_fraction(small)
-    g, loading = small["geometry"], small["loading"]
-    travel = g["length"] * (1 - phi0 / loading["target_packing_fraction"])
-    steps = travel / loading["piston_speed"] / small["time"]["time_step"]
+    speed = math.hypot(*small["walls"]["right"]["velocity"])
+    travel = small["box"]["length"] * (
+        1 - phi0 / small["stop"]["packing_fraction"])
+    steps = travel / speed / small["time"]["time_step"]
     assert 100 < steps < 1000
-    assert loading["max_time"] * loading["piston_speed"] > travel
+    assert small["stop"]["max_time"] * speed > travel
 
 
 @pytest.mark.parametrize("text, expected", [
     ("[time]\nstepp = 1\n",
      "unknown key [time] stepp (allowed: time_step, theta, mass,"),
     ("[timing]\ntime_step = 1e-5\n", "unknown section [timing] (allowed"
-     " sections: geometry, mesh, material, loading, contact, time,"),
-    ("friction = 0.3\n", "key friction outside a section"),
+     " sections: model, box, packing, species, mesh, material, walls,"),
+    ("friction = 0.3\n[walls.right]\nvelocity = [-0.1, 0.0]\n",
+     "key friction outside a section"),
+    ("[material.parameters]\nmu = 1e5\n", "unknown key [material.parameters]"
+     " mu (allowed: shear_modulus, lame_lambda)"),
+    ("[[species]]\ndiameter = 0.02\nsize = 3\n",
+     "unknown key [species.0] size (allowed: name, shape, diameter, count)"),
+    ("[walls.right]\nspeed = 1\n", "unknown key [walls.right] speed"),
 ])
 def test_unknown_names(tmp_path, text, expected):
     assert expected in error_of(tmp_path, text)
@@ -100,10 +137,15 @@ def test_unknown_names(tmp_path, text, expected):
      "[contact] friction = true: must be a number >= 0"),
     ('[time]\nmass = "diagonal"\n',
      '[time] mass = "diagonal": must be one of "consistent", "lumped"'),
-    ("[geometry]\ncounts = [70.0, 30]\n", "[geometry] counts = [70.0, 30]:"
-     " must be a non-empty list of integers >= 0"),
-    ("[geometry]\ncounts = 100\n", "must be a non-empty list of integers"),
-    ("[geometry]\nlength = nan\n", "must be a number > 0 m"),
+    ("[[species]]\ncount = 7.0\n",
+     "[species.0] count = 7.0: must be an integer >= 0"),
+    ("[box]\nlength = nan\n", "must be a number > 0 m"),
+    ("[walls.right]\nvelocity = 0.1\n",
+     "[walls.right] velocity = 0.1: must be a pair of numbers [x, y] m/s"),
+    ('[material]\nlaw = "rubber"\n', '[material] law = "rubber": must be'
+     ' one of "neo_hookean", "saint_venant_kirchhoff"'),
+    ('[[species]]\nshape = "square"\n',
+     '[species.0] shape = "square": must be one of "disk"'),
 ])
 def test_wrong_types(tmp_path, text, expected):
     assert expected in error_of(tmp_path, text)
@@ -112,12 +154,12 @@ def test_wrong_types(tmp_path, text, expected):
 @pytest.mark.parametrize("text, expected", [
     ("[contact]\nfriction = -1\n", "[contact] friction = -1: must be >= 0"),
     ("[time]\ntheta = 0.4\n", "[time] theta = 0.4: must be in [0.5, 1]"),
-    ("[loading]\ntarget_packing_fraction = 1.0\n",
-     "[loading] target_packing_fraction = 1.0: must be in (0, 1)"),
-    ("[material]\nshear_modulus = 0\n",
-     "[material] shear_modulus = 0: must be > 0 Pa"),
-    ("[geometry]\ndiameters = [0.02, -0.03]\n",
-     "[geometry] diameters = [0.02, -0.03]: must be a list of numbers > 0 m"),
+    ("[stop]\npacking_fraction = 1.0\n",
+     "[stop] packing_fraction = 1.0: must be in [0, 1)"),
+    ("[material.parameters]\nshear_modulus = 0\n",
+     "[material.parameters] shear_modulus = 0: must be > 0 Pa"),
+    ("[[species]]\ndiameter = -0.03\n",
+     "[species.0] diameter = -0.03: must be > 0 m"),
     ("[contact]\nnlgs_relaxation = 2.0\n",
      "[contact] nlgs_relaxation = 2.0: must be in (0, 2)"),
 ])
@@ -126,19 +168,69 @@ def test_out_of_range(tmp_path, text, expected):
 
 
 @pytest.mark.parametrize("text, expected", [
-    ("[geometry]\ncounts = [70, 30, 5]\n", "[geometry] counts and diameters"
-     " must have the same length (got 3 and 2)"),
     ("[mesh]\nelement_size = 0.01\n", "[mesh] element_size = 0.01: must be"
-     " <= 0.007854 m (at least 8 elements around the smallest disk"),
-    ("[loading]\ntarget_packing_fraction = 0.7\n", "the disks fill 0.748 of"
-     " the box: must be < [loading] target_packing_fraction = 0.7"),
-    ("[geometry]\nwidth = 0.03\n", "[geometry] diameters = [0.02, 0.03]:"
+     " <= 0.007854 m (at least 8 elements around the smallest particle,"
+     " species small"),
+    ("[stop]\npacking_fraction = 0.7\n", "the particles fill 0.748 of"
+     " the box: must be < [stop] packing_fraction = 0.7"),
+    ("[box]\nwidth = 0.03\n", "[[species]] diameter = 0.03 (species large):"
      " must be < 0.0298 m"),
     ("[time]\ntime_step = 0.005\n", "[time] time_step = 0.005: must be <="
-     " 0.002 s ([contact] alert_distance / [loading] piston_speed"),
+     " 0.002 s ([contact] alert_distance / the speed of [walls.right]"),
+    ("[contact]\nnlgs_tolerance = 1e-4\n", "[contact] nlgs_tolerance ="
+     " 0.0001: must be <= 1e-05 (a tenth of [time] newton_tolerance"),
+    ("[walls.right]\nvelocity = [-0.1, 0.0]\npoint = [0.2, 0.0]\n",
+     "[walls.right] point: the box's walls take their point and normal"
+     " from [box]; set only velocity"),
+    ("[walls.right]\nvelocity = [-0.1, 0.0]\n[walls.lid]\nnormal = [0, -1]\n",
+     "[walls.lid] point missing: a wall not of the box needs point and"
+     " normal"),
+    ("[box]\nenabled = false\n[[species]]\ncount = 1\n[stop]\nmax_time = 1.0\n"
+     "[walls.top]\npoint = [0, 0.1]\nnormal = [0, -1]\n",
+     "[stop] packing_fraction = 0.88: must be 0 with [box] enabled = false"),
+    ("[[species]]\ncount = 0\n", "there must be at least one particle"),
 ])
 def test_inconsistent_values(tmp_path, text, expected):
     assert expected in error_of(tmp_path, text)
+
+
+def test_no_moving_wall_needs_a_max_time(tmp_path):
+    message = error_of(tmp_path, "[contact]\nfriction = 0.3\n", piston=False)
+    assert "[stop] max_time missing" in message
+
+
+def test_free_walls_without_a_box(tmp_path):
+    """The single-disk scene: two plates, one disk, no box."""
+    c = load_config(write(tmp_path, """
+[box]
+enabled = false
+[[species]]
+diameter = 0.02
+count = 1
+[walls.bottom]
+point = [0.0, -0.01]
+normal = [0.0, 2.0]
+velocity = [0.0, 0.01]
+[walls.top]
+point = [0.0, 0.01]
+normal = [0.0, -1.0]
+velocity = [0.0, -0.01]
+[stop]
+packing_fraction = 0.0
+max_time = 0.1
+"""))
+    assert list(c["walls"]) == ["bottom", "top"]
+    assert c["walls"]["bottom"]["normal"] == [0.0, 1.0]  # normalised
+    assert c["species"][0]["name"] == "species0"
+    assert initial_packing_fraction(c) == 0.0
+
+
+def test_box_walls_come_first_then_the_files_order():
+    c = validate({"walls": {"lid": {"point": [0, 0.1], "normal": [0, -1]},
+                            "right": {"velocity": [-0.1, 0]}}}, "a.toml")
+    assert list(c["walls"]) == ["left", "right", "bottom", "top", "lid"]
+    assert c["walls"]["top"] == {"point": [0.0, 0.202], "normal": [0.0, -1.0],
+                                 "velocity": [0.0, 0.0]}
 
 
 def test_unreadable_and_invalid_files(tmp_path):
@@ -147,52 +239,100 @@ def test_unreadable_and_invalid_files(tmp_path):
     assert "invalid TOML" in error_of(tmp_path, "[time\n")
 
 
-def test_override_is_validated_and_named():
-    c = validate({}, "paper.toml", {"contact.friction": 0.7,
-                                    "geometry.seed": 2})
-    assert c["contact"]["friction"] == 0.7 and c["geometry"]["seed"] == 2
+def test_overrides_are_validated_and_blamed_on_the_command_line():
+    c = validate(PISTON, "paper.toml", {
+        "contact.friction": 0.7, "packing.seed": 2,
+        "material.parameters.shear_modulus": 2e5, "species.1.count": 20,
+        "walls.right.velocity": [-0.2, 0.0]})
+    assert c["contact"]["friction"] == 0.7 and c["packing"]["seed"] == 2
+    assert c["material"]["parameters"]["lame_lambda"] == 4e5
+    assert [s["count"] for s in c["species"]] == [70, 20]
+    assert c["stop"]["max_time"] == pytest.approx(0.286 / 0.4)
     with pytest.raises(ConfigError, match=r"paper.toml: \[contact\] friction"
                        r" = -0.1 \(from the command line\): must be >= 0"):
-        validate({}, "paper.toml", {"contact.friction": -0.1})
+        validate(PISTON, "paper.toml", {"contact.friction": -0.1})
+    with pytest.raises(ConfigError, match=r"\[species.1\] count = -1 \(from"
+                       r" the command line\)"):
+        validate(PISTON, "paper.toml", {"species.1.count": -1})
+    with pytest.raises(ConfigError, match="not one of the 2"):
+        validate(PISTON, "paper.toml", {"species.5.count": 1})
 
 
-def test_toml_round_trip(tmp_path):
-    c = validate({"material": {"lmbda": 1e5}, "contact": {"friction": 0.1},
-                  "time": {"mass": "lumped"}}, "a.toml")
+def test_validate_leaves_its_input_alone():
+    data = {"walls": {"right": {"velocity": [-0.1, 0.0]}}}
+    validate(data, "a.toml", {"walls.right.velocity": [-0.3, 0.0]})
+    assert data == {"walls": {"right": {"velocity": [-0.1, 0.0]}}}
+
+
+@pytest.mark.parametrize("name", ["paper", "small", "paper_9us"])
+def test_toml_round_trip(tmp_path, name):
+    c = load_config(EXAMPLES / f"{name}.toml")
+    again = load_config(write(tmp_path, to_toml(c), "resolved.toml"))
+    assert dict(again) == dict(c)
+    tomllib.loads(to_toml(c))
+
+
+def test_other_values_round_trip(tmp_path):
+    c = validate({**PISTON, "material": {"parameters": {"lame_lambda": 1e5}},
+                  "contact": {"friction": 0.1}, "time": {"mass": "lumped"},
+                  "walls": {"right": {"velocity": [-0.1, 0.0]},
+                            "lid": {"point": [0, 0.2], "normal": [0, -1]}}},
+                 "a.toml")
     again = load_config(write(tmp_path, to_toml(c), "resolved.toml"))
     assert dict(again) == dict(c)
 
 
-def test_driver_json(tmp_path):
-    c = load_config(EXAMPLES / "paper.toml")
-    doc = to_driver_json(c, tmp_path / "mesh" / "packing.xdmf",
-                         tmp_path / "out")
-    written = json.loads((tmp_path / "out" / "driver.json").read_text())
-    assert written == doc
-    assert doc["mesh"] == str((tmp_path / "mesh" / "packing.xdmf").resolve())
-    assert doc["material"] == {"name": "neo_hookean", "density": 1180.0,
-                               "parameters": {"mu": 0.15e6, "lmbda": 0.3e6}}
-    walls = {w["name"]: w for w in doc["walls"]}
-    assert list(walls) == ["left", "piston", "bottom", "top"]
-    assert walls["piston"] == {"name": "piston", "point": [0.286, 0.0],
-                               "normal": [-1.0, 0.0],
-                               "velocity": [-0.1, 0.0]}
-    assert walls["top"]["point"] == [0.0, 0.202]
-    assert walls["left"]["velocity"] == [0.0, 0.0]
-    assert doc["box"] == {"left": "left", "right": "piston",
-                          "bottom": "bottom", "top": "top"}
-    ts = doc["time_stepping"]
-    assert (ts["time_step"], ts["rayleigh_alpha"], ts["rayleigh_beta"],
-            ts["velocity_scale"], ts["mass"]) == (7.2e-5, 30.0, 1e-5, 0.1,
-                                                  "consistent")
-    assert doc["contact"]["friction"] == 0.3
-    assert doc["contact"]["nlgs_tolerance"] == 1e-6
-    assert doc["contact"]["nlgs_relaxation"] == 1.8
-    # the dropped Delassus couplings are far below what the NLGS resolves
-    assert doc["contact"]["delassus_drop_tolerance"] == pytest.approx(1e-9)
-    assert doc["stop"]["packing_fraction"] == 0.88
-    assert doc["output"] == {"directory": str((tmp_path / "out").resolve()),
-                             "every_steps": 12, "fields": 10,
-                             "state": True}
-    assert (ts["tangent_reuse_steps"], ts["refactor_above_iterations"]) \
-        == (50, 5)
+def test_ranges_are_read_from_the_schema():
+    assert parse_range("(0, inf)") == (0.0, None, True, True)
+    assert parse_range("[0.5, 1]") == (0.5, 1.0, False, False)
+    theta = load_schema()["time"].parameters["theta"]
+    assert theta.allowed() == "in [0.5, 1]" and theta.in_range(0.5)
+    assert not theta.in_range(0.49)
+
+
+def test_expression_defaults_are_arithmetic_only():
+    assert materials.evaluate("2 * a + (b - 1) / 4", {"a": 3, "b": 5}) == 7
+    assert materials.evaluate("-a", {"a": 2}) == -2
+    for bad in ("__import__('os')", "a ** 2", "a.real", "[a]", "a if a else 1"):
+        with pytest.raises(materials.RegistryError):
+            materials.evaluate(bad, {"a": 2})
+    with pytest.raises(materials.RegistryError, match="unknown name 'c'"):
+        materials.evaluate("2 * c", {"a": 2})
+
+
+def test_a_law_is_taken_from_the_registry(tmp_path_factory, monkeypatch):
+    """A law with its own keys validates from TOML with no code change."""
+    law = {"c1": {"unit": "Pa", "range": "(0, inf)", "default": 1e5,
+                  "doc": "c1"},
+           "c2": {"unit": "Pa", "range": "[0, inf)", "default": "c1 / 4",
+                  "doc": "c2"},
+           "bulk": {"unit": "Pa", "range": "[0, inf)",
+                    "default": "10 * (c1 + c2)", "doc": "bulk"}}
+    use_registry(tmp_path_factory, monkeypatch, {
+        "schema_version": 2, "materials": {"mooney": {"doc": "",
+                                                      "parameters": law}}})
+    c = validate({**PISTON, "material": {"law": "mooney",
+                                         "parameters": {"c1": 2e5}}}, "a")
+    assert c["material"]["parameters"] == {"c1": 2e5, "c2": 5e4,
+                                           "bulk": 2.5e6}
+    with pytest.raises(ConfigError, match=r"\[material\] law ="
+                       r' "neo_hookean": must be one of "mooney"'):
+        validate({**PISTON, "material": {"law": "neo_hookean"}}, "a")
+
+
+def test_a_missing_registry_says_how_to_build_it(tmp_path, monkeypatch):
+    monkeypatch.setattr(paths, "MATERIALS", tmp_path / "none.json")
+    with pytest.raises(ConfigError, match="./softpack build"):
+        validate(PISTON, "a.toml")
+
+
+def test_docs_parameters_md_is_current():
+    """docs/parameters.md is generated from the schema (and committed)."""
+    committed = (paths.ROOT / "docs" / "parameters.md").read_text()
+    assert committed == markdown(), (
+        "docs/parameters.md is stale: regenerate it with /usr/bin/python3 -m"
+        " softpack.scene.schema --markdown > docs/parameters.md")
+    out = subprocess.run([sys.executable, "-m", "softpack.scene.schema",
+                          "--markdown"], capture_output=True, text=True,
+                         check=True).stdout
+    assert out == committed
