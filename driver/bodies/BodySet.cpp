@@ -17,34 +17,34 @@ namespace
 using ConstantMap =
     std::map<std::string, std::shared_ptr<const fem::Constant<double>>>;
 
-/// Every constant the material declares must be given, and nothing else.
+/// Every constant the material declares must be given, and nothing else
+/// (driver.json's material.parameters are exactly the law's constants).
 ConstantMap
 make_material_constants(const forms::MaterialForms& material,
                         const std::map<std::string, double>& parameters)
 {
   const std::vector<std::string> declared =
       forms::material_parameters(material);
+  std::string allowed;
+  for (const std::string& d : declared)
+    allowed += (allowed.empty() ? "" : ", ") + d;
+  auto fail = [&](const std::string& name, const std::string& what)
+  {
+    throw std::invalid_argument("material.parameters." + name + ": " + what +
+                                " (law '" + std::string(material.name) +
+                                "' has the parameters " + allowed + ")");
+  };
   ConstantMap constants;
   for (const std::string& name : declared)
   {
     auto it = parameters.find(name);
     if (it == parameters.end())
-      throw std::invalid_argument("material '" + std::string(material.name) +
-                                  "': parameter '" + name + "' is not given");
+      fail(name, "missing");
     constants[name] = std::make_shared<fem::Constant<double>>(it->second);
   }
   for (const auto& [name, value] : parameters)
-  {
     if (std::find(declared.begin(), declared.end(), name) == declared.end())
-    {
-      std::string allowed;
-      for (const std::string& d : declared)
-        allowed += (allowed.empty() ? "" : ", ") + d;
-      throw std::invalid_argument("material '" + std::string(material.name) +
-                                  "' has no parameter '" + name +
-                                  "' (its parameters: " + allowed + ")");
-    }
-  }
+      fail(name, "unknown parameter");
   return constants;
 }
 

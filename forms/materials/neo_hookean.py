@@ -1,15 +1,19 @@
 # Compressible neo-Hookean solid in plane strain (paper Eq. 1, METHOD.md §2).
 #
-#   Psi = mu/2 (I1 - 3) - mu ln J + lmbda/2 (ln J)^2
+#   Psi = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2
+#   (mu = shear_modulus, lambda = lame_lambda)
 #   F = I + grad u (2x2), F33 = 1  =>  I1 = tr(F^T F) + 1,  J = det F
 #
 # Per unit reference area and unit length along the cylinder axis.
-# The paper's effective plane-strain parameters are mu~ = mu, lmbda~ = 2 mu.
+# The paper's effective plane-strain parameters are mu~ = mu, lambda~ = 2 mu.
 #
-# Material file contract (read by forms/CMakeLists.txt and the driver's
-# material registry): P1 vector displacement `u`, test `v`, trial `du`,
-# DG0 test `q`, and the four forms below under these exact names. Constants
-# are the material parameters, set by name at run time.
+# Material file contract (read by forms/CMakeLists.txt, forms/registry.py and
+# the driver's material registry): P1 vector displacement `u`, test `v`, trial
+# `du`, DG0 test `q`, and the four forms below under these exact names. Each
+# UFL Constant is a material parameter, named by its Python variable (the one
+# name used in the TOML file, driver.json and the outputs; bind each Constant
+# to one name only) and declared in the dict `parameters` (unit, range,
+# default, doc; docs/contract.md section 3).
 from ufl import (Constant, Identity, TestFunction, TrialFunction,
                  Coefficient, FiniteElement, VectorElement, derivative, det,
                  dx, grad, ln, tr, triangle)
@@ -22,13 +26,24 @@ v = TestFunction(element)
 du = TrialFunction(element)
 q = TestFunction(cell_element)
 
-mu = Constant(triangle)
-lmbda = Constant(triangle)
+shear_modulus = Constant(triangle)
+lame_lambda = Constant(triangle)
+
+parameters = {
+    "shear_modulus": {"unit": "Pa", "range": "(0, inf)", "default": 0.15e6,
+                      "doc": "shear modulus mu (paper: 0.15 MPa)"},
+    "lame_lambda": {"unit": "Pa", "range": "[0, inf)",
+                    "default": "2 * shear_modulus",
+                    "doc": "effective first Lame parameter lambda of the "
+                           "plane-strain model (paper: 2 mu, nu = 1/3, "
+                           "matching the incompressible 3D cylinder)"},
+}
 
 F = Identity(2) + grad(u)
 I1 = tr(F.T * F) + 1.0
 J = det(F)
-psi = mu / 2 * (I1 - 3) - mu * ln(J) + lmbda / 2 * ln(J) ** 2
+psi = (shear_modulus / 2 * (I1 - 3) - shear_modulus * ln(J)
+       + lame_lambda / 2 * ln(J) ** 2)
 
 energy = psi * dx
 residual = derivative(energy, u, v)

@@ -1,7 +1,8 @@
 # Saint Venant-Kirchhoff solid in plane strain.
 #
 #   E = (F^T F - I)/2 (2x2; E33 = 0 in plane strain)
-#   Psi = lmbda/2 (tr E)^2 + mu tr(E E)
+#   Psi = lambda/2 (tr E)^2 + mu tr(E E)
+#   (mu = shear_modulus, lambda = lame_lambda)
 #
 # Same material file contract as neo_hookean.py. Its small-strain limit is the
 # same linear elasticity as neo-Hookean; it stiffens differently (and loses
@@ -18,12 +19,22 @@ v = TestFunction(element)
 du = TrialFunction(element)
 q = TestFunction(cell_element)
 
-mu = Constant(triangle)
-lmbda = Constant(triangle)
+shear_modulus = Constant(triangle)
+lame_lambda = Constant(triangle)
+
+parameters = {
+    "shear_modulus": {"unit": "Pa", "range": "(0, inf)", "default": 0.15e6,
+                      "doc": "shear modulus mu (second Lame parameter)"},
+    "lame_lambda": {"unit": "Pa", "range": "[0, inf)",
+                    "default": "2 * shear_modulus",
+                    "doc": "first Lame parameter lambda of the plane-strain "
+                           "model (default 2 mu: the same small-strain "
+                           "elasticity as neo_hookean's)"},
+}
 
 F = Identity(2) + grad(u)
 E = (F.T * F - Identity(2)) / 2
-psi = lmbda / 2 * tr(E) ** 2 + mu * inner(E, E)
+psi = lame_lambda / 2 * tr(E) ** 2 + shear_modulus * inner(E, E)
 
 energy = psi * dx
 residual = derivative(energy, u, v)

@@ -4,9 +4,11 @@
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <gtest/gtest.h>
 #include <material_registry.h>
+#include <nlohmann/json.hpp>
 #include <random>
 
 using namespace softpack;
@@ -132,8 +134,39 @@ TEST(Materials, RegistryHoldsBothShippedMaterials)
     std::vector<std::string> p =
         forms::material_parameters(forms::find_material(name));
     std::sort(p.begin(), p.end());
-    EXPECT_EQ(p, (std::vector<std::string>{"lmbda", "mu"})) << name;
+    EXPECT_EQ(p, (std::vector<std::string>{"lame_lambda", "shear_modulus"}))
+        << name;
   }
+}
+
+// build/forms/materials.json (written by forms/registry.py from the
+// `parameters` dicts) declares exactly the constants FFCx compiled.
+TEST(Materials, RegistryJsonMatchesTheCompiledConstants)
+{
+  std::ifstream in(SOFTPACK_MATERIALS_JSON);
+  ASSERT_TRUE(in) << SOFTPACK_MATERIALS_JSON;
+  const nlohmann::json registry = nlohmann::json::parse(in);
+  EXPECT_EQ(registry.at("schema_version"), 2);
+  const nlohmann::json& materials = registry.at("materials");
+  EXPECT_EQ(materials.size(), forms::material_names().size());
+  for (const std::string& name : forms::material_names())
+  {
+    std::vector<std::string> compiled =
+        forms::material_parameters(forms::find_material(name));
+    std::sort(compiled.begin(), compiled.end());
+    std::vector<std::string> declared;
+    for (const auto& item : materials.at(name).at("parameters").items())
+    {
+      declared.push_back(item.key());
+      for (const char* field : {"unit", "range", "default", "doc"})
+        EXPECT_TRUE(item.value().contains(field)) << name << " " << field;
+    }
+    std::sort(declared.begin(), declared.end());
+    EXPECT_EQ(declared, compiled) << name;
+  }
+  const nlohmann::json& nh = materials.at("neo_hookean").at("parameters");
+  EXPECT_EQ(nh.at("shear_modulus").at("default"), 0.15e6);
+  EXPECT_EQ(nh.at("lame_lambda").at("default"), "2 * shear_modulus");
 }
 
 TEST(Materials, UnknownMaterialNamesTheRegisteredOnes)
@@ -154,20 +187,40 @@ TEST(Materials, MissingOrUnknownParameterIsAnError)
 {
   auto mesh = test::bodies_mesh({test::disk(0, 0, R, 2)});
   const auto& nh = forms::find_material("neo_hookean");
-  EXPECT_THROW(bodies::BodySet(mesh, nh, {{"mu", mu}}, rho),
-               std::invalid_argument);
-  EXPECT_THROW(bodies::BodySet(
-                   mesh, nh, {{"mu", mu}, {"lmbda", lmbda}, {"nu", 0.3}}, rho),
-               std::invalid_argument);
+  auto message = [&](const std::map<std::string, double>& parameters)
+  {
+    try
+    {
+      bodies::BodySet(mesh, nh, parameters, rho);
+    }
+    catch (const std::invalid_argument& e)
+    {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string missing = message({{"shear_modulus", mu}});
+  EXPECT_NE(missing.find("material.parameters.lame_lambda"), std::string::npos)
+      << missing;
+  const std::string unknown =
+      message({{"shear_modulus", mu}, {"lame_lambda", lmbda}, {"nu", 0.3}});
+  EXPECT_NE(unknown.find("material.parameters.nu"), std::string::npos)
+      << unknown;
+  // Both name the law's parameters.
+  for (const std::string& m : {missing, unknown})
+  {
+    EXPECT_NE(m.find("shear_modulus, lame_lambda"), std::string::npos) << m;
+  }
 }
 
 TEST(Materials, EffectivePlaneStrainParametersDefaultToNuOneThird)
 {
   const auto p = bodies::plane_strain_parameters(mu);
-  EXPECT_DOUBLE_EQ(p.at("lmbda"), 2 * mu);
-  EXPECT_NEAR(bodies::poisson_ratio(p.at("mu"), p.at("lmbda")), 1.0 / 3, 1e-15);
-  EXPECT_DOUBLE_EQ(bodies::plane_strain_parameters(mu, 5 * mu).at("lmbda"),
-                   5 * mu);
+  EXPECT_DOUBLE_EQ(p.at("lame_lambda"), 2 * mu);
+  EXPECT_NEAR(bodies::poisson_ratio(p.at("shear_modulus"), p.at("lame_lambda")),
+              1.0 / 3, 1e-15);
+  EXPECT_DOUBLE_EQ(
+      bodies::plane_strain_parameters(mu, 5 * mu).at("lame_lambda"), 5 * mu);
   EXPECT_THROW(bodies::plane_strain_parameters(-1), std::invalid_argument);
 }
 

@@ -1,0 +1,157 @@
+"""Write the materials registry from the material files (docs/contract.md 3).
+
+Run by CMake at build time (``/usr/bin/python3``, with UFL)::
+
+    registry.py OUT_JSON MATERIAL_FILE...
+
+Each material file is plain UFL Python: it is executed, its ``ufl.Constant``
+variables are found by name, and its ``parameters`` dict must declare exactly
+those names, each with ``unit``, ``range``, ``default`` and ``doc``. Any
+disagreement fails the build with a message naming the file. The registry
+``OUT_JSON`` (``build/forms/materials.json``) lists every law with its doc
+(the first line of the file's header comment, or its docstring) and its
+parameters; a default that is an expression of the other parameters stays a
+string.
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+import re
+import runpy
+import sys
+from pathlib import Path
+
+import ufl
+
+SCHEMA_VERSION = 2
+FIELDS = ("unit", "range", "default", "doc")
+INTERVAL = re.compile(r"^\s*[\[(]\s*([^,]+?)\s*,\s*([^,]+?)\s*[\])]\s*$")
+# Nodes allowed in a default expression: + - * / and parentheses of numbers
+# and the law's other parameters.
+ALLOWED_NODES = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Add, ast.Sub,
+                 ast.Mult, ast.Div, ast.USub, ast.UAdd, ast.Constant,
+                 ast.Name, ast.Load)
+
+
+class MaterialError(Exception):
+    """A material file that does not follow the contract."""
+
+
+def constants_of(namespace: dict) -> list[str]:
+    """Return the names of the ufl.Constant variables of a material file."""
+    return sorted(name for name, value in namespace.items()
+                  if isinstance(value, ufl.Constant) and not name.startswith("_"))
+
+
+def check_bound(text: str, what: str) -> None:
+    """Refuse an interval end that is not a number or +-inf."""
+    try:
+        float(text)
+    except ValueError:
+        raise MaterialError(f"{what}: {text!r} is not a number or inf") from None
+
+
+def check_default(key: str, default, names: list[str]) -> None:
+    """Refuse a default that is neither a number nor an expression of the others."""
+    if isinstance(default, bool) or not isinstance(default, (int, float, str)):
+        raise MaterialError(f"parameter {key!r}: default must be a number or an "
+                            "expression string")
+    if not isinstance(default, str):
+        return
+    try:
+        tree = ast.parse(default, mode="eval")
+    except SyntaxError:
+        raise MaterialError(f"parameter {key!r}: default {default!r} is not an "
+                            "arithmetic expression") from None
+    for node in ast.walk(tree):
+        if not isinstance(node, ALLOWED_NODES):
+            raise MaterialError(f"parameter {key!r}: default {default!r} may only "
+                                "use numbers, + - * / and parentheses and the "
+                                "law's other parameters")
+        if isinstance(node, ast.Name) and (node.id not in names or node.id == key):
+            raise MaterialError(f"parameter {key!r}: default {default!r} uses "
+                                f"{node.id!r}, not another parameter of the law "
+                                f"({', '.join(names)})")
+
+
+def check_parameters(declared, constants: list[str]) -> dict:
+    """Return the checked ``parameters`` dict of a material (keys = constants)."""
+    if not isinstance(declared, dict):
+        raise MaterialError("no dict `parameters` declaring its UFL constants "
+                            f"({', '.join(constants)})")
+    if sorted(declared) != constants:
+        missing = sorted(set(constants) - set(declared))
+        extra = sorted(set(declared) - set(constants))
+        raise MaterialError(
+            "the keys of `parameters` differ from the UFL constants "
+            f"({', '.join(constants)}): "
+            + "; ".join(part for part in (
+                f"undeclared constants: {', '.join(missing)}" if missing else "",
+                f"keys that are no constant: {', '.join(extra)}" if extra else "")
+                if part))
+    out = {}
+    for key in declared:  # the file's order
+        spec = declared[key]
+        if not isinstance(spec, dict) or sorted(spec) != sorted(FIELDS):
+            raise MaterialError(f"parameter {key!r} must have exactly the fields "
+                                f"{', '.join(FIELDS)}")
+        match = INTERVAL.match(str(spec["range"]))
+        if not match:
+            raise MaterialError(f"parameter {key!r}: range {spec['range']!r} is not "
+                                "an interval like '(0, inf)'")
+        for bound in match.groups():
+            check_bound(bound, f"parameter {key!r}: range {spec['range']!r}")
+        check_default(key, spec["default"], constants)
+        default = spec["default"]
+        out[key] = {"unit": str(spec["unit"]), "range": spec["range"],
+                    "default": default if isinstance(default, str) else float(default),
+                    "doc": str(spec["doc"])}
+    return out
+
+
+def material_doc(path: Path, namespace: dict) -> str:
+    """Return the law's one-line description (docstring or header comment)."""
+    doc = namespace.get("__doc__")
+    if doc:
+        return doc.strip().splitlines()[0]
+    for line in path.read_text().splitlines():
+        if line.startswith("#") and line.lstrip("#").strip():
+            return line.lstrip("#").strip()
+    return path.stem
+
+
+def read_material(path: Path) -> dict:
+    """Return the registry entry of one material file (raises MaterialError)."""
+    namespace = runpy.run_path(str(path), run_name=f"material_{path.stem}")
+    constants = constants_of(namespace)
+    return {"doc": material_doc(path, namespace),
+            "parameters": check_parameters(namespace.get("parameters"), constants)}
+
+
+def main(argv: list[str]) -> int:
+    """Write the registry; exit 1 naming the file of a bad material."""
+    if len(argv) < 2:
+        print("usage: registry.py OUT_JSON MATERIAL_FILE...", file=sys.stderr)
+        return 2
+    materials = {}
+    for name in sorted(argv[2:]):
+        path = Path(name)
+        try:
+            materials[path.stem] = read_material(path)
+        except MaterialError as error:
+            print(f"forms/registry.py: material file {path}: {error}", file=sys.stderr)
+            return 1
+    text = json.dumps({"schema_version": SCHEMA_VERSION, "materials": materials},
+                      indent=2) + "\n"
+    out = Path(argv[1])
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_suffix(".json.tmp")
+    tmp.write_text(text)
+    tmp.replace(out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
