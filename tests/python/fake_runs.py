@@ -74,3 +74,25 @@ def write_rules(run_dir, unbalanced=1e-3, force=1e-4, rule="loaded_nodes",
         text = ("[model]\nthickness = -1.0\n[contact]\nfriction = 99.0\n\n"
                 + text)
     (run_dir / "config.toml").write_text(text)
+
+
+def write_fields(path, times):
+    """Two triangles (bodies 0 and 1) in the dolfinx XDMF/HDF5 layout.
+
+    u = (t, -2t) at every node, Psi = 1000 t per cell; keys as dolfinx
+    writes them: repr(time) with '.' as '_'.
+    """
+    import h5py
+    import numpy as np
+
+    with h5py.File(path, "w") as f:
+        f["Mesh/mesh/geometry"] = np.array([[0, 0], [1, 0], [1, 1], [0, 1.]])
+        f["Mesh/mesh/topology"] = np.array([[0, 1, 2], [0, 2, 3]])
+        for t in times:
+            key = repr(float(t)).replace(".", "_")
+            u = np.zeros((4, 3))
+            u[:, 0], u[:, 1] = t, -2 * t
+            f[f"Function/displacement/{key}"] = u
+            f[f"Function/Psi/{key}"] = np.full((2, 1), 1000.0 * t)
+            f[f"Function/particle/{key}"] = np.array([[0.0], [1.0]])
+    return path

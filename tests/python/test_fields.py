@@ -3,27 +3,10 @@
 import numpy as np
 import pytest
 
+from fake_runs import write_fields
 from softpack.analysis import fields
 
 h5py = pytest.importorskip("h5py")
-
-
-def write_fields(path, times):
-    """Two triangles (bodies 0 and 1), u = (t, -2t), Psi = 1000 t per cell.
-
-    Keys as dolfinx writes them: repr(time) with '.' as '_'.
-    """
-    with h5py.File(path, "w") as f:
-        f["Mesh/mesh/geometry"] = np.array([[0, 0], [1, 0], [1, 1], [0, 1.]])
-        f["Mesh/mesh/topology"] = np.array([[0, 1, 2], [0, 2, 3]])
-        for t in times:
-            key = repr(float(t)).replace(".", "_")
-            u = np.zeros((4, 3))
-            u[:, 0], u[:, 1] = t, -2 * t
-            f[f"Function/displacement/{key}"] = u
-            f[f"Function/Psi/{key}"] = np.full((2, 1), 1000.0 * t)
-            f[f"Function/particle/{key}"] = np.array([[0.0], [1.0]])
-    return path
 
 
 def test_snapshot_at_the_nearest_stored_time(tmp_path):

@@ -1,7 +1,11 @@
 """``./softpack plot DIR... [--out FIGDIR]``: the paper's Figs. 4, 6, 7, 8, 9.
 
-Reads ``series.csv`` and ``config.toml`` of each run directory written by
-``./softpack run`` (and ``fields.h5`` for Fig. 7), groups the runs by
+Only draws. Reads each run directory written by ``./softpack run`` through
+the analysis stage: ``series.csv`` (:mod:`softpack.analysis.tables`), the
+run's identity (friction, seed, mu, L, W) from ``raw/setup.json``
+(:mod:`softpack.analysis.setup`), the fields for Fig. 7
+(:mod:`softpack.analysis.fields`) and the Eq. 14 fit
+(:mod:`softpack.analysis.fits`). It groups the runs by
 friction coefficient mu_f and, within a group, averages over the seeds: each
 run's curve is interpolated linearly on a common grid spanning the range
 all runs of the group cover; markers are the mean, error bars one standard
@@ -13,16 +17,13 @@ fig6_energy.png
     E/(W H L mu) against Phi (Fig. 6).
 fig7_snapshots.png
     Deformed particles coloured by Psi / mu at Phi = 0.78, 0.83, 0.88 (Fig. 7),
-    for one run (mu_f = 0.3 if present, lowest seed), from ``fields.h5``
-    (dolfinx XDMF layout: ``/Mesh/<mesh>/geometry``, ``/Mesh/<mesh>/topology``,
-    ``/Function/<name>/<time with '.' as '_'>``; the displacement function is
-    the one named ``displacement`` or ``u``, the energy density the one whose
-    name contains ``psi``). Skipped, with a message, when fields are missing.
+    for one run (mu_f = 0.3 if present, lowest seed), from ``fields.h5``.
+    Skipped, with a message, when fields are missing.
 fig8_connectivity.png, fig8_fit.txt
-    Z against Phi (Fig. 8), with and without wall contacts, and the fit
-    ``Z = Z_T + (Z_1 - Z_T) sqrt((Phi - Phi_T) / (Phi_1 - Phi_T))``,
-    Z_T = 3, Z_1 = 4.72, Phi_1 = 0.9 (Eqs. 14-15), of each group; the paper's
-    Phi_T = 0.785 +- 0.005 is drawn dashed. See :func:`fit_rigidity_transition`.
+    Z against Phi (Fig. 8), with and without wall contacts, and the fit of
+    Eq. 14 of each group (:func:`softpack.analysis.fits.fit_runs`: its
+    error from the data, or the reason there is no fit); the paper's
+    Phi_T = 0.785 +- 0.005 is drawn dashed.
 fig9_cv_psi.png
     c_v(Psi_p) against Phi over all particles (Fig. 9).
 """
@@ -36,9 +37,11 @@ from pathlib import Path
 
 import numpy as np
 
-#: The paper's connectivity law (Sec. VI, Eq. 14-15, Fig. 8).
-Z_T, Z_1, PHI_1 = 3.0, 4.72, 0.9
-PAPER_PHI_T, PAPER_PHI_T_ERROR = 0.785, 0.005
+from softpack.analysis import fits
+from softpack.analysis.fields import read_snapshot
+from softpack.analysis.setup import SetupError, read_setup
+from softpack.analysis.tables import read_table
+
 #: Packing fractions of the paper's snapshots (Fig. 7).
 SNAPSHOT_PHIS = (0.78, 0.83, 0.88)
 #: A snapshot is drawn only if an output step is this close in Phi.
@@ -56,6 +59,7 @@ class Run:
     friction : float
     seed : int
     shear_modulus : float
+        NaN when the material law has none (Fig. 7 then draws Psi in Pa).
     length, width : float
         The initial box (m).
     series : dict of ndarray
@@ -72,13 +76,10 @@ class Run:
 
 
 def load_runs(directories) -> list[Run]:
-    """Runs of the directories that have ``series.csv`` and ``config.toml``.
+    """Runs of the directories that have ``series.csv`` and ``raw/setup.json``.
 
     Directories without them are reported on stderr and skipped.
     """
-    from softpack.scene.config import ConfigError, load_config
-    from softpack.analysis.observables import read_table
-
     runs = []
     for d in map(Path, directories):
         if not (d / "series.csv").is_file():
@@ -86,15 +87,12 @@ def load_runs(directories) -> list[Run]:
                   " skipped", file=sys.stderr)
             continue
         try:
-            config = load_config(d / "config.toml")
-        except ConfigError as err:
+            setup = read_setup(d)
+        except SetupError as err:
             print(f"softpack plot: {err}; skipped", file=sys.stderr)
             continue
-        runs.append(Run(d, config["contact"]["friction"],
-                        config["geometry"]["seed"],
-                        config["material"]["shear_modulus"],
-                        config["geometry"]["length"],
-                        config["geometry"]["width"],
+        runs.append(Run(d, setup.friction, setup.seed, setup.shear_modulus,
+                        setup.length, setup.width,
                         read_table(d / "series.csv")))
     return runs
 
@@ -141,52 +139,6 @@ def mean_over_seeds(curves, points=GRID_POINTS):
     return grid, values.mean(axis=0), values.std(axis=0)
 
 
-def connectivity_law(phi, phi_t):
-    """``Z_T + (Z_1 - Z_T) sqrt((Phi - Phi_T) / (Phi_1 - Phi_T))`` (Eq. 14)."""
-    phi = np.asarray(phi, float)
-    return Z_T + (Z_1 - Z_T) * np.sqrt(np.maximum(phi - phi_t, 0.0)
-                                       / (PHI_1 - phi_t))
-
-
-def fit_rigidity_transition(phi, z, step=1e-4, min_points=3):
-    """Least-squares Phi_T of the paper's connectivity law.
-
-    Phi_T minimises the mean squared residual ``(Z - law(Phi; Phi_T))^2``
-    over the points with ``Phi > Phi_T`` (the law holds above the rigidity
-    transition only), scanned in steps of ``step`` from the smallest Phi to
-    the value leaving ``min_points`` points.
-
-    Parameters
-    ----------
-    phi, z : array_like
-        Data points (NaNs dropped).
-
-    Returns
-    -------
-    (phi_t, error) : (float, float)
-        ``error`` is the linearised standard error
-        ``sqrt(s^2 / sum(dZ/dPhi_T)^2)``, ``s^2`` the residual variance;
-        NaN, NaN when there are too few points.
-    """
-    phi, z = np.asarray(phi, float), np.asarray(z, float)
-    ok = np.isfinite(phi) & np.isfinite(z) & (phi < PHI_1)
-    phi, z = phi[ok], z[ok]
-    if len(phi) < min_points + 1:
-        return float("nan"), float("nan")
-    top = np.sort(phi)[-min_points]
-    candidates = np.arange(phi.min() - step, top, step)
-    costs = [np.mean((z[phi > t] - connectivity_law(phi[phi > t], t))**2)
-             for t in candidates]
-    best = float(candidates[int(np.argmin(costs))])
-    above = phi > best
-    a, b = phi[above] - best, PHI_1 - best
-    slope = (Z_1 - Z_T) * (phi[above] - PHI_1) / (2 * b**2 * np.sqrt(a / b))
-    n = int(above.sum())
-    s2 = np.sum((z[above] - connectivity_law(phi[above], best))**2) / \
-        max(n - 1, 1)
-    return best, float(np.sqrt(s2 / np.sum(slope**2)))
-
-
 def _style(index):
     """Marker and colour of the index-th friction group."""
     markers, colours = "osD^v", ("tab:blue", "tab:red", "tab:green",
@@ -228,8 +180,9 @@ def plot_connectivity(groups, path) -> list[str]:
     """Fig. 8 with each group's fit; returns the fit report lines."""
     import matplotlib.pyplot as plt
 
-    lines = [f"paper: Phi_T = {PAPER_PHI_T} +- {PAPER_PHI_T_ERROR}"
-             f" (Z_T = {Z_T:g}, Z_1 = {Z_1:g}, Phi_1 = {PHI_1:g})"]
+    lines = [f"paper: Phi_T = {fits.PAPER_PHI_T} +- {fits.PAPER_PHI_T_ERROR}"
+             f" (Z_T = {fits.Z_T:g}, Z_1 = {fits.Z_1:g},"
+             f" Phi_1 = {fits.PHI_1:g})"]
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for i, (mu, runs) in enumerate(groups.items()):
         style = _style(i)
@@ -244,24 +197,18 @@ def plot_connectivity(groups, path) -> list[str]:
                         label=_label(mu, runs) + ("" if filled else
                                                   ", no wall contacts"),
                         **style)
-        phi = np.concatenate([r.series["phi"] for r in runs])
-        z = np.concatenate([r.series["z"] for r in runs])
-        phi_t, error = fit_rigidity_transition(phi, z)
-        seeds = [fit_rigidity_transition(r.series["phi"], r.series["z"])[0]
-                 for r in runs]
-        if len(runs) > 1 and np.all(np.isfinite(seeds)):
-            error, how = float(np.std(seeds)), f"std over {len(runs)} seeds"
-        else:
-            how = "least-squares standard error"
-        lines.append(f"mu_f = {mu:g}: Phi_T = {phi_t:.4f} +- {error:.4f}"
-                     f" ({how}; {len(runs)} run(s))")
-        if np.isfinite(phi_t):
-            x = np.linspace(phi_t, np.nanmax(phi), 100)
-            ax.plot(x, connectivity_law(x, phi_t), color=style["color"],
-                    lw=1, label=f"fit, Phi_T = {phi_t:.3f}")
-    x = np.linspace(PAPER_PHI_T, 0.89, 100)
-    ax.plot(x, connectivity_law(x, PAPER_PHI_T), "k--", lw=1,
-            label=f"paper, Phi_T = {PAPER_PHI_T}")
+        fit = fits.fit_runs([(r.series["phi"], r.series["z"])
+                             for r in runs])
+        lines.append(f"mu_f = {mu:g}: {fit.summary()}; {len(runs)} run(s)")
+        if fit.ok:
+            x = np.linspace(fit.phi_t, np.nanmax(
+                np.concatenate([r.series["phi"] for r in runs])), 100)
+            ax.plot(x, fits.connectivity_law(x, fit.phi_t),
+                    color=style["color"], lw=1,
+                    label=f"fit, Phi_T = {fit.phi_t:.3f}")
+    x = np.linspace(fits.PAPER_PHI_T, 0.89, 100)
+    ax.plot(x, fits.connectivity_law(x, fits.PAPER_PHI_T), "k--", lw=1,
+            label=f"paper, Phi_T = {fits.PAPER_PHI_T}")
     ax.set_xlabel("Phi")
     ax.set_ylabel("Z")
     ax.grid(alpha=0.3)
@@ -270,40 +217,6 @@ def plot_connectivity(groups, path) -> list[str]:
     fig.savefig(path, dpi=150)
     plt.close(fig)
     return lines
-
-
-def read_snapshot(h5_path, time):
-    """Deformed mesh and Psi at the stored time nearest to ``time``.
-
-    Returns
-    -------
-    (points, triangles, psi, stored_time)
-        Current node positions ``(n, 2)``, triangles ``(m, 3)``, Psi per
-        triangle ``(m,)`` (J/m^3), and the time actually read.
-
-    Raises
-    ------
-    KeyError
-        When the file lacks the mesh, the displacement or Psi.
-    """
-    import h5py
-
-    with h5py.File(h5_path, "r") as f:
-        mesh = f["Mesh"][next(iter(f["Mesh"]))]
-        x, cells = mesh["geometry"][:, :2], mesh["topology"][:]
-        functions = {name.lower(): name for name in f["Function"]}
-        u_name = functions.get("displacement") or functions.get("u")
-        psi_name = next((v for k, v in functions.items() if "psi" in k),
-                        None)
-        if u_name is None or psi_name is None:
-            raise KeyError(f"{h5_path}: needs functions 'displacement' and"
-                           f" 'Psi', has {sorted(f['Function'])}")
-        u_group, psi_group = f["Function"][u_name], f["Function"][psi_name]
-        times = {float(key.replace("_", ".")): key for key in u_group}
-        stored = min(times, key=lambda t: abs(t - time))
-        u = u_group[times[stored]][:, :2]
-        psi = psi_group[times[stored]][:].reshape(-1)
-    return x + u, cells, psi, stored
 
 
 def plot_snapshots(run: Run, path) -> str:
@@ -325,24 +238,30 @@ def plot_snapshots(run: Run, path) -> str:
         snaps = [read_snapshot(h5, t) for _, t, _ in picks]
     except (KeyError, OSError) as err:
         return f"fig7: cannot read {h5}: {err}; skipped"
+    if any(snap.psi is None for snap in snaps):
+        return f"fig7: {h5} has no Psi; skipped"
     _draw_snapshots(run, picks, snaps, path)
     return (f"fig7: {run.path}, Phi = "
             + ", ".join(f"{p:.3f}" for p, _, _ in picks))
 
 
 def _draw_snapshots(run, picks, snaps, path) -> None:
-    """Panels of deformed particles coloured by Psi / mu, one colour scale,
-    in the current box (black), all at the scale of the initial box."""
+    """Panels of deformed particles coloured by Psi / mu (Psi in Pa when the
+    law has no mu), one colour scale, in the current box (black), all at the
+    scale of the initial box."""
     import matplotlib.pyplot as plt
     from matplotlib.tri import Triangulation
 
-    scaled = [psi / run.shear_modulus for _, _, psi, _ in snaps]
+    has_mu = np.isfinite(run.shear_modulus)
+    scale = run.shear_modulus if has_mu else 1.0
+    scaled = [snap.psi / scale for snap in snaps]
     vmax = max(float(np.percentile(s, 99.5)) for s in scaled) or 1.0
     fig, axes = plt.subplots(1, len(snaps), figsize=(4.2 * len(snaps), 3.6),
                              squeeze=False)
-    for ax, (phi, _, length), (x, cells, _, t), psi in zip(
-            axes[0], picks, snaps, scaled):
-        image = ax.tripcolor(Triangulation(x[:, 0], x[:, 1], cells),
+    for ax, (phi, _, length), snap, psi in zip(axes[0], picks, snaps,
+                                                scaled):
+        x, t = snap.current, snap.time
+        image = ax.tripcolor(Triangulation(x[:, 0], x[:, 1], snap.cells),
                              facecolors=psi, vmin=0, vmax=vmax,
                              cmap="viridis")
         ax.plot([0, length, length, 0, 0], [0, 0, run.width, run.width, 0],
@@ -352,7 +271,8 @@ def _draw_snapshots(run, picks, snaps, path) -> None:
         ax.set_aspect("equal")
         ax.set_title(f"Phi = {phi:.3f} (t = {t:.3g} s)", fontsize=9)
         ax.axis("off")
-    fig.colorbar(image, ax=axes[0].tolist(), label="Psi / mu", shrink=0.8)
+    fig.colorbar(image, ax=axes[0].tolist(),
+                 label="Psi / mu" if has_mu else "Psi (Pa)", shrink=0.8)
     fig.suptitle(f"mu_f = {run.friction:g}, seed {run.seed}", fontsize=9)
     fig.savefig(path, dpi=150)
     plt.close(fig)

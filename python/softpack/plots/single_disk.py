@@ -16,6 +16,8 @@ import sys
 
 import numpy as np
 
+from softpack.analysis.tables import read_table
+
 FORCE_FILES = (  # file, label, style (2D: markers, 3D: lines)
     ("force_2d.csv", "2D plane strain, nu = 1/3", dict(ls="none", marker="^", mfc="none")),
     ("force_3d_nu0495.csv", "3D, nu = 0.495", dict(ls="-")),
@@ -30,18 +32,13 @@ PROFILE_FILES = (
 PROFILE_STRAINS = (0.05, 0.10, 0.15, 0.20)
 
 
-def _read(path):
-    data = np.genfromtxt(path, delimiter=",", names=True)
-    return np.atleast_1d(data)
-
-
 def _load(directory, files, used, missing):
     """[(data, label, style)] for the files that exist; fills used/missing."""
     found = []
     for name, label, style in files:
         path = os.path.join(directory, name)
         if os.path.isfile(path):
-            found.append((_read(path), label, style))
+            found.append((read_table(path), label, style))
             used.append(name)
         else:
             missing.append(name)
@@ -49,14 +46,25 @@ def _load(directory, files, used, missing):
 
 
 def plot_force(directory, curves, out):
+    """Fig. 2: f/(D l mu) against eps, with Johnson's line-contact curves.
+
+    Parameters
+    ----------
+    directory : str
+        Unused (kept for the callers' signature).
+    curves : list of (dict, str, dict)
+        Tables (columns eps, f_norm), labels and line styles.
+    out : path-like
+        The PNG file.
+    """
     import matplotlib.pyplot as plt
     from softpack.references.cylinder3d import johnson_line_contact
 
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for data, label, style in curves:
-        if style.get("ls") == "none" and len(data) > 40:
+        if style.get("ls") == "none" and len(data["eps"]) > 40:
             # a driver run writes hundreds of rows: about 25 markers
-            style = dict(style, markevery=max(1, len(data) // 25))
+            style = dict(style, markevery=max(1, len(data["eps"]) // 25))
         ax.plot(data["eps"], data["f_norm"], color="k", label=label, **style)
     eps = np.linspace(0.0, 0.25, 101)
     ax.plot(eps, johnson_line_contact(eps, 0.495, plane_strain=True), color="tab:red", lw=1,
@@ -75,6 +83,17 @@ def plot_force(directory, curves, out):
 
 
 def plot_profile(directory, curves, out):
+    """Fig. 3: u_x/D against w = X/R at the strains of PROFILE_STRAINS.
+
+    Parameters
+    ----------
+    directory : str
+        Unused (kept for the callers' signature).
+    curves : list of (dict, str, dict)
+        Tables (columns eps, w, ux_over_D), labels and line styles.
+    out : path-like
+        The PNG file.
+    """
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
@@ -101,6 +120,7 @@ def plot_profile(directory, curves, out):
 
 
 def main(argv=None):
+    """Entry point of ``./softpack plot-single-disk``; returns the exit status."""
     parser = argparse.ArgumentParser(prog="softpack plot-single-disk", description=__doc__.split("\n")[0])
     parser.add_argument("dir", help="directory holding the single-disk CSV files")
     args = parser.parse_args(argv)
