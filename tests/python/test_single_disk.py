@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from material_registry import use_registry
 from softpack.references import single_disk as sd
 from softpack.references.cylinder3d import johnson_line_contact
 
@@ -43,20 +44,57 @@ def _read(path):
 
 # ------------------------------------------------------------ helpers
 
-def test_driver_document_loads_symmetrically_and_stops_past_the_target():
+@pytest.fixture
+def registry(tmp_path_factory, monkeypatch):
+    return use_registry(tmp_path_factory, monkeypatch)
+
+
+def test_config_loads_symmetrically_and_stops_past_the_target(registry,
+                                                              tmp_path):
+    """The protocol's overrides on top of the production defaults, through
+    the one driver.json writer."""
+    from softpack.scene.schema import load_schema
+    from softpack.simulation.driver_input import driver_document
+
     p = sd.Params()
-    doc = sd.driver_document(p, "/tmp/m.xdmf", -0.01, 0.01, "/tmp/out")
+    config = sd.single_disk_config(p, -0.01, 0.01)
+    doc = driver_document(config, {"bodies": {}}, tmp_path)
     bottom, top = doc["walls"]
+    assert (bottom["name"], top["name"]) == ("bottom", "top")
     assert bottom["normal"] == [0.0, 1.0] and top["normal"] == [0.0, -1.0]
+    assert bottom["point"] == [0.0, -0.01] and top["point"] == [0.0, 0.01]
     assert bottom["velocity"] == [0.0, p.speed]
     assert top["velocity"] == [0.0, -p.speed]
-    assert "box" not in doc and "packing_fraction" not in doc["stop"]
+    assert config["box"]["enabled"] is False
+    assert doc["stop"]["packing_fraction"] == 0.0
     # both plates together approach by at least delta_max before the stop
     approach = 2 * p.speed * doc["stop"]["max_time"]
     assert approach >= p.diameter * (1 - math.exp(-p.max_strain))
-    assert p.speed * p.time_step <= doc["contact"]["alert_distance"]
-    assert doc["material"]["parameters"] == {"mu": 0.15e6, "lmbda": 0.3e6}
-    assert doc["contact"]["friction"] == p.friction
+    assert doc["material"]["parameters"]["lame_lambda"] == pytest.approx(
+        2 * doc["material"]["parameters"]["shear_modulus"])
+    # the protocol's own values ...
+    assert doc["contact"]["friction"] == p.friction == 0.01
+    assert (doc["time"]["time_step"], doc["time"]["theta"],
+            doc["damping"]["alpha"]) == (1e-4, 0.5, 200.0)
+    # ... and the production defaults for every other numerical setting
+    schema = load_schema()
+    for section, keys in (("contact", ("alert_distance", "max_penetration",
+                                       "nlgs_tolerance", "nlgs_max_sweeps",
+                                       "nlgs_relaxation")),
+                          ("time", ("newton_tolerance", "tangent_reuse_steps",
+                                    "full_newton", "newton_max_iterations",
+                                    "refactor_above_iterations", "mass")),
+                          ("damping", ("beta",))):
+        for key in keys:
+            assert doc[section][key] == schema[section].parameters[key].default
+    assert doc["contact"]["delassus_drop_tolerance"] == pytest.approx(
+        doc["contact"]["nlgs_tolerance"] / 1000)
+
+
+def test_the_schema_refuses_a_plate_faster_than_the_alert_distance(
+        registry):
+    with pytest.raises(sd.ConfigError, match="alert_distance"):
+        sd.single_disk_config(sd.Params(speed=10.0))
 
 
 def test_line_interpolation_is_exact_for_a_linear_field():

@@ -7,39 +7,62 @@ plates normal to y, run with the project's own contact driver
 ``softpack-simulate`` (Moreau–Jean + NLGS, docs/driver_io.md) slowly enough to
 be quasi-static, up to eps = -ln(1 - delta/D) = 0.25.
 
-Set-up (what :func:`driver_document` writes)
-  * the disk is meshed by :func:`softpack.mesh.mesh_disks` at the origin;
-  * the plates start touching the mesh (bottom at y = min Y, top at y = max
-    Y of the nodes: the inscribed polygon's extreme nodes lie a few
-    micrometres inside the circle, and eps is counted from first contact)
-    and BOTH move towards the centre at ``speed`` each (approach speed
+Set-up: a configuration through the production pipeline
+  The run is a :class:`~softpack.scene.config.Config` validated by the
+  schema like any TOML file (:func:`single_disk_config`), its scene built
+  by :func:`softpack.scene.build.build_scene` and its driver.json written
+  by the one writer (:mod:`softpack.simulation.driver_input`). Every
+  numerical setting is the production default (schema/parameters.toml)
+  except these overrides, which the protocol needs:
+
+  * ``[box] enabled = false``, ``[stop] packing_fraction = 0``: no
+    container; ``[[species]]`` one disk (``diameter = D``, ``count = 1``),
+    at the origin; ``[mesh] element_size = h``;
+  * ``[walls.bottom]`` and ``[walls.top]``: two plates (normals +y and -y)
+    starting in touch with the mesh (at y = min Y and max Y of the nodes:
+    the inscribed polygon's extreme nodes lie a few micrometres inside the
+    circle, and eps is counted from first contact) and BOTH moving towards
+    the centre, ``velocity = [0, +-0.01]`` (``--speed``; approach speed
     2 speed), as in the 3D reference: the disk's centre then stays at rest
     and the mass-proportional Rayleigh damping (alpha M v), which resists
     absolute velocities, does not resist a rigid-body translation (with one
-    plate fixed the centre would move at half the approach speed and alpha M
-    v would add alpha m v/2 to the moving plate's force);
-  * friction 0.01 by default (--friction 0 for exactly frictionless
-    plates). A frictionless disk between frictionless plates has two
-    undetermined rigid-body modes: the x-translation and the ROLLING
-    (rotation about its axis: a circle's energy does not change when it
-    turns). Nothing in the driver pins them, and the mesh's asymmetry
-    drives the rolling: with friction 0 the D = 20 mm disk (h = 1.065 mm)
-    turns by 0.19 rad by eps = 0.25, which tilts the material line of
-    Fig. 3 (u_x/D at w = 1 and eps = 0.2: 0.0260 instead of 0.0321). A
-    friction coefficient of 0.01 stops both (largest rotation 5e-4 rad;
-    0.001 leaves 4e-3 rad) while changing f_norm by at most 0.13 %
-    (friction 0, 0.001 and 0.01 compared in docs/single_disk/README.md).
-    The profile is moreover taken relative to the displacement of the
-    disk's centre (below);
-  * the mesh is turned about the centre so that a boundary node lies on
-    the loading axis (:func:`put_node_up`; ``--orientation as_meshed``
-    keeps gmsh's): the two plates then touch a boundary polygon that is
-    mirror-symmetric about the axis. As meshed, the nodes nearest the
-    plates are off the axis (by 0.27 mm for h = 1.065 mm), which changes
-    f_norm at eps = 0.02 by 3 % (README);
-  * Rayleigh damping alpha = 200 1/s, beta = 1e-5 s, theta = 0.5, time step
-    1e-4 s, plate speed 0.01 m/s (approach 0.02 m/s); stop.max_time is the
-    time to reach delta_max = D (1 - exp(-max_strain)).
+    plate fixed the centre would move at half the approach speed and
+    alpha M v would add alpha m v/2 to the moving plate's force);
+  * ``[contact] friction = 0.01`` (``--friction``; 0 for exactly
+    frictionless plates). A frictionless disk between frictionless plates
+    has two undetermined rigid-body modes: the x-translation and the
+    ROLLING (rotation about its axis: a circle's energy does not change
+    when it turns). Nothing in the driver pins them, and the mesh's
+    asymmetry drives the rolling: with friction 0 the D = 20 mm disk
+    (h = 1.065 mm) turns by 0.19 rad by eps = 0.25, which tilts the
+    material line of Fig. 3 (u_x/D at w = 1 and eps = 0.2: 0.0260 instead
+    of 0.0321). A friction coefficient of 0.01 stops both (largest
+    rotation 5e-4 rad; 0.001 leaves 4e-3 rad) while changing f_norm by at
+    most 0.13 % (friction 0, 0.001 and 0.01 compared in
+    docs/single_disk/README.md). The profile is moreover taken relative to
+    the displacement of the disk's centre (below);
+  * ``[damping] alpha = 200`` 1/s (quasi-static loading; ``--alpha``),
+    ``[time] time_step = 1e-4`` s (``--time-step``) and ``[time] theta =
+    0.5`` (no numerical dissipation in the force);
+  * ``[stop] max_time``: the time to reach delta_max = D (1 -
+    exp(-max_strain)), plus two output intervals;
+  * ``[output] every_steps = 10`` (``--every``), ``fields_every = 1``
+    (the profiles interpolate between consecutive outputs), ``state =
+    false``.
+
+  The material is the configuration's default law and parameters (the
+  paper's neo-Hookean solid, lambda~ = 2 mu); f_norm uses its shear
+  modulus. The mesh is turned about the centre so that a boundary node lies
+  on the loading axis (:func:`put_node_up`; ``--orientation as_meshed``
+  keeps gmsh's): the two plates then touch a boundary polygon that is
+  mirror-symmetric about the axis. As meshed, the nodes nearest the plates
+  are off the axis (by 0.27 mm for h = 1.065 mm), which changes f_norm at
+  eps = 0.02 by 3 % (README).
+
+  Before issue 11 the check ran with its own solver settings (Newton 1e-6,
+  NLGS 1e-8 with relaxation 1 and 5000 sweeps, 50 Newton iterations,
+  max_penetration h/4, the iteration matrix refactored at every step, no
+  Delassus drop); it now runs the production ones.
 
 Outputs in ``--out DIR`` (default ``runs/single-disk``):
 
@@ -63,8 +86,8 @@ Outputs in ``--out DIR`` (default ``runs/single-disk``):
     parameters, mesh size, run time, the largest plate-force mismatch,
     energies, the centre's drift, the largest rigid rotation (rolling).
 ``sim/``
-    the driver's input and raw output (driver.json, raw/steps.csv,
-    fields.h5, mesh/).
+    the run directory: config.toml (the resolved configuration),
+    driver.json, mesh/, raw/, fields.h5, driver.log.
 
 The small-strain limit (Johnson, Contact Mechanics, §5.5, line contact
 between two plates) is :func:`softpack.reference3d.johnson_line_contact` with
@@ -76,8 +99,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
-import subprocess
 import sys
 import time
 from dataclasses import asdict, dataclass
@@ -85,19 +106,20 @@ from pathlib import Path
 
 import numpy as np
 
-#: The paper's material (METHOD.md §1-2): shear modulus (Pa), density.
-MU = 0.15e6
-LMBDA = 2.0 * MU  # nu~ = 1/3, plane strain
-DENSITY = 1180.0
+from softpack.scene.config import ConfigError, to_toml, validate
+
 #: Strains of the Fig. 3 profiles.
 PROFILE_STRAINS = (0.05, 0.10, 0.15, 0.20)
 #: w = X/R of the profile rows (the 3D CSVs' grid).
 PROFILE_W = np.round(np.linspace(-1.0, 1.0, 41), 10)
+#: The configuration's name in messages.
+SOURCE = "single-disk"
 
 
 @dataclass
 class Params:
-    """Everything that defines a single-disk run (SI units)."""
+    """What the single-disk protocol sets (SI units); the rest of the
+    configuration is the production default (module doc)."""
 
     diameter: float = 0.020
     element_size: float = 1.065e-3
@@ -105,14 +127,9 @@ class Params:
     speed: float = 0.01          # each plate, m/s (approach speed 2 speed)
     time_step: float = 1e-4
     alpha: float = 200.0
-    beta: float = 1e-5
     theta: float = 0.5
     friction: float = 1e-2       # pins the rolling mode (module doc)
     every: int = 10              # output every this many steps
-    alert_distance: float = 2e-4
-    newton_tolerance: float = 1e-6
-    nlgs_tolerance: float = 1e-8
-    mass: str = "consistent"
     orientation: str = "node_up"  # or "as_meshed" (see put_node_up)
 
     @property
@@ -136,87 +153,89 @@ class SingleDiskError(RuntimeError):
 
 # ---------------------------------------------------------------- set-up
 
-def driver_document(params: Params, mesh_xdmf, y_bottom, y_top, out_dir):
-    """The driver.json of docs/driver_io.md for one disk between two plates."""
+def config_data(params: Params, y_bottom: float, y_top: float) -> dict:
+    """The protocol's overrides as TOML data (module doc), plates at
+    ``y_bottom`` and ``y_top``."""
     v = params.speed
     # a few steps beyond the target so that the last output passes it
     max_time = params.duration + 2 * params.every * params.time_step
-
-    def wall(name, y, normal_y, vy):
-        return {"name": name, "point": [0.0, y], "normal": [0.0, normal_y],
-                "velocity": [0.0, vy]}
-
     return {
-        "mesh": str(Path(mesh_xdmf).resolve()),
-        "material": {"name": "neo_hookean",
-                     "parameters": {"mu": MU, "lmbda": LMBDA},
-                     "density": DENSITY},
-        "walls": [wall("bottom", y_bottom, 1.0, v),
-                  wall("top", y_top, -1.0, -v)],
-        "time_stepping": {
-            "time_step": params.time_step, "theta": params.theta,
-            "mass": params.mass, "rayleigh_alpha": params.alpha,
-            "rayleigh_beta": params.beta,
-            "newton_tolerance": params.newton_tolerance,
-            "newton_max_iterations": 50, "full_newton": False,
-            "velocity_scale": v},
-        "contact": {"friction": params.friction,
-                    "alert_distance": params.alert_distance,
-                    "max_penetration": 0.25 * params.element_size,
-                    "nlgs_tolerance": params.nlgs_tolerance,
-                    "nlgs_max_sweeps": 5000, "nlgs_relaxation": 1.0},
-        "stop": {"max_time": max_time},
-        "output": {"directory": str(Path(out_dir).resolve()),
-                   "every_steps": params.every, "fields": True},
+        "box": {"enabled": False},
+        "species": [{"name": "disk", "shape": "disk",
+                     "diameter": params.diameter, "count": 1}],
+        "mesh": {"element_size": params.element_size},
+        "walls": {"bottom": {"point": [0.0, y_bottom], "normal": [0.0, 1.0],
+                             "velocity": [0.0, v]},
+                  "top": {"point": [0.0, y_top], "normal": [0.0, -1.0],
+                          "velocity": [0.0, -v]}},
+        "stop": {"packing_fraction": 0.0, "max_time": max_time},
+        "contact": {"friction": params.friction},
+        "time": {"time_step": params.time_step, "theta": params.theta},
+        "damping": {"alpha": params.alpha},
+        "output": {"every_steps": params.every, "fields": True,
+                   "fields_every": 1, "state": False},
     }
 
 
+def single_disk_config(params: Params, y_bottom=None, y_top=None):
+    """The validated configuration (plates at +-R unless given).
+
+    Raises
+    ------
+    softpack.scene.config.ConfigError
+    """
+    if y_bottom is None:
+        y_bottom, y_top = -params.radius, params.radius
+    return validate(config_data(params, y_bottom, y_top), SOURCE)
+
+
 def driver_executable() -> Path:
-    """``$SOFTPACK_BIN/softpack-simulate``, else the repository's build/bin."""
-    from softpack.paths import BIN
-    exe = BIN / "softpack-simulate"
-    if not (exe.is_file() and os.access(exe, os.X_OK)):
-        raise SingleDiskError(f"{exe} not found: build it with ./softpack"
-                              " build (or set SOFTPACK_BIN)")
-    return exe
+    """The driver's executable (raises SingleDiskError when not built)."""
+    from softpack.simulation.driver import DriverError, executable
+
+    try:
+        return executable()
+    except DriverError as err:
+        raise SingleDiskError(str(err)) from None
 
 
 def simulate(params: Params, sim_dir, quiet=True) -> dict:
-    """Mesh, write driver.json, run softpack-simulate in ``sim_dir``.
+    """Scene, driver.json and softpack-simulate in ``sim_dir``.
 
-    Returns a dict with the mesh size, the plates' initial positions and the
-    driver's wall time.
+    Returns a dict with the configuration, the mesh size, the plates'
+    initial positions and the driver's wall time.
     """
-    from softpack.scene.mesh import mesh_disks
+    from softpack.scene.build import build_scene
+    from softpack.simulation import driver
+    from softpack.simulation.driver_input import write_driver_json
 
     sim_dir = Path(sim_dir)
     sim_dir.mkdir(parents=True, exist_ok=True)
     for stale in ("raw/done.json", "raw/steps.csv", "fields.h5",
                   "fields.xdmf"):
         (sim_dir / stale).unlink(missing_ok=True)
-    info = mesh_disks([(0.0, 0.0)], [params.radius], params.element_size,
-                      sim_dir / "mesh" / "disk")
+    scene = build_scene(single_disk_config(params), sim_dir / "mesh" / "disk")
     rotation = 0.0
     if params.orientation == "node_up":
-        rotation = put_node_up(info.h5, params.radius)
-    nodes = reference_nodes(info.h5)
+        rotation = put_node_up(scene.mesh.h5, params.radius)
+    nodes = reference_nodes(scene.mesh.h5)
     y_bottom, y_top = float(nodes[:, 1].min()), float(nodes[:, 1].max())
-    doc = driver_document(params, info.xdmf, y_bottom, y_top, sim_dir)
-    (sim_dir / "driver.json").write_text(json.dumps(doc, indent=2) + "\n")
-    exe = driver_executable()
+    config = single_disk_config(params, y_bottom, y_top)
+    (sim_dir / "config.toml").write_text(to_toml(config))
+    write_driver_json(config, scene.record(), sim_dir)
+    driver_executable()
     started = time.time()
-    with open(sim_dir / "driver.log", "w") as log:
-        status = subprocess.run(
-            [str(exe), str(sim_dir / "driver.json")], cwd=sim_dir,
-            stdin=subprocess.DEVNULL, stdout=log,
-            stderr=subprocess.STDOUT).returncode
+    (sim_dir / "driver.log").unlink(missing_ok=True)
+    status, _ = driver.simulate(sim_dir / "driver.json",
+                                sim_dir / "driver.log")
     seconds = time.time() - started
     if status != 0 or not (sim_dir / "raw" / "done.json").exists():
         tail = (sim_dir / "driver.log").read_text().splitlines()[-15:]
         raise SingleDiskError(
             f"softpack-simulate failed (exit status {status}); last lines of"
             f" {sim_dir / 'driver.log'}:\n" + "\n".join(tail))
-    return {"triangles": info.n_triangles, "nodes": int(len(nodes)),
+    return {"config": config, "triangles": scene.mesh.n_triangles,
+            "nodes": int(len(nodes)),
             "boundary_nodes": int(np.sum(on_circle(nodes, params.radius))),
             "mesh_rotation_rad": rotation,
             "y_bottom0": y_bottom, "y_top0": y_top,
@@ -259,36 +278,20 @@ def put_node_up(mesh_h5, radius) -> float:
 
 def reference_nodes(mesh_h5) -> np.ndarray:
     """Node coordinates (n, 2) of a mesh written by mesh_disks."""
-    import h5py
+    from softpack.analysis.fields import read_mesh
 
-    with h5py.File(mesh_h5, "r") as f:
-        return np.asarray(f["/Mesh/mesh/geometry"])[:, :2]
+    return read_mesh(mesh_h5)[0]
 
 
 def read_steps(path) -> dict:
     """``raw/steps.csv`` as a dict of float arrays keyed by column."""
-    with open(path) as f:
-        names = f.readline().strip().split(",")
-    rows = []
-    with open(path) as f:
-        next(f)
-        for line in f:
-            row = [_number(x) for x in line.strip().split(",")]
-            # tolerate rows shorter than the header (trailing columns
-            # missing: a driver whose header is ahead of its rows)
-            rows.append((row + [math.nan] * len(names))[:len(names)])
-    data = np.array(rows, dtype=float).reshape(-1, len(names))
-    return {name: data[:, j] for j, name in enumerate(names)}
+    from softpack.analysis.tables import read_table
+
+    return read_table(path)
 
 
-def _number(text) -> float:
-    text = text.strip().lower()
-    if text in ("true", "false"):
-        return float(text == "true")
-    return float(text) if text else math.nan
-
-
-def force_curve(steps: dict, params: Params, y_bottom0, y_top0) -> dict:
+def force_curve(steps: dict, params: Params, y_bottom0, y_top0,
+                shear_modulus) -> dict:
     """eps, f_norm (mean of the plates), and each plate's f_norm.
 
     The driver's wall forces are averages over the steps since the previous
@@ -300,7 +303,7 @@ def force_curve(steps: dict, params: Params, y_bottom0, y_top0) -> dict:
     delta[1:] = 0.5 * (end[1:] + end[:-1])
     delta[np.abs(delta) < 1e-12 * params.diameter] = 0.0  # round-off at t = 0
     eps = 0.0 - np.log(1.0 - delta / params.diameter)  # 0, not -0, at t = 0
-    scale = params.diameter * MU
+    scale = params.diameter * shear_modulus
     top = steps["top_fy"] / scale          # the disk pushes the top plate up
     bottom = -steps["bottom_fy"] / scale   # ... and the bottom plate down
     return {"eps": eps, "delta": delta, "f_norm": 0.5 * (top + bottom),
@@ -309,15 +312,10 @@ def force_curve(steps: dict, params: Params, y_bottom0, y_top0) -> dict:
 
 def read_fields(fields_h5):
     """Geometry (n, 2), triangles (k, 3), and [(time, u (n, 2))] by time."""
-    import h5py
+    from softpack.analysis.fields import read_displacements, read_mesh
 
-    with h5py.File(fields_h5, "r") as f:
-        x = np.asarray(f["/Mesh/mesh/geometry"])[:, :2]
-        cells = np.asarray(f["/Mesh/mesh/topology"]).astype(np.int64)
-        group = f["/Function/displacement"]
-        snaps = sorted((float(key.replace("_", ".")),
-                        np.asarray(group[key])[:, :2]) for key in group)
-    return x, cells, snaps
+    x, cells = read_mesh(fields_h5)
+    return x, cells, read_displacements(fields_h5)
 
 
 def line_interpolator(x, cells, points):
@@ -409,7 +407,8 @@ def run(params: Params, out_dir, quiet=True) -> dict:
     started = time.time()
     meta = simulate(params, sim_dir, quiet)
     steps = read_steps(sim_dir / "raw" / "steps.csv")
-    curve = force_curve(steps, params, meta["y_bottom0"], meta["y_top0"])
+    mu = meta["config"]["material"]["parameters"]["shear_modulus"]
+    curve = force_curve(steps, params, meta["y_bottom0"], meta["y_top0"], mu)
     profiles = transverse_profiles(sim_dir / "fields.h5", steps, curve,
                                    params)
     write_outputs(out_dir, params, steps, curve, profiles, meta,
@@ -420,24 +419,28 @@ def run(params: Params, out_dir, quiet=True) -> dict:
 
 def write_outputs(out_dir, params, steps, curve, profiles, meta, seconds):
     """force_2d.csv, profile_2d.csv, run_2d.json into out_dir."""
+    from softpack.analysis.tables import write_table
+
     out_dir = Path(out_dir)
     # every row up to the first at or beyond max_strain
     last = int(np.searchsorted(curve["eps"], params.max_strain - 1e-12))
     keep = np.arange(len(curve["eps"])) <= last
-    np.savetxt(out_dir / "force_2d.csv",
-               np.column_stack([curve["eps"][keep], curve["f_norm"][keep]]),
-               delimiter=",", header="eps,f_norm", comments="", fmt="%.7g")
-    rows = [(e, w, u) for e in PROFILE_STRAINS if e in profiles
-            for w, u in zip(PROFILE_W, profiles[e])]
-    np.savetxt(out_dir / "profile_2d.csv", np.array(rows).reshape(-1, 3),
-               delimiter=",",
-               header="eps,w,ux_over_D", comments="", fmt="%.7g")
+    write_table(out_dir / "force_2d.csv",
+                {"eps": curve["eps"][keep], "f_norm": curve["f_norm"][keep]})
+    rows = np.array([(e, w, u) for e in PROFILE_STRAINS if e in profiles
+                     for w, u in zip(PROFILE_W, profiles[e])]).reshape(-1, 3)
+    write_table(out_dir / "profile_2d.csv",
+                {"eps": rows[:, 0], "w": rows[:, 1], "ux_over_D": rows[:, 2]})
     loaded = curve["f_norm"] > 0.0
     mismatch = np.abs(curve["f_norm_top"] - curve["f_norm_bottom"])[loaded]
     energy = {key: float(steps[key][keep][-1]) for key in
               ("strain_energy", "kinetic_energy", "wall_work", "damping",
                "friction", "numerical", "energy_residual") if key in steps}
-    doc = {"params": asdict(params), "mesh": {
+    config = meta["config"]
+    doc = {"params": asdict(params),
+           "settings": {name: config[name] for name in
+                        ("material", "contact", "time", "damping", "stop")},
+           "mesh": {
         "triangles": meta["triangles"], "nodes": meta["nodes"],
         "boundary_nodes": meta["boundary_nodes"],
         "rotation_rad": meta["mesh_rotation_rad"]},
@@ -483,8 +486,6 @@ def _parser():
                    help="time step (s, default 1e-4)")
     p.add_argument("--alpha", type=float, default=d.alpha,
                    help="Rayleigh mass coefficient (1/s, default 200)")
-    p.add_argument("--beta", type=float, default=d.beta,
-                   help="Rayleigh stiffness coefficient (s, default 1e-5)")
     p.add_argument("--friction", type=float, default=d.friction,
                    help="plate friction coefficient (default 1e-2: pins"
                    " the disk's rolling; 0 = exactly frictionless)")
@@ -503,7 +504,7 @@ def main(argv=None) -> int:
     params = Params(diameter=args.diameter, element_size=args.element_size,
                     max_strain=args.max_strain, speed=args.speed,
                     time_step=args.time_step, alpha=args.alpha,
-                    beta=args.beta, friction=args.friction,
+                    friction=args.friction,
                     every=args.every, orientation=args.orientation)
     if not 0 < params.max_strain < 1:
         print("softpack single-disk: --max-strain must be in (0, 1)",
@@ -512,9 +513,10 @@ def main(argv=None) -> int:
     if params.max_strain < max(PROFILE_STRAINS):
         print("softpack single-disk: note: --max-strain < 0.2: the"
               " profiles beyond it are not written", flush=True)
-    if params.speed * params.time_step > params.alert_distance:
-        print("softpack single-disk: speed * time step exceeds the alert"
-              " distance", file=sys.stderr)
+    try:  # refuse what the schema refuses before meshing anything
+        single_disk_config(params)
+    except ConfigError as err:
+        print(f"softpack single-disk: {err}", file=sys.stderr)
         return 2
     args.out.mkdir(parents=True, exist_ok=True)
     print(f"softpack single-disk: D = {params.diameter:g} m, h ="
