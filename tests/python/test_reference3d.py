@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("dolfinx")
+from softpack.analysis.tables import read_table  # noqa: E402
 from softpack.references import cylinder3d as r3d  # noqa: E402  (python/ on sys.path: conftest.py)
 
 CI_MESH = dict(element_size=0.002, max_strain=0.15, n_steps=15)
@@ -107,11 +108,11 @@ def test_transverse_profile(nearly_incompressible):
 
 def test_csv_files_and_plots(nearly_incompressible, tmp_path):
     r3d.write_csvs(nearly_incompressible, tmp_path)
-    force = np.genfromtxt(tmp_path / "force_3d_nu0495.csv", delimiter=",", names=True)
-    assert force.dtype.names == ("eps", "f_norm")
-    np.testing.assert_allclose(force["f_norm"], nearly_incompressible.f_norm, rtol=1e-5, atol=1e-9)
-    prof = np.genfromtxt(tmp_path / "profile_3d_nu0495.csv", delimiter=",", names=True)
-    assert prof.dtype.names == ("eps", "w", "ux_over_D")
+    force = read_table(tmp_path / "force_3d_nu0495.csv")
+    assert list(force) == ["eps", "f_norm"]
+    np.testing.assert_allclose(force["f_norm"], nearly_incompressible.f_norm, rtol=1e-11, atol=1e-15)
+    prof = read_table(tmp_path / "profile_3d_nu0495.csv")
+    assert list(prof) == ["eps", "w", "ux_over_D"]
     assert set(np.round(prof["eps"], 6)) == {0.05, 0.10, 0.15}
 
     from softpack.plots import single_disk as plots_single_disk
@@ -132,7 +133,7 @@ def test_cli_writes_the_csv_files(tmp_path):
     argv = ["--out", str(tmp_path), "--element-size", "0.003", "--incompressible",
             "--max-strain", "0.05", "--steps", "2"]
     assert r3d.main(argv) == 0
-    force = np.genfromtxt(tmp_path / "force_3d_incompressible.csv", delimiter=",", names=True)
+    force = read_table(tmp_path / "force_3d_incompressible.csv")
     np.testing.assert_allclose(force["eps"], [0.0, 0.025, 0.05])
     assert 0.04 < force["f_norm"][-1] < 0.06
     for name in ("profile_3d_incompressible.csv", "profile_3d_incompressible_endface.csv",

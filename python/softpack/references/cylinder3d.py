@@ -62,6 +62,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from softpack.analysis import strain
+from softpack.analysis.tables import write_table
+
 log = logging.getLogger("softpack.references.cylinder3d")
 
 PROFILE_STRAINS = (0.05, 0.10, 0.15, 0.20)
@@ -390,7 +393,7 @@ def compress_cylinder_3d(diameter=0.02, length=0.015, mu=0.15e6, nu=0.495,
     res.energy, res.penalty_energy, res.newton_its = [0.0], [0.0], [0]
     res.penalty, res.n_steps = penalty, n_steps
     for eps in strain_schedule(max_strain, n_steps):
-        dhat = diameter * (1.0 - math.exp(-eps)) / R
+        dhat = float(strain.approach(eps, diameter)) / R
         its = _advance(prob, solver, res.delta[-1] / R, dhat, max_halvings)
         _record(prob, solver, res, eps, dhat * R, its)
         log.info("%s eps=%.4f f_norm=%.5f (y=0: %.5f) newton=%d  %.1fs", res.model, eps,
@@ -466,7 +469,7 @@ def johnson_line_contact(eps, nu, plane_strain=True):
     eps = np.atleast_1d(np.asarray(eps, dtype=float))
     E = 2.0 * (1.0 + nu)
     k = E / (1.0 - nu ** 2) if plane_strain else E
-    target = 1.0 - np.exp(-eps)
+    target = strain.approach(eps, 1.0)
 
     def approach(p):
         return 2 * p / (np.pi * k) * (np.log(2 * np.pi * k / p) - 1)
@@ -487,21 +490,20 @@ def write_csvs(res, out_dir):
     tag = res.model
     eps = np.asarray(res.eps)
     scale = res.diameter * res.length * res.mu
-    np.savetxt(os.path.join(out_dir, f"force_3d_{tag}.csv"),
-               np.column_stack([eps, res.f_norm]), delimiter=",",
-               header="eps,f_norm", comments="", fmt="%.6g")
+    write_table(os.path.join(out_dir, f"force_3d_{tag}.csv"),
+                {"eps": eps, "f_norm": res.f_norm})
     e_scale = scale * res.diameter
-    np.savetxt(os.path.join(out_dir, f"energy_3d_{tag}.csv"),
-               np.column_stack([eps, res.f_norm, np.asarray(res.force_sym) / scale,
-                                res.work / e_scale, np.asarray(res.energy) / e_scale,
-                                np.asarray(res.penalty_energy) / e_scale]),
-               delimiter=",",
-               header="eps,f_norm,f_norm_sym_plane,work_norm,energy_norm,penalty_energy_norm",
-               comments="", fmt="%.6g")
+    write_table(os.path.join(out_dir, f"energy_3d_{tag}.csv"), {
+        "eps": eps, "f_norm": res.f_norm,
+        "f_norm_sym_plane": np.asarray(res.force_sym) / scale,
+        "work_norm": res.work / e_scale,
+        "energy_norm": np.asarray(res.energy) / e_scale,
+        "penalty_energy_norm": np.asarray(res.penalty_energy) / e_scale})
     for suffix, profiles in (("", res.profiles_mid), ("_endface", res.profiles_end)):
-        rows = [(e, w, u) for e in sorted(profiles) for w, u in zip(*profiles[e])]
-        np.savetxt(os.path.join(out_dir, f"profile_3d_{tag}{suffix}.csv"), np.array(rows),
-                   delimiter=",", header="eps,w,ux_over_D", comments="", fmt="%.6g")
+        rows = np.array([(e, w, u) for e in sorted(profiles)
+                         for w, u in zip(*profiles[e])]).reshape(-1, 3)
+        write_table(os.path.join(out_dir, f"profile_3d_{tag}{suffix}.csv"),
+                    dict(zip(("eps", "w", "ux_over_D"), rows.T)))
     meta = {"model": tag, "nu": res.nu, "diameter": res.diameter, "length": res.length,
             "mu": res.mu, "element_size": res.element_size, "num_cells": res.num_cells,
             "num_dofs": res.num_dofs, "wall_time_s": round(res.wall_time, 1),
