@@ -19,6 +19,12 @@ Runs, in order, and prints a table (also written to
    same packing fraction (``--scaling-phi``, 0.80): cost per unit strain and
    the fitted exponents.
 
+Every run is a configuration validated like a user's: examples/paper.toml
+with overrides (``section.key`` names of the schema) applied BEFORE
+validation; a fixed number of steps is ``[stop] steps``. Results come from
+the driver's ``raw/done.json`` and ``raw/steps.csv`` (through
+:mod:`softpack.analysis.tables`), never from its binary files.
+
 ``--from-state FILE`` times ``--steps`` steps of the paper case (seed 0 mesh)
 from a state a run wrote (``runs/<run>/raw/state.bin``), at both settings:
 the crowded end of the compaction without recomputing its start.
@@ -30,23 +36,26 @@ the crowded end of the compaction without recomputing its start.
 from __future__ import annotations
 
 import argparse
-import csv
 import datetime
 import json
 import math
 import os
-import struct
 import subprocess
 import sys
 from pathlib import Path
 
-from softpack.scene import config as cfg
-from softpack.scene.mesh import mesh_disks
-from softpack.scene.packing import random_packing
-
+from softpack.analysis.tables import read_table
 from softpack.paths import BIN, ROOT
+from softpack.scene.build import build_scene, scene_record
+from softpack.scene.config import load_config
+from softpack.simulation import driver
+from softpack.simulation.driver_input import write_driver_json
+
 WORK = ROOT / "bench" / "work"
 RESULTS = ROOT / "bench" / "results"
+PAPER_TOML = ROOT / "examples" / "paper.toml"
+#: The loaded wall of the paper's box (the piston).
+PISTON = "right"
 
 #: The paper's numerical settings (examples/paper_9us.toml) ...
 PAPER = {"time.time_step": 9e-6, "time.theta": 0.5,
@@ -75,79 +84,65 @@ def bench_detection() -> list[dict]:
     return _json_lines([str(BIN / "softpack-bench-detection")])
 
 
-def _scaled_config(n_scale: int, overrides: dict, steps: int):
-    """The paper's config with n_scale times the disks in a box scaled by
-    sqrt(n_scale), the piston speed scaled like the box length."""
-    base = cfg.load_config(ROOT / "examples" / "paper.toml")
-    g = base["geometry"]
-    counts = [round(c * n_scale) for c in g["counts"]]
+def scaled_overrides(base, n_scale: float) -> dict:
+    """Overrides of ``base`` (the paper's config) for n_scale times the
+    disks in a box scaled with their total area, the piston speed scaled
+    like the box length (the same strain rate)."""
+    species = base["species"]
+    counts = [round(s["count"] * n_scale) for s in species]
     # box scaled with the disks' total area (not n_scale: counts are
     # rounded), so that every size starts at the same packing fraction
-    area = lambda cs: sum(c * d * d for c, d in zip(cs, g["diameters"]))
-    s = math.sqrt(area(counts) / area(g["counts"]))
-    merged = {"geometry.counts": counts,
-              "geometry.length": g["length"] * s,
-              "geometry.width": g["width"] * s,
-              "loading.piston_speed": base["loading"]["piston_speed"] * s,
-              "output.every_steps": steps, "output.fields": False}
+    area = lambda cs: sum(c * s["diameter"] ** 2
+                          for c, s in zip(cs, species))
+    scale = math.sqrt(area(counts) / area([s["count"] for s in species]))
+    vx, vy = base["walls"][PISTON]["velocity"]
+    out = {f"species.{i}.count": c for i, c in enumerate(counts)}
+    out.update({"box.length": base["box"]["length"] * scale,
+                "box.width": base["box"]["width"] * scale,
+                f"walls.{PISTON}.velocity": [vx * scale, vy * scale]})
+    return out
+
+
+def scaled_config(n_scale: float, overrides: dict):
+    """The paper's config scaled (:func:`scaled_overrides`), no fields,
+    with ``overrides`` on top; validated once, never edited after."""
+    merged = scaled_overrides(load_config(PAPER_TOML), n_scale)
+    merged["output.fields"] = False
     merged.update(overrides)
-    config = cfg.load_config(ROOT / "examples" / "paper.toml", merged)
-    config["loading"]["max_time"] = steps * config["time"]["time_step"]
-    return config
+    return load_config(PAPER_TOML, merged)
 
 
-def _mesh_for(config, tag: str) -> Path:
-    """Mesh of the config's packing (seed 0), cached under bench/work/."""
+def _scene_for(config, tag: str) -> dict:
+    """driver.json's scene for the config (seed 0), the mesh cached under
+    bench/work/."""
     stem = WORK / f"mesh-{tag}"
     xdmf = stem.with_suffix(".xdmf")
     if not Path(str(stem) + ".bodies.csv").exists():
-        g = config["geometry"]
-        packing = random_packing(g["seed"], counts=tuple(g["counts"]),
-                                 diameters=tuple(g["diameters"]),
-                                 length=g["length"], width=g["width"],
-                                 gap=g["gap"])
-        mesh_disks(packing.centres, packing.radii,
-                   config["mesh"]["element_size"], stem)
-    return xdmf
+        return build_scene(config, stem).record()
+    return scene_record(config, xdmf)
 
 
-def state_time(path: Path) -> float:
-    """Time (s) of a state file (layout: driver/io/state_file.h)."""
-    with open(path, "rb") as f:
-        head = f.read(16 + 3 * 8 + 8)
-    if len(head) < 48 or head[:16] != b"softpack-state-1":
-        raise ValueError(f"{path}: not a softpack state file")
-    return struct.unpack("<d", head[40:48])[0]
-
-
-def run_driver(config, mesh: Path, name: str, initial_state: Path | None = None,
-               ) -> dict:
+def run_driver(config, scene: dict, name: str,
+               initial_state: Path | None = None) -> dict:
     """Run softpack-simulate; its done.json plus steps, cost and memory."""
     out = WORK / name
     out.mkdir(parents=True, exist_ok=True)
-    cfg.to_driver_json(config, mesh, out, initial_state=initial_state)
-    proc = subprocess.Popen([str(BIN / "softpack-simulate"),
-                             str(out / "driver.json"), "--quiet"],
-                            stdout=subprocess.DEVNULL)
-    # wait4 gives this child's own peak resident memory (kB on Linux)
-    _, status, usage = os.wait4(proc.pid, 0)
-    proc.returncode = os.waitstatus_to_exitcode(status)
-    if proc.returncode != 0:
+    write_driver_json(config, scene, out, initial_state)
+    status, peak_mb = driver.wait(driver.start(out / "driver.json", None,
+                                               quiet=True))
+    if status != 0:
         raise RuntimeError(f"softpack-simulate failed on {out / 'driver.json'}")
-    peak_kb = usage.ru_maxrss
     done = json.loads((out / "raw" / "done.json").read_text())
-    steps = done["steps"]
-    with open(out / "raw" / "steps.csv") as f:
-        rows = list(csv.DictReader(f))
-    # Time stepping only: from the step-0 output row (written after reading
+    rows = read_table(out / "raw" / "steps.csv")
+    # Time stepping only: from the first output row (written after reading
     # the mesh and building the bodies) to the last.
-    stepping = float(rows[-1]["seconds"]) - float(rows[0]["seconds"])
-    steps -= int(rows[0]["step"])  # a run from a state starts past 0
+    stepping = float(rows["seconds"][-1] - rows["seconds"][0])
+    steps = done["steps"] - int(rows["step"][0])  # from a state: past 0
     result = {"name": name, "steps": steps, "seconds": stepping,
-              "setup_seconds": float(rows[0]["seconds"]),
+              "setup_seconds": float(rows["seconds"][0]),
               "ms_per_step": 1e3 * stepping / steps,
               "factorizations": done["factorizations"],
-              "peak_memory_mb": peak_kb / 1024}
+              "peak_memory_mb": peak_mb}
     for part in PARTS:
         result[f"ms_{part}"] = 1e3 * done["seconds_by_part"][part] / steps
     return result
@@ -156,13 +151,12 @@ def run_driver(config, mesh: Path, name: str, initial_state: Path | None = None,
 def bench_paper(steps: int, state: Path | None = None) -> list[dict]:
     """Per-step cost of the paper case at the paper's settings and at the
     defaults: ``steps`` steps from the initial packing, or from ``state``."""
-    t0 = state_time(state) if state is not None else 0.0
     prefix = "late" if state is not None else "paper"
     results = []
     for label, overrides in (("paper-settings", PAPER), ("fast-settings", FAST)):
-        config = _scaled_config(1, overrides, steps)
-        config["loading"]["max_time"] = t0 + steps * config["time"]["time_step"]
-        results.append(run_driver(config, _mesh_for(config, "n100"),
+        config = scaled_config(1, {**overrides, "stop.steps": steps,
+                                   "output.every_steps": steps})
+        results.append(run_driver(config, _scene_for(config, "n100"),
                                   f"{prefix}-{label}", initial_state=state))
     return results
 
@@ -172,17 +166,16 @@ def bench_scaling(target_phi: float) -> dict:
     its initial packing to the packing fraction target_phi."""
     rows = []
     for scale in (0.25, 1, 4):
-        config = _scaled_config(scale, FAST, 100)
-        config["loading"]["target_packing_fraction"] = target_phi
-        config["loading"]["max_time"] = (config["geometry"]["length"] / 2
-                                         / config["loading"]["piston_speed"])
-        n = sum(config["geometry"]["counts"])
-        r = run_driver(config, _mesh_for(config, f"n{n}"), f"scaling-n{n}")
-        with open(WORK / f"scaling-n{n}" / "raw" / "steps.csv") as f:
-            last = list(csv.DictReader(f))[-1]
-        piston = config["geometry"]["length"] - float(last["piston_x"])
-        strain = -math.log(1 - piston / config["geometry"]["length"])
-        r.update(disks=n, strain=strain, final_phi=float(last["phi"]),
+        config = scaled_config(scale, {**FAST, "output.every_steps": 100,
+                                       "stop.packing_fraction": target_phi})
+        n = sum(s["count"] for s in config["species"])
+        r = run_driver(config, _scene_for(config, f"n{n}"), f"scaling-n{n}")
+        steps = read_table(WORK / f"scaling-n{n}" / "raw" / "steps.csv")
+        length = config["box"]["length"]
+        piston = config["walls"][PISTON]["point"][0]
+        travel = piston - float(steps[f"{PISTON}_x"][-1])
+        strain = -math.log(1 - travel / length)
+        r.update(disks=n, strain=strain, final_phi=float(steps["phi"][-1]),
                  seconds_per_unit_strain=r["seconds"] / strain)
         rows.append(r)
 
@@ -209,19 +202,18 @@ def bench_invariance(max_strain: float | None = None,
         sets["output.every_steps"] = round(9e-4 / sets["time.time_step"])
         sets["output.fields"] = False
         if to_phi is not None:
-            sets["loading.target_packing_fraction"] = to_phi
-        config = cfg.load_config(ROOT / "examples" / "paper.toml", sets)
-        g, speed = config["geometry"], config["loading"]["piston_speed"]
+            sets["stop.packing_fraction"] = to_phi
         if max_strain is not None:
-            config["loading"]["max_time"] = (
-                g["length"] * (1 - math.exp(-max_strain)) / speed)
+            base = load_config(PAPER_TOML)
+            speed = math.hypot(*base["walls"][PISTON]["velocity"])
+            sets["stop.max_time"] = (base["box"]["length"]
+                                     * (1 - math.exp(-max_strain)) / speed)
+        config = load_config(PAPER_TOML, sets)
         out = WORK / f"invariance-{label}"
         if run(config, out, force=True, initial_state=state) != 0:
             raise RuntimeError(f"invariance run {label} failed")
-        with open(out / "series.csv") as f:
-            rows = list(csv.DictReader(f))
-        series[label] = {k: [float(r[k]) if r[k] not in ("", "nan") else math.nan
-                             for r in rows] for k in rows[0]}
+        series[label] = {k: list(v) for k, v in
+                         read_table(out / "series.csv").items()}
     return compare_series(series["paper"], series["fast"])
 
 
@@ -268,7 +260,7 @@ def bench_full() -> dict:
     # an output every 0.9 ms, as the paper's 100 steps of 9 us
     every = round(9e-4 / FAST["time.time_step"])
     cmd = [sys.executable, "-m", "softpack.cli", "run",
-           str(ROOT / "examples" / "paper.toml"), "--out", str(out), "--force",
+           str(PAPER_TOML), "--out", str(out), "--force",
            f"--set=output.every_steps={every}", *sets]
     subprocess.run(cmd, check=True)
     done = json.loads((out / "raw" / "done.json").read_text())

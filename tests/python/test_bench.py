@@ -26,3 +26,27 @@ def test_known_differences_are_measured():
     d = compare_series(_series(), _series(scale_phi=1.001, shift_z=0.03))
     assert d["phi_max_relative_difference"] == pytest.approx(1e-3, rel=1e-6)
     assert d["z_max_difference"] == pytest.approx(0.03, abs=2e-3)
+
+
+def test_bench_configs_are_validated_with_their_overrides(tmp_path_factory,
+                                                          monkeypatch):
+    """The bench builds its configs by overrides before validation: the
+    scaled box keeps the initial packing fraction and the strain rate, a
+    fixed step count is [stop] steps."""
+    from material_registry import use_registry
+    from softpack import bench
+    from softpack.scene.config import initial_packing_fraction, load_config
+
+    use_registry(tmp_path_factory, monkeypatch)
+    base = load_config(bench.PAPER_TOML)
+    config = bench.scaled_config(4, {**bench.FAST, "stop.steps": 7})
+    assert [s["count"] for s in config["species"]] == [280, 120]
+    assert initial_packing_fraction(config) == pytest.approx(
+        initial_packing_fraction(base), rel=1e-12)
+    rate = lambda c: -c["walls"]["right"]["velocity"][0] / c["box"]["length"]
+    assert rate(config) == pytest.approx(rate(base), rel=1e-12)
+    assert config["stop"]["steps"] == 7 and config["output"]["fields"] is False
+    # max_time follows the scaled box: the piston crosses half of it
+    assert config["stop"]["max_time"] == pytest.approx(base["stop"]["max_time"])
+    quarter = bench.scaled_config(0.25, {})
+    assert [s["count"] for s in quarter["species"]] == [18, 8]

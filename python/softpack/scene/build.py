@@ -47,14 +47,28 @@ class Scene:
     walls: list
 
     def record(self) -> dict:
-        """driver.json's ``scene``: the scene-stage sections and bodies."""
-        out = {}
-        for name, section in load_schema().items():
-            if section.stage == "scene":
-                out[name] = _plain(self.config[name])
-        out["bodies"] = {"mesh": str(Path(self.mesh.xdmf).resolve()),
-                         "species": [int(s) for s in self.species]}
-        return out
+        """driver.json's ``scene`` (:func:`scene_record`)."""
+        return scene_record(self.config, self.mesh.xdmf)
+
+
+def scene_record(config, mesh_xdmf) -> dict:
+    """driver.json's ``scene``: the scene-stage sections and the bodies
+    (the mesh, each body's species index in body order).
+
+    Parameters
+    ----------
+    config : Config
+    mesh_xdmf : path-like
+        The bodies' mesh written for this configuration's scene.
+    """
+    out = {}
+    for name, section in load_schema().items():
+        if section.stage == "scene":
+            out[name] = _plain(config[name])
+    _, species = particle_table(config["species"])
+    out["bodies"] = {"mesh": str(Path(mesh_xdmf).resolve()),
+                     "species": [int(s) for s in species]}
+    return out
 
 
 def _plain(value):
