@@ -166,10 +166,17 @@ def plot_curves(groups, x_name, y_name, xlabel, ylabel, path, extra=None):
                         label=_label(mu, runs), **_style(i))
     if extra is not None:
         extra(ax)
+    return _save(fig, ax, xlabel, ylabel, path, legend_size=8)
+
+
+def _save(fig, ax, xlabel, ylabel, path, legend_size):
+    """Label, grid and legend one plot, write it as PNG and close it."""
+    import matplotlib.pyplot as plt
+
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=legend_size)
     fig.tight_layout()
     fig.savefig(path, dpi=150)
     plt.close(fig)
@@ -209,13 +216,7 @@ def plot_connectivity(groups, path) -> list[str]:
     x = np.linspace(fits.PAPER_PHI_T, 0.89, 100)
     ax.plot(x, fits.connectivity_law(x, fits.PAPER_PHI_T), "k--", lw=1,
             label=f"paper, Phi_T = {fits.PAPER_PHI_T}")
-    ax.set_xlabel("Phi")
-    ax.set_ylabel("Z")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    _save(fig, ax, "Phi", "Z", path, legend_size=7)
     return lines
 
 

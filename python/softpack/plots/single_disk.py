@@ -45,17 +45,22 @@ def _load(directory, files, used, missing):
     return found
 
 
-def plot_force(directory, curves, out):
+def _save(fig, ax, title, out):
+    """Legend and title, then write the PNG and close the figure."""
+    import matplotlib.pyplot as plt
+
+    ax.legend(fontsize=7, loc="upper left")
+    ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
+def plot_force(curves, out):
     """Fig. 2: f/(D l mu) against eps, with Johnson's line-contact curves.
 
-    Parameters
-    ----------
-    directory : str
-        Unused (kept for the callers' signature).
-    curves : list of (dict, str, dict)
-        Tables (columns eps, f_norm), labels and line styles.
-    out : path-like
-        The PNG file.
+    ``curves``: (table with columns eps, f_norm; label; line style) triples;
+    ``out``: the PNG file.
     """
     import matplotlib.pyplot as plt
     from softpack.references.cylinder3d import johnson_line_contact
@@ -75,24 +80,14 @@ def plot_force(directory, curves, out):
     ax.set_ylabel(r"$f / (D \ell \mu)$")
     ax.set_xlim(0, 0.25)
     ax.set_ylim(bottom=0)
-    ax.legend(fontsize=7, loc="upper left")
-    ax.set_title("single cylinder between plates (paper Fig. 2)", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=150)
-    plt.close(fig)
+    _save(fig, ax, "single cylinder between plates (paper Fig. 2)", out)
 
 
-def plot_profile(directory, curves, out):
+def plot_profile(curves, out):
     """Fig. 3: u_x/D against w = X/R at the strains of PROFILE_STRAINS.
 
-    Parameters
-    ----------
-    directory : str
-        Unused (kept for the callers' signature).
-    curves : list of (dict, str, dict)
-        Tables (columns eps, w, ux_over_D), labels and line styles.
-    out : path-like
-        The PNG file.
+    ``curves``: (table with columns eps, w, ux_over_D; label; line style)
+    triples; ``out``: the PNG file.
     """
     import matplotlib.pyplot as plt
 
@@ -112,11 +107,7 @@ def plot_profile(directory, curves, out):
     ax.set_xlabel(r"$w = X/R$ (Lagrangian, along the diameter normal to the loading)")
     ax.set_ylabel(r"$u_x / D$")
     ax.set_xlim(-1, 1)
-    ax.legend(fontsize=7, loc="upper left")
-    ax.set_title("transverse displacement (paper Fig. 3)", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=150)
-    plt.close(fig)
+    _save(fig, ax, "transverse displacement (paper Fig. 3)", out)
 
 
 def main(argv=None):
@@ -136,10 +127,10 @@ def main(argv=None):
         return 1
     written = []
     if forces:
-        plot_force(args.dir, forces, os.path.join(args.dir, "fig2_force.png"))
+        plot_force(forces, os.path.join(args.dir, "fig2_force.png"))
         written.append("fig2_force.png")
     if profiles:
-        plot_profile(args.dir, profiles, os.path.join(args.dir, "fig3_profile.png"))
+        plot_profile(profiles, os.path.join(args.dir, "fig3_profile.png"))
         written.append("fig3_profile.png")
     print(f"plot-single-disk: used {', '.join(used)}")
     if missing:
