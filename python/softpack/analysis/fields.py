@@ -58,11 +58,13 @@ class Snapshot:
 
 
 def _h5py():
+    """h5py, imported when a file is read (the package loads without it)."""
     import h5py
     return h5py
 
 
 def _mesh_group(f, path):
+    """The first group under ``/Mesh`` (dolfinx names it after the mesh)."""
     if "Mesh" not in f or not len(f["Mesh"]):
         raise KeyError(f"{path}: no /Mesh group")
     return f["Mesh"][next(iter(f["Mesh"]))]
@@ -110,6 +112,7 @@ def read_function(path, name, time):
 
 
 def _read_at(group, time):
+    """Values of a function group at its stored time nearest ``time``."""
     times = _times(group)
     stored = min(times, key=lambda t: abs(t - time))
     values = np.asarray(group[times[stored]])

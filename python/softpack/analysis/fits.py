@@ -106,11 +106,13 @@ class TransitionFit:
 
 
 def _refused(reason, points, above=0, runs=()) -> TransitionFit:
+    """A fit that reports no Phi_T, and why."""
     return TransitionFit(float("nan"), float("nan"), reason, "", points,
                          above, tuple(runs))
 
 
 def _usable(phi, z):
+    """Finite points below Phi_1, sorted by Phi (blocks follow Phi)."""
     phi, z = np.asarray(phi, float), np.asarray(z, float)
     ok = np.isfinite(phi) & np.isfinite(z) & (phi < PHI_1)
     order = np.argsort(phi[ok], kind="stable")

@@ -270,6 +270,7 @@ def process_run(run_dir, setup: RunSetup | None = None,
     particles = read_table(run_dir / "raw" / "particles.csv")
 
     def contacts_of(step):
+        """The step's contacts, None when its file is missing."""
         path = contacts_path(run_dir, step)
         return read_contacts(path) if path.is_file() else None
 

@@ -155,6 +155,7 @@ def read_setup(run_dir) -> RunSetup:
 
 
 def _from_document(path, doc) -> RunSetup:
+    """The RunSetup of a parsed document (KeyError names a missing key)."""
     scene, material = doc["scene"], doc["material"]
     walls = {w["name"]: Wall(w["name"], *(np.asarray(w[k], dtype=float)
                                           for k in ("point", "normal",
