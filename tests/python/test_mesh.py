@@ -229,3 +229,42 @@ def test_cli_errors(argv, message, tmp_path, capsys, monkeypatch):
     assert exit_info.value.code == 2
     assert message in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_geometry_file_gives_todays_triangles():
+    """meshes/disk.geo gives exactly the triangles of the gmsh-API disk
+    (occ.addDisk) that the mesher used before it: same nodes, same
+    coordinates, same triangles, for both paper sizes and a coarse h."""
+    import gmsh
+
+    def api_disk(radius, h):
+        gmsh.initialize(readConfigFiles=False)
+        try:
+            gmsh.option.setNumber("General.Terminal", 0)
+            mesh_module._mesh_options(gmsh, h)
+            gmsh.model.add("api")
+            surface = gmsh.model.occ.addDisk(0.0, 0.0, 0.0, radius, radius)
+            gmsh.model.occ.synchronize()
+            gmsh.model.mesh.generate(2)
+            tags, coords, _ = gmsh.model.mesh.getNodes(
+                2, surface, includeBoundary=True, returnParametricCoord=False)
+            _, _, nodes = gmsh.model.mesh.getElements(2, surface)
+            local = {int(t): i for i, t in enumerate(tags)}
+            triangles = np.array([local[int(t)] for t in nodes[0]])
+            return coords.reshape(-1, 3)[:, :2], triangles.reshape(-1, 3)
+        finally:
+            gmsh.finalize()
+
+    for h in (H, 3e-3):
+        from_file = mesh_module.disk_triangulation([0.010, 0.015], h)
+        for radius in (0.010, 0.015):
+            points, triangles = from_file[radius]
+            expected, expected_triangles = api_disk(radius, h)
+            assert points.shape == expected.shape
+            assert np.array_equal(points, expected)
+            # the same triangles (the mesher orients them counter-clockwise)
+            assert np.array_equal(np.sort(triangles, axis=1),
+                                  np.sort(expected_triangles, axis=1))
+    assert mesh_module.shape_file("disk").parent == mesh_module.MESHES
+    with pytest.raises(FileNotFoundError, match="meshes/README.md"):
+        mesh_module.shape_file("star")

@@ -1,9 +1,10 @@
 """``./softpack run`` end to end with a fake ``softpack-simulate``.
 
-The fake driver (a Python script written below) follows docs/driver_io.md:
-it reads driver.json and the mesh's body table, moves the piston at the
-given speed, writes raw/steps.csv, raw/particles.csv, raw/contacts/ and
-finally raw/done.json. Every particle is held between the bottom and top
+The fake driver (a Python script written below) follows docs/contract.md
+(sections 4-5): it reads driver.json (schema version 2) and the mesh's body
+table, writes raw/setup.json, moves the piston (wall "right") at the given
+speed, writes raw/steps.csv, raw/particles.csv, raw/contacts/ and finally
+raw/done.json. Every particle is held between the bottom and top
 walls by two nodes each (balanced), so Z = 2 (walls only).
 """
 
@@ -13,6 +14,8 @@ from pathlib import Path
 
 import pytest
 
+from material_registry import use_registry
+from softpack import paths
 from softpack.analysis import observables
 from softpack.simulation import run
 from softpack.scene.mesh import MeshInfo, output_paths
@@ -24,14 +27,25 @@ import json, os, sys
 from pathlib import Path
 
 doc = json.load(open(sys.argv[1]))
-out = Path(doc["output"]["directory"])
+assert doc["schema_version"] == 2
+out = Path(doc["directory"])
 raw = out / "raw"
 (raw / "contacts").mkdir(parents=True, exist_ok=True)
-lines = open(doc["mesh"][:-len(".xdmf")] + ".bodies.csv").read().split()
+bodies = doc["scene"]["bodies"]
+lines = open(bodies["mesh"][:-len(".xdmf")] + ".bodies.csv").read().split()
 areas = [float(line.split(",")[4]) for line in lines[1:]]
 walls = doc["walls"]
+assert [w["name"] for w in walls[:4]] == ["left", "right", "bottom", "top"]
+json.dump({"schema_version": 2, "units": {}, "scene": doc["scene"],
+           "material": doc["material"], "walls": walls,
+           "parameters": {k: doc[k] for k in
+                          ("stop", "contact", "time", "damping", "output")},
+           "initial_state": doc["initial_state"],
+           "bodies": {"count": len(areas), "species": bodies["species"],
+                      "reference_area": areas, "nodes": [], "triangles": []}},
+          open(raw / "setup.json", "w"))
 speed = walls[1]["velocity"][0]
-h, every = doc["time_stepping"]["time_step"], doc["output"]["every_steps"]
+h, every = doc["time"]["time_step"], doc["output"]["every_steps"]
 length, width = walls[1]["point"][0], walls[3]["point"][1]
 mode = os.environ.get("FAKE_DRIVER", "ok")
 print("fake driver: %d bodies" % len(areas), flush=True)
@@ -79,6 +93,11 @@ json.dump({"steps": step, "seconds": 0.1, "reason": "packing_fraction"},
 '''
 
 
+@pytest.fixture(autouse=True)
+def registry(tmp_path_factory, monkeypatch):
+    return use_registry(tmp_path_factory, monkeypatch)
+
+
 @pytest.fixture
 def fake_bin(tmp_path, monkeypatch):
     """A directory with the fake driver, as SOFTPACK_BIN; fast polling."""
@@ -87,7 +106,7 @@ def fake_bin(tmp_path, monkeypatch):
     exe = bin_dir / "softpack-simulate"
     exe.write_text(FAKE_DRIVER)
     exe.chmod(0o755)
-    monkeypatch.setenv("SOFTPACK_BIN", str(bin_dir))
+    monkeypatch.setattr(paths, "BIN", bin_dir)
     monkeypatch.setattr(run, "POLL_SECONDS", 0.02)
     return bin_dir
 
@@ -104,7 +123,7 @@ def fake_mesh(monkeypatch):
             for i, (c, r, a) in enumerate(zip(centres, radii, areas))))
         return MeshInfo(xdmf, h5, bodies, (1,) * len(radii),
                         (3,) * len(radii), tuple(areas))
-    monkeypatch.setattr("softpack.scene.mesh.mesh_disks", mesh_disks)
+    monkeypatch.setattr("softpack.scene.build.mesh_disks", mesh_disks)
 
 
 def test_bad_config_exits_2_and_writes_nothing(tmp_path, capsys):
@@ -122,7 +141,7 @@ def test_bad_config_exits_2_and_writes_nothing(tmp_path, capsys):
 
 
 def test_missing_driver_writes_nothing(tmp_path, monkeypatch, capsys):
-    monkeypatch.setenv("SOFTPACK_BIN", str(tmp_path / "nobin"))
+    monkeypatch.setattr(paths, "BIN", tmp_path / "nobin")
     out = tmp_path / "out"
     assert run.main([str(SMALL), "--out", str(out)]) == 1
     assert "softpack-simulate not found" in capsys.readouterr().err
@@ -191,26 +210,32 @@ def test_observables_only_uses_the_runs_config(tmp_path, fake_bin,
 
 def test_default_out_dir_and_progress_line(tmp_path):
     from softpack.scene.config import load_config
-    config = load_config(SMALL, {"geometry.seed": 4,
+    config = load_config(SMALL, {"packing.seed": 4,
                                  "contact.friction": 0.7})
     assert run.default_out_dir(config) == Path("runs/small-seed4")
     assert run.default_out_dir(config, True) == Path("runs/small-seed4-mu0.7")
     line = run.Progress(config, tmp_path / "steps.csv").line(
-        {"step": 10, "time": 0.01, "phi": 0.75, "piston_x": 0.105,
-         "left_x": 0.0})
-    # eps = -ln(0.105 / 0.110); done = (0.75 - Phi0) / (0.80 - Phi0)
-    assert "eps = 0.0465" in line and "Phi = 0.7500" in line
-    assert " 52.1 %" in line
+        {"step": 10, "time": 0.01, "phi": 0.75})
+    # done = (0.75 - Phi0) / (0.80 - Phi0)
+    assert "Phi = 0.7500" in line and " 52.1 %" in line
+    # with [stop] steps, the steps done count too
+    # (counted from the first row seen: a run from a state starts past 0)
+    progress = run.Progress(load_config(SMALL, {"stop.steps": 40}),
+                            tmp_path / "steps.csv")
+    progress.fraction({"step": 100, "time": 0.0, "phi": 0.0})
+    line = progress.line({"step": 130, "time": 0.0, "phi": 0.0})
+    assert " 75.0 %" in line
     assert os.fspath(run._default_config()).endswith("examples/paper.toml")
 
 
 def test_set_overrides_are_parsed_as_toml_values():
     from softpack.scene.config import ConfigError
     from softpack.simulation.run import _parse_settings
-    assert _parse_settings(["time.time_step=3.6e-5", "material.name='x'",
-                            "output.fields = false"]) == {
-        "time.time_step": 3.6e-5, "material.name": "x",
-        "output.fields": False}
-    for bad in ("time_step=1", "time.time_step", "material.name=x"):
+    assert _parse_settings(["time.time_step=3.6e-5", "material.law='x'",
+                            "output.fields = false",
+                            "walls.right.velocity=[-0.2, 0]"]) == {
+        "time.time_step": 3.6e-5, "material.law": "x",
+        "output.fields": False, "walls.right.velocity": [-0.2, 0]}
+    for bad in ("time_step=1", "time.time_step", "material.law=x"):
         with pytest.raises(ConfigError, match="--set"):
             _parse_settings([bad])
