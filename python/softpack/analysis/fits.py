@@ -226,8 +226,10 @@ def fit_runs(curves, settings: FitSettings = FitSettings()
     refused = len(fits) - len(good)
     note = f"; {refused} of {len(fits)} runs refused" if refused else ""
     if not good:
-        return _refused(f"no run constrains Phi_T ({fits[0].reason}, ...)",
-                        points, runs=fits)
+        reasons = "; ".join(f"run {i + 1}: {f.reason}"
+                            for i, f in enumerate(fits))
+        return _refused(f"no run constrains Phi_T ({reasons})", points,
+                        runs=fits)
     if len(good) == 1:
         f = good[0]
         return TransitionFit(f.phi_t, f.error, "", f.method + note, points,
