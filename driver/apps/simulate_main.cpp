@@ -1,5 +1,6 @@
 // softpack-simulate DRIVER_JSON: run one simulation described by a resolved
-// driver.json (written by `./softpack run`, see docs/driver_io.md).
+// driver.json (written by `./softpack run`, see docs/contract.md and
+// docs/driver_io.md).
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <dolfinx/common/log.h>
@@ -7,6 +8,24 @@
 #include <io/driver_config.h>
 #include <mpi.h>
 #include <simulation/run_simulation.h>
+#include <stdexcept>
+
+namespace
+{
+/// The run's communicator. Bodies are not distributed yet (a later issue):
+/// until they are, a run on several ranks would only repeat the same work.
+MPI_Comm run_communicator()
+{
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size > 1)
+    throw std::runtime_error(
+        "runs on " + std::to_string(size) +
+        " MPI ranks are not supported yet (bodies are not distributed): "
+        "run on one rank, OpenMP uses the cores");
+  return MPI_COMM_WORLD;
+}
+} // namespace
 
 int main(int argc, char** argv)
 {
@@ -24,9 +43,11 @@ int main(int argc, char** argv)
   int status = 0;
   try
   {
+    const MPI_Comm comm = run_communicator();
     const softpack::io::DriverConfig config =
         softpack::io::read_driver_config(config_path);
-    const auto summary = softpack::simulation::run_simulation(config, quiet);
+    const auto summary =
+        softpack::simulation::run_simulation(comm, config, quiet);
     std::printf("done: %ld steps in %.1f s (%s)\n", summary.steps,
                 summary.seconds, summary.reason.c_str());
   }

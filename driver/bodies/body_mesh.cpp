@@ -21,7 +21,7 @@ int count_bodies(const std::vector<int>& cell_body)
 }
 } // namespace
 
-BodyMesh read_body_mesh(const std::filesystem::path& xdmf)
+BodyMesh read_body_mesh(MPI_Comm comm, const std::filesystem::path& xdmf)
 {
   if (!std::filesystem::exists(xdmf))
     throw std::runtime_error("mesh file " + xdmf.string() + " does not exist");
@@ -30,7 +30,7 @@ BodyMesh read_body_mesh(const std::filesystem::path& xdmf)
     throw std::runtime_error("mesh file " + xdmf.string() + ": its data file " +
                              h5.string() + " does not exist");
 
-  dolfinx::io::XDMFFile file(MPI_COMM_SELF, xdmf, "r");
+  dolfinx::io::XDMFFile file(comm, xdmf, "r");
   fem::CoordinateElement cmap(mesh::CellType::triangle, 1);
   auto mesh = std::make_shared<dolfinx::mesh::Mesh>(
       file.read_mesh(cmap, mesh::GhostMode::none, "mesh"));
@@ -52,7 +52,7 @@ BodyMesh read_body_mesh(const std::filesystem::path& xdmf)
   return {mesh, std::move(cell_body), n};
 }
 
-BodyMesh create_body_mesh(std::span<const double> x,
+BodyMesh create_body_mesh(MPI_Comm comm, std::span<const double> x,
                           std::span<const std::int64_t> cells,
                           std::span<const int> cell_body)
 {
@@ -66,7 +66,7 @@ BodyMesh create_body_mesh(std::span<const double> x,
       std::vector<std::int64_t>(cells.begin(), cells.end()), offsets);
   fem::CoordinateElement cmap(mesh::CellType::triangle, 1);
   auto mesh = std::make_shared<dolfinx::mesh::Mesh>(mesh::create_mesh(
-      MPI_COMM_SELF, adj, cmap, x, {x.size() / 2, 2}, mesh::GhostMode::none));
+      comm, adj, cmap, x, {x.size() / 2, 2}, mesh::GhostMode::none));
 
   // dolfinx reorders cells; original_cell_index maps back to the input.
   const std::vector<std::int64_t>& original =

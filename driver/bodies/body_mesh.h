@@ -3,6 +3,7 @@
 #include <dolfinx/mesh/Mesh.h>
 #include <filesystem>
 #include <memory>
+#include <mpi.h>
 #include <span>
 #include <vector>
 
@@ -23,17 +24,20 @@ struct BodyMesh
 
 /// Read a mesh written by `softpack.mesh` (python): `NAME.xdmf` holding a
 /// triangle mesh named "mesh" and cell tags named "bodies".
+/// @param[in] comm The communicator the mesh lives on (one rank for now:
+/// body_mesh does not distribute bodies yet)
 /// @param[in] xdmf Path of the XDMF file
 /// @throws std::runtime_error naming the file if it is missing, is not a
 /// triangle mesh, or has untagged cells
-BodyMesh read_body_mesh(const std::filesystem::path& xdmf);
+BodyMesh read_body_mesh(MPI_Comm comm, const std::filesystem::path& xdmf);
 
 /// Build a body mesh from triangles given in memory (tests, generated
 /// geometries).
+/// @param[in] comm The communicator the mesh lives on
 /// @param[in] x Vertex coordinates, row-major (num_vertices, 2)
 /// @param[in] cells Triangle vertex indices, row-major (num_cells, 3)
 /// @param[in] cell_body Body id of each input cell
-BodyMesh create_body_mesh(std::span<const double> x,
+BodyMesh create_body_mesh(MPI_Comm comm, std::span<const double> x,
                           std::span<const std::int64_t> cells,
                           std::span<const int> cell_body);
 

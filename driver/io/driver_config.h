@@ -1,52 +1,66 @@
 #pragma once
 
-#include <array>
-#include <dynamics/moreau_jean.h>
+#include <dynamics/walls.h>
 #include <filesystem>
-#include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
+#include <softpack/parameters.h>
 #include <string>
 #include <vector>
 
-/// Reading the resolved run description (docs/driver_io.md).
+/// Reading driver.json (docs/contract.md section 4, docs/driver_io.md).
 namespace softpack::io
 {
-
-/// Names of the four walls bounding the packing (for Phi).
-struct Box
-{
-  std::string left, right, bottom, top;
-};
 
 /// Everything `softpack-simulate` needs, read from driver.json.
 struct DriverConfig
 {
-  std::filesystem::path mesh;
-  std::string material;
-  std::map<std::string, double> material_parameters;
-  double density = 0;
-  std::vector<dynamics::Wall> walls;
-  std::optional<Box> box;
-  dynamics::MoreauJeanOptions stepping;
-  std::optional<double> stop_packing_fraction;
-  double stop_max_time = 0;
-  std::filesystem::path output_directory;
-  int output_every_steps = 100;
-  /// Write fields every this many output steps (0: never)
-  int fields_every_outputs = 1;
-  /// Write raw/state.bin at every output step
-  bool write_state = false;
+  /// The driver.json file (named in error messages)
+  std::filesystem::path file;
+  /// The run directory: raw/ and fields.* are written there
+  std::filesystem::path directory;
   /// Start from this state file (io/state_file.h) instead of rest
   std::optional<std::filesystem::path> initial_state;
+  /// The scene stage's record, as given (copied into raw/setup.json)
+  nlohmann::json scene;
+  /// scene.bodies.mesh: body b = the cells tagged b
+  std::filesystem::path mesh;
+  /// scene.bodies.species: species index of each body
+  std::vector<int> body_species;
+  /// scene.box.enabled: Phi is measured inside the walls left, right,
+  /// bottom and top
+  bool box = false;
+  /// The walls, in driver.json's order, normals normalised
+  std::vector<dynamics::Wall> walls;
+  /// stop, contact, time, damping, output, material (generated from
+  /// schema/parameters.toml)
+  parameters::Parameters parameters;
+  /// Velocity scale of the Newton test: the fastest wall speed (derived
+  /// here, not a parameter)
+  double velocity_scale = 0;
 };
 
-/// Parse and check a driver.json file.
+/// Parse and check a driver.json file: every key required, unknown keys
+/// refused, schema_version 2.
 /// @throws std::runtime_error naming the file and the key at fault
 DriverConfig read_driver_config(const std::filesystem::path& path);
+
+/// Refuse a scene.bodies.species whose length is not the mesh's body count.
+/// @throws std::runtime_error naming the file and the key
+void check_body_count(const DriverConfig& config, int num_bodies);
+
+/// The fastest wall speed max |velocity|, or 1e-3 m/s when every wall is
+/// fixed.
+double fastest_wall_speed(const std::vector<dynamics::Wall>& walls);
 
 /// Index of the wall with this name.
 /// @throws std::runtime_error if absent
 int wall_index(const std::vector<dynamics::Wall>& walls,
                const std::string& name);
+
+/// Names of the box walls (scene.box.enabled), in the order left, right,
+/// bottom, top.
+inline const std::vector<std::string> box_wall_names = {"left", "right",
+                                                        "bottom", "top"};
 
 } // namespace softpack::io

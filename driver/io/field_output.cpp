@@ -3,7 +3,7 @@
 namespace softpack::io
 {
 
-FieldOutput::FieldOutput(const std::filesystem::path& directory,
+FieldOutput::FieldOutput(MPI_Comm comm, const std::filesystem::path& directory,
                          const bodies::BodySet& bodies)
     : _cell_area(bodies.cell_reference_area())
 {
@@ -19,7 +19,7 @@ FieldOutput::FieldOutput(const std::filesystem::path& directory,
     id[dofmap.cell_dofs(c)[0]] = bodies.cell_body()[c];
 
   _file = std::make_unique<dolfinx::io::XDMFFile>(
-      MPI_COMM_SELF, directory / "fields.xdmf", "w");
+      comm, directory / "fields.xdmf", "w");
   _file->write_mesh(*bodies.mesh());
 }
 

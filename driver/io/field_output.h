@@ -15,9 +15,10 @@ namespace softpack::io
 class FieldOutput
 {
 public:
+  /// @param[in] comm The communicator of the bodies' mesh
   /// @param[in] directory Output directory
   /// @param[in] bodies The bodies (mesh, spaces)
-  FieldOutput(const std::filesystem::path& directory,
+  FieldOutput(MPI_Comm comm, const std::filesystem::path& directory,
               const bodies::BodySet& bodies);
   ~FieldOutput();
 

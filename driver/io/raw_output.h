@@ -1,7 +1,7 @@
 #pragma once
 
 #include <bodies/BodySet.h>
-#include <dynamics/contact_force_average.h>
+#include <dynamics/contact_history.h>
 #include <dynamics/moreau_jean.h>
 #include <filesystem>
 #include <fstream>

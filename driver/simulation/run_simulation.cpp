@@ -1,11 +1,14 @@
 #include "run_simulation.h"
+#include "moreau_jean_options.h"
 
 #include <bodies/BodySet.h>
 #include <bodies/body_mesh.h>
 #include <chrono>
+#include <contact/fclib_io.h>
 #include <cstdio>
 #include <io/field_output.h>
 #include <io/raw_output.h>
+#include <io/setup_file.h>
 #include <io/state_file.h>
 #include <material_registry.h>
 #include <numeric>
@@ -14,8 +17,8 @@ namespace softpack::simulation
 {
 namespace
 {
-/// Box area from the four walls' current positions.
-double box_area(const std::vector<dynamics::Wall>& walls, const io::Box& box)
+/// Box area from the four box walls' current positions.
+double box_area(const std::vector<dynamics::Wall>& walls)
 {
   auto gap = [&](const std::string& a, const std::string& b)
   {
@@ -24,15 +27,14 @@ double box_area(const std::vector<dynamics::Wall>& walls, const io::Box& box)
     return (wb.point[0] - wa.point[0]) * wa.normal[0] +
            (wb.point[1] - wa.point[1]) * wa.normal[1];
   };
-  return gap(box.left, box.right) * gap(box.bottom, box.top);
+  return gap("left", "right") * gap("bottom", "top");
 }
 
 double packing_fraction(const bodies::BodySet& bodies,
-                        const std::vector<dynamics::Wall>& walls,
-                        const io::Box& box)
+                        const std::vector<dynamics::Wall>& walls)
 {
   const std::vector<double> area = bodies.body_current_area();
-  return std::accumulate(area.begin(), area.end(), 0.0) / box_area(walls, box);
+  return std::accumulate(area.begin(), area.end(), 0.0) / box_area(walls);
 }
 
 void print_progress(double fraction, long step, const dynamics::MoreauJean& s,
@@ -49,84 +51,124 @@ void print_progress(double fraction, long step, const dynamics::MoreauJean& s,
               r.nlgs_error, seconds, eta);
   std::fflush(stdout);
 }
+
+void add_timings(dynamics::StepTimings& sum, const dynamics::StepTimings& t)
+{
+  sum.detection += t.detection;
+  sum.assembly += t.assembly;
+  sum.factorization += t.factorization;
+  sum.delassus += t.delassus;
+  sum.nlgs += t.nlgs;
+  sum.solves += t.solves;
+}
+
+/// raw/failed_contact_problems/step_NNNNNNNN.hdf5 (FCLIB layout, replay
+/// with ./softpack fclib) when the step left a contact problem unsolved.
+void write_unsolved_problem(const std::filesystem::path& raw, long step,
+                            const dynamics::StepReport& r)
+{
+  if (!r.unsolved_problem)
+    return;
+  const std::filesystem::path dir = raw / "failed_contact_problems";
+  std::filesystem::create_directories(dir);
+  char name[40];
+  std::snprintf(name, sizeof(name), "step_%08ld.hdf5", step);
+  contact::dump_problem(*r.unsolved_problem, dir / name,
+                        "softpack step " + std::to_string(step) +
+                            ": NLGS did not converge",
+                        r.unsolved_start);
+}
+
+/// The stop criterion met after `step` (counted from `first`), or "".
+std::string stop_reason(const io::DriverConfig& config,
+                        const dynamics::MoreauJean& scheme, long first,
+                        long step, std::optional<double> phi)
+{
+  const parameters::Stop& stop = config.parameters.stop;
+  if (phi && stop.packing_fraction > 0 && *phi >= stop.packing_fraction)
+    return "packing_fraction";
+  if (scheme.time() >= stop.max_time * (1 - 1e-12))
+    return "max_time";
+  if (stop.steps > 0 && step - first >= stop.steps)
+    return "steps";
+  return "";
+}
 } // namespace
 
-RunSummary run_simulation(const io::DriverConfig& config, bool quiet)
+RunSummary run_simulation(MPI_Comm comm, const io::DriverConfig& config,
+                          bool quiet)
 {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   auto elapsed = [&]
   { return std::chrono::duration<double>(clock::now() - start).count(); };
+  const parameters::Parameters& p = config.parameters;
+  const std::filesystem::path raw_dir = config.directory / "raw";
 
-  bodies::BodySet bodies(bodies::read_body_mesh(config.mesh),
-                         forms::find_material(config.material),
-                         config.material_parameters, config.density);
-  dynamics::MoreauJeanOptions options = config.stepping;
-  options.failed_problem_directory =
-      config.output_directory / "raw" / "failed_contact_problems";
-  dynamics::MoreauJean scheme(bodies, config.walls, options);
+  bodies::BodySet bodies(bodies::read_body_mesh(comm, config.mesh),
+                         forms::find_material(p.material.law),
+                         p.material.parameters, p.material.density);
+  io::check_body_count(config, bodies.num_bodies());
+  dynamics::MoreauJean scheme(bodies, config.walls,
+                              moreau_jean_options(p, config.velocity_scale));
   if (config.initial_state)
     scheme.restore(io::read_state(*config.initial_state));
-  io::RawOutput raw(config.output_directory, config.walls);
+  io::RawOutput raw(config.directory, config.walls);
+  io::write_setup(raw_dir, io::setup_json(config, bodies));
   std::unique_ptr<io::FieldOutput> fields;
-  if (config.fields_every_outputs > 0)
-    fields = std::make_unique<io::FieldOutput>(config.output_directory, bodies);
+  if (p.output.fields)
+    fields = std::make_unique<io::FieldOutput>(comm, config.directory, bodies);
 
   auto phi = [&]() -> std::optional<double>
   {
     if (!config.box)
       return std::nullopt;
-    return packing_fraction(bodies, scheme.walls(), *config.box);
+    return packing_fraction(bodies, scheme.walls());
   };
   const std::optional<double> phi0 = phi();
-  auto progress = [&](std::optional<double> p)
+  const long first = scheme.steps();
+  auto progress = [&](long step, std::optional<double> phi_now)
   {
-    double f = scheme.time() / config.stop_max_time;
-    if (p && config.stop_packing_fraction)
-      f = std::max(f, (*p - *phi0) / (*config.stop_packing_fraction - *phi0));
+    double f = scheme.time() / p.stop.max_time;
+    if (phi_now && p.stop.packing_fraction > 0)
+      f = std::max(f, (*phi_now - *phi0) / (p.stop.packing_fraction - *phi0));
+    if (p.stop.steps > 0)
+      f = std::max(f, double(step - first) / p.stop.steps);
     return std::clamp(f, 0.0, 1.0);
   };
 
-  RunSummary summary;
   dynamics::StepTimings spent;
   dynamics::ContactForceAverage average;
   long outputs = 0;
   auto output =
-      [&](long step, const dynamics::StepReport& r, std::optional<double> p)
+      [&](long step, const dynamics::StepReport& r, std::optional<double> now)
   {
-    raw.write(step, scheme, r, p, elapsed(), bodies, spent, average);
+    raw.write(step, scheme, r, now, elapsed(), bodies, spent, average);
     average.reset();
-    if (config.write_state)
-      io::write_state(config.output_directory / "raw" / "state.bin",
-                      scheme.state());
-    if (fields && outputs % config.fields_every_outputs == 0)
+    if (p.output.state)
+      io::write_state(raw_dir / "state.bin", scheme.state());
+    if (fields && outputs % p.output.fields_every == 0)
       fields->write(bodies, scheme.time());
     ++outputs;
     if (!quiet)
-      print_progress(progress(p), step, scheme, p, r, elapsed());
+      print_progress(progress(step, now), step, scheme, now, r, elapsed());
   };
 
-  const long first = scheme.steps();
   output(first, dynamics::StepReport{}, phi0);
+  RunSummary summary;
   for (long step = first + 1;; ++step)
   {
     const dynamics::StepReport r = scheme.step();
+    write_unsolved_problem(raw_dir, step, r);
     average.add_step(scheme);
-    spent.detection += r.seconds.detection;
-    spent.assembly += r.seconds.assembly;
-    spent.factorization += r.seconds.factorization;
-    spent.delassus += r.seconds.delassus;
-    spent.nlgs += r.seconds.nlgs;
-    spent.solves += r.seconds.solves;
-    const std::optional<double> p = phi();
-    const bool full = p && config.stop_packing_fraction &&
-                      *p >= *config.stop_packing_fraction;
-    const bool late = scheme.time() >= config.stop_max_time * (1 - 1e-12);
-    if (full || late || step % config.output_every_steps == 0)
-      output(step, r, p);
-    if (full || late)
+    add_timings(spent, r.seconds);
+    const std::optional<double> now = phi();
+    const std::string reason = stop_reason(config, scheme, first, step, now);
+    if (!reason.empty() || step % p.output.every_steps == 0)
+      output(step, r, now);
+    if (!reason.empty())
     {
-      summary = {step, elapsed(), full ? "packing_fraction" : "max_time"};
+      summary = {step, elapsed(), reason};
       break;
     }
   }

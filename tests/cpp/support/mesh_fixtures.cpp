@@ -1,7 +1,10 @@
 #include "mesh_fixtures.h"
 
 #include <cmath>
+#include <dolfinx/io/XDMFFile.h>
+#include <dolfinx/mesh/MeshTags.h>
 #include <numbers>
+#include <numeric>
 
 namespace softpack::test
 {
@@ -66,7 +69,8 @@ Triangulation rectangle(double x0, double y0, double w, double h, int nx,
   return t;
 }
 
-bodies::BodyMesh bodies_mesh(const std::vector<Triangulation>& parts)
+bodies::BodyMesh bodies_mesh(const std::vector<Triangulation>& parts,
+                             MPI_Comm comm)
 {
   std::vector<double> x;
   std::vector<std::int64_t> cells;
@@ -79,7 +83,22 @@ bodies::BodyMesh bodies_mesh(const std::vector<Triangulation>& parts)
       cells.push_back(v + offset);
     body.insert(body.end(), parts[p].cells.size() / 3, static_cast<int>(p));
   }
-  return bodies::create_body_mesh(x, cells, body);
+  return bodies::create_body_mesh(comm, x, cells, body);
+}
+
+void write_body_mesh(const bodies::BodyMesh& mesh,
+                     const std::filesystem::path& xdmf)
+{
+  std::vector<std::int32_t> cells(mesh.cell_body.size());
+  std::iota(cells.begin(), cells.end(), 0);
+  dolfinx::mesh::MeshTags<std::int32_t> tags(
+      mesh.mesh, mesh.mesh->topology().dim(), std::move(cells),
+      std::vector<std::int32_t>(mesh.cell_body.begin(), mesh.cell_body.end()));
+  tags.name = "bodies";
+  dolfinx::io::XDMFFile file(mesh.mesh->comm(), xdmf, "w");
+  file.write_mesh(*mesh.mesh);
+  file.write_meshtags(tags, "/Xdmf/Domain/Grid[@Name='" + mesh.mesh->name +
+                                "']/Geometry");
 }
 
 } // namespace softpack::test

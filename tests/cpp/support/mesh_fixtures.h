@@ -1,6 +1,7 @@
 #pragma once
 
 #include <bodies/body_mesh.h>
+#include <filesystem>
 #include <vector>
 
 /// Small meshes built in memory for the body tests (no gmsh needed).
@@ -24,7 +25,14 @@ Triangulation disk(double cx, double cy, double R, int n);
 Triangulation rectangle(double x0, double y0, double w, double h, int nx,
                         int ny);
 
-/// Several triangulations as one mesh, body i = i-th triangulation.
-bodies::BodyMesh bodies_mesh(const std::vector<Triangulation>& parts);
+/// Several triangulations as one mesh, body i = i-th triangulation, on
+/// `comm` (tests run on one rank).
+bodies::BodyMesh bodies_mesh(const std::vector<Triangulation>& parts,
+                             MPI_Comm comm = MPI_COMM_WORLD);
+
+/// Write a body mesh as `softpack.scene.mesh` does: `xdmf` (+ .h5) holding
+/// the mesh "mesh" and the cell tags "bodies" (what read_body_mesh reads).
+void write_body_mesh(const bodies::BodyMesh& mesh,
+                     const std::filesystem::path& xdmf);
 
 } // namespace softpack::test

@@ -1,0 +1,82 @@
+#include "setup_file.h"
+
+#include <fstream>
+#include <stdexcept>
+
+namespace softpack::io
+{
+namespace
+{
+using json = nlohmann::json;
+
+json walls_json(const std::vector<dynamics::Wall>& walls)
+{
+  json out = json::array();
+  for (const dynamics::Wall& w : walls)
+    out.push_back({{"name", w.name},
+                   {"point", w.point},
+                   {"normal", w.normal},
+                   {"velocity", w.velocity}});
+  return out;
+}
+
+json bodies_json(const DriverConfig& config, const bodies::BodySet& bodies)
+{
+  json area = json::array(), nodes = json::array(), triangles = json::array();
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+  {
+    area.push_back(bodies.body(b).reference_area);
+    nodes.push_back(bodies.body(b).nodes.size());
+    triangles.push_back(bodies.body(b).cells.size());
+  }
+  return {{"count", bodies.num_bodies()},
+          {"species", config.body_species},
+          {"reference_area", area},
+          {"nodes", nodes},
+          {"triangles", triangles}};
+}
+} // namespace
+
+json setup_json(const DriverConfig& config, const bodies::BodySet& bodies)
+{
+  const parameters::Parameters& p = config.parameters;
+  return {{"schema_version", parameters::schema_version},
+          {"units",
+           {{"length", "m"},
+            {"time", "s"},
+            {"mass", "kg"},
+            {"force", "N/m"},
+            {"energy", "J/m"},
+            {"stress", "Pa"},
+            {"note", "2D model: per unit length along z; multiply by "
+                     "scene.model.thickness"}}},
+          {"scene", config.scene},
+          {"material", parameters::to_json(p.material)},
+          {"walls", walls_json(config.walls)},
+          {"parameters",
+           {{"stop", parameters::to_json(p.stop)},
+            {"contact", parameters::to_json(p.contact)},
+            {"time", parameters::to_json(p.time)},
+            {"damping", parameters::to_json(p.damping)},
+            {"output", parameters::to_json(p.output)}}},
+          {"initial_state", config.initial_state
+                                ? json(config.initial_state->string())
+                                : json(nullptr)},
+          {"bodies", bodies_json(config, bodies)}};
+}
+
+void write_setup(const std::filesystem::path& raw_directory,
+                 const nlohmann::json& setup)
+{
+  std::filesystem::create_directories(raw_directory);
+  const std::filesystem::path tmp = raw_directory / ".setup.json";
+  {
+    std::ofstream out(tmp);
+    out << setup.dump(2) << '\n';
+    if (!out)
+      throw std::runtime_error("cannot write " + tmp.string());
+  }
+  std::filesystem::rename(tmp, raw_directory / "setup.json");
+}
+
+} // namespace softpack::io
