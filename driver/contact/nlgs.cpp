@@ -1,7 +1,6 @@
 #include "nlgs.h"
 
 #include "error.h"
-#include "fclib_io.h"
 #include "local_solver.h"
 
 #include <algorithm>
@@ -62,26 +61,6 @@ std::pair<double, double> sweep(const FrictionContactProblem2D& problem,
   }
   return {change, norm};
 }
-//-----------------------------------------------------------------------------
-void dump_after_failure(const FrictionContactProblem2D& problem,
-                        const std::vector<double>& start,
-                        const NlgsOptions& options, NlgsResult& result)
-{
-  const std::string why =
-      "NLGS did not converge: " + std::to_string(result.iterations) +
-      " sweeps, error " + std::to_string(result.error) + " > tolerance " +
-      std::to_string(options.tolerance) + "; guess = starting reactions";
-  try
-  {
-    std::filesystem::create_directories(options.dump_on_failure.parent_path());
-    dump_problem(problem, options.dump_on_failure, why, start);
-    result.dumped_to = options.dump_on_failure;
-  }
-  catch (const std::exception&)
-  {
-    // A failed dump must not hide the solver's own outcome.
-  }
-}
 } // namespace
 
 //-----------------------------------------------------------------------------
@@ -93,9 +72,6 @@ softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
   check_arguments(problem, r, u, options);
   if (!options.warm_start)
     std::fill(r.begin(), r.end(), 0.0);
-  std::vector<double> start;
-  if (!options.dump_on_failure.empty())
-    start.assign(r.begin(), r.end());
 
   NlgsResult result;
   result.q_zero = is_q_zero(problem, options.q_zero_tolerance);
@@ -142,8 +118,6 @@ softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
     full = compute_error(problem, r, u, options.q_zero_tolerance);
   result.error = full.value;
   result.converged = full.value <= options.tolerance;
-  if (!result.converged and !options.dump_on_failure.empty())
-    dump_after_failure(problem, start, options, result);
   return result;
 }
 //-----------------------------------------------------------------------------

@@ -2,7 +2,6 @@
 
 #include "problem.h"
 
-#include <filesystem>
 #include <span>
 #include <string>
 
@@ -36,10 +35,6 @@ struct NlgsOptions
   /// \f$\|q\|_\infty\f$ at or below this (absolute, velocity units) means
   /// q = 0: the solution is r = 0 without a sweep and the error is absolute
   double q_zero_tolerance = 1e-12;
-
-  /// If not empty and the solve does not converge, the problem (and the
-  /// starting reactions, as a guess) is written there by dump_problem()
-  std::filesystem::path dump_on_failure;
 };
 
 /// Outcome of solve_nlgs().
@@ -62,9 +57,6 @@ struct NlgsResult
 
   /// The relaxation was dropped to 1 for lack of progress
   bool relaxation_dropped = false;
-
-  /// Where the problem was dumped after a failure (empty if not dumped)
-  std::filesystem::path dumped_to;
 };
 
 /// Nonlinear (block) Gauss–Seidel for the 2D frictional contact problem
@@ -86,7 +78,9 @@ struct NlgsResult
 ///   options.warm_start, the solution on return
 /// @param[out] u Velocities \f$W r + q\f$ at the returned r
 /// @param[in] options Tolerance, sweeps, relaxation, ...
-/// @return Sweeps, error and convergence flag
+/// @return Sweeps, error and convergence flag. The solver writes nothing:
+///   a caller that keeps unsolved problems (for replay) copies the problem
+///   and the starting r, and writes them with dump_problem() (fclib_io.h).
 NlgsResult solve_nlgs(const FrictionContactProblem2D& problem,
                       std::span<double> r, std::span<double> u,
                       const NlgsOptions& options = {});

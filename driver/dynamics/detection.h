@@ -4,7 +4,6 @@
 #include <array>
 #include <bodies/BodySet.h>
 #include <span>
-#include <tuple>
 #include <vector>
 
 /// Contact detection between deformable bodies and rigid walls.
@@ -38,17 +37,6 @@ struct Contact
   /// The antagonist feature is a vertex (segment[0]), not a face
   bool vertex = false;
 };
-
-/// Identity of a contact across time steps: (candidate body, candidate
-/// node, antagonist body, or -1 - wall for a wall). It keys the warm start
-/// of the contact solver and the averaging of contact forces.
-using ContactKey = std::tuple<int, int, int>;
-
-inline ContactKey contact_key(const Contact& c)
-{
-  return {c.candidate_body, c.candidate_node,
-          c.antagonist_body >= 0 ? c.antagonist_body : -1 - c.wall};
-}
 
 /// Options of the detection.
 struct DetectionOptions

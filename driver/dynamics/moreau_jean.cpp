@@ -4,13 +4,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
 namespace softpack::dynamics
 {
 namespace
 {
+using clock = std::chrono::steady_clock;
+
 double max_abs(const std::vector<double>& v)
 {
   double m = 0;
@@ -18,11 +19,17 @@ double max_abs(const std::vector<double>& v)
     m = std::max(m, std::abs(x));
   return m;
 }
+
+double seconds_since(clock::time_point t0)
+{
+  return std::chrono::duration<double>(clock::now() - t0).count();
+}
 } // namespace
 
 MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
                        MoreauJeanOptions options)
-    : _bodies(bodies), _walls(std::move(walls)), _options(options),
+    : _bodies(bodies), _walls(std::move(walls)),
+      _options(options), _damping{options.alpha, options.beta},
       _kbar(bodies, options.lumped_mass), _K(bodies.create_matrices()),
       _A(bodies.create_matrices()), _v(bodies.num_dofs(), 0.0),
       _f_ext(bodies.num_dofs(), 0.0), _f_int(bodies.num_dofs(), 0.0),
@@ -69,28 +76,6 @@ void MoreauJean::scatter(const Vectors& per_body,
   }
 }
 
-std::vector<double> MoreauJean::warm_start() const
-{
-  std::vector<double> R(2 * _contacts.size(), 0.0);
-  for (std::size_t a = 0; a < _contacts.size(); ++a)
-    if (auto it = _previous.find(contact_key(_contacts[a]));
-        it != _previous.end())
-    {
-      R[2 * a] = it->second[0];
-      R[2 * a + 1] = it->second[1];
-    }
-  return R;
-}
-
-double MoreauJean::kinetic_energy(std::span<const double> v) const
-{
-  const Vectors vb = gather(v);
-  double e = 0;
-  for (int b = 0; b < _bodies.num_bodies(); ++b)
-    e += 0.5 * vb[b].dot(_kbar.mass(b) * vb[b]);
-  return e;
-}
-
 struct MoreauJean::StepContacts
 {
   ContactOperator H;
@@ -101,14 +86,13 @@ struct MoreauJean::StepContacts
   std::size_t size() const { return H.size(); }
 };
 
-namespace
+struct MoreauJean::StepStart
 {
-double seconds_since(std::chrono::steady_clock::time_point t0)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
-      .count();
-}
-} // namespace
+  /// Global displacement and velocity at the start of the step
+  std::vector<double> u_old, v_old;
+  /// Per body: v-, F_ext, M v-, C v- and the known part b
+  Vectors v_old_b, f_ext_b, Mv_old, Cv_old, known;
+};
 
 MoreauJean::StepContacts
 MoreauJean::prepare_contacts(const std::vector<double>& u_old,
@@ -137,8 +121,26 @@ MoreauJean::prepare_contacts(const std::vector<double>& u_old,
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
   }
-  _R = warm_start();
+  _R = _history.warm_start(_contacts);
   return sc;
+}
+
+contact::FrictionContactProblem2D
+MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
+{
+  contact::FrictionContactProblem2D problem;
+  problem.mu.assign(sc.size(), _options.friction);
+  problem.q.resize(2 * sc.size());
+  if (needs_refactorization())
+    refactorize(sc, problem, report);
+  else if (sc.size() > 0)
+  {
+    const auto t0 = clock::now();
+    problem.W =
+        build_delassus(_bodies, sc.H, _kbar, _options.delassus_drop_tolerance);
+    report.seconds.delassus += seconds_since(t0);
+  }
+  return problem;
 }
 
 bool MoreauJean::needs_refactorization() const
@@ -153,45 +155,49 @@ void MoreauJean::refactorize(const StepContacts& sc,
                              StepReport& report)
 {
   const double h = _options.time_step, th = _options.theta;
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = clock::now();
   _bodies.tangent(_K);
   report.seconds.assembly += seconds_since(t0);
-  t0 = std::chrono::steady_clock::now();
-  _kbar.factorize(_K, 1 + h * th * _options.alpha,
-                  h * th * _options.beta + h * h * th * th);
-  // A = (1 + h th alpha) M + h th beta K multiplies v_k in the residual.
+  t0 = clock::now();
+  // Kbar = M + h th C + h^2 th^2 K; A = M + h th C multiplies v_k in the
+  // residual.
+  const RayleighDamping::Combination A = _damping.mass_plus(h * th);
+  _kbar.factorize(_K, A.mass, A.stiffness + h * h * th * th);
   for (std::size_t b = 0; b < _A.size(); ++b)
-  {
-    const double* m = _kbar.mass(b).valuePtr();
-    const double* k = _K[b].valuePtr();
-    double* a = _A[b].valuePtr();
-    for (Eigen::Index i = 0; i < _A[b].nonZeros(); ++i)
-      a[i] =
-          (1 + h * th * _options.alpha) * m[i] + h * th * _options.beta * k[i];
-  }
+    combine(A, _kbar.mass(static_cast<int>(b)), _K[b], _A[b]);
   _products_valid = false;
   report.seconds.factorization += seconds_since(t0);
   _matrix_age = 0;
   report.refactorized = true;
   if (sc.size() > 0)
   {
-    t0 = std::chrono::steady_clock::now();
+    t0 = clock::now();
     problem.W =
         build_delassus(_bodies, sc.H, _kbar, _options.delassus_drop_tolerance);
     report.seconds.delassus += seconds_since(t0);
   }
 }
 
-contact::NlgsOptions MoreauJean::nlgs_options() const
+MoreauJean::StepStart MoreauJean::start_step(std::vector<double> u_old,
+                                             std::vector<double> v_old)
 {
-  contact::NlgsOptions o = _options.nlgs;
-  if (!_options.failed_problem_directory.empty())
+  const double h = _options.time_step, th = _options.theta;
+  const int nb = _bodies.num_bodies();
+  StepStart s{std::move(u_old), std::move(v_old)};
+  s.v_old_b = gather(s.v_old);
+  s.f_ext_b = gather(_f_ext);
+  const Vectors f_int_old = gather(_f_int);
+  update_products(s.v_old_b);
+  s.Mv_old = _Mv;
+  s.Cv_old.resize(nb);
+  s.known.resize(nb);
+  for (int b = 0; b < nb; ++b)
   {
-    char name[32];
-    std::snprintf(name, sizeof(name), "step_%08ld.hdf5", _steps);
-    o.dump_on_failure = _options.failed_problem_directory / name;
+    s.Cv_old[b] = _damping.force(_Mv[b], _Kv[b]);
+    s.known[b] =
+        _Mv[b] + h * (1 - th) * (s.f_ext_b[b] - f_int_old[b] - s.Cv_old[b]);
   }
-  return o;
+  return s;
 }
 
 MoreauJean::Vectors MoreauJean::residual(const Vectors& vk,
@@ -199,7 +205,7 @@ MoreauJean::Vectors MoreauJean::residual(const Vectors& vk,
                                          const Vectors& f_ext,
                                          const Vectors& known) const
 {
-  // r = [(1 + h th alpha) M + h th beta K] v_k + h th (F_int(q_k) - F_ext) - b
+  // r = (M + h th C) v_k + h th (F_int(q_k) - F_ext) - b
   const double h = _options.time_step, th = _options.theta;
   const int nb = _bodies.num_bodies();
   Vectors r(nb);
@@ -211,7 +217,6 @@ MoreauJean::Vectors MoreauJean::residual(const Vectors& vk,
 
 void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
                                 Vectors& residual,
-                                const contact::NlgsOptions& nlgs_options,
                                 contact::FrictionContactProblem2D& problem,
                                 StepReport& report)
 {
@@ -220,7 +225,7 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
   // already required, and the one solve per body comes after the contact
   // solve, with the impulses in the right-hand side.
   const int nb = _bodies.num_bodies();
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = clock::now();
   std::fill(_v_contact.begin(), _v_contact.end(), 0.0);
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
@@ -238,19 +243,27 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
       sc.H.relative_velocity(_bodies, _v_contact);
   report.seconds.solves += seconds_since(t0);
 
-  t0 = std::chrono::steady_clock::now();
+  t0 = clock::now();
   for (std::size_t i = 0; i < U_free.size(); ++i)
     problem.q[i] = U_free[i] + sc.shift[i];
-  std::vector<double> U(U_free.size());
+  std::vector<double> U(U_free.size()), start = _R;
   const contact::NlgsResult nlgs =
-      contact::solve_nlgs(problem, _R, U, nlgs_options);
+      contact::solve_nlgs(problem, _R, U, _options.nlgs);
   report.nlgs_iterations += nlgs.iterations;
   report.nlgs_error = nlgs.error;
   report.nlgs_converged = nlgs.converged;
+  if (!nlgs.converged)
+  {
+    // Kept for replay; the solver itself writes nothing.
+    ++report.unsolved_contact_solves;
+    report.unsolved_problem =
+        std::make_shared<const contact::FrictionContactProblem2D>(problem);
+    report.unsolved_start = std::move(start);
+  }
   report.seconds.nlgs += seconds_since(t0);
 
   // r <- r - H R: the impulses enter the bodies' right-hand sides.
-  t0 = std::chrono::steady_clock::now();
+  t0 = clock::now();
   Vectors impulse(nb);
   for (int b = 0; b < nb; ++b)
     impulse[b] = Eigen::VectorXd::Zero(
@@ -262,90 +275,63 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
   report.seconds.solves += seconds_since(t0);
 }
 
-StepReport MoreauJean::step()
+void MoreauJean::set_displacement(const std::vector<double>& u_old,
+                                  const std::vector<double>& v_old,
+                                  const std::vector<double>& v)
 {
-  if (!_started)
-  {
-    // Initial velocities are set between construction and the first step.
-    _energy.kinetic0 = kinetic_energy(_v);
-    _started = true;
-  }
-  using clock = std::chrono::steady_clock;
   const double h = _options.time_step, th = _options.theta;
-  const int nb = _bodies.num_bodies();
   std::span<double> u = _bodies.displacement();
-  const std::vector<double> u_old(u.begin(), u.end()), v_old = _v;
-  StepReport report;
+  for (std::size_t i = 0; i < u.size(); ++i)
+    u[i] = u_old[i] + h * (th * v[i] + (1 - th) * v_old[i]);
+}
 
+double MoreauJean::newton_iteration(int k, const StepContacts& sc,
+                                    const StepStart& start,
+                                    std::vector<double>& vk,
+                                    contact::FrictionContactProblem2D& problem,
+                                    StepReport& report)
+{
+  const int nb = _bodies.num_bodies();
   auto t0 = clock::now();
-  const StepContacts sc = prepare_contacts(u_old, v_old);
-  const std::size_t nc = sc.size();
-  report.contacts = static_cast<int>(nc);
-  report.seconds.detection = seconds_since(t0);
-
-  contact::FrictionContactProblem2D problem;
-  problem.mu.assign(nc, _options.friction);
-  problem.q.resize(2 * nc);
-  const contact::NlgsOptions nlgs_opts = nlgs_options();
-
-  if (needs_refactorization())
+  set_displacement(start.u_old, start.v_old, vk);
+  std::vector<double> f_int(vk.size());
+  _bodies.internal_force(f_int);
+  report.seconds.assembly += seconds_since(t0);
+  if (k > 0 && _options.full_newton)
     refactorize(sc, problem, report);
-  else if (nc > 0)
-  {
-    t0 = clock::now();
-    problem.W =
-        build_delassus(_bodies, sc.H, _kbar, _options.delassus_drop_tolerance);
-    report.seconds.delassus += seconds_since(t0);
-  }
 
-  // The known part of the momentum balance, fixed during the step:
-  // b = M v- + h (1 - th) (F_ext - F_int(q-) - C v-).
   t0 = clock::now();
-  const Vectors v_old_b = gather(v_old), f_ext_b = gather(_f_ext);
-  const Vectors f_int_old = gather(_f_int);
-  update_products(v_old_b);
-  const Vectors Mv_old = _Mv;
-  Vectors damping_old(nb), known(nb);
+  const Vectors vk_b = gather(vk);
+  Vectors r = residual(vk_b, gather(f_int), start.f_ext_b, start.known);
+  report.seconds.solves += seconds_since(t0);
+  if (sc.size() > 0)
+    solve_contacts(sc, vk_b, r, problem, report);
+  // v_{k+1} = v_k - Kbar^-1 (r - H R), one solve per body
+  t0 = clock::now();
+  Vectors v_new(nb);
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
-  {
-    damping_old[b] = _options.alpha * _Mv[b] + _options.beta * _Kv[b];
-    known[b] =
-        _Mv[b] + h * (1 - th) * (f_ext_b[b] - f_int_old[b] - damping_old[b]);
-  }
+    v_new[b] = vk_b[b] - _kbar.solve(b, r[b]);
   report.seconds.solves += seconds_since(t0);
 
-  std::vector<double> vk = v_old, f_int(u.size());
+  std::vector<double> v_next(vk.size());
+  scatter(v_new, v_next);
+  double change = 0;
+  for (std::size_t i = 0; i < vk.size(); ++i)
+    change = std::max(change, std::abs(v_next[i] - vk[i]));
+  vk = std::move(v_next);
+  return change;
+}
+
+void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
+                        contact::FrictionContactProblem2D& problem,
+                        StepReport& report)
+{
+  std::vector<double> vk = start.v_old;
   double previous_change = 0;
   for (int k = 0;; ++k)
   {
-    t0 = clock::now();
-    for (std::size_t i = 0; i < u.size(); ++i)
-      u[i] = u_old[i] + h * (th * vk[i] + (1 - th) * v_old[i]);
-    _bodies.internal_force(f_int);
-    report.seconds.assembly += seconds_since(t0);
-    if (k > 0 && _options.full_newton)
-      refactorize(sc, problem, report);
-
-    t0 = clock::now();
-    const Vectors vk_b = gather(vk);
-    Vectors r = residual(vk_b, gather(f_int), f_ext_b, known);
-    report.seconds.solves += seconds_since(t0);
-    if (nc > 0)
-      solve_contacts(sc, vk_b, r, nlgs_opts, problem, report);
-    // v_{k+1} = v_k - Kbar^-1 (r - H R), one solve per body
-    t0 = clock::now();
-    Vectors v_new(nb);
-#pragma omp parallel for schedule(dynamic) if (nb >= 16)
-    for (int b = 0; b < nb; ++b)
-      v_new[b] = vk_b[b] - _kbar.solve(b, r[b]);
-    report.seconds.solves += seconds_since(t0);
-
-    std::vector<double> v_next(u.size());
-    scatter(v_new, v_next);
-    double change = 0;
-    for (std::size_t i = 0; i < vk.size(); ++i)
-      change = std::max(change, std::abs(v_next[i] - vk[i]));
-    vk = std::move(v_next);
+    const double change = newton_iteration(k, sc, start, vk, problem, report);
     report.newton_iterations = k + 1;
     // The iterations contract at the rate rho = change / previous change;
     // the distance of vk to the converged velocity is then at most
@@ -362,24 +348,45 @@ StepReport MoreauJean::step()
     if (k + 1 >= _options.max_newton_iterations)
       break;
   }
+  _v = std::move(vk);
+}
 
-  _v = vk;
+StepReport MoreauJean::step()
+{
+  if (!_started)
+  {
+    // Initial velocities are set between construction and the first step.
+    _energy.kinetic0 = kinetic_energy(_kbar, gather(_v));
+    _started = true;
+  }
+  StepReport report;
+  auto t0 = clock::now();
+  const std::span<const double> u = _bodies.displacement();
+  std::vector<double> u_old(u.begin(), u.end()), v_old = _v;
+  const StepContacts sc = prepare_contacts(u_old, v_old);
+  report.contacts = static_cast<int>(sc.size());
+  report.seconds.detection = seconds_since(t0);
+  contact::FrictionContactProblem2D problem = prepare_problem(sc, report);
+
   t0 = clock::now();
-  for (std::size_t i = 0; i < u.size(); ++i)
-    u[i] = u_old[i] + h * (th * _v[i] + (1 - th) * v_old[i]);
+  const StepStart start = start_step(std::move(u_old), std::move(v_old));
+  report.seconds.solves += seconds_since(t0);
+  newton(sc, start, problem, report);
+  finish_step(sc, start, report);
+  return report;
+}
+
+void MoreauJean::finish_step(const StepContacts& sc, const StepStart& start,
+                             StepReport& report)
+{
+  const double h = _options.time_step;
+  auto t0 = clock::now();
+  set_displacement(start.u_old, start.v_old, _v);
   const std::vector<double> f_int_before = _f_int;
   _bodies.internal_force(_f_int);
   report.seconds.assembly += seconds_since(t0);
-  // The scheme's internal-force work, dq . (th F+ + (1 - th) F-), exceeds
-  // the change of strain energy by (th - 1/2) dq . (F+ - F-) (up to third
-  // order in dq): the stiffness part of the theta scheme's dissipation.
-  if (th != 0.5)
-  {
-    double excess = 0;
-    for (std::size_t i = 0; i < u.size(); ++i)
-      excess += (u[i] - u_old[i]) * (_f_int[i] - f_int_before[i]);
-    _energy.numerical += (th - 0.5) * excess;
-  }
+  add_stiffness_dissipation(_energy, _options.theta, start.u_old,
+                            _bodies.displacement(), f_int_before, _f_int);
   _time += h;
   ++_steps;
   ++_matrix_age;
@@ -388,12 +395,46 @@ StepReport MoreauJean::step()
     for (int d = 0; d < 2; ++d)
       wall.point[d] += h * wall.velocity[d];
   t0 = clock::now();
+  account_step(sc, start, report);
+  report.seconds.solves += seconds_since(t0);
+}
+
+void MoreauJean::account_step(const StepContacts& sc, const StepStart& start,
+                              StepReport& report)
+{
+  const double h = _options.time_step, th = _options.theta;
   const Vectors v_new_b = gather(_v);
   _products_valid = false;
   update_products(v_new_b);
-  account_energy(sc, v_old_b, v_new_b, Mv_old, damping_old, f_ext_b, report);
-  report.seconds.solves += seconds_since(t0);
-  return report;
+  const std::size_t nb = v_new_b.size();
+  Vectors v_mid_b(nb), Cv_new(nb);
+  for (std::size_t b = 0; b < nb; ++b)
+  {
+    v_mid_b[b] = th * v_new_b[b] + (1 - th) * start.v_old_b[b];
+    Cv_new[b] = _damping.force(_Mv[b], _Kv[b]);
+  }
+  add_body_terms(_energy, h, th,
+                 {.v_old = start.v_old_b,
+                  .v_new = v_new_b,
+                  .v_mid = v_mid_b,
+                  .Mv_old = start.Mv_old,
+                  .Mv_new = _Mv,
+                  .Cv_old = start.Cv_old,
+                  .Cv_new = Cv_new,
+                  .f_ext = start.f_ext_b});
+  std::vector<double> v_mid(_v.size());
+  scatter(v_mid_b, v_mid);
+  const std::vector<double> U_mid = sc.H.relative_velocity(_bodies, v_mid);
+  add_contact_terms(_energy, sc.H, _contacts, _R, U_mid);
+  for (std::size_t a = 0; a < sc.size(); ++a)
+  {
+    const double gap = _contacts[a].gap + h * U_mid[2 * a];
+    report.max_penetration = std::max(report.max_penetration, -gap);
+    if (_R[2 * a] > 0)
+      ++report.active_contacts;
+  }
+  _history.record(_contacts, _R);
+  _energy_stale = true;
 }
 
 void MoreauJean::update_products(const Vectors& v)
@@ -412,50 +453,12 @@ void MoreauJean::update_products(const Vectors& v)
   _products_valid = true;
 }
 
-void MoreauJean::account_energy(const StepContacts& sc, const Vectors& v_old_b,
-                                const Vectors& v_new_b, const Vectors& Mv_old,
-                                const Vectors& damping_old,
-                                const Vectors& f_ext_b, StepReport& report)
-{
-  const double h = _options.time_step, th = _options.theta;
-  Vectors v_mid_b(v_new_b.size());
-  for (std::size_t b = 0; b < v_new_b.size(); ++b)
-  {
-    v_mid_b[b] = th * v_new_b[b] + (1 - th) * v_old_b[b];
-    const Eigen::VectorXd damping_new =
-        _options.alpha * _Mv[b] + _options.beta * _Kv[b];
-    _energy.damping +=
-        h * v_mid_b[b].dot(th * damping_new + (1 - th) * damping_old[b]);
-    _energy.numerical +=
-        (th - 0.5) * (v_new_b[b] - v_old_b[b]).dot(_Mv[b] - Mv_old[b]);
-    _energy.external_work += h * v_mid_b[b].dot(f_ext_b[b]);
-  }
-  std::vector<double> v_mid(_v.size());
-  scatter(v_mid_b, v_mid);
-  const std::vector<double> U_mid = sc.H.relative_velocity(_bodies, v_mid);
-  _previous.clear();
-  for (std::size_t a = 0; a < sc.size(); ++a)
-  {
-    _energy.friction -= _R[2 * a + 1] * U_mid[2 * a + 1];
-    _energy.contact_normal -= _R[2 * a] * U_mid[2 * a];
-    if (_contacts[a].wall >= 0)
-      _energy.wall_work += _R[2 * a] * sc.H.wall_velocity(a)[0] +
-                           _R[2 * a + 1] * sc.H.wall_velocity(a)[1];
-    const double gap = _contacts[a].gap + h * U_mid[2 * a];
-    report.max_penetration = std::max(report.max_penetration, -gap);
-    if (_R[2 * a] > 0)
-      ++report.active_contacts;
-    _previous[contact_key(_contacts[a])] = {_R[2 * a], _R[2 * a + 1]};
-  }
-  _energy_stale = true;
-}
-
 const EnergyBalance& MoreauJean::energy() const
 {
   if (_energy_stale)
   {
     _energy.strain = _bodies.strain_energy();
-    _energy.kinetic = kinetic_energy(_v);
+    _energy.kinetic = kinetic_energy(_kbar, gather(_v));
     if (!_started)
       _energy.kinetic0 = _energy.kinetic;
     _energy_stale = false;
@@ -474,9 +477,7 @@ SchemeState MoreauJean::state() const
   s.v = _v;
   for (const Wall& w : _walls)
     s.wall_points.push_back(w.point);
-  for (const auto& [key, R] : _previous)
-    s.reactions.push_back(
-        {{std::get<0>(key), std::get<1>(key), std::get<2>(key)}, R});
+  s.reactions = _history.entries();
   s.energy = energy();
   return s;
 }
@@ -496,9 +497,7 @@ void MoreauJean::restore(const SchemeState& s)
   _v = s.v;
   for (std::size_t w = 0; w < _walls.size(); ++w)
     _walls[w].point = s.wall_points[w];
-  _previous.clear();
-  for (const auto& [key, R] : s.reactions)
-    _previous[{key[0], key[1], key[2]}] = R;
+  _history.restore(s.reactions);
   _time = s.time;
   _steps = s.steps;
   _bodies.internal_force(_f_int);

@@ -1,13 +1,16 @@
 #pragma once
 
+#include "contact_history.h"
 #include "contact_operator.h"
+#include "damping.h"
 #include "detection.h"
 #include "effective_stiffness.h"
+#include "energy_balance.h"
 #include "walls.h"
 #include <bodies/BodySet.h>
 #include <contact/nlgs.h>
-#include <map>
-#include <tuple>
+#include <contact/problem.h>
+#include <memory>
 #include <vector>
 
 /// Nonsmooth contact dynamics of deformable bodies (Moreau–Jean).
@@ -54,37 +57,6 @@ struct MoreauJeanOptions
   double delassus_drop_tolerance = 0;
   /// The frictional contact solver
   contact::NlgsOptions nlgs;
-  /// If not empty, contact problems the NLGS fails to solve are written
-  /// there as step_NNNNNNNN.hdf5 (FCLIB layout) for replay
-  std::filesystem::path failed_problem_directory;
-};
-
-/// Energy bookkeeping since the start (J per unit length along z).
-///
-/// Balance: wall_work + external_work = kinetic + strain (their changes)
-/// + damping + contact_dissipation + numerical; residual() is what is left.
-struct EnergyBalance
-{
-  double wall_work = 0;
-  double external_work = 0;
-  double kinetic = 0, kinetic0 = 0;
-  double strain = 0, strain0 = 0;
-  double damping = 0;
-  /// Friction (tangential) part of the contact dissipation
-  double friction = 0;
-  /// Normal part (nonzero only through gap corrections)
-  double contact_normal = 0;
-  /// Dissipation of the theta scheme, (theta - 1/2) (|v+ - v-|_M^2 +
-  /// dq . (F_int(q+) - F_int(q-))), dq = q+ - q-
-  double numerical = 0;
-
-  /// Energy supplied minus energy stored and dissipated
-  double residual() const
-  {
-    return wall_work + external_work -
-           (kinetic - kinetic0 + strain - strain0 + damping + friction +
-            contact_normal + numerical);
-  }
 };
 
 /// Wall time spent in each part of a step (s).
@@ -112,6 +84,16 @@ struct StepReport
   int contacts = 0;
   int active_contacts = 0;    ///< R_n > 0
   double max_penetration = 0; ///< max(-gap) at the end of the step, >= 0
+  /// Contact solves of this step (one per Newton iteration) that did not
+  /// converge: a writer of unsolved problems can bound what it keeps
+  int unsolved_contact_solves = 0;
+  /// Null when every contact solve of the step converged; otherwise the
+  /// last unsolved problem exactly as it was given to the solver, to be
+  /// replayed (e.g. written by contact::dump_problem)
+  std::shared_ptr<const contact::FrictionContactProblem2D> unsolved_problem;
+  /// The reactions that solve started from (its warm start; with
+  /// unsolved_problem, it reproduces the failure bit for bit)
+  std::vector<double> unsolved_start;
 };
 
 /// Everything the time stepping carries from one step to the next: enough
@@ -126,7 +108,7 @@ struct SchemeState
   /// Each wall's current point
   std::vector<std::array<double, 2>> wall_points;
   /// Last impulses (warm start) by (candidate body, node, antagonist key)
-  std::vector<std::pair<std::array<int, 3>, std::array<double, 2>>> reactions;
+  std::vector<ImpulseHistory::Entry> reactions;
   /// The energy accounts since the start of the run
   EnergyBalance energy;
 };
@@ -177,16 +159,31 @@ public:
   int factorizations() const { return _kbar.factorizations(); }
 
 private:
-  using Vectors = std::vector<Eigen::VectorXd>;
-  /// The contacts of a step and their data fixed during the step.
+  using Vectors = BodyVectors;
+  /// The contacts of a step and their data fixed during the step
   struct StepContacts;
+  /// What the step knows before its Newton iterations
+  struct StepStart;
   StepContacts prepare_contacts(const std::vector<double>& u_old,
                                 const std::vector<double>& v_old);
+  /// The contact problem of the step (W, and mu; q is set by each solve)
+  contact::FrictionContactProblem2D prepare_problem(const StepContacts& sc,
+                                                    StepReport& report);
   bool needs_refactorization() const;
   void refactorize(const StepContacts& sc,
                    contact::FrictionContactProblem2D& problem,
                    StepReport& report);
-  contact::NlgsOptions nlgs_options() const;
+  /// The known part b = M v- + h (1 - th) (F_ext - F_int(q-) - C v-) of the
+  /// momentum balance, and the start-of-step vectors the accounts need
+  StepStart start_step(std::vector<double> u_old, std::vector<double> v_old);
+  /// Newton iterations on the velocity; leaves the converged one in _v
+  void newton(const StepContacts& sc, const StepStart& start,
+              contact::FrictionContactProblem2D& problem, StepReport& report);
+  /// One Newton iteration: vk <- v_{k+1}; returns ||v_{k+1} - v_k||_inf
+  double newton_iteration(int k, const StepContacts& sc, const StepStart& start,
+                          std::vector<double>& vk,
+                          contact::FrictionContactProblem2D& problem,
+                          StepReport& report);
   /// Newton residual of every body at the iterate v_k
   Vectors residual(const Vectors& vk, const Vectors& f_int,
                    const Vectors& f_ext, const Vectors& known) const;
@@ -194,25 +191,29 @@ private:
   /// subtract the impulses H R from the residual r
   void solve_contacts(const StepContacts& sc, const Vectors& vk,
                       Vectors& residual,
-                      const contact::NlgsOptions& nlgs_options,
                       contact::FrictionContactProblem2D& problem,
                       StepReport& report);
+  /// q = q- + h (th v + (1 - th) v-) into the bodies' displacement
+  void set_displacement(const std::vector<double>& u_old,
+                        const std::vector<double>& v_old,
+                        const std::vector<double>& v);
+  /// Displacement, internal force, time and walls at the end of the step
+  void finish_step(const StepContacts& sc, const StepStart& start,
+                   StepReport& report);
+  /// The step's energy terms, contact report and impulse history
+  void account_step(const StepContacts& sc, const StepStart& start,
+                    StepReport& report);
   void update_products(const Vectors& v);
-  void account_energy(const StepContacts& sc, const Vectors& v_old_b,
-                      const Vectors& v_new_b, const Vectors& Mv_old,
-                      const Vectors& damping_old, const Vectors& f_ext_b,
-                      StepReport& report);
   Vectors gather(std::span<const double> global) const;
   void scatter(const Vectors& per_body, std::span<double> global) const;
-  std::vector<double> warm_start() const;
-  double kinetic_energy(std::span<const double> v) const;
 
   bodies::BodySet& _bodies;
   std::vector<Wall> _walls;
   MoreauJeanOptions _options;
+  RayleighDamping _damping;
   EffectiveStiffness _kbar;
-  /// Tangent stiffness as last assembled, and
-  /// A = (1 + h th alpha) M + h th beta K on the same pattern
+  /// Tangent stiffness as last assembled, and A = M + h th C on the same
+  /// pattern (it multiplies v_k in the Newton residual)
   std::vector<bodies::BodyMatrix> _K, _A;
   /// M v and K v at the current velocity (valid while K is unchanged)
   Vectors _Mv, _Kv;
@@ -225,8 +226,8 @@ private:
   std::vector<double> _v_contact;
   std::vector<Contact> _contacts;
   std::vector<double> _R;
-  /// Previous step's impulses by (candidate body, node, antagonist)
-  std::map<ContactKey, std::array<double, 2>> _previous;
+  /// The previous step's impulses: the warm start
+  ImpulseHistory _history;
   mutable EnergyBalance _energy;
   mutable bool _energy_stale = true;
   int _matrix_age = -1; ///< steps since the last factorization (-1: none)

@@ -260,35 +260,29 @@ TEST(DumpProblem, WritesReadsBackAndReplays)
   EXPECT_EQ(r1, r2);
 }
 
-TEST(DumpProblem, FailedSolveIsDumpedAndReplays)
+TEST(DumpProblem, FailedSolveReplaysFromItsDump)
 {
-  // what the time loop does: a solve that fails writes its problem, and a
-  // test replays it from the file with the same start
+  // what the run loop does: the solver only returns its outcome; the caller
+  // keeps the unsolved problem and its start (StepReport), writes them with
+  // dump_problem, and a test replays them from the file
   TempDir dir;
   const FrictionContactProblem2D p =
       read_fclib_local(hdf5_file("FrictionContactProblem00071"));
   std::vector<double> r(2 * p.num_contacts(), 0.0), u(r.size());
-  NlgsOptions opt;
-  opt.max_sweeps = 5;
-  opt.dump_on_failure = dir.path() / "failed_step_17.hdf5";
-  const NlgsResult failed = solve_nlgs(p, r, u, opt);
+  const std::vector<double> start = r;
+  const NlgsResult failed = solve_nlgs(p, r, u, {.max_sweeps = 5});
   ASSERT_FALSE(failed.converged);
-  EXPECT_EQ(failed.dumped_to, opt.dump_on_failure);
 
-  const FclibLocalFile replay = read_fclib_local_file(failed.dumped_to);
+  const std::filesystem::path path = dir.path() / "failed_step_17.hdf5";
+  dump_problem(p, path, "NLGS did not converge", start);
+  const FclibLocalFile replay = read_fclib_local_file(path);
   ASSERT_TRUE(replay.guess_r);
-  EXPECT_EQ(*replay.guess_r, std::vector<double>(r.size(), 0.0));
+  EXPECT_EQ(*replay.guess_r, start);
   std::vector<double> r2 = *replay.guess_r;
   NlgsResult again = solve_nlgs(replay.problem, r2, u, {.max_sweeps = 5});
+  EXPECT_FALSE(again.converged);
   EXPECT_EQ(r2, r); // the same failure, bit for bit
   r2 = *replay.guess_r;
   again = solve_nlgs(replay.problem, r2, u);
   EXPECT_TRUE(again.converged);
-
-  // converged solves write nothing
-  opt.max_sweeps = 10000;
-  opt.dump_on_failure = dir.path() / "not_written.hdf5";
-  std::fill(r.begin(), r.end(), 0.0);
-  EXPECT_TRUE(solve_nlgs(p, r, u, opt).dumped_to.empty());
-  EXPECT_FALSE(std::filesystem::exists(opt.dump_on_failure));
 }

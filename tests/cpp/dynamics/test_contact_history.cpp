@@ -5,7 +5,7 @@
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
-#include <dynamics/contact_force_average.h>
+#include <dynamics/contact_history.h>
 #include <dynamics/moreau_jean.h>
 #include <gtest/gtest.h>
 #include <material_registry.h>

@@ -1,14 +1,58 @@
 #pragma once
 
 #include "detection.h"
-#include "moreau_jean.h"
 #include <array>
 #include <map>
+#include <span>
 #include <tuple>
+#include <utility>
 #include <vector>
 
+/// What the time stepping remembers of a contact from one step to the next.
 namespace softpack::dynamics
 {
+
+class MoreauJean;
+
+/// Identity of a contact across time steps: (candidate body, candidate
+/// node, antagonist body, or -1 - wall for a wall). The one key of the warm
+/// start (ImpulseHistory) and of the force averaging (ContactForceAverage).
+using ContactKey = std::tuple<int, int, int>;
+
+inline ContactKey contact_key(const Contact& c)
+{
+  return {c.candidate_body, c.candidate_node,
+          c.antagonist_body >= 0 ? c.antagonist_body : -1 - c.wall};
+}
+
+/// The impulses of the last step by contact identity: the warm start of the
+/// next step's contact solve.
+class ImpulseHistory
+{
+public:
+  /// One entry as stored in a state file: (candidate body, node, antagonist
+  /// key) and the impulses (n, t)
+  using Entry = std::pair<std::array<int, 3>, std::array<double, 2>>;
+
+  /// Replace the remembered impulses by those of a step.
+  /// @param[in] contacts The step's contacts
+  /// @param[in] R Their impulses, 2 per contact (n, t)
+  void record(const std::vector<Contact>& contacts, std::span<const double> R);
+
+  /// Starting impulses for a step's contacts: the previous step's impulses
+  /// of a contact that persists, zero for a new one.
+  /// @return 2 per contact (n, t)
+  std::vector<double> warm_start(const std::vector<Contact>& contacts) const;
+
+  /// Every remembered contact, in key order
+  std::vector<Entry> entries() const;
+
+  /// Replace the remembered impulses by saved entries (see entries()).
+  void restore(const std::vector<Entry>& entries);
+
+private:
+  std::map<ContactKey, std::array<double, 2>> _last;
+};
 
 /// A contact's force averaged over an interval of time steps.
 struct AveragedContactForce

@@ -1,7 +1,46 @@
-#include "contact_force_average.h"
+#include "contact_history.h"
+
+#include "moreau_jean.h"
 
 namespace softpack::dynamics
 {
+
+void ImpulseHistory::record(const std::vector<Contact>& contacts,
+                            std::span<const double> R)
+{
+  _last.clear();
+  for (std::size_t a = 0; a < contacts.size(); ++a)
+    _last[contact_key(contacts[a])] = {R[2 * a], R[2 * a + 1]};
+}
+
+std::vector<double>
+ImpulseHistory::warm_start(const std::vector<Contact>& contacts) const
+{
+  std::vector<double> R(2 * contacts.size(), 0.0);
+  for (std::size_t a = 0; a < contacts.size(); ++a)
+    if (auto it = _last.find(contact_key(contacts[a])); it != _last.end())
+    {
+      R[2 * a] = it->second[0];
+      R[2 * a + 1] = it->second[1];
+    }
+  return R;
+}
+
+std::vector<ImpulseHistory::Entry> ImpulseHistory::entries() const
+{
+  std::vector<Entry> out;
+  out.reserve(_last.size());
+  for (const auto& [key, R] : _last)
+    out.push_back({{std::get<0>(key), std::get<1>(key), std::get<2>(key)}, R});
+  return out;
+}
+
+void ImpulseHistory::restore(const std::vector<Entry>& entries)
+{
+  _last.clear();
+  for (const auto& [key, R] : entries)
+    _last[{key[0], key[1], key[2]}] = R;
+}
 
 void ContactForceAverage::add_step(const MoreauJean& scheme)
 {

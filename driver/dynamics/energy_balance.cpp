@@ -1,0 +1,56 @@
+#include "energy_balance.h"
+
+namespace softpack::dynamics
+{
+
+double kinetic_energy(const EffectiveStiffness& kbar, const BodyVectors& v)
+{
+  double e = 0;
+  for (std::size_t b = 0; b < v.size(); ++b)
+    e += 0.5 * v[b].dot(kbar.mass(static_cast<int>(b)) * v[b]);
+  return e;
+}
+
+void add_stiffness_dissipation(EnergyBalance& energy, double theta,
+                               std::span<const double> u_old,
+                               std::span<const double> u_new,
+                               std::span<const double> f_old,
+                               std::span<const double> f_new)
+{
+  if (theta == 0.5)
+    return;
+  double excess = 0;
+  for (std::size_t i = 0; i < u_new.size(); ++i)
+    excess += (u_new[i] - u_old[i]) * (f_new[i] - f_old[i]);
+  energy.numerical += (theta - 0.5) * excess;
+}
+
+void add_body_terms(EnergyBalance& energy, double h, double theta,
+                    const BodyStep& s)
+{
+  const double th = theta;
+  for (std::size_t b = 0; b < s.v_new.size(); ++b)
+  {
+    energy.damping +=
+        h * s.v_mid[b].dot(th * s.Cv_new[b] + (1 - th) * s.Cv_old[b]);
+    energy.numerical +=
+        (th - 0.5) * (s.v_new[b] - s.v_old[b]).dot(s.Mv_new[b] - s.Mv_old[b]);
+    energy.external_work += h * s.v_mid[b].dot(s.f_ext[b]);
+  }
+}
+
+void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
+                       const std::vector<Contact>& contacts,
+                       std::span<const double> R, std::span<const double> U_mid)
+{
+  for (std::size_t a = 0; a < contacts.size(); ++a)
+  {
+    energy.friction -= R[2 * a + 1] * U_mid[2 * a + 1];
+    energy.contact_normal -= R[2 * a] * U_mid[2 * a];
+    if (contacts[a].wall >= 0)
+      energy.wall_work += R[2 * a] * H.wall_velocity(a)[0] +
+                          R[2 * a + 1] * H.wall_velocity(a)[1];
+  }
+}
+
+} // namespace softpack::dynamics

@@ -1,0 +1,100 @@
+#pragma once
+
+#include "contact_operator.h"
+#include "detection.h"
+#include "effective_stiffness.h"
+#include <Eigen/Core>
+#include <span>
+#include <vector>
+
+namespace softpack::dynamics
+{
+
+/// One vector per body, in the body's local DOF numbering.
+using BodyVectors = std::vector<Eigen::VectorXd>;
+
+/// Energy bookkeeping since the start (J per unit length along z).
+///
+/// Balance: wall_work + external_work = kinetic + strain (their changes)
+/// + damping + contact_dissipation + numerical; residual() is what is left.
+struct EnergyBalance
+{
+  double wall_work = 0;
+  double external_work = 0;
+  double kinetic = 0, kinetic0 = 0;
+  double strain = 0, strain0 = 0;
+  double damping = 0;
+  /// Friction (tangential) part of the contact dissipation
+  double friction = 0;
+  /// Normal part (nonzero only through gap corrections)
+  double contact_normal = 0;
+  /// Dissipation of the theta scheme, (theta - 1/2) (|v+ - v-|_M^2 +
+  /// dq . (F_int(q+) - F_int(q-))), dq = q+ - q-
+  double numerical = 0;
+
+  /// Energy supplied minus energy stored and dissipated
+  double residual() const
+  {
+    return wall_work + external_work -
+           (kinetic - kinetic0 + strain - strain0 + damping + friction +
+            contact_normal + numerical);
+  }
+};
+
+/// Kinetic energy \f$\sum_b \tfrac12 v_b \cdot M_b v_b\f$.
+/// @param[in] kbar The iteration matrix (it holds the mass matrices)
+/// @param[in] v Velocity of every body
+double kinetic_energy(const EffectiveStiffness& kbar, const BodyVectors& v);
+
+/// Add the stiffness part of the theta scheme's dissipation over a step.
+///
+/// The scheme's internal-force work, dq . (th F+ + (1 - th) F-), exceeds
+/// the change of strain energy by (th - 1/2) dq . (F+ - F-) (up to third
+/// order in dq).
+/// @param[in,out] energy The accounts
+/// @param[in] theta theta of the scheme (nothing is added at 1/2)
+/// @param[in] u_old, u_new Global displacement at the start and end
+/// @param[in] f_old, f_new Global internal force at the start and end
+void add_stiffness_dissipation(EnergyBalance& energy, double theta,
+                               std::span<const double> u_old,
+                               std::span<const double> u_new,
+                               std::span<const double> f_old,
+                               std::span<const double> f_new);
+
+/// Per-body vectors of one step, at its start (-) and end (+).
+struct BodyStep
+{
+  const BodyVectors& v_old;  ///< v-
+  const BodyVectors& v_new;  ///< v+
+  const BodyVectors& v_mid;  ///< th v+ + (1 - th) v-
+  const BodyVectors& Mv_old; ///< M v-
+  const BodyVectors& Mv_new; ///< M v+
+  const BodyVectors& Cv_old; ///< C v- (damping force)
+  const BodyVectors& Cv_new; ///< C v+
+  const BodyVectors& f_ext;  ///< external force
+};
+
+/// Add the body terms of one step: the damping work h v_th . (th C v+ +
+/// (1 - th) C v-), the kinetic part of the theta scheme's dissipation
+/// (th - 1/2) (v+ - v-) . M (v+ - v-), and the external work h v_th . F_ext.
+/// @param[in,out] energy The accounts
+/// @param[in] h Time step
+/// @param[in] theta theta of the scheme
+/// @param[in] step The step's vectors
+void add_body_terms(EnergyBalance& energy, double h, double theta,
+                    const BodyStep& step);
+
+/// Add the contact terms of one step: the friction and normal dissipation
+/// -R . U_th and the work of the walls R . U_wall (impulses on the
+/// candidates, U_th the relative velocity at th v+ + (1 - th) v-).
+/// @param[in,out] energy The accounts
+/// @param[in] H The step's contact operator
+/// @param[in] contacts The step's contacts
+/// @param[in] R Impulses, 2 per contact (n, t)
+/// @param[in] U_mid Relative velocities at v_th, 2 per contact (n, t)
+void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
+                       const std::vector<Contact>& contacts,
+                       std::span<const double> R,
+                       std::span<const double> U_mid);
+
+} // namespace softpack::dynamics
