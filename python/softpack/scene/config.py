@@ -391,6 +391,19 @@ def to_toml(config) -> str:
             entries(name, config[name], section.parameters)
             if name == "material":
                 lines += ["", f"[material.{LAW_TABLE}]"]
+                law = _law_or_none(config[name]["law"])
                 for key, value in config[name][LAW_TABLE].items():
-                    lines.append(f"{key} = {_show(value)}")
+                    spec = law.parameters.get(key) if law else None
+                    doc = (f"  # {spec.doc}" + (f" ({spec.unit})" if
+                                               spec.unit else "")
+                           if spec else "")
+                    lines.append(f"{key} = {_show(value)}{doc}")
     return "\n".join(lines) + "\n"
+
+
+def _law_or_none(name):
+    """The registered law (for its parameters' docs), None if unavailable."""
+    try:
+        return load_registry().get(name)
+    except RegistryError:
+        return None
