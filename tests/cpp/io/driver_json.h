@@ -4,6 +4,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <unistd.h>
 
 /// driver.json documents written by hand (docs/contract.md section 4), as
 /// python/softpack/simulation/driver_input.py writes them.
@@ -73,11 +74,13 @@ inline void write_json(const nlohmann::json& doc,
   std::ofstream(path) << doc.dump(2) << '\n';
 }
 
-/// A fresh empty directory under the system's temporary directory.
+/// A fresh empty directory under the system's temporary directory, one per
+/// process (CTest runs the tests of one executable in parallel processes).
 inline std::filesystem::path fresh_directory(const std::string& name)
 {
   const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("softpack-test-" + name);
+      std::filesystem::temp_directory_path() /
+      ("softpack-test-" + name + "-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

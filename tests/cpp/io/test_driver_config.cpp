@@ -10,8 +10,6 @@ using nlohmann::json;
 
 namespace
 {
-const std::filesystem::path dir = test::fresh_directory("driver-config");
-
 json paper()
 {
   return test::driver_json("/runs/paper", "/runs/mesh.xdmf", 3);
@@ -19,7 +17,13 @@ json paper()
 
 io::DriverConfig read(const json& doc)
 {
+  const std::filesystem::path dir = test::fresh_directory("driver-config");
   test::write_json(doc, dir / "driver.json");
+  struct Cleanup
+  {
+    std::filesystem::path dir;
+    ~Cleanup() { std::filesystem::remove_all(dir); }
+  } cleanup{dir};
   return io::read_driver_config(dir / "driver.json");
 }
 

@@ -120,6 +120,8 @@ TEST(RunSetup, SetupDescribesTheRunAndStepsStopIt)
   EXPECT_EQ(state.steps, 3);
   EXPECT_EQ(std::stod(column(steps, "time")), state.time);
   EXPECT_TRUE(std::filesystem::exists(dir / "fields.xdmf"));
+  if (!HasFailure())
+    std::filesystem::remove_all(dir);
 }
 
 TEST(RunSetup, StepsCountFromTheInitialState)
@@ -146,4 +148,9 @@ TEST(RunSetup, StepsCountFromTheInitialState)
   EXPECT_EQ(read_json(next / "raw" / "setup.json").at("initial_state"),
             doc.at("initial_state"));
   EXPECT_FALSE(std::filesystem::exists(next / "fields.xdmf"));
+  if (!HasFailure())
+  {
+    std::filesystem::remove_all(first);
+    std::filesystem::remove_all(next);
+  }
 }
