@@ -6,9 +6,10 @@
 namespace softpack::io
 {
 
-/// A run's state on disk (docs/driver_io.md, "State"): a small binary file,
-/// written atomically, that lets a run (or a benchmark) start from the
-/// middle of a compaction.
+/// A run's state on disk (docs/driver_io.md, raw/state.bin): a small binary
+/// file, written atomically, that lets a run (or a benchmark) start from the
+/// middle of a compaction. The layout is the driver's own: no other stage
+/// parses it (its time and step are in the raw/steps.csv written with it).
 ///
 /// Layout (native little-endian): the 16 bytes "softpack-state-1", then
 /// int64 counts (DOFs, walls, reactions), time (double), steps (int64), u,
