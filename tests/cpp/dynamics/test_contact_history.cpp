@@ -1,10 +1,14 @@
-// Contact forces averaged over an output interval: they are the impulses
-// summed over the interval divided by its duration, they balance the
-// body's change of momentum (the exact discrete momentum balance), and they
-// remove the step-to-step alternation of theta = 1/2.
+// The contact history. The warm start: a contact that persists gets its
+// previous impulses back, a new one gets none, and a step's unsolved
+// contact problem comes back in its report, ready to replay. The contact
+// forces averaged over an output interval: they are the impulses summed
+// over the interval divided by its duration, they balance the body's change
+// of momentum (the exact discrete momentum balance), and they remove the
+// step-to-step alternation of theta = 1/2.
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
+#include <contact/nlgs.h>
 #include <dynamics/contact_history.h>
 #include <dynamics/moreau_jean.h>
 #include <gtest/gtest.h>
@@ -57,7 +61,98 @@ resultant(const std::vector<dynamics::AveragedContactForce>& forces)
   }
   return f;
 }
+/// A contact of candidate (body, node) against a body or (body = -1) a
+/// wall, with a given gap; the frame and segment do not enter its identity.
+dynamics::Contact make_contact(int body, int node, int antagonist, int wall,
+                               double gap)
+{
+  return {body, node, antagonist, wall, {0, 1}, 0.5, {0, 1}, {-1, 0}, gap};
+}
 } // namespace
+
+TEST(ImpulseHistory, APersistingContactGetsItsImpulsesBackANewOneNone)
+{
+  dynamics::ImpulseHistory history;
+  EXPECT_EQ(history.warm_start({make_contact(0, 3, 1, -1, 0)}),
+            std::vector<double>(2, 0.0));
+  history.record(
+      {make_contact(0, 3, 1, -1, 1e-5), make_contact(2, 7, -1, 1, 0)},
+      std::vector<double>{1.5, -0.25, 3.0, 0.5});
+  // Next step: the contacts come in another order, with other gaps and
+  // frames; node 7 now touches wall 0 (a new contact), node 4 is new.
+  const std::vector<dynamics::Contact> next = {
+      make_contact(2, 7, -1, 0, 0), make_contact(0, 4, 1, -1, 0),
+      make_contact(0, 3, 1, -1, -2e-5), make_contact(2, 7, -1, 1, 3e-6)};
+  EXPECT_EQ(history.warm_start(next),
+            (std::vector<double>{0, 0, 0, 0, 1.5, -0.25, 3.0, 0.5}));
+
+  // A state file's entries bring the same warm start back.
+  dynamics::ImpulseHistory restored;
+  restored.restore(history.entries());
+  EXPECT_EQ(restored.warm_start(next), history.warm_start(next));
+
+  // Recording replaces: contacts gone from the last step are forgotten.
+  history.record({make_contact(0, 4, 1, -1, 0)}, std::vector<double>{2.0, 0.1});
+  EXPECT_EQ(history.warm_start(next),
+            (std::vector<double>{0, 0, 2.0, 0.1, 0, 0, 0, 0}));
+}
+
+TEST(ImpulseHistory, TheSchemeWarmStartsFromThePreviousStep)
+{
+  bodies::BodySet bodies(test::bodies_mesh({test::disk(0, 0, R, 6)}),
+                         forms::find_material("neo_hookean"),
+                         bodies::plane_strain_parameters(mu), rho);
+  std::vector<dynamics::Wall> walls = {
+      {"bottom", {0, -R - 1e-6}, {0, 1}, {0, 0}},
+      {"top", {0, R + 1e-6}, {0, -1}, {0, -speed}}};
+  dynamics::MoreauJean scheme(bodies, walls, paper_like_options());
+  for (int s = 0; s < 50; ++s)
+    ASSERT_TRUE(scheme.step().newton_converged);
+  // The state's reactions are the last step's impulses, by contact.
+  const std::vector<dynamics::Contact>& contacts = scheme.contacts();
+  ASSERT_FALSE(contacts.empty());
+  dynamics::ImpulseHistory history;
+  history.restore(scheme.state().reactions);
+  EXPECT_EQ(history.warm_start(contacts), scheme.impulses());
+}
+
+TEST(UnsolvedContactProblem, TheReportCarriesItForReplay)
+{
+  bodies::BodySet bodies(test::bodies_mesh({test::disk(0, 0, R, 6)}),
+                         forms::find_material("neo_hookean"),
+                         bodies::plane_strain_parameters(mu), rho);
+  std::vector<dynamics::Wall> walls = {
+      {"bottom", {0, -R - 1e-6}, {0, 1}, {0, 0}},
+      {"top", {0, R + 1e-6}, {0, -1}, {0, -speed}}};
+  dynamics::MoreauJeanOptions options = paper_like_options();
+  dynamics::MoreauJean converging(bodies, walls, options);
+  dynamics::StepReport r;
+  for (int s = 0; s < 30; ++s)
+    r = converging.step();
+  ASSERT_GT(r.contacts, 0);
+  EXPECT_TRUE(r.nlgs_converged);
+  EXPECT_EQ(r.unsolved_contact_solves, 0);
+  EXPECT_FALSE(r.unsolved_problem);
+
+  // One sweep from r = 0 does not solve the coupled contacts of a pressed
+  // disk (from the last step's impulses it does): the step's one contact
+  // solve fails, and gives the step's impulses.
+  options.nlgs.max_sweeps = 1;
+  options.nlgs.warm_start = false;
+  options.max_newton_iterations = 1;
+  dynamics::MoreauJean failing(bodies, walls, options);
+  failing.restore(converging.state());
+  r = failing.step();
+  ASSERT_FALSE(r.nlgs_converged);
+  EXPECT_EQ(r.unsolved_contact_solves, 1);
+  ASSERT_TRUE(r.unsolved_problem);
+  EXPECT_EQ(r.unsolved_problem->num_contacts(), failing.contacts().size());
+  std::vector<double> R = r.unsolved_start, U(R.size());
+  const contact::NlgsResult again =
+      contact::solve_nlgs(*r.unsolved_problem, R, U, options.nlgs);
+  EXPECT_FALSE(again.converged);
+  EXPECT_EQ(R, failing.impulses()); // the same failure, bit for bit
+}
 
 TEST(ContactForceAverage, BalancesMomentumAndRemovesTheAlternation)
 {
