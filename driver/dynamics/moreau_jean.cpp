@@ -26,19 +26,53 @@ double seconds_since(clock::time_point t0)
 }
 } // namespace
 
+DetectionOptions detection_options(const parameters::Contact& contact)
+{
+  return {.alert_distance = contact.alert_distance,
+          .max_penetration = contact.max_penetration};
+}
+
+contact::NlgsOptions nlgs_options(const parameters::Contact& contact)
+{
+  contact::NlgsOptions o;
+  o.tolerance = contact.nlgs_tolerance;
+  o.max_sweeps = contact.nlgs_max_sweeps;
+  o.relaxation = contact.nlgs_relaxation;
+  return o;
+}
+
+namespace
+{
+/// Check the schema's ranges and choices (the generated reader, on the
+/// options as JSON): the scheme has none of its own.
+const MoreauJeanOptions& checked(const MoreauJeanOptions& o)
+{
+  parameters::Time time;
+  parameters::read(parameters::to_json(o.time), time, "MoreauJeanOptions");
+  parameters::Contact contact;
+  parameters::read(parameters::to_json(o.contact), contact,
+                   "MoreauJeanOptions");
+  parameters::Damping damping;
+  parameters::read(parameters::to_json(o.damping), damping,
+                   "MoreauJeanOptions");
+  if (!(o.velocity_scale > 0))
+    throw std::invalid_argument("MoreauJeanOptions: velocity_scale must be "
+                                "positive (the fastest wall speed)");
+  return o;
+}
+} // namespace
+
 MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
                        MoreauJeanOptions options)
-    : _bodies(bodies), _walls(std::move(walls)),
-      _options(options), _damping{options.alpha, options.beta},
-      _kbar(bodies, options.lumped_mass), _K(bodies.create_matrices()),
-      _A(bodies.create_matrices()), _v(bodies.num_dofs(), 0.0),
-      _f_ext(bodies.num_dofs(), 0.0), _f_int(bodies.num_dofs(), 0.0),
-      _v_contact(bodies.num_dofs(), 0.0)
+    : _bodies(bodies), _walls(std::move(walls)), _options(checked(options)),
+      _detection(detection_options(options.contact)),
+      _nlgs(nlgs_options(options.contact)), _damping{options.damping.alpha,
+                                                     options.damping.beta},
+      _kbar(bodies, options.time.mass == "lumped"),
+      _K(bodies.create_matrices()), _A(bodies.create_matrices()),
+      _v(bodies.num_dofs(), 0.0), _f_ext(bodies.num_dofs(), 0.0),
+      _f_int(bodies.num_dofs(), 0.0), _v_contact(bodies.num_dofs(), 0.0)
 {
-  if (!(options.time_step > 0))
-    throw std::invalid_argument("time step must be positive");
-  if (options.theta < 0.5 || options.theta > 1)
-    throw std::invalid_argument("theta must be in [0.5, 1]");
   _bodies.internal_force(_f_int);
   _energy.strain0 = _bodies.strain_energy();
 }
@@ -98,12 +132,12 @@ MoreauJean::StepContacts
 MoreauJean::prepare_contacts(const std::vector<double>& u_old,
                              const std::vector<double>& v_old)
 {
-  const double h = _options.time_step, th = _options.theta;
+  const double h = _options.time.time_step, th = _options.time.theta;
   std::vector<double> x(_bodies.reference_coordinates().begin(),
                         _bodies.reference_coordinates().end());
   for (std::size_t i = 0; i < x.size(); ++i)
     x[i] += u_old[i];
-  _contacts = detect_contacts(_bodies, x, _walls, _options.detection);
+  _contacts = detect_contacts(_bodies, x, _walls, _detection);
   StepContacts sc{ContactOperator(_contacts, _walls), {}};
   const std::vector<double> U_old = sc.H.relative_velocity(_bodies, v_old);
   // Signorini on the predicted gap g~ = g + h((1-th) U_n- + th U_n+):
@@ -129,15 +163,15 @@ contact::FrictionContactProblem2D
 MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
 {
   contact::FrictionContactProblem2D problem;
-  problem.mu.assign(sc.size(), _options.friction);
+  problem.mu.assign(sc.size(), _options.contact.friction);
   problem.q.resize(2 * sc.size());
   if (needs_refactorization())
     refactorize(sc, problem, report);
   else if (sc.size() > 0)
   {
     const auto t0 = clock::now();
-    problem.W =
-        build_delassus(_bodies, sc.H, _kbar, _options.delassus_drop_tolerance);
+    problem.W = build_delassus(_bodies, sc.H, _kbar,
+                               _options.contact.delassus_drop_tolerance);
     report.seconds.delassus += seconds_since(t0);
   }
   return problem;
@@ -145,16 +179,16 @@ MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
 
 bool MoreauJean::needs_refactorization() const
 {
-  return _matrix_age < 0 || _options.full_newton ||
-         _matrix_age >= _options.tangent_reuse_steps ||
-         _last_iterations > _options.refactor_above_iterations;
+  return _matrix_age < 0 || _options.time.full_newton ||
+         _matrix_age >= _options.time.tangent_reuse_steps ||
+         _last_iterations > _options.time.refactor_above_iterations;
 }
 
 void MoreauJean::refactorize(const StepContacts& sc,
                              contact::FrictionContactProblem2D& problem,
                              StepReport& report)
 {
-  const double h = _options.time_step, th = _options.theta;
+  const double h = _options.time.time_step, th = _options.time.theta;
   auto t0 = clock::now();
   _bodies.tangent(_K);
   report.seconds.assembly += seconds_since(t0);
@@ -172,8 +206,8 @@ void MoreauJean::refactorize(const StepContacts& sc,
   if (sc.size() > 0)
   {
     t0 = clock::now();
-    problem.W =
-        build_delassus(_bodies, sc.H, _kbar, _options.delassus_drop_tolerance);
+    problem.W = build_delassus(_bodies, sc.H, _kbar,
+                               _options.contact.delassus_drop_tolerance);
     report.seconds.delassus += seconds_since(t0);
   }
 }
@@ -181,7 +215,7 @@ void MoreauJean::refactorize(const StepContacts& sc,
 MoreauJean::StepStart MoreauJean::start_step(std::vector<double> u_old,
                                              std::vector<double> v_old)
 {
-  const double h = _options.time_step, th = _options.theta;
+  const double h = _options.time.time_step, th = _options.time.theta;
   const int nb = _bodies.num_bodies();
   StepStart s{std::move(u_old), std::move(v_old)};
   s.v_old_b = gather(s.v_old);
@@ -206,7 +240,7 @@ MoreauJean::Vectors MoreauJean::residual(const Vectors& vk,
                                          const Vectors& known) const
 {
   // r = (M + h th C) v_k + h th (F_int(q_k) - F_ext) - b
-  const double h = _options.time_step, th = _options.theta;
+  const double h = _options.time.time_step, th = _options.time.theta;
   const int nb = _bodies.num_bodies();
   Vectors r(nb);
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
@@ -247,8 +281,7 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
   for (std::size_t i = 0; i < U_free.size(); ++i)
     problem.q[i] = U_free[i] + sc.shift[i];
   std::vector<double> U(U_free.size()), start = _R;
-  const contact::NlgsResult nlgs =
-      contact::solve_nlgs(problem, _R, U, _options.nlgs);
+  const contact::NlgsResult nlgs = contact::solve_nlgs(problem, _R, U, _nlgs);
   report.nlgs_iterations += nlgs.iterations;
   report.nlgs_error = nlgs.error;
   report.nlgs_converged = nlgs.converged;
@@ -279,7 +312,7 @@ void MoreauJean::set_displacement(const std::vector<double>& u_old,
                                   const std::vector<double>& v_old,
                                   const std::vector<double>& v)
 {
-  const double h = _options.time_step, th = _options.theta;
+  const double h = _options.time.time_step, th = _options.time.theta;
   std::span<double> u = _bodies.displacement();
   for (std::size_t i = 0; i < u.size(); ++i)
     u[i] = u_old[i] + h * (th * v[i] + (1 - th) * v_old[i]);
@@ -297,7 +330,7 @@ double MoreauJean::newton_iteration(int k, const StepContacts& sc,
   std::vector<double> f_int(vk.size());
   _bodies.internal_force(f_int);
   report.seconds.assembly += seconds_since(t0);
-  if (k > 0 && _options.full_newton)
+  if (k > 0 && _options.time.full_newton)
     refactorize(sc, problem, report);
 
   t0 = clock::now();
@@ -339,13 +372,13 @@ void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
     const double rho = k > 0 ? change / previous_change : 1.0;
     const double error = rho < 0.5 ? change * rho / (1 - rho) : change;
     previous_change = change;
-    if (error <= _options.newton_tolerance *
+    if (error <= _options.time.newton_tolerance *
                      std::max(max_abs(vk), _options.velocity_scale))
     {
       report.newton_converged = true;
       break;
     }
-    if (k + 1 >= _options.max_newton_iterations)
+    if (k + 1 >= _options.time.newton_max_iterations)
       break;
   }
   _v = std::move(vk);
@@ -379,13 +412,13 @@ StepReport MoreauJean::step()
 void MoreauJean::finish_step(const StepContacts& sc, const StepStart& start,
                              StepReport& report)
 {
-  const double h = _options.time_step;
+  const double h = _options.time.time_step;
   auto t0 = clock::now();
   set_displacement(start.u_old, start.v_old, _v);
   const std::vector<double> f_int_before = _f_int;
   _bodies.internal_force(_f_int);
   report.seconds.assembly += seconds_since(t0);
-  add_stiffness_dissipation(_energy, _options.theta, start.u_old,
+  add_stiffness_dissipation(_energy, _options.time.theta, start.u_old,
                             _bodies.displacement(), f_int_before, _f_int);
   _time += h;
   ++_steps;
@@ -402,7 +435,7 @@ void MoreauJean::finish_step(const StepContacts& sc, const StepStart& start,
 void MoreauJean::account_step(const StepContacts& sc, const StepStart& start,
                               StepReport& report)
 {
-  const double h = _options.time_step, th = _options.theta;
+  const double h = _options.time.time_step, th = _options.time.theta;
   const Vectors v_new_b = gather(_v);
   _products_valid = false;
   update_products(v_new_b);
@@ -511,7 +544,7 @@ void MoreauJean::restore(const SchemeState& s)
 std::vector<std::array<double, 2>> MoreauJean::wall_forces() const
 {
   std::vector<std::array<double, 2>> force(_walls.size(), {0, 0});
-  const double h = _options.time_step;
+  const double h = _options.time.time_step;
   for (std::size_t a = 0; a < _contacts.size(); ++a)
   {
     const Contact& c = _contacts[a];

@@ -11,53 +11,37 @@
 #include <contact/nlgs.h>
 #include <contact/problem.h>
 #include <memory>
+#include <softpack/parameters.h>
 #include <vector>
 
 /// Nonsmooth contact dynamics of deformable bodies (Moreau–Jean).
 namespace softpack::dynamics
 {
 
-/// Parameters of the time stepping.
+/// Options of the time stepping: the schema's sections (the structs
+/// generated from schema/parameters.toml, with its defaults; the ranges are
+/// checked against the schema when the scheme is built) and the velocity
+/// scale of the Newton test, which is derived from the walls, not a
+/// parameter.
 struct MoreauJeanOptions
 {
-  /// Time step h (s)
-  double time_step = 1e-5;
-  /// theta of the theta-method, in [0.5, 1]
-  double theta = 0.5;
+  /// Time step, theta, mass, Newton iterations, iteration-matrix reuse
+  parameters::Time time;
+  /// Friction, detection distances, the NLGS solver, the Delassus drop
+  parameters::Contact contact;
   /// Rayleigh damping C = alpha M + beta K
-  double alpha = 0, beta = 0;
-  /// Lumped instead of consistent mass
-  bool lumped_mass = false;
-  /// Coulomb coefficient of every contact (body-body and body-wall)
-  double friction = 0.3;
-  /// Newton stops when the estimated error of the iterate, ||v_{k+1} -
-  /// v_k||_inf rho / (1 - rho) with rho the observed contraction rate (or
-  /// the increment itself while rho >= 1/2), is <= tol * max(||v||_inf,
-  /// velocity_scale)
-  double newton_tolerance = 1e-6;
-  /// Velocity below which changes do not matter (e.g. the piston speed)
-  double velocity_scale = 1e-3;
-  /// Give up (and report) after this many Newton iterations
-  int max_newton_iterations = 20;
-  /// Reassemble and refactor the iteration matrix at every Newton
-  /// iteration (true: full Newton), or keep it (false: modified Newton;
-  /// the iteration matrix is mass-dominated at small h, so a lagged one
-  /// still converges fast and the converged step is the same)
-  bool full_newton = true;
-  /// With modified Newton: reuse the iteration matrix (and the per-body
-  /// compliances behind the Delassus operator) for up to this many steps
-  int tangent_reuse_steps = 1;
-  /// ... and refactor at the next step whenever a step needed more Newton
-  /// iterations than this
-  int refactor_above_iterations = 5;
-  /// Contact detection
-  DetectionOptions detection;
-  /// Off-diagonal Delassus blocks below this fraction of their contacts'
-  /// diagonal blocks are dropped (see build_delassus; 0 keeps all)
-  double delassus_drop_tolerance = 0;
-  /// The frictional contact solver
-  contact::NlgsOptions nlgs;
+  parameters::Damping damping;
+  /// Velocity below which changes do not matter in the Newton test (the
+  /// fastest wall speed); must be set, > 0
+  double velocity_scale = 0;
 };
+
+/// The detection's options from the contact parameters (the one place).
+DetectionOptions detection_options(const parameters::Contact& contact);
+
+/// The contact solver's options from the contact parameters (the one
+/// place; the solver's other options keep their defaults).
+contact::NlgsOptions nlgs_options(const parameters::Contact& contact);
 
 /// Wall time spent in each part of a step (s).
 struct StepTimings
@@ -121,6 +105,8 @@ public:
   /// @param[in,out] bodies Bodies; their displacement is the state
   /// @param[in] walls Walls
   /// @param[in] options Time step, damping, friction, tolerances
+  /// @throws std::runtime_error if an option is outside the schema's range
+  /// @throws std::invalid_argument if velocity_scale is not positive
   MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
              MoreauJeanOptions options);
 
@@ -210,6 +196,8 @@ private:
   bodies::BodySet& _bodies;
   std::vector<Wall> _walls;
   MoreauJeanOptions _options;
+  DetectionOptions _detection;
+  contact::NlgsOptions _nlgs;
   RayleighDamping _damping;
   EffectiveStiffness _kbar;
   /// Tangent stiffness as last assembled, and A = M + h th C on the same

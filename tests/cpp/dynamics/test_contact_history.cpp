@@ -5,6 +5,7 @@
 // over the interval divided by its duration, they balance the body's change
 // of momentum (the exact discrete momentum balance), and they remove the
 // step-to-step alternation of theta = 1/2.
+#include "scheme_options.h"
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
@@ -24,16 +25,13 @@ constexpr double alpha = 30, theta = 0.5;
 
 dynamics::MoreauJeanOptions paper_like_options()
 {
-  dynamics::MoreauJeanOptions o;
-  o.time_step = 1e-4;
-  o.theta = theta;
-  o.alpha = alpha;
-  o.beta = 1e-5;
-  o.friction = 0.3;
-  o.velocity_scale = speed;
-  o.newton_tolerance = 1e-10;
-  o.detection.alert_distance = 2e-4;
-  o.nlgs.tolerance = 1e-10;
+  dynamics::MoreauJeanOptions o = test::exact_options(1e-4, speed);
+  o.time.theta = theta;
+  o.damping.alpha = alpha;
+  o.damping.beta = 1e-5;
+  o.time.newton_tolerance = 1e-10;
+  o.contact.alert_distance = 2e-4;
+  o.contact.nlgs_tolerance = 1e-10;
   return o;
 }
 
@@ -134,12 +132,12 @@ TEST(UnsolvedContactProblem, TheReportCarriesItForReplay)
   EXPECT_EQ(r.unsolved_contact_solves, 0);
   EXPECT_FALSE(r.unsolved_problem);
 
-  // One sweep from r = 0 does not solve the coupled contacts of a pressed
-  // disk (from the last step's impulses it does): the step's one contact
-  // solve fails, and gives the step's impulses.
-  options.nlgs.max_sweeps = 1;
-  options.nlgs.warm_start = false;
-  options.max_newton_iterations = 1;
+  // One sweep from the last step's impulses leaves an error of 4e-11 on
+  // the contacts of the pressed disk: at a tolerance of 1e-14 the step's one
+  // contact solve (one Newton iteration) fails, and gives its impulses.
+  options.contact.nlgs_max_sweeps = 1;
+  options.contact.nlgs_tolerance = 1e-14;
+  options.time.newton_max_iterations = 1;
   dynamics::MoreauJean failing(bodies, walls, options);
   failing.restore(converging.state());
   r = failing.step();
@@ -148,8 +146,8 @@ TEST(UnsolvedContactProblem, TheReportCarriesItForReplay)
   ASSERT_TRUE(r.unsolved_problem);
   EXPECT_EQ(r.unsolved_problem->num_contacts(), failing.contacts().size());
   std::vector<double> R = r.unsolved_start, U(R.size());
-  const contact::NlgsResult again =
-      contact::solve_nlgs(*r.unsolved_problem, R, U, options.nlgs);
+  const contact::NlgsResult again = contact::solve_nlgs(
+      *r.unsolved_problem, R, U, dynamics::nlgs_options(options.contact));
   EXPECT_FALSE(again.converged);
   EXPECT_EQ(R, failing.impulses()); // the same failure, bit for bit
 }
@@ -163,7 +161,7 @@ TEST(ContactForceAverage, BalancesMomentumAndRemovesTheAlternation)
       {"bottom", {0, -R - 1e-6}, {0, 1}, {0, 0}},
       {"top", {0, R + 1e-6}, {0, -1}, {0, -speed}}};
   dynamics::MoreauJean scheme(bodies, walls, paper_like_options());
-  const double h = scheme.options().time_step;
+  const double h = scheme.options().time.time_step;
 
   // Press by 1 mm, stop the plate, hold.
   const int press = 200, hold = 400, interval = 100;

@@ -3,6 +3,7 @@
 // round-off for any theta (the trapezoidal work of a linear force is exact),
 // and on a damped, deforming free disk stepped by MoreauJean they close it
 // up to the quadrature of the nonlinear strain work.
+#include "scheme_options.h"
 #include <Eigen/Dense>
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
@@ -100,12 +101,11 @@ TEST(EnergyBalance, ClosesOnADampedDeformingFreeDisk)
   bodies::BodySet bodies(test::bodies_mesh({test::disk(0, 0, R, 4)}),
                          forms::find_material("neo_hookean"),
                          bodies::plane_strain_parameters(mu), rho);
-  dynamics::MoreauJeanOptions options;
-  options.time_step = 2e-4;
-  options.theta = 0.55;
-  options.alpha = 30;
-  options.beta = 1e-5;
-  options.newton_tolerance = 1e-10;
+  dynamics::MoreauJeanOptions options = test::exact_options(2e-4, 1e-3);
+  options.time.theta = 0.55;
+  options.damping.alpha = 30;
+  options.damping.beta = 1e-5;
+  options.time.newton_tolerance = 1e-10;
   dynamics::MoreauJean scheme(bodies, {}, options);
   // Translation, spin and a stretching mode.
   std::span<const double> X = bodies.reference_coordinates();

@@ -1,5 +1,6 @@
 // A body with no contact: momentum is conserved without damping, and a rigid
 // translation decays at the rate alpha of the mass-proportional damping.
+#include "scheme_options.h"
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
@@ -41,10 +42,8 @@ std::array<double, 2> momentum(const bodies::BodySet& bodies,
 TEST(FreeBody, MomentumIsConservedWithoutDamping)
 {
   bodies::BodySet bodies = free_disk();
-  dynamics::MoreauJeanOptions options;
-  options.time_step = 2e-4;
-  options.alpha = options.beta = 0;
-  options.newton_tolerance = 1e-10;
+  dynamics::MoreauJeanOptions options = test::exact_options(2e-4, 1e-3);
+  options.time.newton_tolerance = 1e-10;
   dynamics::MoreauJean scheme(bodies, {}, options);
   // Translation + spin + a vibration mode: the body deforms and rotates.
   std::span<const double> X = bodies.reference_coordinates();
@@ -74,10 +73,9 @@ TEST(FreeBody, MomentumIsConservedWithoutDamping)
 TEST(FreeBody, TranslationDecaysAtTheRateAlpha)
 {
   bodies::BodySet bodies = free_disk();
-  dynamics::MoreauJeanOptions options;
-  options.time_step = 1e-3;
-  options.alpha = 30;
-  options.beta = 1e-5;
+  dynamics::MoreauJeanOptions options = test::exact_options(1e-3, 1e-3);
+  options.damping.alpha = 30;
+  options.damping.beta = 1e-5;
   dynamics::MoreauJean scheme(bodies, {}, options);
   std::span<double> v = scheme.velocity();
   for (std::size_t i = 0; i < v.size(); i += 2)
@@ -85,7 +83,8 @@ TEST(FreeBody, TranslationDecaysAtTheRateAlpha)
   for (int s = 1; s <= 100; ++s)
   {
     scheme.step();
-    const double expected = 0.2 * std::exp(-options.alpha * scheme.time());
+    const double expected =
+        0.2 * std::exp(-options.damping.alpha * scheme.time());
     for (std::size_t i = 0; i < v.size(); i += 2)
     {
       // theta = 1/2 is second order: relative error ~ t alpha (h alpha)^2/12
@@ -96,4 +95,29 @@ TEST(FreeBody, TranslationDecaysAtTheRateAlpha)
   // The kinetic energy lost went into damping.
   const dynamics::EnergyBalance& e = scheme.energy();
   EXPECT_NEAR(e.damping / (e.kinetic0 - e.kinetic), 1.0, 1e-6);
+}
+
+TEST(FreeBody, OptionsOutsideTheSchemaAreRefused)
+{
+  bodies::BodySet bodies = free_disk();
+  dynamics::MoreauJeanOptions options = test::exact_options(1e-4, 1e-3);
+  options.time.theta = 0.4;
+  EXPECT_THROW(
+      {
+        try
+        {
+          dynamics::MoreauJean(bodies, {}, options);
+        }
+        catch (const std::runtime_error& e)
+        {
+          EXPECT_NE(std::string(e.what()).find("time.theta"), std::string::npos)
+              << e.what();
+          throw;
+        }
+      },
+      std::runtime_error);
+  options.time.theta = 0.5;
+  options.velocity_scale = 0;
+  EXPECT_THROW(dynamics::MoreauJean(bodies, {}, options),
+               std::invalid_argument);
 }

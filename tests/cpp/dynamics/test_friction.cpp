@@ -1,5 +1,6 @@
 // A block pressed on a wall and pushed tangentially: it sticks below
 // mu_f N and slides above it, with the Coulomb friction force mu_f N.
+#include "scheme_options.h"
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
@@ -47,14 +48,12 @@ std::vector<double> body_force(const bodies::BodySet& b, double gx, double gy)
 
 dynamics::MoreauJeanOptions options(double alpha, double beta)
 {
-  dynamics::MoreauJeanOptions o;
-  o.time_step = 1e-4;
-  o.alpha = alpha;
-  o.beta = beta;
-  o.friction = friction;
-  o.velocity_scale = 0.01;
-  o.newton_tolerance = 1e-9;
-  o.nlgs.tolerance = 1e-10;
+  dynamics::MoreauJeanOptions o = test::exact_options(1e-4, 0.01);
+  o.damping.alpha = alpha;
+  o.damping.beta = beta;
+  o.contact.friction = friction;
+  o.time.newton_tolerance = 1e-9;
+  o.contact.nlgs_tolerance = 1e-10;
   return o;
 }
 

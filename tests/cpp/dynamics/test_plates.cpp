@@ -1,5 +1,6 @@
 // Disks compressed between rigid plates: non-penetration, action and
 // reaction, equilibrium at rest, and the energy balance.
+#include "scheme_options.h"
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
@@ -27,16 +28,12 @@ bodies::BodySet column_of_disks(int n)
 
 dynamics::MoreauJeanOptions options(double alpha)
 {
-  dynamics::MoreauJeanOptions o;
-  o.time_step = 1e-4;
-  o.theta = 0.55;
-  o.alpha = alpha;
-  o.beta = 1e-5;
-  o.friction = 0.3;
-  o.velocity_scale = speed;
-  o.newton_tolerance = 1e-8;
-  o.detection.alert_distance = 2e-4;
-  o.nlgs.tolerance = 1e-8;
+  dynamics::MoreauJeanOptions o = test::exact_options(1e-4, speed);
+  o.time.theta = 0.55;
+  o.damping.alpha = alpha;
+  o.damping.beta = 1e-5;
+  o.time.newton_tolerance = 1e-8;
+  o.contact.alert_distance = 2e-4;
   return o;
 }
 
@@ -54,7 +51,7 @@ void press_and_settle(dynamics::MoreauJean& scheme, double approach,
                       int settle_steps, double& max_penetration)
 {
   const int press_steps = static_cast<int>(
-      std::round(approach / (speed * scheme.options().time_step)));
+      std::round(approach / (speed * scheme.options().time.time_step)));
   max_penetration = 0;
   for (int s = 0; s < press_steps + settle_steps; ++s)
   {
@@ -74,7 +71,7 @@ std::array<double, 2> contact_resultant(const dynamics::MoreauJean& scheme,
                                         int b, int from_body = -2)
 {
   std::array<double, 2> f = {0, 0};
-  const double h = scheme.options().time_step;
+  const double h = scheme.options().time.time_step;
   for (std::size_t a = 0; a < scheme.contacts().size(); ++a)
   {
     const dynamics::Contact& c = scheme.contacts()[a];

@@ -1,5 +1,6 @@
 // A run continued from a saved state (through the state file) is the run
 // that was never interrupted.
+#include "scheme_options.h"
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
@@ -32,18 +33,15 @@ std::vector<dynamics::Wall> plates()
 
 dynamics::MoreauJeanOptions options()
 {
-  dynamics::MoreauJeanOptions o;
-  o.time_step = 1e-4;
-  o.alpha = 30;
-  o.beta = 1e-5;
-  o.friction = 0.3;
-  o.velocity_scale = speed;
-  o.newton_tolerance = 1e-10;
-  o.nlgs.tolerance = 1e-10;
-  o.detection.alert_distance = 2e-4;
+  dynamics::MoreauJeanOptions o = test::exact_options(1e-4, speed);
+  o.damping.alpha = 30;
+  o.damping.beta = 1e-5;
+  o.time.newton_tolerance = 1e-10;
+  o.contact.nlgs_tolerance = 1e-10;
+  o.contact.alert_distance = 2e-4;
   // Refactorize at every iteration, so that the restored run (which must
   // refactorize at its first step) does exactly the same operations.
-  o.full_newton = true;
+  o.time.full_newton = true;
   return o;
 }
 } // namespace
