@@ -1,5 +1,4 @@
 #include "run_simulation.h"
-#include "moreau_jean_options.h"
 
 #include <bodies/BodySet.h>
 #include <bodies/body_mesh.h>
@@ -79,6 +78,33 @@ void write_unsolved_problem(const std::filesystem::path& raw, long step,
                         r.unsolved_start);
 }
 
+/// The bodies of driver.json's mesh and material; errors in the material
+/// name driver.json and the key (material.law, material.parameters.KEY).
+bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
+{
+  const parameters::Material& m = config.parameters.material;
+  bodies::BodyMesh mesh = bodies::read_body_mesh(comm, config.mesh);
+  io::check_body_count(config, mesh.num_bodies);
+  const forms::MaterialForms* law = nullptr;
+  try
+  {
+    law = &forms::find_material(m.law);
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw std::runtime_error(config.file.string() +
+                             ": material.law: " + e.what());
+  }
+  try
+  {
+    return bodies::BodySet(std::move(mesh), *law, m.parameters, m.density);
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw std::runtime_error(config.file.string() + ": " + e.what());
+  }
+}
+
 /// The stop criterion met after `step` (counted from `first`), or "".
 std::string stop_reason(const io::DriverConfig& config,
                         const dynamics::MoreauJean& scheme, long first,
@@ -105,12 +131,10 @@ RunSummary run_simulation(MPI_Comm comm, const io::DriverConfig& config,
   const parameters::Parameters& p = config.parameters;
   const std::filesystem::path raw_dir = config.directory / "raw";
 
-  bodies::BodySet bodies(bodies::read_body_mesh(comm, config.mesh),
-                         forms::find_material(p.material.law),
-                         p.material.parameters, p.material.density);
-  io::check_body_count(config, bodies.num_bodies());
-  dynamics::MoreauJean scheme(bodies, config.walls,
-                              moreau_jean_options(p, config.velocity_scale));
+  bodies::BodySet bodies = make_bodies(comm, config);
+  dynamics::MoreauJean scheme(
+      bodies, config.walls,
+      {p.time, p.contact, p.damping, config.velocity_scale});
   if (config.initial_state)
     scheme.restore(io::read_state(*config.initial_state));
   io::RawOutput raw(config.directory, config.walls);

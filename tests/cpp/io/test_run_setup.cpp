@@ -154,3 +154,42 @@ TEST(RunSetup, StepsCountFromTheInitialState)
     std::filesystem::remove_all(next);
   }
 }
+
+TEST(RunSetup, MaterialErrorsNameTheFileAndTheKey)
+{
+  const std::filesystem::path dir = test::fresh_directory("run-material");
+  json doc = test::driver_json(dir, tiny_mesh(dir), 3, 0.08, 0.04, 0.01);
+  auto error_of = [&](const json& d)
+  {
+    test::write_json(d, dir / "driver.json");
+    try
+    {
+      simulation::run_simulation(
+          MPI_COMM_WORLD, softpack::io::read_driver_config(dir / "driver.json"),
+          true);
+    }
+    catch (const std::runtime_error& e)
+    {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  json bad = doc;
+  bad["material"]["parameters"] = {{"mu", 1.5e5}, {"lame_lambda", 3e5}};
+  std::string e = error_of(bad);
+  EXPECT_NE(e.find("driver.json: material.parameters."), std::string::npos)
+      << e;
+  EXPECT_NE(e.find("shear_modulus, lame_lambda"), std::string::npos) << e;
+  bad = doc;
+  bad["material"]["law"] = "mooney_rivlin";
+  e = error_of(bad);
+  EXPECT_NE(e.find("material.law"), std::string::npos) << e;
+  EXPECT_NE(e.find("neo_hookean"), std::string::npos) << e;
+  bad = doc;
+  bad["scene"]["bodies"]["species"] = {0, 0};
+  bad["scene"]["species"][0]["count"] = 2;
+  e = error_of(bad);
+  EXPECT_NE(e.find("scene.bodies.species"), std::string::npos) << e;
+  if (!HasFailure())
+    std::filesystem::remove_all(dir);
+}
