@@ -44,6 +44,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+from softpack.analysis.strain import approach, cumulative_strain
 from softpack.analysis.tables import read_table
 from softpack.paths import BIN, ROOT
 from softpack.scene.build import build_scene, scene_record
@@ -174,7 +175,7 @@ def bench_scaling(target_phi: float) -> dict:
         length = config["box"]["length"]
         piston = config["walls"][PISTON]["point"][0]
         travel = piston - float(steps[f"{PISTON}_x"][-1])
-        strain = -math.log(1 - travel / length)
+        strain = float(cumulative_strain(travel, length))
         r.update(disks=n, strain=strain, final_phi=float(steps["phi"][-1]),
                  seconds_per_unit_strain=r["seconds"] / strain)
         rows.append(r)
@@ -206,8 +207,8 @@ def bench_invariance(max_strain: float | None = None,
         if max_strain is not None:
             base = load_config(PAPER_TOML)
             speed = math.hypot(*base["walls"][PISTON]["velocity"])
-            sets["stop.max_time"] = (base["box"]["length"]
-                                     * (1 - math.exp(-max_strain)) / speed)
+            sets["stop.max_time"] = float(approach(
+                max_strain, base["box"]["length"])) / speed
         config = load_config(PAPER_TOML, sets)
         out = WORK / f"invariance-{label}"
         if run(config, out, force=True, initial_state=state) != 0:

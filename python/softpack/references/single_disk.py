@@ -106,6 +106,7 @@ from pathlib import Path
 
 import numpy as np
 
+from softpack.analysis.strain import approach, cumulative_strain
 from softpack.references.p1_fields import (interpolate, line_interpolator,
                                            rigid_rotation)
 from softpack.scene.config import ConfigError, to_toml, validate
@@ -141,7 +142,7 @@ class Params:
     @property
     def max_approach(self) -> float:
         """delta_max = D (1 - exp(-max_strain))."""
-        return self.diameter * (1.0 - math.exp(-self.max_strain))
+        return float(approach(self.max_strain, self.diameter))
 
     @property
     def duration(self) -> float:
@@ -304,7 +305,7 @@ def force_curve(steps: dict, params: Params, y_bottom0, y_top0,
     delta = end.copy()
     delta[1:] = 0.5 * (end[1:] + end[:-1])
     delta[np.abs(delta) < 1e-12 * params.diameter] = 0.0  # round-off at t = 0
-    eps = 0.0 - np.log(1.0 - delta / params.diameter)  # 0, not -0, at t = 0
+    eps = cumulative_strain(delta, params.diameter)
     scale = params.diameter * shear_modulus
     top = steps["top_fy"] / scale          # the disk pushes the top plate up
     bottom = -steps["bottom_fy"] / scale   # ... and the bottom plate down
