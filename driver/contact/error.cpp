@@ -53,7 +53,7 @@ softpack::contact::compute_error(const FrictionContactProblem2D& problem,
   {
     const Eigen::Vector2d ra(r[2 * a], r[2 * a + 1]);
     const Eigen::Vector2d ua(u[2 * a], u[2 * a + 1]);
-    sum += natural_map_residual_squared(ra, ua, problem.mu[a]);
+    sum += natural_map_residual_squared(ra, ua, problem.friction[a]);
     rr += ra.squaredNorm();
     uu += ua.squaredNorm();
     qq += problem.q[2 * a] * problem.q[2 * a] +

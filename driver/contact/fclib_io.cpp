@@ -181,8 +181,8 @@ FclibLocalFile read_open_file(hid_t file)
   check_dimension(file);
   FclibLocalFile out;
   FrictionContactProblem2D& problem = out.problem;
-  problem.mu = h5::read_doubles(file, local + "/vectors/mu");
-  const std::size_t nc = problem.mu.size();
+  problem.friction = h5::read_doubles(file, local + "/vectors/mu");
+  const std::size_t nc = problem.friction.size();
   problem.q = h5::read_doubles(file, local + "/vectors/q");
   if (problem.q.size() != 2 * nc)
   {
@@ -274,7 +274,7 @@ void write_problem(hid_t file, const FrictionContactProblem2D& problem,
   h5::write_integers(file, local + "/W/i", W.i);
   h5::write_doubles(file, local + "/W/x", W.x);
   h5::write_doubles(file, local + "/vectors/q", problem.q);
-  h5::write_doubles(file, local + "/vectors/mu", problem.mu);
+  h5::write_doubles(file, local + "/vectors/mu", problem.friction);
   h5::write_string(file, local + "/info/title", title);
   h5::write_string(file, local + "/info/description", description);
 }

@@ -22,8 +22,9 @@ void check_arguments(const FrictionContactProblem2D& problem,
   const std::size_t n = 2 * problem.num_contacts();
   if (!problem.W.finalized() or problem.W.num_contacts() != n / 2 or
       problem.q.size() != n)
-    throw std::invalid_argument("solve_nlgs: problem not validated (W, q, mu "
-                                "sizes or W not finalized)");
+    throw std::invalid_argument(
+        "solve_nlgs: problem not validated (W, q, friction "
+        "sizes or W not finalized)");
   if (r.size() != n or u.size() != n)
     throw std::invalid_argument("solve_nlgs: r and u need 2 per contact");
   if (!(options.relaxation > 0 and options.relaxation < 2))
@@ -45,7 +46,7 @@ std::pair<double, double> sweep(const FrictionContactProblem2D& problem,
     const Eigen::Vector2d qa =
         Eigen::Vector2d(problem.q[2 * a], problem.q[2 * a + 1]) +
         W.offdiagonal_product(a, r);
-    const double mu = problem.mu[a];
+    const double mu = problem.friction[a];
     Eigen::Vector2d ra = solve_local(W.diagonal(a), qa, mu).r;
     const Eigen::Vector2d old(r[2 * a], r[2 * a + 1]);
     if (omega != 1.0)

@@ -27,7 +27,7 @@ void validate_sizes(const FrictionContactProblem2D& p)
   if (p.W.num_contacts() != nc)
   {
     fail("W has " + std::to_string(p.W.num_contacts()) +
-         " block rows but mu has " + std::to_string(nc) + " contacts");
+         " block rows but friction has " + std::to_string(nc) + " contacts");
   }
   if (p.q.size() != 2 * nc)
   {
@@ -41,14 +41,14 @@ void validate_values(const FrictionContactProblem2D& p)
   for (std::size_t k = 0; k < p.q.size(); ++k)
     if (!std::isfinite(p.q[k]))
       fail("q[" + std::to_string(k) + "] is not finite");
-  for (std::size_t a = 0; a < p.mu.size(); ++a)
+  for (std::size_t a = 0; a < p.friction.size(); ++a)
   {
-    if (!std::isfinite(p.mu[a]))
-      fail("mu[" + std::to_string(a) + "] is not finite");
-    if (p.mu[a] < 0)
+    if (!std::isfinite(p.friction[a]))
+      fail("friction[" + std::to_string(a) + "] is not finite");
+    if (p.friction[a] < 0)
     {
-      fail("mu[" + std::to_string(a) + "] = " + std::to_string(p.mu[a]) +
-           " is negative");
+      fail("friction[" + std::to_string(a) +
+           "] = " + std::to_string(p.friction[a]) + " is negative");
     }
   }
 }

@@ -27,16 +27,17 @@ struct FrictionContactProblem2D
   /// Free velocity, 2 per contact in (n, t) order
   std::vector<double> q;
 
-  /// Coulomb coefficient, one per contact
-  std::vector<double> mu;
+  /// Coulomb friction coefficient \f$\mu_a\f$, one per contact (FCLIB
+  /// files call it vectors/mu)
+  std::vector<double> friction;
 
   /// @return Number of contacts
-  std::size_t num_contacts() const { return mu.size(); }
+  std::size_t num_contacts() const { return friction.size(); }
 };
 
 /// Check that a problem is well formed: W finalized with one block row per
-/// contact, sizes of q and mu, finite values, \f$\mu \ge 0\f$ and a positive
-/// normal compliance \f$(W_{aa})_{nn} > 0\f$ on every diagonal block.
+/// contact, sizes of q and friction, finite values, \f$\mu \ge 0\f$ and a
+/// positive normal compliance \f$(W_{aa})_{nn} > 0\f$ on every diagonal block.
 /// @param[in] problem The problem
 /// @throws std::invalid_argument naming the first violation found
 void validate(const FrictionContactProblem2D& problem);

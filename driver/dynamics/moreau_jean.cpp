@@ -163,7 +163,7 @@ contact::FrictionContactProblem2D
 MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
 {
   contact::FrictionContactProblem2D problem;
-  problem.mu.assign(sc.size(), _options.contact.friction);
+  problem.friction.assign(sc.size(), _options.contact.friction);
   problem.q.resize(2 * sc.size());
   if (needs_refactorization())
     refactorize(sc, problem, report);

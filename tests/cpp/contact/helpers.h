@@ -63,7 +63,7 @@ inline FrictionContactProblem2D make_problem(const Eigen::MatrixXd& W,
     }
   p.W.finalize();
   p.q.assign(q.data(), q.data() + q.size());
-  p.mu = mu;
+  p.friction = mu;
   return p;
 }
 

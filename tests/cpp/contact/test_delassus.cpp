@@ -114,8 +114,8 @@ TEST(Validate, NamesWhatIsWrong)
                         Eigen::VectorXd::Ones(4), {0.1, 0.2});
   };
   FrictionContactProblem2D p = good();
-  p.mu[1] = -0.2;
-  expect_message(p, "mu[1]");
+  p.friction[1] = -0.2;
+  expect_message(p, "friction[1]");
   p = good();
   p.q.pop_back();
   expect_message(p, "q has 3 entries");
@@ -123,7 +123,7 @@ TEST(Validate, NamesWhatIsWrong)
   p.q[2] = std::numeric_limits<double>::quiet_NaN();
   expect_message(p, "q[2] is not finite");
   p = good();
-  p.mu.push_back(0.1);
+  p.friction.push_back(0.1);
   expect_message(p, "block rows");
 
   // a contact without its diagonal block
@@ -131,7 +131,7 @@ TEST(Validate, NamesWhatIsWrong)
   p.W.add_block(0, 0, Eigen::Matrix2d::Identity());
   p.W.add_block(1, 0, Eigen::Matrix2d::Identity());
   p.W.finalize();
-  p.mu = {0.1, 0.1};
+  p.friction = {0.1, 0.1};
   expect_message(p, "contact 1 has W_nn");
 
   p.W = DelassusMatrix(2);

@@ -192,13 +192,13 @@ TEST_F(MalformedFile, NegativeMuAndNonFiniteValues)
 {
   Spec s;
   s.mu[1] = -0.3;
-  expect_error(s, "mu[1] = -0.300000 is negative");
+  expect_error(s, "friction[1] = -0.300000 is negative");
   s = Spec{};
   s.q[2] = std::numeric_limits<double>::quiet_NaN();
   expect_error(s, "q[2] is not finite");
   s = Spec{};
   s.mu[0] = std::numeric_limits<double>::infinity();
-  expect_error(s, "mu[0] is not finite");
+  expect_error(s, "friction[0] is not finite");
   s = Spec{};
   s.x[3] = std::numeric_limits<double>::infinity();
   expect_error(s, "W entry (1, 1) is not finite");
@@ -247,7 +247,7 @@ TEST(DumpProblem, WritesReadsBackAndReplays)
   const FclibLocalFile back = read_fclib_local_file(path);
   EXPECT_EQ(back.title, "dump");
   EXPECT_EQ(back.problem.q, p.q);
-  EXPECT_EQ(back.problem.mu, p.mu);
+  EXPECT_EQ(back.problem.friction, p.friction);
   EXPECT_EQ(to_dense(back.problem.W), to_dense(p.W));
   ASSERT_TRUE(back.guess_r);
   EXPECT_EQ(*back.guess_r, guess);
