@@ -119,86 +119,115 @@ std::string stop_reason(const io::DriverConfig& config,
     return "steps";
   return "";
 }
+/// One run: its objects, and the bookkeeping between output steps.
+class Run
+{
+public:
+  Run(MPI_Comm comm, const io::DriverConfig& config, bool quiet)
+      : _config(config), _p(config.parameters),
+        _raw_dir(config.directory / "raw"), _quiet(quiet),
+        _bodies(make_bodies(comm, config)),
+        _scheme(_bodies, config.walls,
+                {_p.time, _p.contact, _p.damping, config.velocity_scale}),
+        _raw(config.directory, config.walls)
+  {
+    if (config.initial_state)
+      _scheme.restore(io::read_state(*config.initial_state));
+    io::write_setup(_raw_dir, io::setup_json(config, _bodies));
+    if (_p.output.fields)
+      _fields =
+          std::make_unique<io::FieldOutput>(comm, config.directory, _bodies);
+    _first = _scheme.steps();
+    _phi0 = phi();
+  }
+
+  /// Step until a stop criterion holds; the step that meets it is an
+  /// output step.
+  RunSummary run()
+  {
+    output(_first, dynamics::StepReport{}, _phi0);
+    for (long step = _first + 1;; ++step)
+    {
+      const dynamics::StepReport r = _scheme.step();
+      write_unsolved_problem(_raw_dir, step, r);
+      _average.add_step(_scheme);
+      add_timings(_spent, r.seconds);
+      const std::optional<double> now = phi();
+      const std::string reason =
+          stop_reason(_config, _scheme, _first, step, now);
+      if (!reason.empty() || step % _p.output.every_steps == 0)
+        output(step, r, now);
+      if (!reason.empty())
+      {
+        const RunSummary summary{step, elapsed(), reason};
+        _raw.finish(summary.steps, summary.seconds, summary.reason, _spent,
+                    _scheme.factorizations());
+        return summary;
+      }
+    }
+  }
+
+private:
+  double elapsed() const
+  {
+    return std::chrono::duration<double>(clock::now() - _start).count();
+  }
+
+  std::optional<double> phi() const
+  {
+    if (!_config.box)
+      return std::nullopt;
+    return packing_fraction(_bodies, _scheme.walls());
+  }
+
+  /// Fraction of the run done: the furthest of the stop criteria
+  double progress(long step, std::optional<double> phi_now) const
+  {
+    const parameters::Stop& stop = _p.stop;
+    double f = _scheme.time() / stop.max_time;
+    if (phi_now && stop.packing_fraction > 0)
+      f = std::max(f, (*phi_now - *_phi0) / (stop.packing_fraction - *_phi0));
+    if (stop.steps > 0)
+      f = std::max(f, double(step - _first) / stop.steps);
+    return std::clamp(f, 0.0, 1.0);
+  }
+
+  void output(long step, const dynamics::StepReport& r,
+              std::optional<double> now)
+  {
+    _raw.write(step, _scheme, r, now, elapsed(), _bodies, _spent, _average);
+    _average.reset();
+    if (_p.output.state)
+      io::write_state(_raw_dir / "state.bin", _scheme.state());
+    if (_fields && _outputs % _p.output.fields_every == 0)
+      _fields->write(_bodies, _scheme.time());
+    ++_outputs;
+    if (!_quiet)
+      print_progress(progress(step, now), step, _scheme, now, r, elapsed());
+  }
+
+  using clock = std::chrono::steady_clock;
+  const io::DriverConfig& _config;
+  const parameters::Parameters& _p;
+  const std::filesystem::path _raw_dir;
+  const bool _quiet;
+  const clock::time_point _start = clock::now();
+  bodies::BodySet _bodies;
+  dynamics::MoreauJean _scheme;
+  io::RawOutput _raw;
+  std::unique_ptr<io::FieldOutput> _fields;
+  dynamics::StepTimings _spent;
+  dynamics::ContactForceAverage _average;
+  long _outputs = 0;
+  long _first = 0;
+  std::optional<double> _phi0;
+};
 } // namespace
 
 RunSummary run_simulation(MPI_Comm comm, const io::DriverConfig& config,
                           bool quiet)
 {
-  using clock = std::chrono::steady_clock;
-  const auto start = clock::now();
-  auto elapsed = [&]
-  { return std::chrono::duration<double>(clock::now() - start).count(); };
-  const parameters::Parameters& p = config.parameters;
-  const std::filesystem::path raw_dir = config.directory / "raw";
-
-  bodies::BodySet bodies = make_bodies(comm, config);
-  dynamics::MoreauJean scheme(
-      bodies, config.walls,
-      {p.time, p.contact, p.damping, config.velocity_scale});
-  if (config.initial_state)
-    scheme.restore(io::read_state(*config.initial_state));
-  io::RawOutput raw(config.directory, config.walls);
-  io::write_setup(raw_dir, io::setup_json(config, bodies));
-  std::unique_ptr<io::FieldOutput> fields;
-  if (p.output.fields)
-    fields = std::make_unique<io::FieldOutput>(comm, config.directory, bodies);
-
-  auto phi = [&]() -> std::optional<double>
-  {
-    if (!config.box)
-      return std::nullopt;
-    return packing_fraction(bodies, scheme.walls());
-  };
-  const std::optional<double> phi0 = phi();
-  const long first = scheme.steps();
-  auto progress = [&](long step, std::optional<double> phi_now)
-  {
-    double f = scheme.time() / p.stop.max_time;
-    if (phi_now && p.stop.packing_fraction > 0)
-      f = std::max(f, (*phi_now - *phi0) / (p.stop.packing_fraction - *phi0));
-    if (p.stop.steps > 0)
-      f = std::max(f, double(step - first) / p.stop.steps);
-    return std::clamp(f, 0.0, 1.0);
-  };
-
-  dynamics::StepTimings spent;
-  dynamics::ContactForceAverage average;
-  long outputs = 0;
-  auto output =
-      [&](long step, const dynamics::StepReport& r, std::optional<double> now)
-  {
-    raw.write(step, scheme, r, now, elapsed(), bodies, spent, average);
-    average.reset();
-    if (p.output.state)
-      io::write_state(raw_dir / "state.bin", scheme.state());
-    if (fields && outputs % p.output.fields_every == 0)
-      fields->write(bodies, scheme.time());
-    ++outputs;
-    if (!quiet)
-      print_progress(progress(step, now), step, scheme, now, r, elapsed());
-  };
-
-  output(first, dynamics::StepReport{}, phi0);
-  RunSummary summary;
-  for (long step = first + 1;; ++step)
-  {
-    const dynamics::StepReport r = scheme.step();
-    write_unsolved_problem(raw_dir, step, r);
-    average.add_step(scheme);
-    add_timings(spent, r.seconds);
-    const std::optional<double> now = phi();
-    const std::string reason = stop_reason(config, scheme, first, step, now);
-    if (!reason.empty() || step % p.output.every_steps == 0)
-      output(step, r, now);
-    if (!reason.empty())
-    {
-      summary = {step, elapsed(), reason};
-      break;
-    }
-  }
-  raw.finish(summary.steps, summary.seconds, summary.reason, spent,
-             scheme.factorizations());
-  return summary;
+  return Run(comm, config, quiet).run();
 }
 
 } // namespace softpack::simulation
