@@ -215,15 +215,15 @@ def test_default_out_dir_and_progress_line(tmp_path):
     assert run.default_out_dir(config) == Path("runs/small-seed4")
     assert run.default_out_dir(config, True) == Path("runs/small-seed4-mu0.7")
     line = run.Progress(config, tmp_path / "steps.csv").line(
-        {"step": 10, "time": 0.01, "phi": 0.75})
+        [{"step": 10, "time": 0.01, "phi": 0.75}])
     # done = (0.75 - Phi0) / (0.80 - Phi0)
     assert "Phi = 0.7500" in line and " 52.1 %" in line
     # with [stop] steps, the steps done count too
-    # (counted from the first row seen: a run from a state starts past 0)
+    # (counted from the first row: a run from a state starts past 0)
     progress = run.Progress(load_config(SMALL, {"stop.steps": 40}),
                             tmp_path / "steps.csv")
-    progress.fraction({"step": 100, "time": 0.0, "phi": 0.0})
-    line = progress.line({"step": 130, "time": 0.0, "phi": 0.0})
+    line = progress.line([{"step": 100, "time": 0.0, "phi": 0.0},
+                          {"step": 130, "time": 0.0, "phi": 0.0}])
     assert " 75.0 %" in line
     assert os.fspath(run._default_config()).endswith("examples/paper.toml")
 

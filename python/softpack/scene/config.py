@@ -117,7 +117,9 @@ def validate(data: dict, source="<config>", overrides=None,
             if not isinstance(table, (dict, list)):
                 raise ConfigError(f"{source}: key {name} outside a section"
                                   f" {allowed}")
-            raise ConfigError(f"{source}: unknown section [{name}]"
+            blame = next((f"--set {'.'.join(map(str, key))}" for key in
+                          sorted(from_cli, key=str) if key[0] == name), source)
+            raise ConfigError(f"{blame}: unknown section [{name}]"
                               f" {allowed}")
     sections = {}
     for name, section in schema.items():
@@ -258,7 +260,11 @@ class _Checker:
             raise ConfigError(f"{self.source}: [{title}] must be a table")
         for key in table:
             if key not in allowed:
-                raise ConfigError(f"{self.source}: unknown key [{title}] {key}"
+                # An override's mistake is the command line's, not the file's.
+                cli = f"{title}.{key}" in {".".join(map(str, p))
+                                           for p in self.from_cli}
+                blame = f"--set {title}.{key}" if cli else self.source
+                raise ConfigError(f"{blame}: unknown key [{title}] {key}"
                                   f" (allowed: {', '.join(allowed)})")
 
     def table(self, section, table, title, path=None, skip=()) -> dict:

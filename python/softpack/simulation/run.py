@@ -17,42 +17,78 @@
 4. Post-process (:func:`softpack.analysis.observables.process_run`) into
    ``particles.csv`` and then ``series.csv``.
 
-A directory with ``series.csv`` holds a complete run: it is not overwritten
-without ``--force``. A crashed or interrupted run leaves no ``series.csv``
-(a stale one is deleted before anything starts). ``--observables-only``
+softpack deletes only what it wrote (issue 16). A run directory is marked
+by ``.softpack-run`` (older runs: ``config.toml`` + ``driver.json``); in
+one, the outputs listed in :data:`RUN_OUTPUTS` are replaced and nothing
+else is touched. A directory with ``series.csv`` holds a complete run: it
+is not overwritten without ``--force``. A non-empty directory that is not
+a run directory is refused; with ``--force`` the run is written next to
+its files, unless one of them has the name of an output. A crashed or
+interrupted run leaves no ``series.csv`` (a stale one is deleted before
+anything starts), and ``raw/done.json`` only if the driver finished.
+
+The driver dies with this process (:mod:`softpack.simulation.driver`):
+SIGINT, SIGTERM, SIGHUP and a closed standard output (``| head``) stop it
+and exit with 128 + the signal number. ``--observables-only``
 recomputes ``series.csv`` and ``particles.csv`` of a finished simulation
 from its raw output and its own ``config.toml`` (edit its [observables]
 section to change the rules).
 
 Exit status: 0 done, 1 failure (packing, driver, post-processing), 2 bad
-configuration or command line, 130 interrupted.
+configuration or command line (including an unusable ``--out``), 128 + N
+stopped by signal N (130 Ctrl-C, 143 SIGTERM, 129 SIGHUP, 141 closed
+output).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import shutil
+import signal
 import sys
+import tempfile
 import time
 import tomllib
 from pathlib import Path
 
 from softpack.paths import ROOT
-from softpack.scene.config import (ConfigError, initial_packing_fraction,
+from softpack.scene.config import (ConfigError,
                                    load_config, to_toml)
 from softpack.simulation import driver
 from softpack.simulation.driver import DRIVER, DriverError
 from softpack.simulation.driver_input import write_driver_json
+from softpack.simulation.progress import Progress, duration as _duration
 
 #: What a run writes into its directory (removed by --force, nothing else).
 RUN_OUTPUTS = ("series.csv", "particles.csv", "raw", "fields.xdmf",
                "fields.h5", "mesh", "driver.json", "run.log", "config.toml")
+#: The file that marks a directory as softpack's run directory.
+MARKER = ".softpack-run"
 POLL_SECONDS = 1.0
+#: Signals that stop a run cleanly (the driver with it).
+STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
 
 
 class RunError(RuntimeError):
-    """A run that cannot go on; the message says why."""
+    """A run that cannot go on; the message says why (exit status 1)."""
+
+
+class UsageError(RunError):
+    """A mistake on the command line, e.g. an unusable ``--out`` (exit 2)."""
+
+
+class Stopped(BaseException):
+    """The run was stopped by a signal or a closed output.
+
+    A BaseException, like KeyboardInterrupt: nothing between the signal and
+    :func:`main` may swallow it.
+    """
+
+    def __init__(self, signum: int, why: str):
+        super().__init__(why)
+        self.signum = signum
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -104,19 +140,77 @@ def main(argv=None) -> int:
         print(f"softpack run: {err}", file=sys.stderr)
         return 2
     # Absolute: the driver runs with the run directory as its cwd.
-    out = (args.out or default_out_dir(config, args.friction is not None)).resolve()
+    out = Path(os.path.abspath(
+        args.out or default_out_dir(config, args.friction is not None)))
+    previous = _stop_on_signals()
     try:
         if args.observables_only:
             return _postprocess(out, None)
         return run(config, out, force=args.force,
                    initial_state=args.from_state)
+    except UsageError as err:
+        print(f"softpack run: {err}", file=sys.stderr)
+        return 2
     except RunError as err:
         print(f"softpack run: {err}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print("\nsoftpack run: interrupted; no series.csv written",
-              file=sys.stderr)
-        return 130
+    except (KeyboardInterrupt, Stopped) as err:
+        signum = getattr(err, "signum", signal.SIGINT)
+        if signum == signal.SIGPIPE:  # nowhere to print; no exit traceback
+            _silence_stdout()
+        print(f"\nsoftpack run: stopped ({_why(err)}); the driver was"
+              " stopped and no series.csv written", file=sys.stderr)
+        return 128 + int(signum)
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+
+
+def _stop_on_signals() -> dict:
+    """Turn SIGTERM and SIGHUP into :class:`Stopped`; previous handlers.
+
+    Only the main thread may install handlers: elsewhere (the Python API in
+    a worker thread) nothing is installed.
+    """
+    def stop(signum, frame):
+        raise Stopped(signum, signal.Signals(signum).name)
+
+    previous = {}
+    try:
+        for signum in STOP_SIGNALS:
+            previous[signum] = signal.signal(signum, stop)
+    except ValueError:  # not the main thread
+        pass
+    return previous
+
+
+def _why(err) -> str:
+    """What stopped the run, for the message."""
+    return "Ctrl-C" if isinstance(err, KeyboardInterrupt) else str(err)
+
+
+def _silence_stdout() -> None:
+    """Point a closed standard output at /dev/null (no flush error at exit)."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):
+        pass
+
+
+def echo(text="", end="\n") -> None:
+    """Print to standard output; a closed output stops the run.
+
+    Raises
+    ------
+    Stopped
+        With SIGPIPE when the reader has gone (``./softpack run | head``).
+    """
+    try:
+        print(text, end=end, flush=True)
+    except BrokenPipeError:
+        raise Stopped(signal.SIGPIPE, "standard output closed") from None
 
 
 def _parse_settings(settings) -> dict:
@@ -156,35 +250,107 @@ def driver_executable() -> Path:
         raise RunError(str(err)) from None
 
 
+def is_run_directory(out: Path) -> bool:
+    """Whether ``out`` is softpack's: its marker, or an older run's files."""
+    return (out / MARKER).is_file() or (
+        (out / "config.toml").is_file() and (out / "driver.json").is_file())
+
+
+def check_out_directory(out: Path) -> None:
+    """Create ``out`` if needed and check that files can be written in it.
+
+    Raises
+    ------
+    UsageError
+        Naming ``--out`` and why: a file, not creatable, not writable.
+    """
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"--out {out}: is a file, not a directory")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=".softpack-probe-", dir=out)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as err:
+        raise UsageError(f"--out {out}: cannot write there"
+                         f" ({err.strerror or err})") from None
+
+
 def prepare_directory(out: Path, force: bool) -> None:
-    """Refuse a complete run unless ``force``; remove previous outputs."""
-    if (out / "series.csv").exists() and not force:
-        raise RunError(f"{out} holds a complete run (series.csv); use"
-                       " --force to overwrite it or --out for another"
-                       " directory")
-    for name in RUN_OUTPUTS:  # series.csv first: never a stale complete run
-        target = out / name
-        if target.is_dir() and not target.is_symlink():
-            shutil.rmtree(target)
-        elif target.exists() or target.is_symlink():
-            target.unlink()
-    out.mkdir(parents=True, exist_ok=True)
+    """Make ``out`` ready for a run; delete only what softpack wrote.
 
-
-def run(config, out: Path, force=False, initial_state: Path | None = None,
-        ) -> int:
-    """Packing, mesh, driver, observables into ``out``; returns 0.
-
-    ``initial_state``: a state file (``raw/state.bin`` of a run on the same
-    packing) to start from instead of rest.
+    A run directory (:func:`is_run_directory`): refused if it holds a
+    complete run (``series.csv``) unless ``force``; its previous outputs
+    (:data:`RUN_OUTPUTS`) are removed, series.csv first. Any other
+    non-empty directory: refused unless ``force``, and then refused still
+    if one of its entries has an output's name (it would be overwritten).
 
     Raises
     ------
     RunError
+        A complete run without ``force``.
+    UsageError
+        An unusable or foreign directory.
     """
-    from softpack.scene.build import build_scene
-    from softpack.scene.packing import PackingError
+    check_out_directory(out)
+    if is_run_directory(out):
+        if (out / "series.csv").exists() and not force:
+            raise RunError(f"{out} holds a complete run (series.csv); use"
+                           " --force to overwrite it or --out for another"
+                           " directory")
+        for name in RUN_OUTPUTS:  # series.csv first: never a stale run
+            target = out / name
+            if target.is_dir() and not target.is_symlink():
+                shutil.rmtree(target)
+            elif target.exists() or target.is_symlink():
+                target.unlink()
+    else:
+        entries = sorted(p.name for p in out.iterdir())
+        if entries and not force:
+            shown = ", ".join(entries[:5]) + (", ..." if len(entries) > 5
+                                               else "")
+            raise UsageError(
+                f"--out {out}: not empty and not a softpack run directory"
+                f" ({shown}); softpack deletes nothing it did not write:"
+                " choose a new or empty directory, or --force to write the"
+                " run next to these files")
+        clash = [name for name in RUN_OUTPUTS if name in entries]
+        if clash:
+            raise UsageError(
+                f"--out {out}: {', '.join(clash)} would be overwritten and"
+                " softpack did not write them (even with --force): choose"
+                " another directory")
+    (out / MARKER).write_text(
+        "A softpack run directory: ./softpack run replaces its outputs"
+        f" ({', '.join(RUN_OUTPUTS)}) and nothing else.\n")
 
+
+def run(config, out: Path, force=False, initial_state: Path | None = None,
+        verbose=True) -> int:
+    """Packing, mesh, driver, observables into ``out``; returns 0.
+
+    Parameters
+    ----------
+    config : Config
+        From :func:`softpack.scene.config.load_config`.
+    out : Path
+        The run directory (see :func:`prepare_directory`).
+    force : bool
+        Replace a complete run; write into a foreign non-empty directory.
+    initial_state : Path, optional
+        A state file (``raw/state.bin`` of a run on the same packing) to
+        start from instead of rest.
+    verbose : bool
+        Print the log lines and the progress (always written to run.log).
+
+    Raises
+    ------
+    RunError
+        UsageError for an unusable ``out``.
+    Stopped, KeyboardInterrupt
+        The driver was stopped; logged in run.log.
+    """
+    out = Path(os.path.abspath(out))
     driver_executable()
     if initial_state is not None:
         initial_state = Path(initial_state).resolve()
@@ -197,140 +363,74 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
     prepare_directory(out, force)
     (out / "config.toml").write_text(to_toml(config))
     with open(out / "run.log", "a", buffering=1) as log:
-        say = _reporter(log)
-        say(f"{config.source} -> {out}")
+        say = _reporter(log, verbose)
         try:
-            scene = build_scene(config, out / "mesh" / "packing")
-        except PackingError as err:
-            raise RunError(f"packing: {err}") from None
-        phi0 = scene.packing.packing_fraction
-        say(f"packing: {scene.packing.n_particles} particles, seed"
-            f" {config['packing']['seed']}, Phi0 = {phi0:.4f}; mesh:"
-            f" {scene.mesh.n_triangles} triangles")
-        write_driver_json(config, scene.record(), out, initial_state)
-        if initial_state is not None:
-            say(f"starting from {initial_state}")
-        say(f"{DRIVER} {out / 'driver.json'}")
-        started = time.time()
-        status = _simulate(out, config, log)
-        if status != 0:
-            say(f"{DRIVER} failed with exit status {status}")
-            raise RunError(f"{DRIVER} failed (exit status {status});"
-                           f" last lines of {out / 'run.log'}:\n"
-                           + _tail(out / "run.log"))
-        say(f"{DRIVER} done in {_duration(time.time() - started)}")
-        return _postprocess(out, say)
+            return _run_logged(config, out, initial_state, log, say)
+        except (KeyboardInterrupt, Stopped) as err:
+            log.write(f"[softpack run {time.strftime('%H:%M:%S')}] stopped"
+                      f" ({_why(err)}): the driver was stopped; no"
+                      " series.csv\n")
+            raise
 
 
-def _reporter(log):
-    """``say(text)``: print a line and append it to the log."""
+def _run_logged(config, out, initial_state, log, say) -> int:
+    """The body of :func:`run` once run.log is open."""
+    from softpack.scene.build import build_scene
+    from softpack.scene.packing import PackingError
+
+    say(f"{config.source} -> {out}")
+    try:
+        scene = build_scene(config, out / "mesh" / "packing")
+    except PackingError as err:
+        raise RunError(f"packing: {err}") from None
+    phi0 = scene.packing.packing_fraction
+    say(f"packing: {scene.packing.n_particles} particles, seed"
+        f" {config['packing']['seed']}, Phi0 = {phi0:.4f}; mesh:"
+        f" {scene.mesh.n_triangles} triangles")
+    write_driver_json(config, scene.record(), out, initial_state)
+    if initial_state is not None:
+        say(f"starting from {initial_state}")
+    say(f"{DRIVER} {out / 'driver.json'}")
+    started = time.time()
+    status = _simulate(out, config, log, echo if say.verbose else None)
+    if status != 0:
+        say(f"{DRIVER} failed with exit status {status}")
+        raise RunError(f"{DRIVER} failed (exit status {status});"
+                       f" last lines of {out / 'run.log'}:\n"
+                       + _tail(out / "run.log"))
+    say(f"{DRIVER} done in {_duration(time.time() - started)}")
+    return _postprocess(out, say)
+
+
+def _reporter(log, verbose=True):
+    """``say(text)``: print a line (if ``verbose``) and append it to the log."""
     def say(text):
-        print(f"softpack run: {text}", flush=True)
+        if verbose:
+            echo(f"softpack run: {text}")
         log.write(f"[softpack run {time.strftime('%H:%M:%S')}] {text}\n")
         log.flush()
+    say.verbose = verbose
     return say
 
 
-def _simulate(out, config, log) -> int:
-    """Run the driver, its output to the log; show progress; exit status."""
-    progress = Progress(config, out / "raw" / "steps.csv")
+def _simulate(out, config, log, show) -> int:
+    """Run the driver, its output to the log; show progress; exit status.
+
+    Whatever interrupts the wait (Ctrl-C, a signal, a closed output, an
+    error) stops the driver's process group before it propagates.
+    """
+    progress = Progress(config, out / "raw" / "steps.csv", show)
     log.flush()
     proc = driver.start(out / "driver.json", log)
     try:
         while proc.poll() is None:
             time.sleep(POLL_SECONDS)
             progress.update(log)
+        progress.update(log, final=True)
     except BaseException:
         driver.stop(proc)
         raise
-    progress.update(log, final=True)
     return proc.returncode
-
-
-class Progress:
-    """Progress of a running driver from the rows of ``raw/steps.csv``.
-
-    The fraction done is the largest of ``(Phi - Phi0) / (target - Phi0)``,
-    ``time / max_time`` and ``steps / stop.steps`` (the stopping criteria);
-    the ETA assumes the rest goes at the same pace.
-    """
-
-    def __init__(self, config, steps_csv: Path):
-        self.steps_csv = steps_csv
-        self.phi0 = initial_packing_fraction(config)
-        self.target = config["stop"]["packing_fraction"]
-        self.max_time = config["stop"]["max_time"]
-        self.max_steps = config["stop"]["steps"]
-        self.first_step = None
-        self.started = time.time()
-        self.tty = sys.stdout.isatty()
-        self.logged = -1  # last 5 % mark written to the log / non-tty
-
-    def fraction(self, row) -> float:
-        """Fraction of the run done, in [0, 1]."""
-        phi, t = row.get("phi", float("nan")), row["time"]
-        done = t / self.max_time
-        if self.target > 0 and phi == phi:
-            done = max(done, (phi - self.phi0) / (self.target - self.phi0))
-        if self.max_steps > 0:
-            if self.first_step is None:
-                self.first_step = row["step"]
-            done = max(done, (row["step"] - self.first_step) / self.max_steps)
-        return min(max(done, 0.0), 1.0)
-
-    def line(self, row) -> str:
-        """One progress line from the last row of ``steps.csv``."""
-        t, phi = row["time"], row.get("phi", float("nan"))
-        done = self.fraction(row)
-        elapsed = time.time() - self.started
-        eta = elapsed * (1 - done) / done if done > 0 else float("nan")
-        return (f"{100 * done:5.1f} %  step {int(row['step'])}  t = {t:.4g}"
-                f" s  Phi = {phi:.4f}  elapsed {_duration(elapsed)}  ETA"
-                f" {_duration(eta)}")
-
-    def update(self, log, final=False) -> None:
-        """Show the latest row: a live line on a terminal, 5 % marks else."""
-        row = _last_row(self.steps_csv)
-        if row is None:
-            return
-        text = self.line(row)
-        mark = int(20 * self.fraction(row))
-        if self.tty:
-            print(f"\r{text}", end="\n" if final else "", flush=True)
-        if mark > self.logged or final:
-            self.logged = mark
-            if not self.tty:
-                print(text, flush=True)
-            log.write(f"[progress] {text}\n")
-            log.flush()
-
-
-def _last_row(path: Path):
-    """The last complete row of a growing CSV file as a dict, or None."""
-    try:
-        with open(path) as f:
-            lines = f.read().splitlines()
-    except OSError:
-        return None
-    if len(lines) < 2:
-        return None
-    header = lines[0].split(",")
-    for line in reversed(lines[1:]):
-        values = line.split(",")
-        if len(values) == len(header):
-            return {k: float(v) if v else float("nan")
-                    for k, v in zip(header, values)
-                    if v not in ("true", "false")}
-    return None
-
-
-def _duration(seconds) -> str:
-    """``1h02m03s`` style; ``?`` when unknown."""
-    if seconds != seconds or seconds == float("inf"):
-        return "?"
-    s = int(round(seconds))
-    h, m = s // 3600, s // 60 % 60
-    return f"{h}h{m:02d}m{s % 60:02d}s" if h else f"{m}m{s % 60:02d}s"
 
 
 def _tail(path: Path, lines=20) -> str:
@@ -352,7 +452,7 @@ def _postprocess(out: Path, say) -> int:
                        " its raw output is partial")
     if say is None:
         def say(text):
-            print(f"softpack run: {text}", flush=True)
+            echo(f"softpack run: {text}")
     try:
         series_csv, particles_csv = process_run(out)
     except (OSError, ValueError, KeyError, ConfigError) as err:
