@@ -99,6 +99,23 @@ struct SchemeState
 
 /// The Moreau–Jean theta-method with Newton iterations on finite-strain
 /// bodies and Signorini–Coulomb contacts solved by NLGS (METHOD.md §3).
+///
+/// A step: detect the contacts at the start configuration, decide whether
+/// to refactor the iteration matrix, form the known part of the momentum
+/// balance, iterate Newton on the velocity (one contact solve per
+/// iteration), then update the displacement, the walls and the energy
+/// accounts (energy_balance.h) and remember the impulses for the next warm
+/// start (contact_history.h).
+///
+/// Newton stops when the estimated error of the iterate, ||v_{k+1} -
+/// v_k||_inf rho / (1 - rho) with rho the observed contraction rate (or the
+/// increment itself while rho >= 1/2), is at most time.newton_tolerance *
+/// max(||v||_inf, velocity_scale). With time.full_newton = false the
+/// iteration matrix (and the per-body compliances behind the Delassus
+/// operator) is kept for up to time.tangent_reuse_steps steps, and
+/// refactored after a step that needed more than
+/// time.refactor_above_iterations iterations: it is mass-dominated at small
+/// h, so a lagged one still converges fast to the same step.
 class MoreauJean
 {
 public:

@@ -1,0 +1,82 @@
+// What the scheme exposes between steps: its state (to save and continue
+// from), the energy accounts and the wall forces of the last step.
+#include "moreau_jean.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace softpack::dynamics
+{
+
+const EnergyBalance& MoreauJean::energy() const
+{
+  if (_energy_stale)
+  {
+    _energy.strain = _bodies.strain_energy();
+    _energy.kinetic = kinetic_energy(_kbar, gather(_v));
+    if (!_started)
+      _energy.kinetic0 = _energy.kinetic;
+    _energy_stale = false;
+  }
+  return _energy;
+}
+
+SchemeState MoreauJean::state() const
+{
+  SchemeState s;
+  s.time = _time;
+  s.steps = _steps;
+  const std::span<const double> u =
+      _bodies.displacement_function()->x()->array();
+  s.u.assign(u.begin(), u.end());
+  s.v = _v;
+  for (const Wall& w : _walls)
+    s.wall_points.push_back(w.point);
+  s.reactions = _history.entries();
+  s.energy = energy();
+  return s;
+}
+
+void MoreauJean::restore(const SchemeState& s)
+{
+  std::span<double> u = _bodies.displacement();
+  if (s.u.size() != u.size() || s.v.size() != _v.size())
+    throw std::invalid_argument("state: " + std::to_string(s.u.size()) +
+                                " DOFs, the bodies have " +
+                                std::to_string(u.size()));
+  if (s.wall_points.size() != _walls.size())
+    throw std::invalid_argument(
+        "state: " + std::to_string(s.wall_points.size()) +
+        " walls, the run has " + std::to_string(_walls.size()));
+  std::copy(s.u.begin(), s.u.end(), u.begin());
+  _v = s.v;
+  for (std::size_t w = 0; w < _walls.size(); ++w)
+    _walls[w].point = s.wall_points[w];
+  _history.restore(s.reactions);
+  _time = s.time;
+  _steps = s.steps;
+  _bodies.internal_force(_f_int);
+  _energy = s.energy;
+  _energy_stale = true;
+  _started = true;
+  _matrix_age = -1;
+  _products_valid = false;
+}
+
+std::vector<std::array<double, 2>> MoreauJean::wall_forces() const
+{
+  std::vector<std::array<double, 2>> force(_walls.size(), {0, 0});
+  const double h = _options.time.time_step;
+  for (std::size_t a = 0; a < _contacts.size(); ++a)
+  {
+    const Contact& c = _contacts[a];
+    if (c.wall < 0)
+      continue;
+    // The wall receives the opposite of the candidate's impulse.
+    force[c.wall][0] -= (_R[2 * a] * c.n[0] + _R[2 * a + 1] * c.t[0]) / h;
+    force[c.wall][1] -= (_R[2 * a] * c.n[1] + _R[2 * a + 1] * c.t[1]) / h;
+  }
+  return force;
+}
+
+} // namespace softpack::dynamics
