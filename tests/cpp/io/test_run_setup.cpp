@@ -4,6 +4,7 @@
 #include "driver_json.h"
 #include "mesh_fixtures.h"
 #include <cmath>
+#include <contact/fclib_io.h>
 #include <gtest/gtest.h>
 #include <io/driver_config.h>
 #include <io/state_file.h>
@@ -190,6 +191,36 @@ TEST(RunSetup, MaterialErrorsNameTheFileAndTheKey)
   bad["scene"]["species"][0]["count"] = 2;
   e = error_of(bad);
   EXPECT_NE(e.find("scene.bodies.species"), std::string::npos) << e;
+  if (!HasFailure())
+    std::filesystem::remove_all(dir);
+}
+
+// A contact problem the NLGS leaves unsolved is written by the run loop as
+// raw/failed_contact_problems/step_NNNNNNNN.hdf5 and reads back as an FCLIB
+// problem with the contacts of that step.
+TEST(RunSetup, UnsolvedContactProblemsAreWrittenForReplay)
+{
+  const std::filesystem::path dir = test::fresh_directory("run-unsolved");
+  // A block pressed 10 um into the bottom wall: four coupled contacts that
+  // one Gauss-Seidel sweep cannot solve to 1e-15.
+  const auto mesh =
+      test::bodies_mesh({test::rectangle(0.02, -1e-5, 0.012, 0.008, 3, 2)});
+  test::write_body_mesh(mesh, dir / "mesh.xdmf");
+  json doc = test::driver_json(dir, dir / "mesh.xdmf", 1, 0.08, 0.04, 0.01);
+  doc["stop"]["steps"] = 2;
+  doc["contact"]["nlgs_max_sweeps"] = 1;
+  doc["contact"]["nlgs_tolerance"] = 1e-15;
+  doc["output"]["fields"] = false;
+  test::write_json(doc, dir / "driver.json");
+  simulation::run_simulation(
+      MPI_COMM_WORLD, softpack::io::read_driver_config(dir / "driver.json"),
+      true);
+  const std::filesystem::path file =
+      dir / "raw" / "failed_contact_problems" / "step_00000001.hdf5";
+  ASSERT_TRUE(std::filesystem::exists(file));
+  const contact::FclibLocalFile problem = contact::read_fclib_local_file(file);
+  EXPECT_EQ(problem.problem.num_contacts(), 4u);
+  EXPECT_TRUE(problem.guess_r);
   if (!HasFailure())
     std::filesystem::remove_all(dir);
 }
