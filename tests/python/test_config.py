@@ -59,8 +59,10 @@ def test_paper_example_is_the_schema_defaults_plus_the_piston():
                 assert paper[name][key] == spec.default, (name, key)
             else:  # the rule's value in the paper's case
                 assert paper[name][key] == pytest.approx(spec.default)
-    assert paper["species"] == [dict(s) for s in
-                                schema["species"].default_list]
+    keys = schema["species"].parameters  # the list's other keys: defaults
+    assert paper["species"] == [
+        {**{k: p.default for k, p in keys.items()}, **dict(s)}
+        for s in schema["species"].default_list]
     text = (EXAMPLES / "paper.toml").read_text()
     for name, section in schema.items():
         if not (section.is_list or section.is_map):
@@ -120,7 +122,7 @@ def test_small_example_is_ci_sized():
     ("[material.parameters]\nmu = 1e5\n", "unknown key [material.parameters]"
      " mu (allowed: shear_modulus, lame_lambda)"),
     ("[[species]]\ndiameter = 0.02\nsize = 3\n",
-     "unknown key [species.0] size (allowed: name, shape, diameter, count)"),
+     "unknown key [species.0] size (allowed: name, shape, diameter, count,"),
     ("[walls.right]\nspeed = 1\n", "unknown key [walls.right] speed"),
 ])
 def test_unknown_names(tmp_path, text, expected):

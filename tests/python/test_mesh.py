@@ -105,7 +105,7 @@ def test_bodies_table(small_packing):
     packing, info, _ = small_packing
     table = read_bodies(info.bodies_csv)
     assert info.bodies_csv.read_text().startswith(
-        "body,x,y,radius,reference_area\n")
+        "body,x,y,radius,reference_area,angle\n")
     assert np.array_equal(table["body"], np.arange(packing.n_particles))
     assert np.array_equal(table["radius"], packing.radii)
     assert np.array_equal(np.stack([table["x"], table["y"]], 1),

@@ -113,17 +113,18 @@ def fake_bin(tmp_path, monkeypatch):
 
 @pytest.fixture
 def fake_mesh(monkeypatch):
-    """Replace gmsh/dolfinx meshing by a body table (the driver is fake)."""
-    def mesh_disks(centres, radii, element_size, out_stem):
-        xdmf, h5, bodies = output_paths(out_stem)
-        bodies.parent.mkdir(parents=True, exist_ok=True)
+    """Replace the dolfinx mesh by a body table (the driver is fake)."""
+    def mesh_particles(bodies, centres, angles, out_stem):
+        xdmf, h5, table = output_paths(out_stem)
+        table.parent.mkdir(parents=True, exist_ok=True)
+        radii = [b.bounding_radius for b in bodies]
         areas = [math.pi * r * r for r in radii]
-        bodies.write_text("body,x,y,radius,reference_area\n" + "".join(
-            f"{i},{c[0]!r},{c[1]!r},{r!r},{a!r}\n"
+        table.write_text("body,x,y,radius,reference_area,angle\n" + "".join(
+            f"{i},{c[0]!r},{c[1]!r},{r!r},{a!r},0.0\n"
             for i, (c, r, a) in enumerate(zip(centres, radii, areas))))
-        return MeshInfo(xdmf, h5, bodies, (1,) * len(radii),
+        return MeshInfo(xdmf, h5, table, (1,) * len(radii),
                         (3,) * len(radii), tuple(areas))
-    monkeypatch.setattr("softpack.scene.build.mesh_disks", mesh_disks)
+    monkeypatch.setattr("softpack.scene.build.mesh_particles", mesh_particles)
 
 
 def test_bad_config_exits_2_and_writes_nothing(tmp_path, capsys):

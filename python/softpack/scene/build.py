@@ -15,10 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
-from softpack.scene.mesh import MeshInfo, mesh_disks
+from softpack.scene import shapes
+from softpack.scene.mesh import MeshInfo, mesh_particles
 from softpack.scene.packing import Packing, scene_packing
 from softpack.scene.schema import load_schema
-from softpack.scene.species import particle_table
+from softpack.scene.species import orientations, particle_table
 from softpack.scene.walls import scene_walls
 
 
@@ -65,7 +66,8 @@ def scene_record(config, mesh_xdmf) -> dict:
     for name, section in load_schema().items():
         if section.stage == "scene":
             out[name] = _plain(config[name])
-    _, species = particle_table(config["species"])
+    _, species = particle_table(config["species"],
+                                config["packing"]["seed"])
     out["bodies"] = {"mesh": str(Path(mesh_xdmf).resolve()),
                      "species": [int(s) for s in species]}
     return out
@@ -81,7 +83,11 @@ def _plain(value):
 
 
 def build_scene(config, mesh_stem) -> Scene:
-    """Pack and mesh a configuration's particles.
+    """Draw, mesh, place and write a configuration's particles.
+
+    Each distinct (shape, size) is meshed once (:mod:`.shapes`); the
+    packing places the particles' bounding circles (:mod:`.packing`); the
+    templates are rotated and copied to their places (:mod:`.mesh`).
 
     Parameters
     ----------
@@ -94,14 +100,28 @@ def build_scene(config, mesh_stem) -> Scene:
     Raises
     ------
     softpack.scene.packing.PackingError
-        When the particles cannot be placed.
+        When the particles cannot be placed, or (its subclass
+        :class:`~softpack.scene.shapes.ShapeError`) a shape cannot be
+        meshed; nothing is written then.
     """
-    packing = scene_packing(config)
-    _, species = particle_table(config["species"])
-    info = mesh_disks(packing.centres, packing.radii,
-                      config["mesh"]["element_size"], mesh_stem)
+    species, seed = config["species"], config["packing"]["seed"]
+    diameters, index = particle_table(species, seed)
+    if not config["box"]["enabled"]:
+        diameters, index = diameters[:1], index[:1]
+    source = Path(getattr(config, "source", ""))
+    base = source.parent if source.is_file() else None
+    meshes = shapes.templates(species, diameters, index,
+                              config["mesh"]["element_size"], base)
+    bodies = [meshes[shapes.shape_key(species[s], d)]
+              for d, s in zip(diameters, index)]
+    radii = np.array([b.bounding_radius for b in bodies])
+    disks = all(species[s]["shape"] == "disk" for s in set(index.tolist()))
+    packing = scene_packing(config, radii,
+                            None if disks else np.pi * diameters**2 / 4)
+    info = mesh_particles(bodies, packing.centres,
+                          orientations(species, index, seed), mesh_stem)
     if config["box"]["enabled"]:
         stem = info.xdmf.with_suffix("")
         packing.to_csv(stem.with_name(stem.name + ".packing.csv"))
-    return Scene(config=config, packing=packing, mesh=info, species=species,
+    return Scene(config=config, packing=packing, mesh=info, species=index,
                  walls=scene_walls(config))

@@ -247,6 +247,12 @@ class _Checker:
                     _is_number(v, "float") for v in value):
                 fail(f"a pair of numbers [x, y]{unit}")
             return [float(v) for v in value]
+        if spec.type == "float_list":  # each number within the range
+            if not isinstance(value, list) or not all(
+                    _is_number(v, "float") and spec.in_range(v)
+                    for v in value):
+                fail(f"a list of numbers {spec.allowed()}{unit}")
+            return [float(v) for v in value]
         noun = "a number" if spec.type == "float" else "an integer"
         if not _is_number(value, spec.type):
             fail(f"{noun} {spec.allowed()}{unit}")

@@ -14,6 +14,7 @@ import math
 
 from softpack.scene.mesh import MIN_BOUNDARY_ELEMENTS
 from softpack.scene.packing import HEXAGONAL_FRACTION
+from softpack.scene import species as species_sizes
 from softpack.scene.species import present, total_area
 from softpack.scene.walls import scene_walls, fastest
 #: The Newton tolerance over the contact solver's: at least this.
@@ -61,14 +62,19 @@ def _check_particles(sections) -> None:
     if not used:
         raise Inconsistent("[[species]] count: there must be at least one"
                            " particle")
-    smallest = min(used, key=lambda s: s["diameter"])
+    try:
+        species_sizes.check(sections["species"])
+    except ValueError as err:
+        raise Inconsistent(str(err)) from None
+    smallest = min(used, key=lambda s: species_sizes.size_bounds(s)[0])
+    d_min = species_sizes.size_bounds(smallest)[0]
     h = sections["mesh"]["element_size"]
-    h_max = math.pi * smallest["diameter"] / MIN_BOUNDARY_ELEMENTS
+    h_max = math.pi * d_min / MIN_BOUNDARY_ELEMENTS
     if h > h_max:
         raise Inconsistent(
             f"[mesh] element_size = {h!r}: must be <= {h_max:.4g} m (at least"
             f" {MIN_BOUNDARY_ELEMENTS} elements around the smallest particle,"
-            f" species {smallest['name']}, D = {smallest['diameter']:g} m)")
+            f" species {smallest['name']}, D = {d_min:g} m)")
 
 
 def _check_box(sections) -> None:
@@ -86,11 +92,12 @@ def _check_box(sections) -> None:
                 " particle, at the origin (the random packing needs a box)")
         return
     used = present(sections["species"])
-    largest = max(used, key=lambda s: s["diameter"])
+    largest = max(used, key=lambda s: species_sizes.size_bounds(s)[1])
+    d_max = species_sizes.size_bounds(largest)[1]
     room = min(box["length"], box["width"]) - 2 * sections["packing"]["gap"]
-    if largest["diameter"] >= room:
+    if d_max >= room:
         raise Inconsistent(
-            f"[[species]] diameter = {largest['diameter']!r} (species"
+            f"[[species]] diameter = {d_max!r} (species"
             f" {largest['name']}): must be < {room:g} m (the box's shorter"
             " side minus twice [packing] gap)")
     phi0 = initial_packing_fraction(sections)

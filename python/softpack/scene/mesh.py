@@ -12,8 +12,11 @@ Output of :func:`mesh_disks` for a stem ``NAME`` (SI units, metres):
     cell meshtags named ``"bodies"`` whose value is the body id
     ``0..n-1`` in the order the disks were given.
 ``NAME.bodies.csv``
-    header ``body,x,y,radius,reference_area``, one row per body; the
-    reference area is the area of the meshed polygon (m^2).
+    header ``body,x,y,radius,reference_area,angle``, one row per body; the
+    radius is the bounding radius (a disk's radius), the reference area
+    the area of the meshed polygon (m^2), the angle the body's rotation
+    (rad; see :func:`mesh_particles`, which meshes any shape of
+    :mod:`softpack.scene.shapes`).
 
 The files are written in a temporary directory next to them and renamed into
 place, ``NAME.bodies.csv`` last (a stale one is removed first), so a present
@@ -40,13 +43,14 @@ from softpack.scene.schema import load_schema
 from softpack.scene.packing import (DEFAULT_GAP, PAPER_COUNTS, PAPER_DIAMETERS,
                               PAPER_LENGTH, PAPER_WIDTH, Packing, PackingError,
                               random_packing)
+from softpack.scene.shapes import mesh_geometry, shape_file
 
 #: The paper's element size (m): kappa = h / (D2 / 2) = 0.071 (the
 #: schema's default).
 PAPER_ELEMENT_SIZE = load_schema()["mesh"].parameters["element_size"].default
 #: Fewest elements allowed around a disk's circumference.
 MIN_BOUNDARY_ELEMENTS = 8
-BODIES_COLUMNS = "body,x,y,radius,reference_area"
+BODIES_COLUMNS = "body,x,y,radius,reference_area,angle"
 
 
 @dataclass(frozen=True)
@@ -123,15 +127,6 @@ def check_disks(centres, radii, element_size) -> tuple[np.ndarray, np.ndarray]:
     return centres, radii
 
 
-def shape_file(shape: str = "disk") -> Path:
-    """The gmsh geometry of a particle shape: ``meshes/SHAPE.geo``."""
-    path = MESHES / f"{shape}.geo"
-    if not path.is_file():
-        raise FileNotFoundError(f"{path}: no geometry for the particle shape"
-                                f" {shape!r} (meshes/README.md)")
-    return path
-
-
 def disk_triangulation(radii, element_size, shape="disk") -> dict:
     """Mesh particles centred at the origin, one per distinct radius.
 
@@ -158,14 +153,33 @@ def disk_triangulation(radii, element_size, shape="disk") -> dict:
     import gmsh
 
     geometry = shape_file(shape)
-    gmsh.initialize(readConfigFiles=False)
+    initialize_gmsh(gmsh)
     try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        return {float(r): _gmsh_shape(gmsh, geometry, float(r),
-                                      float(element_size))
+        return {float(r): mesh_geometry(gmsh, geometry, {"radius": float(r)},
+                                        float(element_size))
                 for r in sorted(set(np.asarray(radii, dtype=float).tolist()))}
     finally:
         gmsh.finalize()
+
+
+def initialize_gmsh(gmsh) -> None:
+    """``gmsh.initialize`` that writes nothing outside the run (issue 16).
+
+    gmsh's option defaults set FLTK's tooltip option, and FLTK then reads
+    and rewrites its preference files, ``/etc/fltk/fltk.org/fltk.prefs``
+    and ``~/.fltk/fltk.org/fltk.prefs``, even without a GUI and with
+    ``readConfigFiles=False``. FLTK reads them only once per process (flag
+    ``Fl::options_read_``): setting the flag first leaves both untouched.
+    """
+    import ctypes
+
+    try:
+        fltk = ctypes.CDLL("libfltk.so.1.3")
+        ctypes.c_bool.in_dll(fltk, "_ZN2Fl13options_read_E").value = True
+    except (OSError, ValueError):
+        pass  # a gmsh built without FLTK writes no preferences
+    gmsh.initialize(readConfigFiles=False)
+    gmsh.option.setNumber("General.Terminal", 0)
 
 
 def _mesh_options(gmsh, element_size) -> None:
@@ -178,37 +192,6 @@ def _mesh_options(gmsh, element_size) -> None:
                         ("Mesh.Algorithm", 6),  # Frontal-Delaunay
                         ("Mesh.ElementOrder", 1)):
         gmsh.option.setNumber(name, value)
-
-
-def _gmsh_shape(gmsh, geometry, radius, element_size):
-    """Mesh one shape of the given radius; return points and triangles."""
-    gmsh.onelab.setNumber("Parameters/radius", [radius])
-    gmsh.open(str(geometry))  # a new model, the geometry file's
-    try:
-        _mesh_options(gmsh, element_size)
-        surfaces = gmsh.model.getEntities(2)
-        if len(surfaces) != 1:
-            raise RuntimeError(f"{geometry}: {len(surfaces)} surfaces, the"
-                               " mesher expects one")
-        surface = surfaces[0][1]
-        gmsh.model.mesh.generate(2)
-        tags, coords, _ = gmsh.model.mesh.getNodes(
-            2, surface, includeBoundary=True, returnParametricCoord=False)
-        types, _, nodes = gmsh.model.mesh.getElements(2, surface)
-    finally:
-        gmsh.model.remove()
-    if list(types) != [2]:  # gmsh type 2: 3-node triangle
-        raise RuntimeError(f"gmsh returned element types {list(types)}")
-    local = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
-    local[tags.astype(np.int64)] = np.arange(len(tags))
-    triangles = local[nodes[0].astype(np.int64)].reshape(-1, 3)
-    points = coords.reshape(-1, 3)[:, :2]
-    used = np.unique(triangles)
-    if len(used) != len(points) or np.any(triangles < 0):
-        raise RuntimeError("gmsh mesh has unused or unknown nodes")
-    flip = signed_areas(points, triangles) < 0
-    triangles[flip] = triangles[flip][:, [0, 2, 1]]
-    return points, triangles
 
 
 def signed_areas(points, triangles) -> np.ndarray:
@@ -238,30 +221,60 @@ def mesh_disks(centres, radii, element_size, out_stem) -> MeshInfo:
     -------
     MeshInfo
     """
+    from softpack.scene.shapes import Template
+
     centres, radii = check_disks(centres, radii, element_size)
+    meshes = disk_triangulation(radii, element_size)
+    templates = {r: Template(points=p, triangles=t,
+                             area=float(signed_areas(p, t).sum()),
+                             bounding_radius=r)
+                 for r, (p, t) in meshes.items()}
+    return mesh_particles([templates[float(r)] for r in radii], centres,
+                          np.zeros(len(radii)), out_stem)
+
+
+def mesh_particles(bodies, centres, angles, out_stem) -> MeshInfo:
+    """Copy each body's template to its place; write the one mesh.
+
+    Parameters
+    ----------
+    bodies : list of softpack.scene.shapes.Template
+        Body ``i``'s shape and size, centred at the origin (the same object
+        for bodies that share a mesh).
+    centres : array_like, shape (n, 2)
+        Where each template's origin goes (m).
+    angles : array_like, shape (n,)
+        Counter-clockwise rotation of each body about its centre (rad).
+    out_stem : str or Path
+        As :func:`mesh_disks`; ``NAME.bodies.csv``'s ``radius`` is each
+        body's bounding radius and ``angle`` its rotation.
+
+    Returns
+    -------
+    MeshInfo
+    """
+    from softpack.scene.shapes import rotated
+
+    centres = np.asarray(centres, dtype=float).reshape(-1, 2)
+    angles = np.asarray(angles, dtype=float).reshape(-1)
     xdmf, h5, bodies_csv = output_paths(out_stem)
-    templates = disk_triangulation(radii, element_size)
     points, cells, body = [], [], []
     offset = 0
-    for i, (c, r) in enumerate(zip(centres, radii)):
-        p, t = templates[float(r)]
-        points.append(p + c)
-        cells.append(t + offset)
-        body.append(np.full(len(t), i, dtype=np.int32))
-        offset += len(p)
-    points, cells = np.vstack(points), np.vstack(cells)
-    body = np.concatenate(body)
-    mesh, tags = _dolfinx_mesh(points, cells, body)
-    areas = np.array([signed_areas(*templates[float(r)]).sum()
-                      for r in radii])
-    rows = [f"{i},{c[0]!r},{c[1]!r},{r!r},{a!r}"
-            for i, (c, r, a) in enumerate(zip(centres, radii, areas))]
+    for i, (t, c, a) in enumerate(zip(bodies, centres, angles)):
+        points.append((rotated(t.points, a) if a else t.points) + c)
+        cells.append(t.triangles + offset)
+        body.append(np.full(len(t.triangles), i, dtype=np.int32))
+        offset += len(t.points)
+    mesh, tags = _dolfinx_mesh(np.vstack(points), np.vstack(cells),
+                               np.concatenate(body))
+    rows = [f"{i},{c[0]!r},{c[1]!r},{t.bounding_radius!r},{t.area!r},{a!r}"
+            for i, (t, c, a) in enumerate(zip(bodies, centres, angles))]
     _write_outputs(xdmf, mesh, tags, bodies_csv, rows)
     return MeshInfo(
         xdmf=xdmf, h5=h5, bodies_csv=bodies_csv,
-        triangles_per_body=tuple(len(templates[float(r)][1]) for r in radii),
-        nodes_per_body=tuple(len(templates[float(r)][0]) for r in radii),
-        reference_areas=tuple(float(a) for a in areas))
+        triangles_per_body=tuple(len(t.triangles) for t in bodies),
+        nodes_per_body=tuple(len(t.points) for t in bodies),
+        reference_areas=tuple(float(t.area) for t in bodies))
 
 
 def _dolfinx_mesh(points, cells, body):

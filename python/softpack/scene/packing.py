@@ -1,22 +1,27 @@
-"""Random initial packings of bidisperse disks in a rectangular box.
+"""Random initial packings of particles in a rectangular box.
 
 The paper's assembly is 70 disks of diameter D1 = 20 mm and 30 disks of
 D2 = 30 mm at random, non-overlapping positions in a box of L x W =
 286 x 202 mm (x along the piston axis), an initial packing fraction of about
 0.75.  The box spans ``(0, 0)`` to ``(length, width)``; all lengths are in
-metres.
+metres.  Any particle shape is placed through its bounding circle (radius =
+the largest distance of its boundary from its centre, see
+:mod:`softpack.scene.shapes`): circles at least ``gap`` apart keep the true
+shapes at least ``gap`` apart.
 
 Random sequential addition (RSA) alone saturates far below 0.75 (near 0.55
-for equal disks), so :func:`random_packing` adds disks one at a time, the
-largest first, and when no free spot is found among a batch of random trial
-positions it inserts the disk at the least-overlapping trial and relaxes the
-overlaps of all disks placed so far (a projected Jacobi iteration that moves
-overlapping pairs apart and keeps every disk inside the box).  With
-``relax=False`` the algorithm is plain RSA and fails when the box is too full.
+for equal disks), so :func:`place` adds circles one at a time, the largest
+first, each at the first free spot among a batch of random trial positions
+or, when there is none, at the least-overlapping trial; it then relaxes all
+the overlaps at once (projected Jacobi sweeps that move every overlapping
+pair apart by half its shortfall and keep every circle inside the box).
+Neighbours come from a k-d tree (scipy), so a sweep costs O(n log n) and
+1,000 particles take about a second.  With ``relax=False`` the algorithm
+is plain RSA and fails when the box is too full.
 
-Measured: the paper's case (phi = 0.748) takes about 1 s for any seed; 0.77
-still works; near 0.80 the relaxation tends to stall in a jammed state and
-:class:`PackingError` is raised.  Relaxed disks often end exactly ``gap``
+Measured: the paper's case (phi = 0.748) for any seed; 0.77 still works;
+near 0.80 the relaxation tends to stall in a jammed state and
+:class:`PackingError` is raised.  Relaxed circles often end exactly ``gap``
 apart (or ``gap`` from a wall).
 """
 
@@ -56,12 +61,22 @@ DEFAULT_GAP = _DEFAULTS["gap"]
 CSV_COLUMNS = "particle,x,y,radius,area"
 #: Relaxation sweeps over which the largest overlap must shrink by 10 %.
 STALL_SWEEPS = 500
+#: Packing fraction of the shrunken circles placed by plain RSA before
+#: they are inflated (RSA of equal disks saturates near 0.55).
+RSA_FRACTION = 0.35
+#: Inflation steps from the shrunken circles to their size, each followed
+#: by a relaxation of the overlaps.
+INFLATION_STEPS = 40
+#: Nearest placed circles examined per trial position (more: all of them).
+NEIGHBOURS = 24
 #: Densest packing fraction of disks in the plane (hexagonal).
 HEXAGONAL_FRACTION = np.pi / (2 * np.sqrt(3))
 
 
 class PackingError(RuntimeError):
-    """The requested disks cannot be placed in the box."""
+    """The scene cannot be built: the particles cannot be placed in the box
+    (or, as :class:`softpack.scene.shapes.ShapeError`, a shape cannot be
+    meshed); the message names the keys."""
 
 
 @dataclass(frozen=True)
@@ -80,6 +95,9 @@ class Packing:
         Seed of the generator that produced the packing, if any.
     ids : ndarray of int, shape (n,)
         Particle ids; ``0..n-1`` when not given.
+    shape_areas : ndarray, shape (n,), optional
+        Each particle's area (m^2) when it is not a disk of radius
+        ``radii`` (which are then the bounding radii).
     """
 
     centres: np.ndarray
@@ -88,6 +106,7 @@ class Packing:
     width: float
     seed: int | None = None
     ids: np.ndarray = field(default=None)
+    shape_areas: np.ndarray = field(default=None)
 
     def __post_init__(self):
         centres = np.array(self.centres, dtype=float).reshape(-1, 2)
@@ -102,6 +121,11 @@ class Packing:
         object.__setattr__(self, "centres", centres)
         object.__setattr__(self, "radii", radii)
         object.__setattr__(self, "ids", ids)
+        if self.shape_areas is not None:
+            areas = np.array(self.shape_areas, dtype=float).reshape(-1)
+            if len(areas) != len(radii):
+                raise ValueError(f"{len(areas)} areas but {len(radii)} radii")
+            object.__setattr__(self, "shape_areas", areas)
         object.__setattr__(self, "length", float(self.length))
         object.__setattr__(self, "width", float(self.width))
 
@@ -112,7 +136,10 @@ class Packing:
 
     @property
     def areas(self) -> np.ndarray:
-        """Disk areas ``pi r^2`` (m^2)."""
+        """Particle areas: ``shape_areas``, else the disks' ``pi r^2``
+        (m^2)."""
+        if self.shape_areas is not None:
+            return self.shape_areas
         return np.pi * self.radii**2
 
     @property
@@ -191,10 +218,12 @@ class Packing:
             raise ValueError(f"{path}: missing {sorted(missing)} header lines")
         data = np.array(rows, dtype=float).reshape(-1, 5)
         seed = meta.get("seed", "")
+        disks = np.allclose(data[:, 4], np.pi * data[:, 3]**2, rtol=1e-12)
         return cls(centres=data[:, 1:3], radii=data[:, 3],
                    length=float(meta["length"]), width=float(meta["width"]),
                    seed=int(seed) if seed else None,
-                   ids=data[:, 0].astype(int))
+                   ids=data[:, 0].astype(int),
+                   shape_areas=None if disks else data[:, 4])
 
 
 def random_packing(seed: int, *, counts=PAPER_COUNTS,
@@ -240,65 +269,132 @@ def random_packing(seed: int, *, counts=PAPER_COUNTS,
     """
     radii = _check_arguments(seed, counts, diameters, length, width, gap,
                              trials, max_sweeps)
-    rng = np.random.default_rng(seed)
-    order = np.argsort(-radii, kind="stable")  # largest first
-    placed = np.empty((0, 2))
-    for k, i in enumerate(order):
-        r_placed = radii[order[:k]]
-        lo = radii[i] + _padded(gap)
-        candidates = rng.uniform((lo, lo), (length - lo, width - lo),
-                                 size=(trials, 2))
-        clearance = _clearance_to(candidates, radii[i], placed, r_placed,
-                                  _padded(gap))
-        best = int(np.argmax(clearance))
-        if clearance[best] < 0.0 and not relax:
-            raise PackingError(
-                f"random sequential addition placed {k} of {len(radii)} disks"
-                f" (phi = {_fraction(radii, length, width):.3f}); no free"
-                f" spot for a disk of diameter {2 * radii[i]:g} m in"
-                f" {trials} trials")
-        free = np.flatnonzero(clearance >= 0.0)
-        pick = int(free[0]) if len(free) else best
-        placed = np.vstack([placed, candidates[pick]])
-        if clearance[pick] < 0.0:
-            try:
-                placed = _relax_overlaps(placed, radii[order[:k + 1]],
-                                         length, width, gap, rng, max_sweeps)
-            except PackingError as err:
-                raise PackingError(
-                    f"placed {k} of {len(radii)} disks (requested phi ="
-                    f" {_fraction(radii, length, width):.3f}): {err}"
-                ) from None
-    centres = np.empty_like(placed)
-    centres[order] = placed
+    centres = place(radii, length, width, gap, np.random.default_rng(seed),
+                    relax=relax, trials=trials, max_sweeps=max_sweeps)
     return Packing(centres=centres, radii=radii, length=length, width=width,
                    seed=seed)
 
 
-def scene_packing(config) -> Packing:
-    """The packing of a configuration's species (body order: species by
-    species, in the file's order).
+def place(radii, length, width, gap, rng, *, relax=True, trials=200,
+          max_sweeps=20000) -> np.ndarray:
+    """Centres of non-overlapping circles in the box (see the module doc).
 
-    With ``[box] enabled`` the random packing of :func:`random_packing`
-    (seed and gap from ``[packing]``); without a box the scene holds one
-    particle, at the origin (the configuration refuses more), and the
-    packing's box is ``length = width = 0``.
+    Parameters
+    ----------
+    radii : ndarray, shape (n,)
+        Circle radii (m), in particle order (placed largest first).
+    length, width, gap : float
+        Box and smallest clearance (m).
+    rng : numpy.random.Generator
+    relax, trials, max_sweeps
+        As :func:`random_packing`.
+
+    Returns
+    -------
+    ndarray, shape (n, 2)
 
     Raises
     ------
     PackingError
-        When the particles cannot be placed.
     """
-    diameters, _ = particle_table(config["species"])
-    box = config["box"]
+    radii = np.asarray(radii, dtype=float)
+    order = np.argsort(-radii, kind="stable")  # largest first
+    phi = _fraction(radii, length, width)
+    # with relaxation: RSA of shrunken circles, then inflated step by step
+    start = min(1.0, np.sqrt(RSA_FRACTION / phi)) if relax else 1.0
+    placed, overlapping = _sequential(radii[order] * start, length, width,
+                                      gap, rng, trials, relax)
+    scales = np.linspace(start, 1.0, INFLATION_STEPS + 1)[1:] \
+        if start < 1.0 else [1.0] * overlapping
+    for scale in scales:
+        try:
+            placed = _relax_overlaps(placed, radii[order] * scale, length,
+                                     width, gap, rng, max_sweeps)
+        except PackingError as err:
+            raise PackingError(
+                f"{len(radii)} particles (requested phi of bounding circles"
+                f" = {phi:.3f}), stuck at {scale:.3f} of their size: {err}"
+            ) from None
+    centres = np.empty_like(placed)
+    centres[order] = placed
+    return centres
+
+
+def _sequential(radii, length, width, gap, rng, trials, relax):
+    """Random sequential addition in the given order; with ``relax``, a
+    circle with no free trial goes to the least-overlapping one.
+
+    Returns the centres and whether any overlap.
+    """
+    placed = np.empty((len(radii), 2))
+    overlapping = False
+    for k, r in enumerate(radii):
+        lo = r + _padded(gap)
+        candidates = rng.uniform((lo, lo), (length - lo, width - lo),
+                                 size=(trials, 2))
+        clearance = _clearance_to(candidates, r, placed[:k], radii[:k],
+                                  _padded(gap))
+        free = np.flatnonzero(clearance >= 0.0)
+        if not len(free) and not relax:
+            raise PackingError(
+                f"random sequential addition placed {k} of {len(radii)}"
+                f" particles (phi = {_fraction(radii, length, width):.3f} of"
+                f" bounding circles); no free spot for a circle of diameter"
+                f" {2 * r:g} m in {trials} trials")
+        pick = int(free[0]) if len(free) else int(np.argmax(clearance))
+        overlapping |= not len(free)
+        placed[k] = candidates[pick]
+    return placed, overlapping
+
+
+def scene_packing(config, radii, areas=None) -> Packing:
+    """The packing of a configuration's particles (body order).
+
+    With ``[box] enabled`` the circles of ``radii`` placed by :func:`place`
+    (seed and gap from ``[packing]``); without a box the scene holds one
+    particle, at the origin (the configuration refuses more), and the
+    packing's box is ``length = width = 0``.
+
+    Parameters
+    ----------
+    config : Config
+    radii : ndarray, shape (n,)
+        Each particle's bounding radius (m), in body order.
+    areas : ndarray, shape (n,), optional
+        Each particle's area when the particles are not all disks.
+
+    Raises
+    ------
+    PackingError
+        When the particles cannot be placed; names the keys.
+    """
+    radii = np.asarray(radii, dtype=float)
+    box, seed = config["box"], config["packing"]["seed"]
     if not box["enabled"]:
-        return Packing(centres=np.zeros((1, 2)), radii=diameters[:1] / 2,
-                       length=0.0, width=0.0)
-    species = config["species"]
-    return random_packing(
-        config["packing"]["seed"], counts=[s["count"] for s in species],
-        diameters=[s["diameter"] for s in species], length=box["length"],
-        width=box["width"], gap=config["packing"]["gap"])
+        return Packing(centres=np.zeros((1, 2)), radii=radii[:1],
+                       length=0.0, width=0.0, shape_areas=None if areas is
+                       None else np.asarray(areas)[:1])
+    length, width, gap = box["length"], box["width"], config["packing"]["gap"]
+    keys = ("([[species]] count, diameter and shape, [box] length and width,"
+            " [packing] gap)")
+    if radii.max() + _padded(gap) >= min(length, width) / 2:
+        raise PackingError(
+            f"a particle of bounding diameter {2 * radii.max():g} m does not"
+            f" fit in the {length} x {width} m box {keys}")
+    phi = _fraction(radii, length, width)
+    if phi >= HEXAGONAL_FRACTION:
+        raise PackingError(
+            f"the particles' bounding circles would fill {phi:.3f} of the box,"
+            f" more than hexagonal disks ({HEXAGONAL_FRACTION:.3f}): they"
+            f" cannot fit {keys}; placement uses bounding circles, so a"
+            " non-disk shape needs a lower packing fraction")
+    try:
+        centres = place(radii, length, width, gap,
+                        np.random.default_rng(seed))
+    except PackingError as err:
+        raise PackingError(f"{err} {keys}") from None
+    return Packing(centres=centres, radii=radii, length=length, width=width,
+                   seed=seed, shape_areas=areas)
 
 
 def _check_arguments(seed, counts, diameters, length, width, gap, trials,
@@ -352,37 +448,65 @@ def _pair_clearance(centres, radii) -> np.ndarray:
 
 
 def _clearance_to(candidates, r, centres, radii, gap) -> np.ndarray:
-    """For each candidate centre, the smallest clearance minus ``gap``."""
+    """For each candidate centre, the smallest clearance minus ``gap``.
+
+    Only circles whose centres lie within ``r + max(radii) + gap`` can make
+    it negative: a k-d tree finds the nearest ``NEIGHBOURS`` of each
+    candidate, and a candidate with more than that many within reach is
+    checked against all the circles (exact in every case).
+    """
     if len(centres) == 0:
         return np.zeros(len(candidates))
-    d = np.linalg.norm(candidates[:, None, :] - centres[None, :, :], axis=-1)
-    return (d - r - radii[None, :] - gap).min(axis=1)
+    from scipy.spatial import cKDTree
+
+    reach = r + radii.max() + gap
+    k = min(NEIGHBOURS, len(centres))
+    d, index = cKDTree(centres).query(candidates, k=[*range(1, k + 1)],
+                                      distance_upper_bound=reach)
+    found = np.isfinite(d)
+    index = np.where(found, index, 0)
+    clearance = np.where(found, d - r - radii[index] - gap, np.inf)
+    out = clearance.min(axis=1)
+    crowded = found[:, -1] & (k < len(centres))
+    if crowded.any():  # the k nearest may miss a larger circle farther out
+        diff = candidates[crowded, None, :] - centres[None, :, :]
+        out[crowded] = (np.hypot(diff[..., 0], diff[..., 1]) - r - radii
+                        - gap).min(axis=1)
+    return np.minimum(out, np.inf)
 
 
 def _relax_overlaps(centres, radii, length, width, gap, rng, max_sweeps):
-    """Move disks apart until every pair is at least ``gap`` apart.
+    """Move circles apart until every pair is at least ``gap`` apart.
 
-    Each sweep moves both disks of every pair closer than the target
+    Each sweep moves both circles of every pair closer than the target
     separation apart by half the shortfall (projected Jacobi iteration),
     then projects the centres back into the admissible box.  The target
     clearance (:func:`_padded`) is slightly above ``gap`` so that the
-    iteration ends with a strictly admissible configuration.
+    iteration ends with a strictly admissible configuration.  The pairs
+    come from a k-d tree within the largest target distance plus a skin,
+    and are searched again once a circle has moved half the skin (a
+    Verlet list: no pair that can overlap is missed).
     """
+    from scipy.spatial import cKDTree
+
     x = centres.copy()
     n = len(radii)
-    target = radii[:, None] + radii[None, :] + _padded(gap)
-    np.fill_diagonal(target, 0.0)
+    skin = 0.2 * radii.min()
+    reach = 2 * radii.max() + _padded(gap) + skin
     lo = radii + _padded(gap)
     hi = np.stack([length - lo, width - lo], axis=1)
-    checkpoint = np.inf
+    checkpoint, moved = np.inf, np.inf
     for sweep in range(max_sweeps):
-        diff = x[:, None, :] - x[None, :, :]
-        d = np.linalg.norm(diff, axis=-1)
-        np.fill_diagonal(d, np.inf)
-        if np.all(d - radii[:, None] - radii[None, :] >= gap):
+        if moved > 0.5 * skin:
+            pairs = cKDTree(x).query_pairs(reach, output_type="ndarray")
+            i, j = pairs[:, 0], pairs[:, 1]
+            target = radii[i] + radii[j] + _padded(gap)
+            listed, moved = x.copy(), 0.0
+        diff = x[i] - x[j]
+        d = np.hypot(diff[:, 0], diff[:, 1])
+        if np.all(d - radii[i] - radii[j] >= gap):
             return x
-        coincident = d == 0.0
-        if coincident.any():  # separate in a random direction
+        if np.any(d == 0.0):  # coincident: separate in a random direction
             x += 1e-9 * rng.standard_normal(x.shape)
             continue
         shortfall = np.maximum(target - d, 0.0)
@@ -390,10 +514,14 @@ def _relax_overlaps(centres, radii, length, width, gap, rng, max_sweeps):
             if shortfall.max() > 0.9 * checkpoint:
                 break  # stalled: the overlaps no longer shrink
             checkpoint = shortfall.max()
-        push = 0.5 * shortfall / d
-        x = x + np.einsum("ij,ijk->ik", push, diff)
-        x = np.clip(x, lo[:, None], hi)
+        push = (0.5 * shortfall / d)[:, None] * diff
+        move = np.zeros_like(x)
+        for axis in (0, 1):
+            move[:, axis] = (np.bincount(i, push[:, axis], n)
+                             - np.bincount(j, push[:, axis], n))
+        x = np.clip(x + move, lo[:, None], hi)
+        moved = np.abs(x - listed).max() * np.sqrt(2)
     raise PackingError(
-        f"could not remove the overlaps of {n} disks (phi ="
+        f"could not remove the overlaps of {n} circles (phi ="
         f" {_fraction(radii, length, width):.3f} in a {length} x {width} m"
         f" box) in {sweep + 1} relaxation sweeps; the box is too full")

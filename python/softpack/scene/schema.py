@@ -25,7 +25,7 @@ from pathlib import Path
 from softpack import paths
 
 #: The values of ``type`` a parameter may have.
-TYPES = ("float", "int", "bool", "str", "float_pair")
+TYPES = ("float", "int", "bool", "str", "float_pair", "float_list")
 #: The ``choices`` value that stands for the registered material laws.
 MATERIAL_CHOICES = "@materials"
 
