@@ -6,21 +6,27 @@ driver.json writer, the C++ driver, ``./softpack run``), ``analysis``
 (observables), ``plots`` and ``references`` (the single-disk and 3D
 cylinder checks).
 
-From the repository root, with ``python/`` on the path (as ``./softpack``
-sets it)::
+The functions below are the scripting interface (docs/python_api.md). With
+``python/`` on the path (``./softpack`` sets it; in a shell:
+``eval "$(./softpack env)"``)::
 
     import softpack
     config = softpack.load_config("examples/small.toml")
+    series = softpack.run(config, "runs/small")
+
+Importing softpack is cheap: dolfinx, gmsh and matplotlib are imported only
+by the function that needs them.
 """
 
 __version__ = "0.2.0"
 
-__all__ = ["load_config"]
+__all__ = ["load_config", "run", "read_run", "plot_runs", "plot_single_disk",
+           "RunError"]
 
 
-def load_config(path, overrides=None):
-    """Read and validate a run's TOML file
-    (:func:`softpack.scene.config.load_config`)."""
-    from softpack.scene.config import load_config as load
-
-    return load(path, overrides)
+def __getattr__(name):
+    """The API functions of :mod:`softpack.api`, imported on first use."""
+    if name in __all__:
+        from softpack import api
+        return getattr(api, name)
+    raise AttributeError(f"module 'softpack' has no attribute {name!r}")

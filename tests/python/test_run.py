@@ -23,7 +23,7 @@ from softpack.scene.mesh import MeshInfo, output_paths
 SMALL = Path(__file__).resolve().parents[2] / "examples" / "small.toml"
 
 FAKE_DRIVER = r'''#!/usr/bin/python3
-import json, os, sys
+import json, os, sys, time
 from pathlib import Path
 
 doc = json.load(open(sys.argv[1]))
@@ -48,6 +48,8 @@ speed = walls[1]["velocity"][0]
 h, every = doc["time"]["time_step"], doc["output"]["every_steps"]
 length, width = walls[1]["point"][0], walls[3]["point"][1]
 mode = os.environ.get("FAKE_DRIVER", "ok")
+if mode == "slow":  # a long run (0.2 s a step): its pid for kill tests
+    open(out / "driver.pid", "w").write(str(os.getpid()))
 print("fake driver: %d bodies" % len(areas), flush=True)
 energies = "strain_energy,kinetic_energy,wall_work,external_work,damping,"\
     "friction,contact_normal,numerical,energy_residual"
@@ -85,6 +87,8 @@ while True:
         sys.exit(3)
     if stop:
         break
+    if mode == "slow":
+        time.sleep(0.2)
     step += 1
 steps.close()
 parts.close()

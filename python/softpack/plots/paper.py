@@ -294,8 +294,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("runs", nargs="+", type=Path, metavar="DIR",
                    help="run directories written by ./softpack run")
     p.add_argument("--out", type=Path, metavar="FIGDIR",
-                   help="figure directory (default: DIR/figures for one"
-                   " run, ./figures for several)")
+                   help="figure directory (default: the first DIR's"
+                   " figures/; nothing is written in the current directory)")
     return p
 
 
@@ -309,8 +309,7 @@ def main(argv=None) -> int:
     if not runs:
         print("softpack plot: no complete run to plot", file=sys.stderr)
         return 1
-    out = args.out or (args.runs[0] / "figures" if len(args.runs) == 1
-                       else Path("figures"))
+    out = args.out or args.runs[0] / "figures"
     out.mkdir(parents=True, exist_ok=True)
     groups = group_by_friction(runs)
     written = [

@@ -126,10 +126,11 @@ def build_mesh(half_length, element_size, comm=None):
     from mpi4py import MPI
     from dolfinx.io import gmshio
 
+    from softpack.scene.mesh import initialize_gmsh
+
     comm = MPI.COMM_WORLD if comm is None else comm
-    gmsh.initialize()
+    initialize_gmsh(gmsh)
     try:
-        gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("cylinder_eighth")
         vol = gmsh.model.occ.addCylinder(0, 0, 0, 0, 0, half_length, 1.0,
                                          angle=math.pi / 2)
@@ -526,19 +527,21 @@ def energy_balance(res):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="softpack.references.cylinder3d", description=__doc__.split("\n")[0])
+    from softpack.cli import positive_float, positive_int
+
+    parser = argparse.ArgumentParser(prog="softpack reference3d", description=__doc__.split("\n")[0])
     parser.add_argument("--out", required=True, help="directory for the CSV files")
-    parser.add_argument("--element-size", type=float, default=0.001,
+    parser.add_argument("--element-size", type=positive_float, default=0.001,
                         help="tetrahedron size near the contact line, m (default 0.001; 2x far from it)")
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--incompressible", action="store_true", help="J = 1, Taylor-Hood P2-P1")
     group.add_argument("--nu", type=float, default=0.495, help="Poisson ratio (default 0.495)")
-    parser.add_argument("--max-strain", type=float, default=0.25)
-    parser.add_argument("--steps", type=int, default=25, help="uniform steps in eps")
-    parser.add_argument("--penalty", type=float, default=1e4, help="plate stiffness in mu/R (default 1e4)")
-    parser.add_argument("--diameter", type=float, default=0.02)
-    parser.add_argument("--length", type=float, default=0.015)
-    parser.add_argument("--mu", type=float, default=0.15e6)
+    parser.add_argument("--max-strain", type=positive_float, default=0.25)
+    parser.add_argument("--steps", type=positive_int, default=25, help="uniform steps in eps")
+    parser.add_argument("--penalty", type=positive_float, default=1e4, help="plate stiffness in mu/R (default 1e4)")
+    parser.add_argument("--diameter", type=positive_float, default=0.02)
+    parser.add_argument("--length", type=positive_float, default=0.015)
+    parser.add_argument("--mu", type=positive_float, default=0.15e6)
     args = parser.parse_args(argv)
     if not log.handlers:
         handler = logging.StreamHandler()

@@ -426,27 +426,32 @@ def value_at(curve, eps) -> np.ndarray:
 
 
 def _parser():
+    from softpack import cli
+
     p = argparse.ArgumentParser(
         prog="softpack single-disk",
         description="2D plane-strain neo-Hookean disk between two rigid "
         "frictionless plates (paper Figs. 2-3): writes DIR/force_2d.csv "
         "(eps,f_norm) and DIR/profile_2d.csv (eps,w,ux_over_D).")
     d = Params()
-    p.add_argument("--diameter", type=float, default=d.diameter,
+    p.add_argument("--diameter", type=cli.positive_float, default=d.diameter,
                    help="disk diameter D (m, default 0.02)")
-    p.add_argument("--element-size", type=float, default=d.element_size,
+    p.add_argument("--element-size", type=cli.positive_float,
+                   default=d.element_size,
                    help="triangle size h (m, default 1.065e-3)")
-    p.add_argument("--max-strain", type=float, default=d.max_strain,
+    p.add_argument("--max-strain", type=cli.positive_float,
+                   default=d.max_strain,
                    help="final eps = -ln(1 - delta/D) (default 0.25)")
     p.add_argument("--out", type=Path, default=Path("runs/single-disk"),
                    help="output directory (default runs/single-disk)")
-    p.add_argument("--speed", type=float, default=d.speed,
+    p.add_argument("--speed", type=cli.positive_float, default=d.speed,
                    help="speed of each plate (m/s, default 0.01)")
-    p.add_argument("--time-step", type=float, default=d.time_step,
+    p.add_argument("--time-step", type=cli.positive_float,
+                   default=d.time_step,
                    help="time step (s, default 1e-4)")
-    p.add_argument("--alpha", type=float, default=d.alpha,
+    p.add_argument("--alpha", type=cli.nonnegative_float, default=d.alpha,
                    help="Rayleigh mass coefficient (1/s, default 200)")
-    p.add_argument("--friction", type=float, default=d.friction,
+    p.add_argument("--friction", type=cli.nonnegative_float, default=d.friction,
                    help="plate friction coefficient (default 1e-2: pins"
                    " the disk's rolling; 0 = exactly frictionless)")
     p.add_argument("--orientation", choices=("node_up", "as_meshed"),
@@ -454,7 +459,7 @@ def _parser():
                    help="node_up (default): turn the mesh so that a boundary"
                    " node lies on the loading axis; as_meshed: as gmsh made"
                    " it")
-    p.add_argument("--every", type=int, default=d.every,
+    p.add_argument("--every", type=cli.positive_int, default=d.every,
                    help="output every this many steps (default 10)")
     return p
 
@@ -478,7 +483,12 @@ def main(argv=None) -> int:
     except ConfigError as err:
         print(f"softpack single-disk: {err}", file=sys.stderr)
         return 2
-    args.out.mkdir(parents=True, exist_ok=True)
+    from softpack.simulation.run import UsageError, check_out_directory
+    try:
+        check_out_directory(args.out)  # made, writable
+    except UsageError as err:
+        print(f"softpack single-disk: {err}", file=sys.stderr)
+        return 2
     print(f"softpack single-disk: D = {params.diameter:g} m, h ="
           f" {params.element_size:g} m, up to eps = {params.max_strain:g}"
           f" ({int(round(params.duration / params.time_step))} steps) ->"

@@ -49,6 +49,7 @@ import shutil
 import signal
 import sys
 import tempfile
+import threading
 import time
 import tomllib
 from pathlib import Path
@@ -182,6 +183,23 @@ def _stop_on_signals() -> dict:
     except ValueError:  # not the main thread
         pass
     return previous
+
+
+def _reclaim_signals() -> None:
+    """Give the signals back to Python after the mesher's imports.
+
+    PETSc (imported with dolfinx) installs C handlers, e.g. for SIGPIPE,
+    that exit at once (status 59) without stopping the driver. Python's own
+    record of the handlers is unchanged, so installing it again restores
+    them: SIGPIPE ignored (a closed output raises BrokenPipeError),
+    SIGINT, SIGTERM, SIGHUP as set by :func:`main`.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        return
+    for signum in (signal.SIGINT, signal.SIGPIPE, *STOP_SIGNALS):
+        handler = signal.getsignal(signum)
+        if handler is not None:
+            signal.signal(signum, handler)
 
 
 def _why(err) -> str:
@@ -383,6 +401,7 @@ def _run_logged(config, out, initial_state, log, say) -> int:
         scene = build_scene(config, out / "mesh" / "packing")
     except PackingError as err:
         raise RunError(f"packing: {err}") from None
+    _reclaim_signals()
     phi0 = scene.packing.packing_fraction
     say(f"packing: {scene.packing.n_particles} particles, seed"
         f" {config['packing']['seed']}, Phi0 = {phi0:.4f}; mesh:"
@@ -403,7 +422,7 @@ def _run_logged(config, out, initial_state, log, say) -> int:
 
 
 def _reporter(log, verbose=True):
-    """``say(text)``: print a line (if ``verbose``) and append it to the log."""
+    """``say(text)``: print a line (if ``verbose``), append it to the log."""
     def say(text):
         if verbose:
             echo(f"softpack run: {text}")

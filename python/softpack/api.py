@@ -1,0 +1,166 @@
+"""softpack from Python: configure, run, read and plot (docs/python_api.md).
+
+The same stages as ``./softpack run`` and ``./softpack plot``, as functions
+for scripted studies::
+
+    import softpack
+
+    config = softpack.load_config("examples/small.toml",
+                                  {"contact.friction": 0.1})
+    series = softpack.run(config, "runs/mu0.1")
+    series["phi"][-1]
+
+Tables come back as columns: a pandas DataFrame when pandas is importable,
+else a dict of numpy arrays (one per column of the CSV file).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+__all__ = ["load_config", "run", "read_run", "plot_runs",
+           "plot_single_disk", "RunError"]
+
+from softpack.simulation.run import RunError  # noqa: E402
+
+
+def load_config(path, overrides=None):
+    """Read and validate a run's TOML file.
+
+    Parameters
+    ----------
+    path : path-like
+        The TOML configuration (e.g. ``examples/small.toml``).
+    overrides : dict, optional
+        ``{"section.key": value}``, as ``--set`` on the command line, e.g.
+        ``{"contact.friction": 0.1, "species.0.count": 12}``.
+
+    Returns
+    -------
+    Config
+        Every key, defaults filled in; ``config["contact"]["friction"]``.
+
+    Raises
+    ------
+    softpack.scene.config.ConfigError
+        Naming the file (or the override) and the key.
+    """
+    from softpack.scene.config import load_config as load
+
+    return load(path, overrides)
+
+
+def run(config, out, force=False, initial_state=None, verbose=False):
+    """Run one compaction into ``out`` and return its series.
+
+    Parameters
+    ----------
+    config : Config or path-like
+        From :func:`load_config`, or the path of a TOML file.
+    out : path-like
+        The run directory (created; a foreign non-empty directory is
+        refused, see ``./softpack run --help``).
+    force : bool
+        Replace a complete run in ``out``.
+    initial_state : path-like, optional
+        A ``raw/state.bin`` of a run on the same packing to start from.
+    verbose : bool
+        Print progress as ``./softpack run`` does (run.log has it always).
+
+    Returns
+    -------
+    DataFrame or dict of numpy.ndarray
+        ``series.csv`` (:func:`read_run`).
+
+    Raises
+    ------
+    RunError
+        The run failed; the message says why (``out/run.log`` has more).
+    """
+    from softpack.simulation import run as runner
+
+    if not hasattr(config, "stem"):
+        config = load_config(config)
+    out = Path(os.path.abspath(out))
+    runner.run(config, out, force=force, initial_state=initial_state,
+               verbose=verbose)
+    return read_run(out)
+
+
+def read_run(directory, table="series"):
+    """A finished run's table as columns.
+
+    Parameters
+    ----------
+    directory : path-like
+        A run directory written by :func:`run` or ``./softpack run``.
+    table : {"series", "particles"}
+        ``series.csv`` (one row per output step: eps, phi, energies, Z, ...)
+        or ``particles.csv`` (one row per particle and output step).
+
+    Returns
+    -------
+    DataFrame or dict of numpy.ndarray
+
+    Raises
+    ------
+    FileNotFoundError
+        The run is not complete (no ``series.csv``).
+    """
+    from softpack.analysis.tables import read_table
+
+    if table not in ("series", "particles"):
+        raise ValueError(f"table {table!r}: expected 'series' or"
+                         " 'particles'")
+    path = Path(directory) / f"{table}.csv"
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such file (is {directory} a"
+                                " finished run?)")
+    columns = read_table(path)
+    try:
+        import pandas
+    except ImportError:
+        return columns
+    return pandas.DataFrame(columns)
+
+
+def plot_runs(directories, out=None) -> list[Path]:
+    """The paper's figures (Figs. 4, 6-9) from one or several runs.
+
+    Parameters
+    ----------
+    directories : iterable of path-like
+        Run directories; grouped by friction, averaged over seeds.
+    out : path-like, optional
+        Figure directory (default: the first run's ``figures/``).
+
+    Returns
+    -------
+    list of Path
+        The files in ``out`` after drawing.
+
+    Raises
+    ------
+    RunError
+        No complete run among ``directories``.
+    """
+    from softpack.plots import paper
+
+    directories = [Path(d) for d in directories]
+    out = Path(out) if out is not None else directories[0] / "figures"
+    if paper.main([*map(str, directories), "--out", str(out)]) != 0:
+        raise RunError(f"no complete run to plot in {directories}")
+    return sorted(out.iterdir())
+
+
+def plot_single_disk(directory) -> list[Path]:
+    """Figs. 2-3 (``fig2_force.png``, ``fig3_profile.png``) into a
+    ``./softpack single-disk`` run directory; returns the files written."""
+    from softpack.plots import single_disk
+
+    if single_disk.main([str(directory)]) != 0:
+        raise RunError(f"plot-single-disk {directory}: no single-disk CSV"
+                       " files")
+    return [p for p in (Path(directory) / "fig2_force.png",
+                        Path(directory) / "fig3_profile.png") if p.is_file()]
