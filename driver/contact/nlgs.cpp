@@ -7,8 +7,6 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-#include <string>
-#include <vector>
 
 using namespace softpack::contact;
 

@@ -3,7 +3,6 @@
 #include "problem.h"
 
 #include <span>
-#include <string>
 
 namespace softpack::contact
 {
