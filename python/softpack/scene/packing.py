@@ -67,6 +67,8 @@ RSA_FRACTION = 0.35
 #: Inflation steps from the shrunken circles to their size, each followed
 #: by a relaxation of the overlaps.
 INFLATION_STEPS = 40
+#: Random starts tried before a jammed relaxation is reported.
+ATTEMPTS = 10
 #: Nearest placed circles examined per trial position (more: all of them).
 NEIGHBOURS = 24
 #: Densest packing fraction of disks in the plane (hexagonal).
@@ -302,22 +304,23 @@ def place(radii, length, width, gap, rng, *, relax=True, trials=200,
     phi = _fraction(radii, length, width)
     # with relaxation: RSA of shrunken circles, then inflated step by step
     start = min(1.0, np.sqrt(RSA_FRACTION / phi)) if relax else 1.0
-    placed, overlapping = _sequential(radii[order] * start, length, width,
-                                      gap, rng, trials, relax)
-    scales = np.linspace(start, 1.0, INFLATION_STEPS + 1)[1:] \
-        if start < 1.0 else [1.0] * overlapping
-    for scale in scales:
+    scales = np.linspace(start, 1.0, INFLATION_STEPS + 1)[1:]
+    for attempt in range(ATTEMPTS if relax else 1):
+        placed, overlapping = _sequential(radii[order] * start, length,
+                                          width, gap, rng, trials, relax)
         try:
-            placed = _relax_overlaps(placed, radii[order] * scale, length,
-                                     width, gap, rng, max_sweeps)
+            for scale in scales if start < 1.0 else [1.0] * overlapping:
+                placed = _relax_overlaps(placed, radii[order] * scale,
+                                         length, width, gap, rng, max_sweeps)
         except PackingError as err:
-            raise PackingError(
-                f"{len(radii)} particles (requested phi of bounding circles"
-                f" = {phi:.3f}), stuck at {scale:.3f} of their size: {err}"
-            ) from None
-    centres = np.empty_like(placed)
-    centres[order] = placed
-    return centres
+            failure = (f"{len(radii)} particles (requested phi of bounding"
+                       f" circles = {phi:.3f}), stuck at {scale:.3f} of their"
+                       f" size in {attempt + 1} attempts: {err}")
+            continue  # jammed: a new random start
+        centres = np.empty_like(placed)
+        centres[order] = placed
+        return centres
+    raise PackingError(failure)
 
 
 def _sequential(radii, length, width, gap, rng, trials, relax):

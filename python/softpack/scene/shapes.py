@@ -28,7 +28,7 @@ Shapes:
 
 Every template is checked: one connected body bounded by one closed curve,
 at least ``MIN_BOUNDARY_ELEMENTS`` boundary edges, no flat triangles, and
-(for the exact shapes) a meshed area within ``AREA_TOLERANCE`` of the
+(for polygons and ellipses) a meshed area within ``AREA_TOLERANCE`` of the
 shape's; a failure is a :class:`ShapeError` naming the species key.
 """
 
@@ -229,15 +229,17 @@ def _template(gmsh, spec, s, diameter, h, base) -> Template:
             exact = False
             path = user_file(spec, where, base)
             where = f"{where} file = {str(path)!r}"
-            points, triangles = (_scaled_geo if shape == "geo" else
-                                 _scaled_msh)(gmsh, path, diameter, h)
+            points, triangles = user_mesh(shape, path, diameter, h)
         else:
             raise ShapeError(f"{where} shape = {shape!r}: unknown")
     except MeshingError as err:
         raise ShapeError(f"{where}: gmsh could not mesh it at [mesh]"
                          f" element_size = {h!r}: {err}") from None
-    template = checked_template(points, triangles,
-                                diameter if exact else None, where, h)
+    # a disk's polygonisation error is bounded by the config's rule (at
+    # least MIN_BOUNDARY_ELEMENTS around it), as before shapes existed
+    template = checked_template(
+        points, triangles, diameter if exact and shape != "disk" else None,
+        where, h)
     if shape == "disk":  # its nodes lie on the circle, up to rounding
         template = Template(points=template.points,
                             triangles=template.triangles, area=template.area,
@@ -348,6 +350,68 @@ def _scaled_msh(gmsh, path, diameter, h):
     return _centred(points * scale, triangles), triangles
 
 
+def user_mesh(shape, path, diameter, h):
+    """A user's .geo or .msh meshed and scaled, in a child process.
+
+    gmsh aborts its process on some malformed files (an open curve loop
+    throws a C++ string that nothing catches), so a user's file is read by
+    ``python -m softpack.scene.shapes`` (:func:`main`) and a crash becomes a
+    :class:`MeshingError`.
+    """
+    import os
+    import subprocess
+    import sys
+    import tempfile
+
+    package = str(Path(__file__).resolve().parents[2])
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(
+        p for p in (package, env.get("PYTHONPATH")) if p)
+    with tempfile.TemporaryDirectory(prefix="softpack-shape-") as tmp:
+        out = Path(tmp) / "mesh.npz"
+        proc = subprocess.run(
+            [sys.executable, "-m", "softpack.scene.shapes", shape, str(path),
+             repr(float(diameter)), repr(float(h)), str(out)],
+            capture_output=True, text=True, env=env)
+        if proc.returncode == 0:
+            with np.load(out) as data:
+                return data["points"], data["triangles"]
+    said = [line for line in proc.stderr.splitlines() if line.strip()]
+    if proc.returncode == CHILD_REFUSED and said:
+        raise MeshingError(said[-1])
+    crash = [line for line in said if "rror" in line or "terminate" in line]
+    raise MeshingError(f"gmsh crashed reading it (exit status"
+                       f" {proc.returncode}): " + "; ".join(crash[-3:]))
+
+
+#: Exit status of :func:`main` when gmsh refused the file cleanly.
+CHILD_REFUSED = 3
+
+
+def main(argv=None) -> int:
+    """``python -m softpack.scene.shapes geo|msh FILE D H OUT.npz``: the
+    child process of :func:`user_mesh`."""
+    import sys
+
+    import gmsh
+
+    from softpack.scene.mesh import initialize_gmsh
+
+    shape, path, diameter, h, out = argv or sys.argv[1:]
+    initialize_gmsh(gmsh)
+    gmsh.logger.start()
+    try:
+        points, triangles = (_scaled_geo if shape == "geo" else _scaled_msh)(
+            gmsh, Path(path), float(diameter), float(h))
+    except MeshingError as err:
+        print(err, file=sys.stderr)
+        return CHILD_REFUSED
+    finally:
+        gmsh.finalize()
+    np.savez(out, points=points, triangles=triangles)
+    return 0
+
+
 def _oriented(points, triangles):
     """Triangles made counter-clockwise."""
     triangles = triangles.copy()
@@ -453,3 +517,7 @@ def rotated(points, angle) -> np.ndarray:
     origin."""
     c, s = math.cos(angle), math.sin(angle)
     return points @ np.array([[c, s], [-s, c]])
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
