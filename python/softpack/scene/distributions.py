@@ -12,8 +12,9 @@ its ``count`` diameters are drawn:
                number).
 
 Draws are seeded: species ``s`` of a scene with ``[packing] seed`` uses
-``numpy.random.default_rng([seed, SIZE_STREAM, s])``, so adding a species
-leaves the others' sizes unchanged. All lengths in metres.
+``numpy.random.default_rng([seed, SIZE_STREAM, s])``: a species' sizes
+depend on its position in the list, not on the other species (adding one
+at the end leaves the others' sizes unchanged). All lengths in metres.
 """
 
 from __future__ import annotations
