@@ -290,6 +290,17 @@ def test_eta_follows_a_growing_cost():
                                                           rel=1e-6)
     assert remaining_seconds([0, 0.5, 1.0], [0, 1, 2]) == 0.0
     assert np.isnan(remaining_seconds([0.0], [0.0]))
+    # a busy machine: 20 % noise on each interval's cost, still within 5 %
+    rng = np.random.default_rng(16)
+    f = np.linspace(0.0, 0.25, 101)
+    cost = c0 * (1 + k * 0.5 * (f[1:] + f[:-1]))
+    noisy = np.concatenate(([0.0], np.cumsum(
+        np.diff(f) * cost * rng.uniform(0.8, 1.2, len(cost)))))
+    assert remaining_seconds(f, noisy) == pytest.approx(truth, rel=0.05)
+    # a falling cost is not extrapolated below the recent pace
+    spent = c0 * (f - f ** 2)
+    late_pace = (spent[-1] - spent[50]) / (f[-1] - f[50])
+    assert remaining_seconds(f, spent) == pytest.approx(late_pace * 0.75)
     # few rows: the pace so far; stalled rows (no progress) are ignored
     assert remaining_seconds([0, 0.1, 0.1, 0.2], [0, 1, 1.5, 2]) == \
         pytest.approx(8.0)
@@ -309,7 +320,7 @@ def test_progress_line_uses_the_drivers_seconds(tmp_path):
     assert " 28.0 %" in line and "ETA 0m02s" in line
 
 
-# -- item 12: the Python API ---------------------------------------------------
+# -- item 12: the Python API ----------------------------------------------
 
 def test_python_api_runs_and_reads(tmp_path, fake_bin, fake_mesh, capsys):
     import softpack

@@ -6,10 +6,9 @@ The fraction done is the largest of ``(Phi - Phi0) / (target - Phi0)``,
 The ETA is not ``elapsed * (1 - f) / f``: the cost per unit of progress
 grows during a compaction (more contacts, stiffer assembly as Phi rises),
 so a constant pace is optimistic (issue 16: at 25 % it implied 5m56s for a
-run of 8m00s). :func:`remaining_seconds` fits the measured cost
-``dt/df`` (the driver's own ``seconds`` column against the fraction) by a
-straight line in ``f`` over the recent output rows and integrates it from
-``f`` to 1.
+run of 8m00s). :func:`remaining_seconds` measures the cost per unit of
+progress (the driver's own ``seconds`` column against the fraction) on each
+half of the history and extrapolates its trend to the end.
 """
 
 from __future__ import annotations
@@ -22,7 +21,7 @@ import numpy as np
 
 from softpack.scene.config import initial_packing_fraction
 
-#: Rows of the cost fit: the most recent half of the history, at least this.
+#: Intervals between rows needed to measure a cost trend.
 MIN_FIT_ROWS = 4
 
 
@@ -94,11 +93,14 @@ class Progress:
 def remaining_seconds(fractions, seconds) -> float:
     """Seconds left from a history of (fraction done, seconds spent).
 
-    The cost ``c = dt/df`` of each interval between rows is fitted by
-    ``c(f) = a + b f`` (least squares, the most recent half of the
-    intervals, at least :data:`MIN_FIT_ROWS`) and integrated from the last
-    fraction to 1, the cost floored at zero. With fewer intervals: the
-    constant pace of the whole history.
+    The cost per unit of progress is measured on each half of the history
+    (seconds over fraction gained: averages over many rows, robust to a
+    busy machine's noise); a straight line through the two, ``c(f)``, at
+    their midpoints, is integrated from the last fraction to 1 (exact when
+    the cost grows linearly). Its slope is taken as zero if the cost fell
+    (a start transient: a compaction only gets dearer), so the estimate is
+    never below the recent pace's. With fewer than :data:`MIN_FIT_ROWS`
+    intervals: the constant pace of the whole history.
 
     Returns
     -------
@@ -115,17 +117,17 @@ def remaining_seconds(fractions, seconds) -> float:
         return 0.0
     forward = np.concatenate(([True], np.diff(f) > 0))  # progress made
     f, t = f[forward], t[forward]
-    if len(f) < 2 or f[-1] <= f[0]:
+    if len(f) < 2:
         return float("nan")
+    rest = 1.0 - f[-1]
     if len(f) - 1 < MIN_FIT_ROWS:
-        return (t[-1] - t[0]) * (1 - f[-1]) / (f[-1] - f[0])
-    start = min(len(f) - 1 - MIN_FIT_ROWS, (len(f) - 1) // 2)
-    f, t = f[start:], t[start:]
-    mid = 0.5 * (f[1:] + f[:-1])
-    cost = np.diff(t) / np.diff(f)
-    b, a = np.polyfit(mid, cost, 1) if np.ptp(mid) > 0 else (0.0, cost[0])
-    x = np.linspace(f[-1], 1.0, 65)
-    return float(np.trapz(np.maximum(a + b * x, 0.0), x))
+        return (t[-1] - t[0]) / (f[-1] - f[0]) * rest
+    k = len(f) // 2
+    early = (t[k] - t[0]) / (f[k] - f[0])
+    late = (t[-1] - t[k]) / (f[-1] - f[k])
+    trend = max((late - early) / (0.5 * (f[-1] - f[0])), 0.0)
+    now = late + trend * 0.5 * (f[-1] - f[k])
+    return float(now * rest + 0.5 * trend * rest ** 2)
 
 
 def read_rows(path: Path) -> list[dict]:
