@@ -135,6 +135,32 @@ def member_doc(spec: dict) -> str:
     return spec["doc"] + (f" ({'; '.join(extra)})" if extra else "")
 
 
+def string_list(values) -> str:
+    """Return a C++ braced list of string literals."""
+    return "{" + ", ".join(cpp_string(v) for v in values) + "}"
+
+
+def section_lists(schema: dict) -> list[str]:
+    """Return the declarations naming the sections and map keys of the schema.
+
+    driver.json's top level holds the driver sections and ``scene`` the
+    scene sections: their readers refuse unknown keys with these lists.
+    """
+    tables = [(n, t) for n, t in schema.items() if isinstance(t, dict)]
+    out = []
+    for stage in ("scene", "driver"):
+        names = [n for n, t in tables if t.get("_stage") == stage]
+        out.append(f"/// The sections of stage \"{stage}\", in the schema's order")
+        out.append(f"inline const std::vector<std::string> {stage}_sections = "
+                   f"{string_list(names)};")
+    for name, table in tables:
+        if table.get("_stage") == "driver" and table.get("_map"):
+            out.append(f"/// The keys of each named table of `{name}`")
+            out.append(f"inline const std::vector<std::string> {name}_keys = "
+                       f"{string_list(k for k, _ in keys_of(table))};")
+    return out + [""]
+
+
 def header(schema: dict, sections: list[tuple[str, dict]]) -> str:
     """Return the text of parameters.h."""
     out = [
@@ -147,6 +173,7 @@ def header(schema: dict, sections: list[tuple[str, dict]]) -> str:
         "#include <map>",
         "#include <nlohmann/json.hpp>",
         "#include <string>",
+        "#include <vector>",
         "",
         "/// The driver's parameters, one struct per driver section of the schema.",
         "namespace softpack::parameters",
@@ -156,6 +183,7 @@ def header(schema: dict, sections: list[tuple[str, dict]]) -> str:
         f"inline constexpr int schema_version = {int(schema['schema_version'])};",
         "",
     ]
+    out += section_lists(schema)
     for name, table in sections:
         out.append(comment(table.get("_doc", name), "").rstrip("\n"))
         out.append(f"struct {camel_case(name)}\n{{")
