@@ -357,3 +357,77 @@ def test_import_softpack_is_light_and_reference3d_is_a_command():
     help_text = _softpack_cli(["reference3d", "--help"])
     assert help_text.returncode == 0
     assert "usage: softpack reference3d" in help_text.stdout
+
+
+# -- item 3: a killed run resumed gives the uninterrupted series -----------
+
+def test_resume_gives_the_uninterrupted_series(tmp_path, fake_bin,
+                                               fake_mesh, monkeypatch,
+                                               capsys):
+    from softpack.analysis.tables import read_table
+
+    whole, part = tmp_path / "whole", tmp_path / "part"
+    assert run.main([str(SMALL), "--out", str(whole)]) == 0
+    monkeypatch.setenv("FAKE_DRIVER", "crash")  # dies after 3 outputs
+    assert run.main([str(SMALL), "--out", str(part)]) == 1
+    assert not (part / "series.csv").exists()
+    # the resumed run is killed too (at once): resumed again below
+    assert run.main(["--resume", str(part)]) == 1
+    assert (part / "raw.part").is_dir()
+    monkeypatch.setenv("FAKE_DRIVER", "ok")
+    capsys.readouterr()
+    assert run.main(["--resume", str(part)]) == 0
+    assert "from its state at step 30" in capsys.readouterr().out
+    for name in ("series.csv", "particles.csv", "raw/steps.csv",
+                 "raw/particles.csv"):
+        a, b = read_table(whole / name), read_table(part / name)
+        assert a.keys() == b.keys(), name
+        for column in a:
+            if column != "seconds":
+                np.testing.assert_array_equal(a[column], b[column],
+                                              err_msg=f"{name}: {column}")
+    s = read_table(part / "series.csv")
+    assert np.all(s["piston_force"] != 0)  # the state's row is the old one
+    assert np.all(np.diff(read_table(part / "raw/steps.csv")["seconds"]) >= 0)
+    assert sorted(p.name for p in (whole / "raw" / "contacts").iterdir()) \
+        == sorted(p.name for p in (part / "raw" / "contacts").iterdir())
+    assert not (part / "raw.part").exists()
+    assert not (part / "resume-state.bin").exists()
+    # nothing left to resume
+    assert run.main(["--resume", str(part)]) == 1
+    assert "nothing to resume" in capsys.readouterr().err
+    assert run.main(["--resume", str(tmp_path)]) == 2
+
+
+def test_resume_with_the_real_driver_is_bit_for_bit(tmp_path):
+    """The real driver from a state: the series of an uninterrupted run,
+    every column but the wall-clock seconds. With full_newton = true: with
+    the default lagged iteration matrix the restored run refactors at the
+    state's step, which changes results at the Newton tolerance (about
+    1e-3 relative on the forces): the state does not carry the matrix."""
+    pytest.importorskip("dolfinx")
+    from softpack.analysis.tables import read_table
+    from softpack.scene.config import load_config
+    try:
+        run.driver_executable()
+    except run.RunError:
+        pytest.skip("softpack-simulate is not built")
+    sets = {"stop.steps": 60, "time.full_newton": True,
+            "output.fields": False}
+    whole, part = tmp_path / "whole", tmp_path / "part"
+    assert run.run(load_config(SMALL, sets), whole, verbose=False) == 0
+    # a run killed after its output at step 30: stopped there, then its
+    # complete-run files removed (what a kill leaves: raw/ up to step 30)
+    assert run.run(load_config(SMALL, {**sets, "stop.steps": 30}), part,
+                   verbose=False) == 0
+    for name in ("series.csv", "particles.csv", "raw/done.json"):
+        (part / name).unlink()
+    toml = part / "config.toml"
+    toml.write_text(toml.read_text().replace("steps = 30", "steps = 60"))
+    assert run.main(["--resume", str(part)]) == 0
+    a, b = read_table(whole / "series.csv"), read_table(part / "series.csv")
+    assert len(a["step"]) == 7 and a.keys() == b.keys()
+    for column in a:
+        if column != "seconds":
+            np.testing.assert_array_equal(a[column], b[column],
+                                          err_msg=column)

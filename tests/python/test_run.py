@@ -23,7 +23,7 @@ from softpack.scene.mesh import MeshInfo, output_paths
 SMALL = Path(__file__).resolve().parents[2] / "examples" / "small.toml"
 
 FAKE_DRIVER = r'''#!/usr/bin/python3
-import json, os, sys, time
+import json, os, struct, sys, time
 from pathlib import Path
 
 doc = json.load(open(sys.argv[1]))
@@ -62,6 +62,9 @@ parts = open(raw / "particles.csv", "w")
 steps.write(head)
 parts.write("step,particle,area,strain_energy,reference_area\n")
 step = 0
+if doc["initial_state"]:  # the state file's layout: driver/io/state_file.h
+    step = struct.unpack("<q", open(doc["initial_state"], "rb").read(56)[48:])[0]
+resumed_at = step if doc["initial_state"] else None
 while True:
     t = step * h
     x = length + speed * t
@@ -69,11 +72,17 @@ while True:
     stop = phi >= doc["stop"]["packing_fraction"]
     if step % every == 0 or stop:  # the last step is an output step too
         e = 1e-3 * t
-        steps.write("%d,%r,2,5,1e-7,true,%d,%d,0,0,0,-10,0,%r,0,10,0,"
+        # like the real driver: no force averaged yet on a state's row
+        fx = 0 if step == resumed_at else 10
+        steps.write("%d,%r,2,5,1e-7,true,%d,%d,0,0,0,-10,0,%r,0,%d,0,"
                     "0,0,0,1,0,%r,0,-1,%r,%r,0,%r,0,0,0,0,0,0,0.1\n"
-                    % (step, t, 4 * len(areas), 4 * len(areas), x, width,
-                       phi, e, 2 * e))
+                    % (step, t, 4 * len(areas), 4 * len(areas), x, fx,
+                       width, phi, e, 2 * e))
         steps.flush()
+        with open(raw / "state.tmp", "wb") as f:
+            f.write(b"softpack-state-1" + struct.pack("<qqqdq", 0, 0, 0, t,
+                                                      step))
+        os.replace(raw / "state.tmp", raw / "state.bin")
         for i, a in enumerate(areas):
             parts.write("%d,%d,%r,%r,%r\n" % (step, i, a, (i + 1) * e, a))
         with open(raw / "contacts" / ("step_%08d.csv" % step), "w") as f:

@@ -29,10 +29,14 @@ anything starts), and ``raw/done.json`` only if the driver finished.
 
 The driver dies with this process (:mod:`softpack.simulation.driver`):
 SIGINT, SIGTERM, SIGHUP and a closed standard output (``| head``) stop it
-and exit with 128 + the signal number. ``--observables-only``
-recomputes ``series.csv`` and ``particles.csv`` of a finished simulation
-from its raw output and its own ``config.toml`` (edit its [observables]
-section to change the rules).
+and exit with 128 + the signal number
+(:mod:`softpack.simulation.interrupt`).
+
+``--resume DIR`` finishes a killed run from its last state
+(:mod:`softpack.simulation.resume`). ``--observables-only`` recomputes
+``series.csv`` and ``particles.csv`` of a finished simulation from its raw
+output and its own ``config.toml`` (edit its [observables] section to
+change the rules).
 
 Exit status: 0 done, 1 failure (packing, driver, post-processing), 2 bad
 configuration or command line (including an unusable ``--out``), 128 + N
@@ -49,7 +53,6 @@ import shutil
 import signal
 import sys
 import tempfile
-import threading
 import time
 import tomllib
 from pathlib import Path
@@ -60,16 +63,19 @@ from softpack.scene.config import (ConfigError,
 from softpack.simulation import driver
 from softpack.simulation.driver import DRIVER, DriverError
 from softpack.simulation.driver_input import write_driver_json
+from softpack.simulation.interrupt import (Stopped, echo, reclaim_signals,
+                                           silence_stdout, stop_on_signals,
+                                           why)
 from softpack.simulation.progress import Progress, duration as _duration
 
 #: What a run writes into its directory (removed by --force, nothing else).
 RUN_OUTPUTS = ("series.csv", "particles.csv", "raw", "fields.xdmf",
-               "fields.h5", "mesh", "driver.json", "run.log", "config.toml")
+               "fields.h5", "mesh", "driver.json", "run.log", "config.toml",
+               "raw.part", "resume-state.bin", "fields.part.xdmf",
+               "fields.part.h5")
 #: The file that marks a directory as softpack's run directory.
 MARKER = ".softpack-run"
 POLL_SECONDS = 1.0
-#: Signals that stop a run cleanly (the driver with it).
-STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
 
 
 class RunError(RuntimeError):
@@ -78,18 +84,6 @@ class RunError(RuntimeError):
 
 class UsageError(RunError):
     """A mistake on the command line, e.g. an unusable ``--out`` (exit 2)."""
-
-
-class Stopped(BaseException):
-    """The run was stopped by a signal or a closed output.
-
-    A BaseException, like KeyboardInterrupt: nothing between the signal and
-    :func:`main` may swallow it.
-    """
-
-    def __init__(self, signum: int, why: str):
-        super().__init__(why)
-        self.signum = signum
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -119,6 +113,11 @@ def _parser() -> argparse.ArgumentParser:
                    " (DIR/raw/state.bin: its last output step) instead of"
                    " from rest; the config must give the same packing and"
                    " mesh (sizes are checked), other settings may differ")
+    p.add_argument("--resume", type=Path, metavar="DIR",
+                   help="finish the killed run in DIR from its last state"
+                   " (DIR/raw/state.bin, written at every output step)"
+                   " with DIR's own config.toml; the series is the one an"
+                   " uninterrupted run would have written")
     p.add_argument("--observables-only", action="store_true",
                    help="only recompute series.csv and particles.csv from"
                    " DIR's raw output and DIR/config.toml")
@@ -128,6 +127,17 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     """Entry point of ``./softpack run``; returns the exit status."""
     args = _parser().parse_args(argv)
+    if args.resume is not None:
+        if args.config or args.out or args.settings or args.from_state:
+            print("softpack run: --resume DIR takes DIR's own config.toml:"
+                  " no CONFIG, --out, --set or --from-state with it",
+                  file=sys.stderr)
+            return 2
+        if not is_run_directory(args.resume):
+            print(f"softpack run: --resume {args.resume}: not a softpack"
+                  " run directory", file=sys.stderr)
+            return 2
+        args.out, args.config = args.resume, args.resume / "config.toml"
     path = args.config or _default_config()
     overrides = {}
     if args.seed is not None:
@@ -143,10 +153,12 @@ def main(argv=None) -> int:
     # Absolute: the driver runs with the run directory as its cwd.
     out = Path(os.path.abspath(
         args.out or default_out_dir(config, args.friction is not None)))
-    previous = _stop_on_signals()
+    previous = stop_on_signals()
     try:
         if args.observables_only:
             return _postprocess(out, None)
+        if args.resume is not None:
+            return resume(config, out)
         return run(config, out, force=args.force,
                    initial_state=args.from_state)
     except UsageError as err:
@@ -158,77 +170,13 @@ def main(argv=None) -> int:
     except (KeyboardInterrupt, Stopped) as err:
         signum = getattr(err, "signum", signal.SIGINT)
         if signum == signal.SIGPIPE:  # nowhere to print; no exit traceback
-            _silence_stdout()
-        print(f"\nsoftpack run: stopped ({_why(err)}); the driver was"
+            silence_stdout()
+        print(f"\nsoftpack run: stopped ({why(err)}); the driver was"
               " stopped and no series.csv written", file=sys.stderr)
         return 128 + int(signum)
     finally:
         for signum, handler in previous.items():
             signal.signal(signum, handler)
-
-
-def _stop_on_signals() -> dict:
-    """Turn SIGTERM and SIGHUP into :class:`Stopped`; previous handlers.
-
-    Only the main thread may install handlers: elsewhere (the Python API in
-    a worker thread) nothing is installed.
-    """
-    def stop(signum, frame):
-        raise Stopped(signum, signal.Signals(signum).name)
-
-    previous = {}
-    try:
-        for signum in STOP_SIGNALS:
-            previous[signum] = signal.signal(signum, stop)
-    except ValueError:  # not the main thread
-        pass
-    return previous
-
-
-def _reclaim_signals() -> None:
-    """Give the signals back to Python after the mesher's imports.
-
-    PETSc (imported with dolfinx) installs C handlers, e.g. for SIGPIPE,
-    that exit at once (status 59) without stopping the driver. Python's own
-    record of the handlers is unchanged, so installing it again restores
-    them: SIGPIPE ignored (a closed output raises BrokenPipeError),
-    SIGINT, SIGTERM, SIGHUP as set by :func:`main`.
-    """
-    if threading.current_thread() is not threading.main_thread():
-        return
-    for signum in (signal.SIGINT, signal.SIGPIPE, *STOP_SIGNALS):
-        handler = signal.getsignal(signum)
-        if handler is not None:
-            signal.signal(signum, handler)
-
-
-def _why(err) -> str:
-    """What stopped the run, for the message."""
-    return "Ctrl-C" if isinstance(err, KeyboardInterrupt) else str(err)
-
-
-def _silence_stdout() -> None:
-    """Point a closed standard output at /dev/null (no flush error at exit)."""
-    try:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-        os.close(devnull)
-    except (OSError, ValueError):
-        pass
-
-
-def echo(text="", end="\n") -> None:
-    """Print to standard output; a closed output stops the run.
-
-    Raises
-    ------
-    Stopped
-        With SIGPIPE when the reader has gone (``./softpack run | head``).
-    """
-    try:
-        print(text, end=end, flush=True)
-    except BrokenPipeError:
-        raise Stopped(signal.SIGPIPE, "standard output closed") from None
 
 
 def _parse_settings(settings) -> dict:
@@ -386,9 +334,51 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
             return _run_logged(config, out, initial_state, log, say)
         except (KeyboardInterrupt, Stopped) as err:
             log.write(f"[softpack run {time.strftime('%H:%M:%S')}] stopped"
-                      f" ({_why(err)}): the driver was stopped; no"
+                      f" ({why(err)}): the driver was stopped; no"
                       " series.csv\n")
             raise
+
+
+def resume(config, out: Path, verbose=True) -> int:
+    """Finish the killed run in ``out`` (:mod:`softpack.simulation.resume`).
+
+    Raises
+    ------
+    RunError
+        UsageError when ``out`` is not a run directory.
+    """
+    from softpack.simulation.resume import finish_resume, prepare_resume
+
+    out = Path(os.path.abspath(out))
+    if not is_run_directory(out):
+        raise UsageError(f"--resume {out}: not a softpack run directory")
+    driver_executable()
+    step = prepare_resume(out, config, RunError)
+    with open(out / "run.log", "a", buffering=1) as log:
+        say = _reporter(log, verbose)
+        try:
+            say(f"resuming {out} from its state at step {step}")
+            _drive(config, out, log, say)
+            finish_resume(out)
+            return _postprocess(out, say)
+        except (KeyboardInterrupt, Stopped) as err:
+            log.write(f"[softpack run {time.strftime('%H:%M:%S')}] stopped"
+                      f" ({why(err)}): the driver was stopped; no"
+                      " series.csv (resume again)\n")
+            raise
+
+
+def _drive(config, out, log, say) -> None:
+    """Run the driver on ``out/driver.json``; RunError if it fails."""
+    say(f"{DRIVER} {out / 'driver.json'}")
+    started = time.time()
+    status = _simulate(out, config, log, echo if say.verbose else None)
+    if status != 0:
+        say(f"{DRIVER} failed with exit status {status}")
+        raise RunError(f"{DRIVER} failed (exit status {status});"
+                       f" last lines of {out / 'run.log'}:\n"
+                       + _tail(out / "run.log"))
+    say(f"{DRIVER} done in {_duration(time.time() - started)}")
 
 
 def _run_logged(config, out, initial_state, log, say) -> int:
@@ -401,7 +391,7 @@ def _run_logged(config, out, initial_state, log, say) -> int:
         scene = build_scene(config, out / "mesh" / "packing")
     except PackingError as err:
         raise RunError(f"packing: {err}") from None
-    _reclaim_signals()
+    reclaim_signals()
     phi0 = scene.packing.packing_fraction
     say(f"packing: {scene.packing.n_particles} particles, seed"
         f" {config['packing']['seed']}, Phi0 = {phi0:.4f}; mesh:"
@@ -409,15 +399,7 @@ def _run_logged(config, out, initial_state, log, say) -> int:
     write_driver_json(config, scene.record(), out, initial_state)
     if initial_state is not None:
         say(f"starting from {initial_state}")
-    say(f"{DRIVER} {out / 'driver.json'}")
-    started = time.time()
-    status = _simulate(out, config, log, echo if say.verbose else None)
-    if status != 0:
-        say(f"{DRIVER} failed with exit status {status}")
-        raise RunError(f"{DRIVER} failed (exit status {status});"
-                       f" last lines of {out / 'run.log'}:\n"
-                       + _tail(out / "run.log"))
-    say(f"{DRIVER} done in {_duration(time.time() - started)}")
+    _drive(config, out, log, say)
     return _postprocess(out, say)
 
 
@@ -455,7 +437,8 @@ def _simulate(out, config, log, show) -> int:
 def _tail(path: Path, lines=20) -> str:
     """The last lines of a text file."""
     try:
-        return "\n".join(path.read_text(errors="replace").splitlines()[-lines:])
+        text = path.read_text(errors="replace")
+        return "\n".join(text.splitlines()[-lines:])
     except OSError:
         return "(no log)"
 

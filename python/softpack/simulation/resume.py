@@ -1,0 +1,198 @@
+"""``./softpack run --resume DIR``: finish a run that was killed.
+
+A run writes ``raw/state.bin`` at every output step (atomically: the
+driver writes a temporary file and renames it), so a killed run can go on
+from its last output step. The driver, started from a state, writes its raw
+output afresh from the state's step on (``raw/steps.csv`` and
+``raw/particles.csv`` truncated, ``raw/contacts/`` per step); so this
+module keeps what the killed run wrote in ``raw.part/`` and merges it with
+the new output afterwards:
+
+- rows and files of steps up to and including the state's step come from
+  the killed run (its row at that step holds the contact forces averaged
+  over the interval before it; the resumed driver's first row has none);
+- later ones from the resumed driver; its ``seconds`` column is shifted
+  by the seconds the killed run had spent, so that it keeps growing;
+- ``raw/setup.json`` is the original run's; ``raw/done.json``,
+  ``raw/state.bin`` the resumed driver's.
+
+``[stop] steps`` counts from the state's step in the driver, so the
+resumed driver is given the steps left. A resumed run killed again is
+resumed the same way (``raw.part/`` then first takes in what the previous
+resumption wrote). The mesh and driver.json of the run are reused (only
+``initial_state`` and ``stop.steps`` change); fields.xdmf/h5 of the
+killed part are kept as ``fields.part.xdmf``/``.h5`` (the driver rewrites
+the field files from the state's step on).
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import struct
+from pathlib import Path
+
+PART = "raw.part"
+#: Per-step files of the raw output: ``DIR/step_NNNNNNNN.*``.
+STEP_DIRS = ("contacts", "failed_contact_problems")
+
+
+def prepare_resume(out: Path, config, run_error) -> int:
+    """Set ``out`` up for the driver to go on; the state's step.
+
+    Parameters
+    ----------
+    out : Path
+        A killed run's directory.
+    config : Config
+        Its configuration (``out/config.toml``).
+    run_error : type
+        The exception class to raise (RunError), with a message.
+    """
+    raw, part = out / "raw", out / PART
+    if (out / "series.csv").exists():
+        raise run_error(f"--resume {out}: holds a complete run (series.csv);"
+                        " nothing to resume")
+    if (raw / "done.json").exists():
+        raise run_error(f"--resume {out}: the simulation finished (raw/"
+                        "done.json); recompute its observables with"
+                        f" ./softpack run --observables-only --out {out}")
+    if part.is_dir() and raw.is_dir():  # killed again while resuming
+        if (raw / "steps.csv").is_file() and _rows(raw / "steps.csv")[1]:
+            merge_raw(part, raw)
+        shutil.rmtree(raw)
+    elif raw.is_dir():
+        raw.rename(part)
+    if not (part / "state.bin").is_file():
+        raise run_error(f"--resume {out}: no raw/state.bin to resume from"
+                        " (the run was killed before its first output step,"
+                        " or [output] state = false); start it again")
+    state = out / "resume-state.bin"
+    shutil.copyfile(part / "state.bin", state)
+    try:
+        step = state_step(state)
+    except ValueError as err:
+        raise run_error(f"--resume {out}: {err}") from None
+    for suffix in ("xdmf", "h5"):
+        fields = out / f"fields.{suffix}"
+        if fields.exists() and not (out / f"fields.part.{suffix}").exists():
+            fields.rename(out / f"fields.part.{suffix}")
+    doc = json.loads((out / "driver.json").read_text())
+    if config["stop"]["steps"] > 0:  # the driver counts from the state
+        doc["stop"]["steps"] = max(config["stop"]["steps"] - step, 1)
+    doc["initial_state"] = str(state)
+    (out / "driver.json").write_text(json.dumps(doc, indent=2) + "\n")
+    return step
+
+
+def state_step(path: Path) -> int:
+    """The step of a state file (driver/io/state_file.h: the 16-byte magic
+    ``softpack-state-1``, three int64 counts, the time, the int64 step)."""
+    with open(path, "rb") as f:
+        head = f.read(56)
+    if len(head) < 56 or head[:15] != b"softpack-state-":
+        raise ValueError(f"{path}: not a softpack state file")
+    return struct.unpack("<q", head[48:56])[0]
+
+
+def finish_resume(out: Path) -> None:
+    """Merge the killed part into the resumed output; tidy up."""
+    part = out / PART
+    merge_raw(part, out / "raw", into_new=True)
+    shutil.rmtree(part)
+    (out / "resume-state.bin").unlink(missing_ok=True)
+
+
+def merge_raw(old: Path, new: Path, into_new=False) -> None:
+    """Merge two raw outputs of one run; ``new`` starts at a state's step.
+
+    Without ``into_new`` the result goes into ``old`` (a resumption killed
+    again: what it wrote joins the killed part); with it, into ``new``.
+    """
+    header, new_rows = _rows(new / "steps.csv")
+    step = header.index("step")
+    first = int(new_rows[0][step]) if new_rows else None
+    target = new if into_new else old
+    for name, shift in (("steps.csv", "seconds"), ("particles.csv", None)):
+        _merge_table(old / name, new / name, target / name, first, shift)
+    for sub in STEP_DIRS:
+        _merge_step_files(old / sub, new / sub, target / sub, first)
+    if into_new:
+        shutil.copyfile(old / "setup.json", new / "setup.json")
+    else:
+        for name in ("state.bin", "done.json"):
+            if (new / name).exists():
+                shutil.copyfile(new / name, old / name)
+
+
+def _merge_table(old: Path, new: Path, target: Path, first, shift):
+    """Rows of ``old`` up to ``first`` (included), then ``new``'s after it.
+
+    ``shift``: a column of ``new`` to offset by ``old``'s value at
+    ``first`` (the driver's seconds restart at zero).
+    """
+    header, old_rows = _rows(old)
+    new_header, new_rows = _rows(new)
+    if new_rows and new_header != header:
+        raise ValueError(f"{new}: columns differ from {old}: not the same"
+                         " run")
+    step = header.index("step")
+    keep = [r for r in old_rows
+            if first is None or int(r[step]) <= first]
+    offset = 0.0
+    if shift in header and keep:
+        column = header.index(shift)
+        at_first = [r for r in keep if int(r[step]) == first]
+        offset = float((at_first or keep)[-1][column])
+    later = [list(r) for r in new_rows if int(r[step]) > (first or -1)]
+    if shift in header and offset:
+        column = header.index(shift)
+        for r in later:
+            r[column] = repr(float(r[column]) + offset)
+    tmp = target.with_name(target.name + ".tmp")
+    with open(tmp, "w") as f:
+        f.write(",".join(header) + "\n")
+        for r in keep + later:
+            f.write(",".join(r) + "\n")
+    tmp.replace(target)
+
+
+def _merge_step_files(old: Path, new: Path, target: Path, first) -> None:
+    """Per-step files: ``old``'s up to ``first`` (included), then ``new``'s."""
+    if not old.is_dir() and not new.is_dir():
+        return
+    target.mkdir(parents=True, exist_ok=True)
+    for source, wanted in ((old, lambda s: first is None or s <= first),
+                           (new, lambda s: first is not None and s > first)):
+        if not source.is_dir() or source == target:
+            continue
+        for path in source.iterdir():
+            s = _step_of(path)
+            if s is not None and wanted(s):
+                shutil.copyfile(path, target / path.name)
+    if target == new and first is not None:  # new's own files up to first
+        for path in new.iterdir():
+            s = _step_of(path)
+            if s is not None and s <= first and not (old / path.name).exists():
+                path.unlink()
+
+
+def _step_of(path: Path):
+    """The step of ``step_NNNNNNNN.*``, or None."""
+    stem = path.name.split(".")[0]
+    if stem.startswith("step_") and stem[5:].isdigit():
+        return int(stem[5:])
+    return None
+
+
+def _rows(path: Path):
+    """Header and complete rows (lists of fields) of a CSV file."""
+    try:
+        lines = path.read_text().splitlines()
+    except OSError:
+        return [], []
+    if not lines:
+        return [], []
+    header = lines[0].split(",")
+    rows = [line.split(",") for line in lines[1:]]
+    return header, [r for r in rows if len(r) == len(header)]
