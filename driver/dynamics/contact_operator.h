@@ -47,6 +47,17 @@ public:
     return _wall_velocity[a];
   }
 
+  /// Set contact a's wall velocity (a servo wall's changes within a step:
+  /// its free velocity for the contact solves, its mid-step one for the
+  /// energy accounts).
+  /// @param[in] a Contact index (a wall contact)
+  /// @param[in] velocity The wall's velocity (global x, y)
+  void set_wall_velocity(std::size_t a, const std::array<double, 2>& velocity)
+  {
+    _wall_velocity[a] =
+        _frames[a].transpose() * Eigen::Vector2d(velocity[0], velocity[1]);
+  }
+
   /// \f$U = H^T v - U_{wall}\f$, 2 per contact (n, t)
   /// @param[in] bodies Bodies (node maps)
   /// @param[in] v Global velocity vector

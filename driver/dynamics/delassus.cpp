@@ -17,7 +17,8 @@ struct BodyShare
 contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
                                        const ContactOperator& H,
                                        const EffectiveStiffness& Kbar,
-                                       double drop_tolerance)
+                                       double drop_tolerance,
+                                       std::span<const WallCoupling> walls)
 {
   std::vector<std::vector<BodyShare>> shares(bodies.num_bodies());
   for (std::size_t a = 0; a < H.size(); ++a)
@@ -77,6 +78,11 @@ contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
                         H.frame(sb.contact));
       }
   }
+  for (const WallCoupling& wall : walls)
+    for (std::size_t i = 0; i < wall.contacts.size(); ++i)
+      for (std::size_t j = 0; j < wall.contacts.size(); ++j)
+        W.add_block(wall.contacts[i], wall.contacts[j],
+                    wall.inverse_mass * wall.g[i] * wall.g[j].transpose());
   W.finalize();
   return W;
 }

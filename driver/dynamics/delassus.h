@@ -7,6 +7,18 @@
 namespace softpack::dynamics
 {
 
+/// The compliance a servo wall adds to W: the wall is a rigid body with one
+/// DOF along its normal n, so contact c's relative velocity gains
+/// -g_c V with g_c = frame_c^T n, and V gains -(1/m) sum_d g_d . R_d: block
+/// (c, d) of W gains inverse_mass g_c g_d^T (every pair of the wall's
+/// contacts).
+struct WallCoupling
+{
+  std::vector<std::int32_t> contacts;
+  std::vector<Eigen::Vector2d> g;
+  double inverse_mass = 0;
+};
+
 /// Build the Delassus operator \f$W = H^T \bar K^{-1} H\f$ body by body.
 ///
 /// Only boundary nodes carry contacts. The columns of each body's
@@ -30,10 +42,12 @@ namespace softpack::dynamics
 /// @param[in] Kbar Factorized iteration matrices
 /// @param[in] drop_tolerance Relative size below which an off-diagonal
 /// block is dropped (0: keep all)
+/// @param[in] walls The servo walls' couplings (never dropped)
 /// @return The finalized block-sparse W
 contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
                                        const ContactOperator& H,
                                        const EffectiveStiffness& Kbar,
-                                       double drop_tolerance = 0);
+                                       double drop_tolerance = 0,
+                                       std::span<const WallCoupling> walls = {});
 
 } // namespace softpack::dynamics

@@ -41,13 +41,14 @@ void add_body_terms(EnergyBalance& energy, double h, double theta,
 
 void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
                        const std::vector<Contact>& contacts,
+                       const std::vector<Wall>& walls,
                        std::span<const double> R, std::span<const double> U_mid)
 {
   for (std::size_t a = 0; a < contacts.size(); ++a)
   {
     energy.friction -= R[2 * a + 1] * U_mid[2 * a + 1];
     energy.contact_normal -= R[2 * a] * U_mid[2 * a];
-    if (contacts[a].wall >= 0)
+    if (contacts[a].wall >= 0 && !walls[contacts[a].wall].servo())
       energy.wall_work += R[2 * a] * H.wall_velocity(a)[0] +
                           R[2 * a + 1] * H.wall_velocity(a)[1];
   }

@@ -85,15 +85,19 @@ void add_body_terms(EnergyBalance& energy, double h, double theta,
                     const BodyStep& step);
 
 /// Add the contact terms of one step: the friction and normal dissipation
-/// -R . U_th and the work of the walls R . U_wall (impulses on the
-/// candidates, U_th the relative velocity at th v+ + (1 - th) v-).
+/// -R . U_th and the work of the velocity-controlled walls R . U_wall
+/// (impulses on the candidates, U_th the relative velocity at th v+ + (1 -
+/// th) v-). A servo wall's work is that of its imposed force
+/// (account_servo_walls in servo_walls.h), not counted here.
 /// @param[in,out] energy The accounts
 /// @param[in] H The step's contact operator
 /// @param[in] contacts The step's contacts
+/// @param[in] walls The walls
 /// @param[in] R Impulses, 2 per contact (n, t)
 /// @param[in] U_mid Relative velocities at v_th, 2 per contact (n, t)
 void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
                        const std::vector<Contact>& contacts,
+                       const std::vector<Wall>& walls,
                        std::span<const double> R,
                        std::span<const double> U_mid);
 

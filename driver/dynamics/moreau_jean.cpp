@@ -3,6 +3,7 @@
 #include "moreau_jean.h"
 
 #include "delassus.h"
+#include "servo_walls.h"
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -77,6 +78,7 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
 {
   _bodies.internal_force(_f_int);
   _energy.strain0 = _bodies.strain_energy();
+  link_walls(_walls);
 }
 
 void MoreauJean::set_external_force(std::vector<double> f)
@@ -119,6 +121,8 @@ struct MoreauJean::StepContacts
   std::vector<double> shift;
   /// Local nodes of each body that carry a contact term (unique)
   std::vector<std::vector<std::int32_t>> contact_nodes;
+  /// The servo walls: their free velocity in H, their coupling in W
+  ServoWalls servo;
   std::size_t size() const { return H.size(); }
 };
 
@@ -157,6 +161,8 @@ MoreauJean::prepare_contacts(const std::vector<double>& u_old,
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
   }
+  // After the shift: U_n- is at the walls' start velocity.
+  sc.servo = start_servo_walls(_walls, _contacts, sc.H, h);
   _R = _history.warm_start(_contacts);
   return sc;
 }
@@ -173,7 +179,8 @@ MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
   {
     const auto t0 = clock::now();
     problem.W = build_delassus(_bodies, sc.H, _kbar,
-                               _options.contact.delassus_drop_tolerance);
+                               _options.contact.delassus_drop_tolerance,
+                               sc.servo.couplings);
     report.seconds.delassus += seconds_since(t0);
   }
   return problem;
@@ -209,7 +216,8 @@ void MoreauJean::refactorize(const StepContacts& sc,
   {
     t0 = clock::now();
     problem.W = build_delassus(_bodies, sc.H, _kbar,
-                               _options.contact.delassus_drop_tolerance);
+                               _options.contact.delassus_drop_tolerance,
+                               sc.servo.couplings);
     report.seconds.delassus += seconds_since(t0);
   }
 }
@@ -391,14 +399,15 @@ StepReport MoreauJean::step()
   if (!_started)
   {
     // Initial velocities are set between construction and the first step.
-    _energy.kinetic0 = kinetic_energy(_kbar, gather(_v));
+    _energy.kinetic0 =
+        kinetic_energy(_kbar, gather(_v)) + walls_kinetic_energy(_walls);
     _started = true;
   }
   StepReport report;
   auto t0 = clock::now();
   const std::span<const double> u = _bodies.displacement();
   std::vector<double> u_old(u.begin(), u.end()), v_old = _v;
-  const StepContacts sc = prepare_contacts(u_old, v_old);
+  StepContacts sc = prepare_contacts(u_old, v_old);
   report.contacts = static_cast<int>(sc.size());
   report.seconds.detection = seconds_since(t0);
   contact::FrictionContactProblem2D problem = prepare_problem(sc, report);
@@ -411,7 +420,7 @@ StepReport MoreauJean::step()
   return report;
 }
 
-void MoreauJean::finish_step(const StepContacts& sc, const StepStart& start,
+void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
                              StepReport& report)
 {
   const double h = _options.time.time_step;
@@ -427,14 +436,16 @@ void MoreauJean::finish_step(const StepContacts& sc, const StepStart& start,
   ++_matrix_age;
   _last_iterations = report.newton_iterations;
   for (Wall& wall : _walls)
-    for (int d = 0; d < 2; ++d)
-      wall.point[d] += h * wall.velocity[d];
+    if (!wall.servo())
+      for (int d = 0; d < 2; ++d)
+        wall.point[d] += h * wall.velocity[d];
+  finish_servo_walls(sc.servo, _walls, _R, h, _options.time.theta);
   t0 = clock::now();
   account_step(sc, start, report);
   report.seconds.solves += seconds_since(t0);
 }
 
-void MoreauJean::account_step(const StepContacts& sc, const StepStart& start,
+void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
                               StepReport& report)
 {
   const double h = _options.time.time_step, th = _options.time.theta;
@@ -457,10 +468,11 @@ void MoreauJean::account_step(const StepContacts& sc, const StepStart& start,
                   .Cv_old = start.Cv_old,
                   .Cv_new = Cv_new,
                   .f_ext = start.f_ext_b});
+  account_servo_walls(sc.servo, _walls, sc.H, _energy, h, th);
   std::vector<double> v_mid(_v.size());
   scatter(v_mid_b, v_mid);
   const std::vector<double> U_mid = sc.H.relative_velocity(_bodies, v_mid);
-  add_contact_terms(_energy, sc.H, _contacts, _R, U_mid);
+  add_contact_terms(_energy, sc.H, _contacts, _walls, _R, U_mid);
   for (std::size_t a = 0; a < sc.size(); ++a)
   {
     const double gap = _contacts[a].gap + h * U_mid[2 * a];

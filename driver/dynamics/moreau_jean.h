@@ -91,6 +91,9 @@ struct SchemeState
   std::vector<double> u, v;
   /// Each wall's current point
   std::vector<std::array<double, 2>> wall_points;
+  /// Each wall's current velocity (a servo wall's is part of the state;
+  /// empty: keep the walls' own)
+  std::vector<std::array<double, 2>> wall_velocities;
   /// Last impulses (warm start) by (candidate body, node, antagonist key)
   std::vector<ImpulseHistory::Entry> reactions;
   /// The energy accounts since the start of the run
@@ -123,7 +126,9 @@ public:
   /// @param[in] walls Walls
   /// @param[in] options Time step, damping, friction, tolerances
   /// @throws std::runtime_error if an option is outside the schema's range
-  /// @throws std::invalid_argument if velocity_scale is not positive
+  /// @throws std::invalid_argument if velocity_scale is not positive, a
+  /// servo wall has no positive mass or a pressure-controlled wall no pair
+  /// of facing walls to measure its length (link_walls)
   MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
              MoreauJeanOptions options);
 
@@ -146,7 +151,9 @@ public:
   /// Energy balance since the start (strain and kinetic energies are
   /// evaluated on demand: they are state functions, not needed to step)
   const EnergyBalance& energy() const;
-  /// The walls (writable: a wall's velocity may be changed between steps)
+  /// The walls (writable: a wall's velocity, control, pressure or force may
+  /// be changed between steps; link_walls(walls()) after changing a
+  /// control)
   std::vector<Wall>& walls() { return _walls; }
   const std::vector<Wall>& walls() const { return _walls; }
   /// Options
@@ -201,10 +208,10 @@ private:
                         const std::vector<double>& v_old,
                         const std::vector<double>& v);
   /// Displacement, internal force, time and walls at the end of the step
-  void finish_step(const StepContacts& sc, const StepStart& start,
+  void finish_step(StepContacts& sc, const StepStart& start,
                    StepReport& report);
   /// The step's energy terms, contact report and impulse history
-  void account_step(const StepContacts& sc, const StepStart& start,
+  void account_step(StepContacts& sc, const StepStart& start,
                     StepReport& report);
   void update_products(const Vectors& v);
   Vectors gather(std::span<const double> global) const;

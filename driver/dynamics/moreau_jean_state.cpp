@@ -13,7 +13,8 @@ const EnergyBalance& MoreauJean::energy() const
   if (_energy_stale)
   {
     _energy.strain = _bodies.strain_energy();
-    _energy.kinetic = kinetic_energy(_kbar, gather(_v));
+    _energy.kinetic =
+        kinetic_energy(_kbar, gather(_v)) + walls_kinetic_energy(_walls);
     if (!_started)
       _energy.kinetic0 = _energy.kinetic;
     _energy_stale = false;
@@ -31,7 +32,10 @@ SchemeState MoreauJean::state() const
   s.u.assign(u.begin(), u.end());
   s.v = _v;
   for (const Wall& w : _walls)
+  {
     s.wall_points.push_back(w.point);
+    s.wall_velocities.push_back(w.velocity);
+  }
   s.reactions = _history.entries();
   s.energy = energy();
   return s;
@@ -51,7 +55,13 @@ void MoreauJean::restore(const SchemeState& s)
   std::copy(s.u.begin(), s.u.end(), u.begin());
   _v = s.v;
   for (std::size_t w = 0; w < _walls.size(); ++w)
+  {
     _walls[w].point = s.wall_points[w];
+    // A servo wall's velocity is state; a velocity wall keeps the one the
+    // run imposes now.
+    if (w < s.wall_velocities.size() && _walls[w].servo())
+      _walls[w].velocity = s.wall_velocities[w];
+  }
   _history.restore(s.reactions);
   _time = s.time;
   _steps = s.steps;

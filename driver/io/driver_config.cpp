@@ -78,6 +78,34 @@ json parse(const std::filesystem::path& path)
   }
 }
 
+/// A wall's control and its imposed pressure or force and mass (the
+/// schema's [walls] keys; the Python config stage checks them together).
+void read_wall_control(const Reader& r, const json& w, const std::string& p,
+                       dynamics::Wall& wall)
+{
+  const std::string control = r.string(w.at("control"), p + ".control");
+  if (control == "pressure")
+    wall.control = dynamics::WallControl::pressure;
+  else if (control == "force")
+    wall.control = dynamics::WallControl::force;
+  else if (control != "velocity")
+    r.fail(p + ".control",
+           "= \"" + control + "\" must be velocity, pressure or force");
+  const std::array<std::pair<const char*, double*>, 3> numbers = {
+      {{"pressure", &wall.pressure},
+       {"force", &wall.force},
+       {"mass", &wall.mass}}};
+  for (const auto& [key, value] : numbers)
+  {
+    const json& v = w.at(key);
+    if (!v.is_number() || !std::isfinite(v.get<double>()))
+      r.fail(p + "." + key, "= " + v.dump() + " must be a finite number");
+    *value = v.get<double>();
+  }
+  if (wall.servo() && !(wall.mass > 0))
+    r.fail(p + ".mass", "must be > 0 for a wall under control " + control);
+}
+
 std::vector<dynamics::Wall> read_walls(const Reader& r, const json& walls)
 {
   if (!walls.is_array() || walls.empty())
@@ -87,11 +115,14 @@ std::vector<dynamics::Wall> read_walls(const Reader& r, const json& walls)
   {
     const std::string p = "walls[" + std::to_string(i) + "]";
     const json& w = walls[i];
-    r.keys(w, p, {"name", "point", "normal", "velocity"});
+    r.keys(w, p,
+           {"name", "point", "normal", "velocity", "control", "pressure",
+            "force", "mass"});
     dynamics::Wall wall{r.string(w.at("name"), p + ".name"),
                         r.pair(w.at("point"), p + ".point"),
                         r.pair(w.at("normal"), p + ".normal"),
                         r.pair(w.at("velocity"), p + ".velocity")};
+    read_wall_control(r, w, p, wall);
     const double len = std::hypot(wall.normal[0], wall.normal[1]);
     if (!(len > 0) || !std::isfinite(len))
       r.fail(p + ".normal", "must be a nonzero vector");
@@ -108,8 +139,10 @@ std::vector<dynamics::Wall> read_walls(const Reader& r, const json& walls)
 /// stage's record, kept for raw/setup.json.
 void read_scene(const Reader& r, const json& scene, DriverConfig& c)
 {
-  r.keys(scene, "scene",
-         {"model", "box", "packing", "species", "mesh", "bodies"});
+  // The scene stage's sections (named by the schema) and the bodies.
+  std::vector<std::string> keys = parameters::scene_sections;
+  keys.push_back("bodies");
+  r.keys(scene, "scene", keys);
   const json& box = scene.at("box");
   if (!box.is_object() || !box.contains("enabled") ||
       !box.at("enabled").is_boolean())
@@ -162,9 +195,11 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
 {
   const json doc = parse(path);
   const Reader r(path.string());
-  r.keys(doc, "",
-         {"schema_version", "directory", "initial_state", "scene", "material",
-          "walls", "stop", "contact", "time", "damping", "output"});
+  std::vector<std::string> keys = {"schema_version", "directory",
+                                   "initial_state", "scene"};
+  keys.insert(keys.end(), parameters::driver_sections.begin(),
+              parameters::driver_sections.end());
+  r.keys(doc, "", keys);
   const json& version = doc.at("schema_version");
   if (version != parameters::schema_version)
     r.fail("schema_version", "= " + version.dump() +

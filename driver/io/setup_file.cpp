@@ -9,6 +9,19 @@ namespace
 {
 using json = nlohmann::json;
 
+const char* control_name(dynamics::WallControl control)
+{
+  switch (control)
+  {
+  case dynamics::WallControl::pressure:
+    return "pressure";
+  case dynamics::WallControl::force:
+    return "force";
+  default:
+    return "velocity";
+  }
+}
+
 json walls_json(const std::vector<dynamics::Wall>& walls)
 {
   json out = json::array();
@@ -16,7 +29,11 @@ json walls_json(const std::vector<dynamics::Wall>& walls)
     out.push_back({{"name", w.name},
                    {"point", w.point},
                    {"normal", w.normal},
-                   {"velocity", w.velocity}});
+                   {"velocity", w.velocity},
+                   {"control", control_name(w.control)},
+                   {"pressure", w.pressure},
+                   {"force", w.force},
+                   {"mass", w.mass}});
   return out;
 }
 

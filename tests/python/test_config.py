@@ -231,8 +231,10 @@ def test_box_walls_come_first_then_the_files_order():
     c = validate({"walls": {"lid": {"point": [0, 0.1], "normal": [0, -1]},
                             "right": {"velocity": [-0.1, 0]}}}, "a.toml")
     assert list(c["walls"]) == ["left", "right", "bottom", "top", "lid"]
-    assert c["walls"]["top"] == {"point": [0.0, 0.202], "normal": [0.0, -1.0],
-                                 "velocity": [0.0, 0.0]}
+    top = c["walls"]["top"]
+    assert {k: top[k] for k in ("point", "normal", "velocity")} == {
+        "point": [0.0, 0.202], "normal": [0.0, -1.0], "velocity": [0.0, 0.0]}
+    assert top["control"] == "velocity"
 
 
 def test_unreadable_and_invalid_files(tmp_path):

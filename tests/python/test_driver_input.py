@@ -61,7 +61,11 @@ def test_the_paper_box_and_its_piston(paper_document):
     assert [w["name"] for w in doc["walls"]] == list(BOX_WALLS)
     walls = {w["name"]: w for w in doc["walls"]}
     assert walls["right"] == {"name": "right", "point": [0.286, 0.0],
-                              "normal": [-1.0, 0.0], "velocity": [-0.1, 0.0]}
+                              "normal": [-1.0, 0.0], "velocity": [-0.1, 0.0],
+                              "control": "velocity", "pressure": 0.0,
+                              "force": 0.0, "mass": walls["right"]["mass"]}
+    # the particles' mass per unit length: density x their area
+    assert walls["right"]["mass"] > 0
     assert walls["top"]["point"] == [0.0, 0.202]
     assert walls["left"]["velocity"] == [0.0, 0.0]
     # every box wall's normal points into the box

@@ -396,7 +396,8 @@ def to_toml(config) -> str:
             for wall, values in config[name].items():
                 lines += ["", f"[{name}.{wall}]"]
                 keep = {k: p for k, p in section.parameters.items()
-                        if not (boxed and wall in BOX_WALLS and k != "velocity")}
+                        if not (boxed and wall in BOX_WALLS
+                                and k in ("point", "normal"))}
                 entries(name, values, keep)
         else:
             lines += ["", f"[{name}]"]

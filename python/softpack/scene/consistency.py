@@ -16,7 +16,8 @@ from softpack.scene.mesh import MIN_BOUNDARY_ELEMENTS
 from softpack.scene.packing import HEXAGONAL_FRACTION
 from softpack.scene import species as species_sizes
 from softpack.scene.species import present, total_area
-from softpack.scene.walls import scene_walls, fastest
+from softpack.scene.walls import (scene_walls, fastest, check_controls,
+                                  derive_masses)
 #: The Newton tolerance over the contact solver's: at least this.
 NEWTON_OVER_NLGS = 10.0
 
@@ -26,10 +27,13 @@ class Inconsistent(ValueError):
 
 
 def derive(sections) -> None:
-    """Fill ``stop.max_time`` and ``contact.delassus_drop_tolerance``."""
+    """Fill ``stop.max_time``, ``contact.delassus_drop_tolerance`` and the
+    walls' ``mass`` (the particles' total mass per unit length)."""
     contact = sections["contact"]
     if contact["delassus_drop_tolerance"] is None:
         contact["delassus_drop_tolerance"] = 1e-3 * contact["nlgs_tolerance"]
+    derive_masses(sections["walls"], sections["material"]["density"]
+                  * total_area(sections["species"]))
     stop = sections["stop"]
     if stop["max_time"] is None:
         wall = fastest(scene_walls(sections))
@@ -53,6 +57,10 @@ def check(sections) -> None:
     """Refuse what does not fit together (see the module doc)."""
     _check_particles(sections)
     _check_box(sections)
+    try:
+        check_controls(sections["walls"], sections["box"]["enabled"])
+    except ValueError as err:
+        raise Inconsistent(str(err)) from None
     _check_solvers(sections)
 
 

@@ -25,6 +25,11 @@ from softpack.scene.schema import load_schema, schema_version
 NAME = "driver.json"
 
 
+def _plain(value):
+    """A tuple or list as a list, anything else as it is (JSON-ready)."""
+    return list(value) if isinstance(value, (list, tuple)) else value
+
+
 def driver_document(config, scene_record: dict, directory,
                     initial_state=None) -> dict:
     """The driver.json document (not written).
@@ -50,8 +55,8 @@ def driver_document(config, scene_record: dict, directory,
         if section.stage != "driver":
             continue
         if section.is_map:
-            document[name] = [{"name": wall, **{k: list(values[k]) for k in
-                                                section.parameters}}
+            document[name] = [{"name": wall, **{k: _plain(values[k]) for k
+                                                in section.parameters}}
                               for wall, values in config[name].items()]
         else:
             document[name] = json.loads(json.dumps(config[name]))
