@@ -1,0 +1,88 @@
+"""The assembly's stress (softpack.analysis.stress) on configurations whose
+stress is known by hand: a particle squeezed by four walls (the boundary,
+Love-Weber and wall-total estimates all give F / H), a pair in contact (the
+branch vector does not depend on which one is the candidate), centroids of
+a known shape, and P and q of a known tensor."""
+
+import numpy as np
+import pytest
+
+from softpack.analysis import stress
+
+
+def contacts(rows):
+    """A raw/contacts table from (candidate, node, antagonist, wall, fx, fy)."""
+    a = np.array(rows, dtype=float).reshape(-1, 6)
+    return {"candidate": a[:, 0].astype(int), "node": a[:, 1].astype(int),
+            "antagonist": a[:, 2].astype(int), "wall": a[:, 3].astype(int),
+            "fx": a[:, 4], "fy": a[:, 5]}
+
+
+def squeezed_particle(F, G, half=1.0):
+    """One particle at the origin touching the walls of [-half, half]^2 at
+    its four nodes; the walls push it with F (along x) and G (along y)."""
+    nodes = np.array([[half, 0], [0, half], [-half, 0], [0, -half]])
+    geometry = stress.Geometry(centres=np.zeros((1, 2)), current=nodes,
+                               nodes=[np.arange(4)])
+    # walls: 0 left, 1 right, 2 bottom, 3 top (the box order)
+    table = contacts([(0, 0, -1, 1, -F, 0), (0, 1, -1, 3, 0, -G),
+                      (0, 2, -1, 0, F, 0), (0, 3, -1, 2, 0, G)])
+    return geometry, table
+
+
+def test_a_squeezed_particle_gives_the_wall_pressures():
+    F, G, half = 30.0, 12.0, 0.5
+    geometry, table = squeezed_particle(F, G, half)
+    area = (2 * half) ** 2
+    expected = np.diag([F / (2 * half), G / (2 * half)])
+    np.testing.assert_allclose(stress.love_weber(table, geometry, area),
+                               expected, rtol=1e-14)
+    np.testing.assert_allclose(stress.boundary_stress(table, geometry, area),
+                               expected, rtol=1e-14)
+    steps = {"left_x": np.array([-half]), "right_x": np.array([half]),
+             "bottom_y": np.array([-half]), "top_y": np.array([half]),
+             "left_fx": np.array([-F]), "left_fy": np.zeros(1),
+             "right_fx": np.array([F]), "right_fy": np.zeros(1),
+             "bottom_fx": np.zeros(1), "bottom_fy": np.array([-G]),
+             "top_fx": np.zeros(1), "top_fy": np.array([G])}
+    totals = stress.wall_totals_stress(steps)
+    assert totals["xx"][0] == pytest.approx(F / (2 * half))
+    assert totals["yy"][0] == pytest.approx(G / (2 * half))
+    own = stress.wall_normal_stresses(steps)
+    assert own["left_stress"][0] == pytest.approx(F / (2 * half))
+    assert own["top_stress"][0] == pytest.approx(G / (2 * half))
+
+
+def test_the_branch_vector_does_not_depend_on_the_candidate():
+    # Two particles on the x axis pushing each other apart with force f.
+    geometry = stress.Geometry(centres=np.array([[0.0, 0.0], [1.0, 0.2]]),
+                               current=np.zeros((2, 2)),
+                               nodes=[np.array([0]), np.array([1])])
+    f = np.array([3.0, 0.6])  # along the branch from 0 to 1: compression
+    one = contacts([(1, 0, 0, -1, *f)])
+    other = contacts([(0, 0, 1, -1, *(-f))])
+    s1 = stress.love_weber(one, geometry, 2.0)
+    s2 = stress.love_weber(other, geometry, 2.0)
+    np.testing.assert_allclose(s1, s2, rtol=1e-14)
+    np.testing.assert_allclose(s1, np.outer(f, [1.0, 0.2]) / 2.0)
+    assert np.trace(s1) > 0  # compression positive
+
+
+def test_centroids_and_local_nodes_of_a_square_and_a_triangle():
+    points = np.array([[0, 0], [1, 0], [1, 1], [0, 1],
+                       [2, 0], [3, 0], [2, 3]], dtype=float)
+    cells = np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6]])
+    body = np.array([0, 0, 1])
+    c = stress.centroids(points, cells, body, 2)
+    np.testing.assert_allclose(c, [[0.5, 0.5], [7 / 3, 1.0]])
+    nodes = stress.particle_nodes(cells, body, 2)
+    assert [list(n) for n in nodes] == [[0, 1, 2, 3], [4, 5, 6]]
+
+
+def test_pressure_and_deviator_of_a_known_tensor():
+    P, q = stress.pressure_deviator(5.0, 1.0, 1.5, 1.5)
+    assert P == pytest.approx(3.0)
+    assert q == pytest.approx(np.hypot(2.0, 1.5))
+    # a pure pressure has no deviator
+    P, q = stress.pressure_deviator(2.0, 2.0, 0.0, 0.0)
+    assert (P, q) == (2.0, 0.0)

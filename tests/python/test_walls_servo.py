@@ -1,0 +1,100 @@
+"""Servo walls from the TOML file to the driver (issue 12).
+
+Validation: a wall driven two ways, a pressure on a wall with no length, an
+unknown control and out-of-range values are refused naming the key; the
+walls' mass is derived from the particles. End to end on the 14-disk case
+(examples/isotropic_small.toml: right and top walls at 4 kPa, left and
+bottom fixed): once the assembly is at rest each servo wall holds its
+pressure within 1 %, the boundary and Love-Weber stresses agree within a
+few %, and the energy balance closes with the work of the imposed pressure.
+"""
+
+import os
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from softpack.analysis.stress import NAME, write_stress
+from softpack.analysis.tables import read_table
+from softpack.scene import config as cfg
+from softpack.scene.species import total_area
+from softpack.simulation.run import RunError, driver_executable, run
+
+ROOT = Path(os.environ.get("SOFTPACK_ROOT",
+                           Path(__file__).resolve().parents[2]))
+TARGET = 4000.0  # examples/isotropic_small.toml's pressure (Pa)
+
+
+@pytest.mark.parametrize("walls, key", [
+    ({"right": {"control": "pressure", "pressure": 1e3,
+                "velocity": [-0.1, 0]}}, r"\[walls.right\] velocity"),
+    ({"right": {"velocity": [-0.1, 0], "pressure": 1e3}},
+     r"\[walls.right\] pressure"),
+    ({"top": {"control": "force", "force": 5.0, "pressure": 1e3}},
+     r"\[walls.top\] pressure"),
+    ({"lid": {"point": [0, 0.1], "normal": [0, -1], "control": "pressure",
+              "pressure": 1e3}}, r"\[walls.lid\] control"),
+    ({"right": {"control": "stress"}}, r"walls.right.*control"),
+    ({"right": {"control": "pressure", "pressure": -5.0}},
+     r"walls.right.*pressure"),
+    ({"right": {"control": "pressure", "pressure": 1e3, "mass": 0.0}},
+     r"walls.right.*mass"),
+])
+def test_bad_wall_controls_are_refused_naming_the_key(walls, key):
+    with pytest.raises(cfg.ConfigError, match=key):
+        cfg.validate({"walls": walls, "stop": {"max_time": 0.1}}, "a.toml")
+
+
+def test_the_walls_mass_is_the_particles_mass():
+    c = cfg.validate({"walls": {"right": {"control": "pressure",
+                                          "pressure": 1e3}},
+                      "stop": {"max_time": 0.1}}, "a.toml")
+    expected = c["material"]["density"] * total_area(c["species"])
+    assert c["walls"]["right"]["mass"] == pytest.approx(expected)
+    assert c["walls"]["right"]["control"] == "pressure"
+    # the resolved TOML (box walls with their control) reloads to the same
+    # walls
+    again = cfg.validate(tomllib.loads(cfg.to_toml(c)), "b.toml")
+    assert again["walls"] == c["walls"]
+
+
+@pytest.fixture(scope="module")
+def servo_run(tmp_path_factory):
+    try:
+        driver_executable()
+    except RunError:
+        pytest.skip("softpack-simulate is not built (run ./softpack test)")
+    out = tmp_path_factory.mktemp("servo") / "run"
+    config = cfg.load_config(ROOT / "examples" / "isotropic_small.toml")
+    assert run(config, out) == 0
+    write_stress(out)
+    return (read_table(out / "raw" / "steps.csv"), read_table(out / NAME))
+
+
+def test_the_servo_walls_hold_their_pressure_at_rest(servo_run):
+    steps, stress = servo_run
+    # At rest: the kinetic energy a ten-thousandth of the work done.
+    assert steps["kinetic_energy"][-1] < 1e-4 * steps["wall_work"][-1]
+    for wall in ("right", "top"):
+        assert stress[f"{wall}_stress"][-1] == pytest.approx(TARGET,
+                                                             rel=1e-2)
+    # both moved in: the box shrank in both directions
+    assert stress["eps_xx"][-1] > 0.01 and stress["eps_yy"][-1] > 0.01
+
+
+def test_wall_and_contact_stresses_agree_at_rest(servo_run):
+    _, stress = servo_run
+    assert stress["difference"][-1] < 0.03
+    assert stress["contact_P"][-1] == pytest.approx(stress["wall_P"][-1],
+                                                    rel=0.03)
+    # with wall friction the mean stress is below the imposed pressure
+    assert 0.5 * TARGET < stress["wall_P"][-1] <= TARGET * 1.01
+
+
+def test_the_energy_balance_counts_the_imposed_work(servo_run):
+    steps, _ = servo_run
+    work = steps["wall_work"][-1]
+    assert work > 0
+    assert abs(steps["energy_residual"][-1]) < 1e-3 * work
