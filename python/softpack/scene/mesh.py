@@ -1,4 +1,4 @@
-"""Meshes of disks with gmsh, written as one dolfinx mesh for the driver.
+"""Meshes of particles with gmsh, written as one dolfinx mesh for the driver.
 
 Every disk is meshed with linear (3-node) triangles of one absolute element
 size h (the paper: h = 1.065 mm for both D1 = 20 mm and D2 = 30 mm, about 670
@@ -8,8 +8,8 @@ components; a cell tag gives each triangle's body id.
 Output of :func:`mesh_disks` for a stem ``NAME`` (SI units, metres):
 
 ``NAME.xdmf`` + ``NAME.h5``
-    written by ``dolfinx.io.XDMFFile``: the mesh named ``"mesh"`` and the
-    cell meshtags named ``"bodies"`` whose value is the body id
+    in the layout of ``dolfinx.io.XDMFFile`` (which reads them): the mesh
+    named ``"mesh"`` and the cell meshtags named ``"bodies"`` whose value is the body id
     ``0..n-1`` in the order the disks were given.
 ``NAME.bodies.csv``
     header ``body,x,y,radius,reference_area,angle``, one row per body; the
@@ -265,11 +265,12 @@ def mesh_particles(bodies, centres, angles, out_stem) -> MeshInfo:
         cells.append(t.triangles + offset)
         body.append(np.full(len(t.triangles), i, dtype=np.int32))
         offset += len(t.points)
-    mesh, tags = _dolfinx_mesh(np.vstack(points), np.vstack(cells),
-                               np.concatenate(body))
+    points, cells = np.vstack(points), np.vstack(cells)
+    _check_cells(points, cells)
     rows = [f"{i},{c[0]!r},{c[1]!r},{t.bounding_radius!r},{t.area!r},{a!r}"
             for i, (t, c, a) in enumerate(zip(bodies, centres, angles))]
-    _write_outputs(xdmf, mesh, tags, bodies_csv, rows)
+    _write_outputs(xdmf, (points, cells, np.concatenate(body)), bodies_csv,
+                   rows)
     return MeshInfo(
         xdmf=xdmf, h5=h5, bodies_csv=bodies_csv,
         triangles_per_body=tuple(len(t.triangles) for t in bodies),
@@ -277,45 +278,73 @@ def mesh_particles(bodies, centres, angles, out_stem) -> MeshInfo:
         reference_areas=tuple(float(t.area) for t in bodies))
 
 
-def _dolfinx_mesh(points, cells, body):
-    """One serial dolfinx mesh and its ``"bodies"`` cell tags.
-
-    dolfinx reorders cells; ``original_cell_index`` maps each local cell back
-    to its row in ``cells`` and so to its body id.
-    """
-    import dolfinx.mesh
-    import ufl
-    from mpi4py import MPI
-
-    domain = ufl.Mesh(ufl.VectorElement("Lagrange", ufl.triangle, 1))
-    mesh = dolfinx.mesh.create_mesh(MPI.COMM_SELF, cells.astype(np.int64),
-                                    points, domain)
-    mesh.name = "mesh"
-    original = np.asarray(mesh.topology.original_cell_index)
-    if len(original) != len(cells):
-        raise RuntimeError("dolfinx mesh lost cells")
-    geometry = mesh.geometry.dofmap.array.reshape(-1, 3)
-    if np.any(signed_areas(mesh.geometry.x, geometry) <= 0):
-        raise RuntimeError("dolfinx mesh has non-positively oriented cells")
-    tags = dolfinx.mesh.meshtags(mesh, 2,
-                                 np.arange(len(original), dtype=np.int32),
-                                 body[original].astype(np.int32))
-    tags.name = "bodies"
-    return mesh, tags
+def _check_cells(points, cells) -> None:
+    """Every triangle counter-clockwise (the templates are; a rotation
+    keeps them so)."""
+    if np.any(signed_areas(points, cells) <= 0):
+        raise RuntimeError("mesh has non-positively oriented cells")
 
 
-def _write_outputs(xdmf, mesh, tags, bodies_csv, rows) -> None:
-    """Write mesh, tags and body table into place atomically (see module)."""
-    import dolfinx.io
-    from mpi4py import MPI
+#: The XDMF of the mesh and its "bodies" cell tags, as dolfinx writes them
+#: (dolfinx.io.XDMFFile.write_mesh + write_meshtags) and reads them back.
+XDMF_TEMPLATE = """<?xml version="1.0"?>
+<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>
+<Xdmf Version="3.0" xmlns:xi="http://www.w3.org/2001/XInclude">
+  <Domain>
+    <Grid Name="mesh" GridType="Uniform">
+      <Topology TopologyType="Triangle" NumberOfElements="{cells}" \
+NodesPerElement="3">
+        <DataItem Dimensions="{cells} 3" NumberType="Int" Format="HDF">\
+{h5}:/Mesh/mesh/topology</DataItem>
+      </Topology>
+      <Geometry GeometryType="XY">
+        <DataItem Dimensions="{nodes} 2" Format="HDF">\
+{h5}:/Mesh/mesh/geometry</DataItem>
+      </Geometry>
+    </Grid>
+    <Grid Name="bodies" GridType="Uniform">
+      <xi:include xpointer="xpointer(/Xdmf/Domain/Grid/Geometry)" />
+      <Topology TopologyType="Triangle" NumberOfElements="{cells}" \
+NodesPerElement="3">
+        <DataItem Dimensions="{cells} 3" NumberType="Int" Format="HDF">\
+{h5}:/MeshTags/bodies/topology</DataItem>
+      </Topology>
+      <Attribute Name="bodies" AttributeType="Scalar" Center="Cell">
+        <DataItem Dimensions="{cells} 1" Format="HDF">\
+{h5}:/MeshTags/bodies/Values</DataItem>
+      </Attribute>
+    </Grid>
+  </Domain>
+</Xdmf>
+"""
 
+
+def _write_xdmf(xdmf, points, cells, body) -> None:
+    """The mesh and its cell tags in dolfinx's XDMF layout, written with
+    h5py: dolfinx's own writer first builds a distributed mesh, whose cell
+    reordering takes most of the time for a thousand particles (12 s of
+    16 s); the driver's reader (and tests/python/test_mesh.py) reads this
+    file as it reads dolfinx's."""
+    import h5py
+
+    h5 = xdmf.with_suffix(".h5")
+    with h5py.File(h5, "w") as f:
+        f["Mesh/mesh/geometry"] = np.asarray(points, dtype=np.float64)
+        f["Mesh/mesh/topology"] = np.asarray(cells, dtype=np.int64)
+        f["MeshTags/bodies/topology"] = np.asarray(cells, dtype=np.int64)
+        f["MeshTags/bodies/Values"] = np.asarray(
+            body, dtype=np.int32).reshape(-1, 1)
+    xdmf.write_text(XDMF_TEMPLATE.format(cells=len(cells), nodes=len(points),
+                                         h5=h5.name))
+
+
+def _write_outputs(xdmf, mesh, bodies_csv, rows) -> None:
+    """Write mesh (``(points, cells, body)``), tags and body table into place
+    atomically (see module)."""
     xdmf.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{xdmf.stem}.tmp-", dir=xdmf.parent))
     try:
-        with dolfinx.io.XDMFFile(MPI.COMM_SELF, str(tmp / xdmf.name),
-                                 "w") as f:
-            f.write_mesh(mesh)
-            f.write_meshtags(tags)
+        _write_xdmf(tmp / xdmf.name, *mesh)
         (tmp / bodies_csv.name).write_text(
             "\n".join([BODIES_COLUMNS, *rows]) + "\n")
         bodies_csv.unlink(missing_ok=True)
