@@ -69,10 +69,10 @@ from softpack.simulation.interrupt import (Stopped, echo, reclaim_signals,
 from softpack.simulation.progress import Progress, duration as _duration
 
 #: What a run writes into its directory (removed by --force, nothing else).
-RUN_OUTPUTS = ("series.csv", "particles.csv", "raw", "fields.xdmf",
-               "fields.h5", "mesh", "driver.json", "run.log", "config.toml",
-               "raw.part", "resume-state.bin", "fields.part.xdmf",
-               "fields.part.h5")
+RUN_OUTPUTS = ("series.csv", "particles.csv", "stress.csv", "raw",
+               "fields.xdmf", "fields.h5", "mesh", "driver.json", "run.log",
+               "config.toml", "raw.part", "resume-state.bin",
+               "fields.part.xdmf", "fields.part.h5")
 #: The file that marks a directory as softpack's run directory.
 MARKER = ".softpack-run"
 POLL_SECONDS = 1.0
