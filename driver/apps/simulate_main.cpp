@@ -1,6 +1,7 @@
 // softpack-simulate DRIVER_JSON: run one simulation described by a resolved
 // driver.json (written by `./softpack run`, see docs/contract.md and
 // docs/driver_io.md).
+#include "threads.h"
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <dolfinx/common/log.h>
@@ -29,11 +30,17 @@ MPI_Comm run_communicator()
 
 int main(int argc, char** argv)
 {
+  // Before anything else: OpenMP reads its wait policy when loaded.
+  softpack::apps::ensure_passive_waiting(argv);
   CLI::App app{"Nonsmooth contact dynamics of soft disks (softpack)"};
   std::string config_path;
   bool quiet = false;
   app.add_option("config", config_path, "driver.json")->required();
   app.add_flag("--quiet", quiet, "no progress lines");
+  int threads = 0;
+  app.add_option("--threads", threads,
+                 "OpenMP threads (default 0: one per core this process may "
+                 "use)");
   CLI11_PARSE(app, argc, argv);
 
   MPI_Init(&argc, &argv);
@@ -43,6 +50,7 @@ int main(int argc, char** argv)
   int status = 0;
   try
   {
+    softpack::apps::set_thread_count(threads);
     const MPI_Comm comm = run_communicator();
     const softpack::io::DriverConfig config =
         softpack::io::read_driver_config(config_path);

@@ -323,10 +323,17 @@ def main(argv=None) -> int:
     parser.add_argument("--invariance-from", type=Path, metavar="STATE",
                         help="only compare the defaults and the paper's settings"
                         " from this state (seed 0) to --to-phi")
+    parser.add_argument("--sharing", action="store_true",
+                        help="only time the driver alone, beside a busy"
+                        " process and beside another run (issue 18)")
     parser.add_argument("--to-phi", type=float, default=0.84,
                         help="packing fraction that ends --invariance-from")
     args = parser.parse_args(argv)
     WORK.mkdir(parents=True, exist_ok=True)
+    if args.sharing:
+        from softpack.bench_sharing import bench_sharing
+        return _save(bench_sharing(WORK),
+                     "sharing-" + _now().replace(":", "") + ".json")
     if args.invariance or args.invariance_from:
         if args.invariance_from:
             result = bench_invariance(state=args.invariance_from,
@@ -336,12 +343,8 @@ def main(argv=None) -> int:
         else:
             result = bench_invariance(args.invariance)
             name = "invariance.json"
-        RESULTS.mkdir(parents=True, exist_ok=True)
-        path = RESULTS / name
-        path.write_text(json.dumps(result, indent=2) + "\n")
-        print(json.dumps(result, indent=2))
-        return 0
-    report = {"date": datetime.datetime.now().isoformat(timespec="seconds"),
+        return _save(result, name)
+    report = {"date": _now(),
               "cores": os.cpu_count(), "nlgs": bench_nlgs(),
               "detection": bench_detection(), "paper": bench_paper(args.steps)}
     if args.from_state:
@@ -356,6 +359,19 @@ def main(argv=None) -> int:
     path.write_text(json.dumps(report, indent=2) + "\n")
     print(_table(report))
     print(f"\nwritten: {path}")
+    return 0
+
+
+def _now() -> str:
+    """The date and time, to the second (ISO 8601)."""
+    return datetime.datetime.now().isoformat(timespec="seconds")
+
+
+def _save(result: dict, name: str) -> int:
+    """Write a result under bench/results/ and print it."""
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    (RESULTS / name).write_text(json.dumps(result, indent=2) + "\n")
+    print(json.dumps(result, indent=2))
     return 0
 
 

@@ -1,0 +1,66 @@
+"""Issue 18: the driver's OpenMP threads wait passively unless told otherwise.
+
+libgomp reads OMP_WAIT_POLICY when the program loads, so the driver sets it
+and re-executes itself (driver/apps/threads.h). To see the environment the
+running driver really has, its driver.json is a named pipe: the driver blocks
+opening it, its /proc/PID/environ is read, then the pipe gets a document the
+driver refuses.
+"""
+
+import os
+import subprocess
+import time
+from pathlib import Path
+
+import pytest
+
+from softpack import paths
+
+
+def _driver_environment(tmp_path: Path, env: dict) -> dict:
+    """The environment of a softpack-simulate blocked on its driver.json."""
+    exe = paths.BIN / "softpack-simulate"
+    if not exe.is_file():
+        pytest.skip("softpack-simulate is not built")
+    fifo = tmp_path / "driver.json"
+    os.mkfifo(fifo)
+    proc = subprocess.Popen([str(exe), str(fifo), "--quiet"], env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                            text=True)
+    try:
+        deadline = time.time() + 30
+        while True:  # after the re-execution, the image is the driver again
+            environ = Path(f"/proc/{proc.pid}/environ").read_bytes()
+            if b"OMP_WAIT_POLICY" in environ or time.time() > deadline:
+                break
+            time.sleep(0.05)
+        with open(fifo, "w") as f:  # unblock: an empty object is refused
+            f.write("{}")
+        assert proc.wait(timeout=30) == 1
+        assert "schema_version" in proc.stderr.read()
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    return dict(item.split("=", 1) for item in
+                environ.decode().split("\0") if "=" in item)
+
+
+def test_driver_waits_passively_by_default(tmp_path):
+    env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
+    assert _driver_environment(tmp_path, env)["OMP_WAIT_POLICY"] == "PASSIVE"
+
+
+def test_a_users_wait_policy_is_kept(tmp_path):
+    env = dict(os.environ, OMP_WAIT_POLICY="ACTIVE")
+    assert _driver_environment(tmp_path, env)["OMP_WAIT_POLICY"] == "ACTIVE"
+
+
+def test_negative_thread_count_is_refused(tmp_path):
+    exe = paths.BIN / "softpack-simulate"
+    if not exe.is_file():
+        pytest.skip("softpack-simulate is not built")
+    result = subprocess.run([str(exe), "--threads", "-1", "x.json"],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 1
+    assert "--threads -1: must be >= 0" in result.stderr
