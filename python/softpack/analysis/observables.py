@@ -54,6 +54,7 @@ from softpack.analysis.connectivity import (contact_network, contacts_path,
 from softpack.analysis.setup import (PISTON, RunSetup, read_rules,
                                      read_setup)
 from softpack.analysis.strain import cumulative_strain
+from softpack.analysis.stress import write_stress
 from softpack.analysis.tables import read_table, write_table
 
 ENERGY_COLUMNS = ("strain_energy", "kinetic_energy", "wall_work",
@@ -245,7 +246,7 @@ def _particle_rows(step, time, phi, setup, ref, area, psi, net) -> dict:
 
 def process_run(run_dir, setup: RunSetup | None = None,
                 rules=None) -> tuple[Path, Path]:
-    """Write ``particles.csv`` then ``series.csv`` of a run directory.
+    """Write ``particles.csv``, ``stress.csv`` (a box) then ``series.csv``.
 
     ``series.csv`` is renamed into place last, so its presence means the
     post-processing finished.
@@ -278,5 +279,9 @@ def process_run(run_dir, setup: RunSetup | None = None,
                                          setup, rules)
     particles_csv = write_table(run_dir / "particles.csv", table,
                                 PARTICLE_COLUMNS)
+    if setup.has_box:
+        # The assembly's stress (wall and Love-Weber estimates, P, q) in its
+        # own table, before series.csv whose presence means "finished".
+        write_stress(run_dir)
     series_csv = write_table(run_dir / "series.csv", series, SERIES_COLUMNS)
     return series_csv, particles_csv

@@ -93,6 +93,8 @@ TEST(ServoWalls, AForceControlledPlateHoldsItsForceAtRest)
   const auto forces = scheme.wall_forces();
   // At rest the plate's contacts push it back with F; the floor takes F.
   EXPECT_NEAR(forces[1][1] / F, 1.0, 1e-2);
+  std::printf("force-controlled plate: F_contact / F = %.6f\n",
+              forces[1][1] / F);
   EXPECT_NEAR(forces[0][1] / F, -1.0, 1e-2);
   EXPECT_LT(std::abs(scheme.walls()[1].velocity[1]), 1e-4);
   EXPECT_LT(max_speed(scheme), 1e-4);
@@ -119,6 +121,8 @@ TEST(ServoWalls, TwoOrthogonalPressureWallsMeasureTheirLengthsOnEachOther)
   EXPECT_LT(width, 2 * R - 1e-4);
   EXPECT_NEAR(forces[1][0] / (p * height), 1.0, 1e-2);
   EXPECT_NEAR(forces[3][1] / (p * width), 1.0, 1e-2);
+  std::printf("pressure walls: sigma / p = %.6f (right), %.6f (top)\n",
+              forces[1][0] / (height * p), forces[3][1] / (width * p));
   EXPECT_NEAR(dynamics::wall_length(w, 1), height, 1e-15);
   EXPECT_NEAR(dynamics::wall_length(w, 3), width, 1e-15);
   EXPECT_LT(max_speed(scheme), 1e-4);
