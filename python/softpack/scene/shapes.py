@@ -379,7 +379,9 @@ def user_mesh(shape, path, diameter, h):
     said = [line for line in proc.stderr.splitlines() if line.strip()]
     if proc.returncode == CHILD_REFUSED and said:
         raise MeshingError(said[-1])
-    crash = [line for line in said if "rror" in line or "terminate" in line]
+    # gmsh's own messages (General.Terminal = 1 in the child) say why
+    crash = [line.strip() for line in (proc.stdout + proc.stderr).splitlines()
+             if "Error" in line]
     raise MeshingError(f"gmsh crashed reading it (exit status"
                        f" {proc.returncode}): " + "; ".join(crash[-3:]))
 
@@ -399,6 +401,7 @@ def main(argv=None) -> int:
 
     shape, path, diameter, h, out = argv or sys.argv[1:]
     initialize_gmsh(gmsh)
+    gmsh.option.setNumber("General.Terminal", 1)  # its errors, if it aborts
     gmsh.logger.start()
     try:
         points, triangles = (_scaled_geo if shape == "geo" else _scaled_msh)(
