@@ -242,9 +242,8 @@ def test_the_geometry_file_gives_todays_triangles():
     import gmsh
 
     def api_disk(radius, h):
-        gmsh.initialize(readConfigFiles=False)
+        mesh_module.initialize_gmsh(gmsh)  # no FLTK preference files
         try:
-            gmsh.option.setNumber("General.Terminal", 0)
             mesh_module._mesh_options(gmsh, h)
             gmsh.model.add("api")
             surface = gmsh.model.occ.addDisk(0.0, 0.0, 0.0, radius, radius)
