@@ -90,8 +90,13 @@ def state_step(path: Path) -> int:
     ``softpack-state-1``, three int64 counts, the time, the int64 step)."""
     with open(path, "rb") as f:
         head = f.read(56)
-    if len(head) < 56 or head[:15] != b"softpack-state-":
+    if len(head) < 56 or not head.startswith(b"softpack-state-"):
         raise ValueError(f"{path}: not a softpack state file")
+    if head[:16] != b"softpack-state-1":
+        version = head[:16].decode(errors="replace")
+        raise ValueError(f"{path}: state layout {version!r} unknown to"
+                         " --resume (softpack.simulation.resume.state_step"
+                         " reads softpack-state-1)")
     return struct.unpack("<q", head[48:56])[0]
 
 
