@@ -20,8 +20,8 @@ by the function that needs them.
 
 __version__ = "0.2.0"
 
-__all__ = ["load_config", "run", "read_run", "plot_runs", "plot_single_disk",
-           "RunError"]
+__all__ = ["load_config", "run", "resume", "read_run", "plot_runs",
+           "plot_single_disk", "RunError"]
 
 
 def __getattr__(name):

@@ -19,7 +19,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-__all__ = ["load_config", "run", "read_run", "plot_runs",
+__all__ = ["load_config", "run", "resume", "read_run", "plot_runs",
            "plot_single_disk", "RunError"]
 
 from softpack.simulation.run import RunError  # noqa: E402
@@ -86,6 +86,29 @@ def run(config, out, force=False, initial_state=None, verbose=False):
     runner.run(config, out, force=force, initial_state=initial_state,
                verbose=verbose)
     return read_run(out)
+
+
+def resume(directory, verbose=False):
+    """Finish a killed run from its last state (``./softpack run --resume``)
+    and return its series.
+
+    The run's own ``config.toml`` is used; the series is the one an
+    uninterrupted run writes (bit for bit with ``time.full_newton = true``;
+    with the default lagged iteration matrix, to the Newton tolerance).
+
+    Raises
+    ------
+    RunError
+        Not a killed run (complete, or no state written).
+    """
+    from softpack.simulation import run as runner
+
+    directory = Path(os.path.abspath(directory))
+    if not runner.is_run_directory(directory):
+        raise runner.UsageError(f"{directory}: not a softpack run directory")
+    config = load_config(directory / "config.toml")
+    runner.resume(config, directory, verbose=verbose)
+    return read_run(directory)
 
 
 def read_run(directory, table="series"):

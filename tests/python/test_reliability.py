@@ -361,9 +361,10 @@ def test_import_softpack_is_light_and_reference3d_is_a_command():
 
 # -- item 3: a killed run resumed gives the uninterrupted series -----------
 
+@pytest.mark.parametrize("api", [False, True])
 def test_resume_gives_the_uninterrupted_series(tmp_path, fake_bin,
                                                fake_mesh, monkeypatch,
-                                               capsys):
+                                               capsys, api):
     from softpack.analysis.tables import read_table
 
     whole, part = tmp_path / "whole", tmp_path / "part"
@@ -376,8 +377,14 @@ def test_resume_gives_the_uninterrupted_series(tmp_path, fake_bin,
     assert (part / "raw.part").is_dir()
     monkeypatch.setenv("FAKE_DRIVER", "ok")
     capsys.readouterr()
-    assert run.main(["--resume", str(part)]) == 0
-    assert "from its state at step 30" in capsys.readouterr().out
+    if api:  # softpack.resume: the same, from Python
+        import softpack
+        assert len(softpack.resume(part)["phi"]) > 3
+        assert "from its state at step 30" in \
+            (part / "run.log").read_text()
+    else:
+        assert run.main(["--resume", str(part)]) == 0
+        assert "from its state at step 30" in capsys.readouterr().out
     for name in ("series.csv", "particles.csv", "raw/steps.csv",
                  "raw/particles.csv"):
         a, b = read_table(whole / name), read_table(part / name)
