@@ -55,6 +55,10 @@ void write_state(const std::filesystem::path& path,
     dynamics::EnergyBalance e = s.energy;
     for (double* x : energy_fields(e))
       put(out, *x);
+    // Appended (older files end before it): a servo wall's velocity is
+    // state.
+    if (s.wall_velocities.size() == s.wall_points.size())
+      put(out, s.wall_velocities);
     if (!out)
       throw std::runtime_error("cannot write " + tmp.string());
   }
@@ -100,6 +104,12 @@ dynamics::SchemeState read_state(const std::filesystem::path& path)
   }
   for (double* x : energy_fields(s.energy))
     get(x, sizeof(double));
+  // The walls' velocities, absent from files written before servo walls.
+  std::vector<std::array<double, 2>> velocities(nw);
+  const auto bytes = static_cast<std::streamsize>(sizeof(double) * 2 * nw);
+  if (in.read(reinterpret_cast<char*>(velocities.data()), bytes) &&
+      in.gcount() == bytes)
+    s.wall_velocities = std::move(velocities);
   return s;
 }
 

@@ -76,7 +76,11 @@ TEST(DriverConfig, WallsKeepTheirOrderAndNormalsAreNormalised)
   doc["walls"].push_back({{"name", "slope"},
                           {"point", {0.1, 0.0}},
                           {"normal", {3.0, 4.0}},
-                          {"velocity", {0.0, 0.25}}});
+                          {"velocity", {0.0, 0.25}},
+                          {"control", "velocity"},
+                          {"pressure", 0.0},
+                          {"force", 0.0},
+                          {"mass", 1.0}});
   const io::DriverConfig c = read(doc);
   ASSERT_EQ(c.walls.size(), 5u);
   EXPECT_EQ(c.walls[4].name, "slope");
@@ -177,4 +181,23 @@ TEST(DriverConfig, InitialStateIsAPathOrNull)
   EXPECT_EQ(read(doc).initial_state, "/runs/old/raw/state.bin");
   doc["initial_state"] = 3;
   expect_refused(doc, "initial_state");
+}
+
+TEST(DriverConfig, ServoWallsAreReadAndBadOnesRefusedNamingTheKey)
+{
+  json doc = paper();
+  doc["walls"][1]["control"] = "pressure";
+  doc["walls"][1]["pressure"] = 4000.0;
+  doc["walls"][1]["mass"] = 7.0;
+  const io::DriverConfig c = read(doc);
+  EXPECT_EQ(c.walls[1].control, dynamics::WallControl::pressure);
+  EXPECT_EQ(c.walls[1].pressure, 4000.0);
+  EXPECT_EQ(c.walls[1].mass, 7.0);
+  doc["walls"][1]["mass"] = 0.0;
+  expect_refused(doc, "walls[1].mass");
+  doc["walls"][1]["control"] = "stress";
+  expect_refused(doc, "walls[1].control");
+  doc = paper();
+  doc["walls"][0]["force"] = "large";
+  expect_refused(doc, "walls[0].force");
 }
