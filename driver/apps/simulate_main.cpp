@@ -7,6 +7,7 @@
 #include <dolfinx/common/log.h>
 #include <exception>
 #include <io/driver_config.h>
+#include <io/state_file.h>
 #include <mpi.h>
 #include <simulation/run_simulation.h>
 #include <stdexcept>
@@ -26,6 +27,23 @@ MPI_Comm run_communicator()
         "run on one rank, OpenMP uses the cores");
   return MPI_COMM_WORLD;
 }
+/// `--state-info FILE`: {"step": ..., "time": ..., "dofs": ...} on stdout.
+int print_state_info(const std::string& path)
+{
+  try
+  {
+    const softpack::dynamics::SchemeState s = softpack::io::read_state(path);
+    std::printf("{\"step\": %ld, \"time\": %.17g, \"dofs\": %zu, "
+                "\"walls\": %zu}\n",
+                s.steps, s.time, s.u.size(), s.wall_points.size());
+    return 0;
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "softpack-simulate: %s\n", e.what());
+    return 1;
+  }
+}
 } // namespace
 
 int main(int argc, char** argv)
@@ -35,13 +53,27 @@ int main(int argc, char** argv)
   CLI::App app{"Nonsmooth contact dynamics of soft disks (softpack)"};
   std::string config_path;
   bool quiet = false;
-  app.add_option("config", config_path, "driver.json")->required();
+  std::string state_path;
+  auto* config_option = app.add_option("config", config_path, "driver.json");
+  auto* info_option = app.add_option(
+      "--state-info", state_path,
+      "print the step and time of a state file (raw/state.bin) as JSON and "
+      "exit: the layout is the driver's own, nobody else parses it");
+  config_option->excludes(info_option);
+  info_option->excludes(config_option);
   app.add_flag("--quiet", quiet, "no progress lines");
   int threads = 0;
   app.add_option("--threads", threads,
                  "OpenMP threads (default 0: one per core this process may "
                  "use)");
   CLI11_PARSE(app, argc, argv);
+  if (!state_path.empty())
+    return print_state_info(state_path);
+  if (config_path.empty())
+  {
+    std::fprintf(stderr, "softpack-simulate: driver.json is required\n");
+    return 2;
+  }
 
   MPI_Init(&argc, &argv);
   // dolfinx logs at INFO level unless initialised (with no arguments: WARNING)

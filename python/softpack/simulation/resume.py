@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import json
 import shutil
-import struct
+import subprocess
 from pathlib import Path
 
 PART = "raw.part"
@@ -86,18 +86,19 @@ def prepare_resume(out: Path, config, run_error) -> int:
 
 
 def state_step(path: Path) -> int:
-    """The step of a state file (driver/io/state_file.h: the 16-byte magic
-    ``softpack-state-1``, three int64 counts, the time, the int64 step)."""
-    with open(path, "rb") as f:
-        head = f.read(56)
-    if len(head) < 56 or not head.startswith(b"softpack-state-"):
-        raise ValueError(f"{path}: not a softpack state file")
-    if head[:16] != b"softpack-state-1":
-        version = head[:16].decode(errors="replace")
-        raise ValueError(f"{path}: state layout {version!r} unknown to"
-                         " --resume (softpack.simulation.resume.state_step"
-                         " reads softpack-state-1)")
-    return struct.unpack("<q", head[48:56])[0]
+    """The step of a state file, as the driver that wrote it reads it.
+
+    The state's layout is the driver's own (driver/io/state_file.h):
+    ``softpack-simulate --state-info FILE`` prints its step and time.
+    """
+    from softpack.simulation import driver
+
+    result = subprocess.run([str(driver.executable()), "--state-info",
+                             str(path)], capture_output=True, text=True)
+    if result.returncode != 0:
+        raise ValueError(result.stderr.strip().removeprefix(
+            "softpack-simulate: ") or f"{path}: not a softpack state file")
+    return int(json.loads(result.stdout)["step"])
 
 
 def finish_resume(out: Path) -> None:
