@@ -44,10 +44,9 @@ struct WallCoupling
 /// block is dropped (0: keep all)
 /// @param[in] walls The servo walls' couplings (never dropped)
 /// @return The finalized block-sparse W
-contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
-                                       const ContactOperator& H,
-                                       const EffectiveStiffness& Kbar,
-                                       double drop_tolerance = 0,
-                                       std::span<const WallCoupling> walls = {});
+contact::DelassusMatrix
+build_delassus(const bodies::BodySet& bodies, const ContactOperator& H,
+               const EffectiveStiffness& Kbar, double drop_tolerance = 0,
+               std::span<const WallCoupling> walls = {});
 
 } // namespace softpack::dynamics

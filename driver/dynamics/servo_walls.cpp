@@ -48,8 +48,8 @@ void finish_servo_walls(ServoWalls& servo, std::vector<Wall>& walls,
     // The wall receives the opposite of its contacts' impulses.
     double impulse = 0;
     for (std::size_t i = 0; i < c.contacts.size(); ++i)
-      impulse -= c.g[i].dot(Eigen::Vector2d(R[2 * c.contacts[i]],
-                                            R[2 * c.contacts[i] + 1]));
+      impulse -= c.g[i].dot(
+          Eigen::Vector2d(R[2 * c.contacts[i]], R[2 * c.contacts[i] + 1]));
     s.v_new = s.v_free + c.inverse_mass * impulse;
     s.v_mid = theta * s.v_new + (1 - theta) * s.v_old;
     Wall& wall = walls[s.wall];

@@ -66,8 +66,8 @@ void run(dynamics::MoreauJean& scheme, int steps)
   {
     const dynamics::StepReport r = scheme.step();
     ASSERT_TRUE(r.newton_converged) << "step " << s;
-    ASSERT_TRUE(r.nlgs_converged) << "step " << s << ": NLGS error "
-                                  << r.nlgs_error;
+    ASSERT_TRUE(r.nlgs_converged)
+        << "step " << s << ": NLGS error " << r.nlgs_error;
   }
 }
 
@@ -140,9 +140,9 @@ TEST(ServoWalls, TheEnergyBalanceCountsTheWorkOfTheImposedPressure)
   ASSERT_GT(e.wall_work, 0.0);
   EXPECT_GT(e.strain, 0.1 * e.wall_work);
   EXPECT_LT(std::abs(e.residual()), 1e-3 * e.wall_work)
-      << "wall work " << e.wall_work << ", strain " << e.strain
-      << ", kinetic " << e.kinetic << ", damping " << e.damping
-      << ", numerical " << e.numerical << ", normal " << e.contact_normal;
+      << "wall work " << e.wall_work << ", strain " << e.strain << ", kinetic "
+      << e.kinetic << ", damping " << e.damping << ", numerical " << e.numerical
+      << ", normal " << e.contact_normal;
   std::printf("servo wall: residual / wall work = %.2e\n",
               e.residual() / e.wall_work);
 }
@@ -151,9 +151,9 @@ TEST(ServoWalls, BadServoWallsAreRefused)
 {
   bodies::BodySet bodies = one_disk();
   // A pressure needs a length: no pair of facing perpendicular walls.
-  std::vector<dynamics::Wall> alone = {
-      servo({"lid", {0, R}, {0, -1}, {0, 0}},
-            dynamics::WallControl::pressure, 1000.0)};
+  std::vector<dynamics::Wall> alone = {servo({"lid", {0, R}, {0, -1}, {0, 0}},
+                                             dynamics::WallControl::pressure,
+                                             1000.0)};
   EXPECT_THROW(dynamics::MoreauJean(bodies, alone, options(0)),
                std::invalid_argument);
   std::vector<dynamics::Wall> massless = box();
