@@ -78,61 +78,44 @@ json parse(const std::filesystem::path& path)
   }
 }
 
-/// A wall's control and its imposed pressure or force and mass (the
-/// schema's [walls] keys; the Python config stage checks them together).
-void read_wall_control(const Reader& r, const json& w, const std::string& p,
-                       dynamics::Wall& wall)
+/// A wall from its checked driver.json entry (every key but the name read
+/// by the reader generated from the schema's [walls]).
+dynamics::Wall make_wall(const Reader& r, const json& w, const std::string& p,
+                         parameters::WallsEntry& e)
 {
-  const std::string control = r.string(w.at("control"), p + ".control");
-  if (control == "pressure")
+  parameters::read(w, e, r.file(), p);
+  dynamics::Wall wall{r.string(w.at("name"), p + ".name"), e.point, e.normal,
+                      e.velocity};
+  if (e.control == "pressure")
     wall.control = dynamics::WallControl::pressure;
-  else if (control == "force")
+  else if (e.control == "force")
     wall.control = dynamics::WallControl::force;
-  else if (control != "velocity")
-    r.fail(p + ".control",
-           "= \"" + control + "\" must be velocity, pressure or force");
-  const std::array<std::pair<const char*, double*>, 3> numbers = {
-      {{"pressure", &wall.pressure},
-       {"force", &wall.force},
-       {"mass", &wall.mass}}};
-  for (const auto& [key, value] : numbers)
-  {
-    const json& v = w.at(key);
-    if (!v.is_number() || !std::isfinite(v.get<double>()))
-      r.fail(p + "." + key, "= " + v.dump() + " must be a finite number");
-    *value = v.get<double>();
-  }
-  if (wall.servo() && !(wall.mass > 0))
-    r.fail(p + ".mass", "must be > 0 for a wall under control " + control);
+  wall.pressure = e.pressure;
+  wall.force = e.force;
+  wall.mass = e.mass;
+  const double len = std::hypot(wall.normal[0], wall.normal[1]);
+  if (!(len > 0) || !std::isfinite(len))
+    r.fail(p + ".normal", "must be a nonzero vector");
+  wall.normal = {wall.normal[0] / len, wall.normal[1] / len};
+  e.normal = wall.normal;
+  return wall;
 }
 
-std::vector<dynamics::Wall> read_walls(const Reader& r, const json& walls)
+void read_walls(const Reader& r, const json& walls, DriverConfig& c)
 {
   if (!walls.is_array() || walls.empty())
     r.fail("walls", "must be a non-empty list of walls");
-  std::vector<dynamics::Wall> out;
   for (std::size_t i = 0; i < walls.size(); ++i)
   {
     const std::string p = "walls[" + std::to_string(i) + "]";
-    const json& w = walls[i];
-    r.keys(w, p,
-           {"name", "point", "normal", "velocity", "control", "pressure",
-            "force", "mass"});
-    dynamics::Wall wall{r.string(w.at("name"), p + ".name"),
-                        r.pair(w.at("point"), p + ".point"),
-                        r.pair(w.at("normal"), p + ".normal"),
-                        r.pair(w.at("velocity"), p + ".velocity")};
-    read_wall_control(r, w, p, wall);
-    const double len = std::hypot(wall.normal[0], wall.normal[1]);
-    if (!(len > 0) || !std::isfinite(len))
-      r.fail(p + ".normal", "must be a nonzero vector");
-    wall.normal = {wall.normal[0] / len, wall.normal[1] / len};
-    for (const dynamics::Wall& other : out)
+    parameters::WallsEntry entry;
+    const dynamics::Wall wall = make_wall(r, walls[i], p, entry);
+    for (const dynamics::Wall& other : c.walls)
       if (other.name == wall.name)
         r.fail(p + ".name", "\"" + wall.name + "\" names two walls");
-    out.push_back(wall);
+    c.walls.push_back(wall);
+    c.wall_parameters.push_back(entry);
   }
-  return out;
 }
 
 /// scene: the driver uses box.enabled and bodies; the rest is the scene
@@ -211,7 +194,7 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
   if (!doc.at("initial_state").is_null())
     c.initial_state = r.string(doc.at("initial_state"), "initial_state");
   read_scene(r, doc.at("scene"), c);
-  c.walls = read_walls(r, doc.at("walls"));
+  read_walls(r, doc.at("walls"), c);
   parameters::read(doc, c.parameters, r.file());
   if (c.box)
     for (const std::string& name : box_wall_names)

@@ -32,6 +32,9 @@ struct DriverConfig
   bool box = false;
   /// The walls, in driver.json's order, normals normalised
   std::vector<dynamics::Wall> walls;
+  /// The same walls' schema keys as read (normals normalised): what
+  /// raw/setup.json records
+  std::vector<parameters::WallsEntry> wall_parameters;
   /// stop, contact, time, damping, output, material (generated from
   /// schema/parameters.toml)
   parameters::Parameters parameters;

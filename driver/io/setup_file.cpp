@@ -9,31 +9,17 @@ namespace
 {
 using json = nlohmann::json;
 
-const char* control_name(dynamics::WallControl control)
-{
-  switch (control)
-  {
-  case dynamics::WallControl::pressure:
-    return "pressure";
-  case dynamics::WallControl::force:
-    return "force";
-  default:
-    return "velocity";
-  }
-}
-
-json walls_json(const std::vector<dynamics::Wall>& walls)
+/// driver.json's walls as read (normals normalised), each its name and the
+/// schema's [walls] keys.
+json walls_json(const DriverConfig& config)
 {
   json out = json::array();
-  for (const dynamics::Wall& w : walls)
-    out.push_back({{"name", w.name},
-                   {"point", w.point},
-                   {"normal", w.normal},
-                   {"velocity", w.velocity},
-                   {"control", control_name(w.control)},
-                   {"pressure", w.pressure},
-                   {"force", w.force},
-                   {"mass", w.mass}});
+  for (std::size_t i = 0; i < config.walls.size(); ++i)
+  {
+    json wall = {{"name", config.walls[i].name}};
+    wall.update(parameters::to_json(config.wall_parameters[i]));
+    out.push_back(wall);
+  }
   return out;
 }
 
@@ -69,7 +55,7 @@ json setup_json(const DriverConfig& config, const bodies::BodySet& bodies)
                      "scene.model.thickness"}}},
           {"scene", config.scene},
           {"material", parameters::to_json(p.material)},
-          {"walls", walls_json(config.walls)},
+          {"walls", walls_json(config)},
           {"parameters",
            {{"stop", parameters::to_json(p.stop)},
             {"contact", parameters::to_json(p.contact)},
