@@ -138,3 +138,38 @@ TEST(ParametersSchema, DefaultsAndRangesAreTheSchemas)
   }
   EXPECT_GT(ranges, 0); // the schema was read, not skipped
 }
+
+// The named tables of [walls]: driver.json's list entries, with their name.
+TEST(ParametersSchema, WallEntriesAreTheSchemas)
+{
+  const toml::table schema = toml::parse_file(SOFTPACK_SCHEMA);
+  const toml::table& walls = *schema["walls"].as_table();
+  const json defaults = p::to_json(p::WallsEntry{});
+  std::size_t keys = 0;
+  for (auto&& [key_view, node] : walls)
+  {
+    const std::string key(key_view.str());
+    if (key.starts_with("_"))
+      continue;
+    ++keys;
+    EXPECT_EQ(defaults.at(key), to_json(*node.as_table()->get("default")))
+        << key;
+  }
+  EXPECT_EQ(defaults.size(), keys);
+  EXPECT_EQ(p::walls_keys.size(), keys);
+  json entry = defaults;
+  entry["name"] = "right";
+  p::WallsEntry read;
+  EXPECT_NO_THROW(p::read(entry, read, "f", "walls[1]"));
+  entry["speed"] = 1.0;
+  try
+  {
+    p::read(entry, read, "f", "walls[1]");
+    ADD_FAILURE() << "an unknown key was accepted";
+  }
+  catch (const std::runtime_error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("walls[1].speed"), std::string::npos)
+        << e.what();
+  }
+}
