@@ -23,8 +23,8 @@ import numpy as np
 
 from softpack.scene import shapes
 from softpack.scene.mesh import PAPER_ELEMENT_SIZE, mesh_particles
-from softpack.scene.packing import (DEFAULT_GAP, PAPER_LENGTH, PAPER_WIDTH,
-                                    place)
+from softpack.scene.placement import place
+from softpack.scene.packing import DEFAULT_GAP, PAPER_LENGTH, PAPER_WIDTH
 
 
 def bench(count=1000, shape="disk", out=None, seed=0) -> dict:

@@ -9,20 +9,9 @@ the largest distance of its boundary from its centre, see
 :mod:`softpack.scene.shapes`): circles at least ``gap`` apart keep the true
 shapes at least ``gap`` apart.
 
-Random sequential addition (RSA) alone saturates far below 0.75 (near 0.55
-for equal disks), so :func:`place` adds circles one at a time, the largest
-first, each at the first free spot among a batch of random trial positions
-or, when there is none, at the least-overlapping trial; it then relaxes all
-the overlaps at once (projected Jacobi sweeps that move every overlapping
-pair apart by half its shortfall and keep every circle inside the box).
-Neighbours come from a k-d tree (scipy), so a sweep costs O(n log n) and
-1,000 particles take about a second.  With ``relax=False`` the algorithm
-is plain RSA and fails when the box is too full.
-
-Measured: the paper's case (phi = 0.748) for any seed; 0.77 still works;
-near 0.80 the relaxation tends to stall in a jammed state and
-:class:`PackingError` is raised.  Relaxed circles often end exactly ``gap``
-apart (or ``gap`` from a wall).
+The placement itself is :func:`softpack.scene.placement.place` (RSA of
+shrunken circles, then inflation with relaxation of the overlaps; 1,000
+particles in a few seconds).
 """
 
 from __future__ import annotations
@@ -33,8 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
+from softpack.scene.placement import (HEXAGONAL_FRACTION, PackingError,
+                                      _fraction, _padded, place)
 from softpack.scene.schema import load_schema
-from softpack.scene.species import particle_table
 
 
 
@@ -59,26 +49,6 @@ PAPER_WIDTH = _DEFAULTS["width"]
 DEFAULT_GAP = _DEFAULTS["gap"]
 
 CSV_COLUMNS = "particle,x,y,radius,area"
-#: Relaxation sweeps over which the largest overlap must shrink by 10 %.
-STALL_SWEEPS = 500
-#: Packing fraction of the shrunken circles placed by plain RSA before
-#: they are inflated (RSA of equal disks saturates near 0.55).
-RSA_FRACTION = 0.35
-#: Inflation steps from the shrunken circles to their size, each followed
-#: by a relaxation of the overlaps.
-INFLATION_STEPS = 40
-#: Random starts tried before a jammed relaxation is reported.
-ATTEMPTS = 10
-#: Nearest placed circles examined per trial position (more: all of them).
-NEIGHBOURS = 24
-#: Densest packing fraction of disks in the plane (hexagonal).
-HEXAGONAL_FRACTION = np.pi / (2 * np.sqrt(3))
-
-
-class PackingError(RuntimeError):
-    """The scene cannot be built: the particles cannot be placed in the box
-    (or, as :class:`softpack.scene.shapes.ShapeError`, a shape cannot be
-    meshed); the message names the keys."""
 
 
 @dataclass(frozen=True)
@@ -277,79 +247,6 @@ def random_packing(seed: int, *, counts=PAPER_COUNTS,
                    seed=seed)
 
 
-def place(radii, length, width, gap, rng, *, relax=True, trials=200,
-          max_sweeps=20000) -> np.ndarray:
-    """Centres of non-overlapping circles in the box (see the module doc).
-
-    Parameters
-    ----------
-    radii : ndarray, shape (n,)
-        Circle radii (m), in particle order (placed largest first).
-    length, width, gap : float
-        Box and smallest clearance (m).
-    rng : numpy.random.Generator
-    relax, trials, max_sweeps
-        As :func:`random_packing`.
-
-    Returns
-    -------
-    ndarray, shape (n, 2)
-
-    Raises
-    ------
-    PackingError
-    """
-    radii = np.asarray(radii, dtype=float)
-    order = np.argsort(-radii, kind="stable")  # largest first
-    phi = _fraction(radii, length, width)
-    # with relaxation: RSA of shrunken circles, then inflated step by step
-    start = min(1.0, np.sqrt(RSA_FRACTION / phi)) if relax else 1.0
-    scales = np.linspace(start, 1.0, INFLATION_STEPS + 1)[1:]
-    for attempt in range(ATTEMPTS if relax else 1):
-        placed, overlapping = _sequential(radii[order] * start, length,
-                                          width, gap, rng, trials, relax)
-        try:
-            for scale in scales if start < 1.0 else [1.0] * overlapping:
-                placed = _relax_overlaps(placed, radii[order] * scale,
-                                         length, width, gap, rng, max_sweeps)
-        except PackingError as err:
-            failure = (f"{len(radii)} particles (requested phi of bounding"
-                       f" circles = {phi:.3f}), stuck at {scale:.3f} of their"
-                       f" size in {attempt + 1} attempts: {err}")
-            continue  # jammed: a new random start
-        centres = np.empty_like(placed)
-        centres[order] = placed
-        return centres
-    raise PackingError(failure)
-
-
-def _sequential(radii, length, width, gap, rng, trials, relax):
-    """Random sequential addition in the given order; with ``relax``, a
-    circle with no free trial goes to the least-overlapping one.
-
-    Returns the centres and whether any overlap.
-    """
-    placed = np.empty((len(radii), 2))
-    overlapping = False
-    for k, r in enumerate(radii):
-        lo = r + _padded(gap)
-        candidates = rng.uniform((lo, lo), (length - lo, width - lo),
-                                 size=(trials, 2))
-        clearance = _clearance_to(candidates, r, placed[:k], radii[:k],
-                                  _padded(gap))
-        free = np.flatnonzero(clearance >= 0.0)
-        if not len(free) and not relax:
-            raise PackingError(
-                f"random sequential addition placed {k} of {len(radii)}"
-                f" particles (phi = {_fraction(radii, length, width):.3f} of"
-                f" bounding circles); no free spot for a circle of diameter"
-                f" {2 * r:g} m in {trials} trials")
-        pick = int(free[0]) if len(free) else int(np.argmax(clearance))
-        overlapping |= not len(free)
-        placed[k] = candidates[pick]
-    return placed, overlapping
-
-
 def scene_packing(config, radii, areas=None) -> Packing:
     """The packing of a configuration's particles (body order).
 
@@ -434,97 +331,7 @@ def _check_arguments(seed, counts, diameters, length, width, gap, trials,
     return radii
 
 
-def _padded(gap) -> float:
-    """Clearance aimed at so that ``gap`` holds despite rounding."""
-    return 1.05 * gap + 1e-9
-
-
-def _fraction(radii, length, width) -> float:
-    """Packing fraction of disks of the given radii in the box."""
-    return float(np.pi * np.sum(radii**2) / (length * width))
-
-
 def _pair_clearance(centres, radii) -> np.ndarray:
     """Matrix of surface-to-surface distances between disks."""
     d = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=-1)
     return d - radii[:, None] - radii[None, :]
-
-
-def _clearance_to(candidates, r, centres, radii, gap) -> np.ndarray:
-    """For each candidate centre, the smallest clearance minus ``gap``.
-
-    Only circles whose centres lie within ``r + max(radii) + gap`` can make
-    it negative: a k-d tree finds the nearest ``NEIGHBOURS`` of each
-    candidate, and a candidate with more than that many within reach is
-    checked against all the circles (exact in every case).
-    """
-    if len(centres) == 0:
-        return np.zeros(len(candidates))
-    from scipy.spatial import cKDTree
-
-    reach = r + radii.max() + gap
-    k = min(NEIGHBOURS, len(centres))
-    d, index = cKDTree(centres).query(candidates, k=[*range(1, k + 1)],
-                                      distance_upper_bound=reach)
-    found = np.isfinite(d)
-    index = np.where(found, index, 0)
-    clearance = np.where(found, d - r - radii[index] - gap, np.inf)
-    out = clearance.min(axis=1)
-    crowded = found[:, -1] & (k < len(centres))
-    if crowded.any():  # the k nearest may miss a larger circle farther out
-        diff = candidates[crowded, None, :] - centres[None, :, :]
-        out[crowded] = (np.hypot(diff[..., 0], diff[..., 1]) - r - radii
-                        - gap).min(axis=1)
-    return np.minimum(out, np.inf)
-
-
-def _relax_overlaps(centres, radii, length, width, gap, rng, max_sweeps):
-    """Move circles apart until every pair is at least ``gap`` apart.
-
-    Each sweep moves both circles of every pair closer than the target
-    separation apart by half the shortfall (projected Jacobi iteration),
-    then projects the centres back into the admissible box.  The target
-    clearance (:func:`_padded`) is slightly above ``gap`` so that the
-    iteration ends with a strictly admissible configuration.  The pairs
-    come from a k-d tree within the largest target distance plus a skin,
-    and are searched again once a circle has moved half the skin (a
-    Verlet list: no pair that can overlap is missed).
-    """
-    from scipy.spatial import cKDTree
-
-    x = centres.copy()
-    n = len(radii)
-    skin = 0.2 * radii.min()
-    reach = 2 * radii.max() + _padded(gap) + skin
-    lo = radii + _padded(gap)
-    hi = np.stack([length - lo, width - lo], axis=1)
-    checkpoint, moved = np.inf, np.inf
-    for sweep in range(max_sweeps):
-        if moved > 0.5 * skin:
-            pairs = cKDTree(x).query_pairs(reach, output_type="ndarray")
-            i, j = pairs[:, 0], pairs[:, 1]
-            target = radii[i] + radii[j] + _padded(gap)
-            listed, moved = x.copy(), 0.0
-        diff = x[i] - x[j]
-        d = np.hypot(diff[:, 0], diff[:, 1])
-        if np.all(d - radii[i] - radii[j] >= gap):
-            return x
-        if np.any(d == 0.0):  # coincident: separate in a random direction
-            x += 1e-9 * rng.standard_normal(x.shape)
-            continue
-        shortfall = np.maximum(target - d, 0.0)
-        if sweep % STALL_SWEEPS == 0:
-            if shortfall.max() > 0.9 * checkpoint:
-                break  # stalled: the overlaps no longer shrink
-            checkpoint = shortfall.max()
-        push = (0.5 * shortfall / d)[:, None] * diff
-        move = np.zeros_like(x)
-        for axis in (0, 1):
-            move[:, axis] = (np.bincount(i, push[:, axis], n)
-                             - np.bincount(j, push[:, axis], n))
-        x = np.clip(x + move, lo[:, None], hi)
-        moved = np.abs(x - listed).max() * np.sqrt(2)
-    raise PackingError(
-        f"could not remove the overlaps of {n} circles (phi ="
-        f" {_fraction(radii, length, width):.3f} in a {length} x {width} m"
-        f" box) in {sweep + 1} relaxation sweeps; the box is too full")
