@@ -26,7 +26,8 @@ double box_area(const std::vector<dynamics::Wall>& walls)
     return (wb.point[0] - wa.point[0]) * wa.normal[0] +
            (wb.point[1] - wa.point[1]) * wa.normal[1];
   };
-  return gap("left", "right") * gap("bottom", "top");
+  const std::vector<std::string>& names = io::box_wall_names; // l, r, b, t
+  return gap(names[0], names[1]) * gap(names[2], names[3]);
 }
 
 double packing_fraction(const bodies::BodySet& bodies,
