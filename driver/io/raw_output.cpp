@@ -27,7 +27,9 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
   _steps << ",phi,strain_energy,kinetic_energy,wall_work,external_work,"
             "damping,friction,contact_normal,numerical,energy_residual,"
             "seconds,seconds_detection,seconds_assembly,seconds_factorization,"
-            "seconds_delassus,seconds_nlgs,seconds_solves,refactorized\n";
+            "seconds_delassus,seconds_nlgs,seconds_solves,refactorized,"
+            "newton_unconverged_steps,nlgs_unconverged_steps,"
+            "max_overlap_depth\n";
   _particles << "step,particle,area,strain_energy,reference_area\n";
 }
 
@@ -35,7 +37,8 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
                       const dynamics::StepReport& r, std::optional<double> phi,
                       double seconds, const bodies::BodySet& bodies,
                       const dynamics::StepTimings& spent,
-                      const dynamics::ContactForceAverage& average)
+                      const dynamics::ContactForceAverage& average,
+                      const ConvergenceCounts& interval, double overlap_depth)
 {
   _steps << step << ',' << scheme.time() << ',' << r.newton_iterations << ','
          << r.nlgs_iterations << ',' << r.nlgs_error << ','
@@ -56,7 +59,9 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
          << e.contact_normal << ',' << e.numerical << ',' << e.residual() << ','
          << seconds << ',' << spent.detection << ',' << spent.assembly << ','
          << spent.factorization << ',' << spent.delassus << ',' << spent.nlgs
-         << ',' << spent.solves << ',' << (r.refactorized ? 1 : 0) << '\n';
+         << ',' << spent.solves << ',' << (r.refactorized ? 1 : 0) << ','
+         << interval.newton_unconverged_steps << ','
+         << interval.nlgs_unconverged_steps << ',' << overlap_depth << '\n';
   _steps.flush();
   write_particles(step, bodies);
   write_contacts(step, average);
@@ -100,19 +105,28 @@ void RawOutput::write_contacts(long step,
 }
 
 void RawOutput::finish(long steps, double seconds, const std::string& reason,
-                       const dynamics::StepTimings& spent, int factorizations)
+                       const dynamics::StepTimings& spent, int factorizations,
+                       const RunChecks& checks)
 {
-  const nlohmann::json done = {{"steps", steps},
-                               {"seconds", seconds},
-                               {"reason", reason},
-                               {"factorizations", factorizations},
-                               {"seconds_by_part",
-                                {{"detection", spent.detection},
-                                 {"assembly", spent.assembly},
-                                 {"factorization", spent.factorization},
-                                 {"delassus", spent.delassus},
-                                 {"nlgs", spent.nlgs},
-                                 {"solves", spent.solves}}}};
+  const nlohmann::json done = {
+      {"steps", steps},
+      {"seconds", seconds},
+      {"reason", reason},
+      {"factorizations", factorizations},
+      {"seconds_by_part",
+       {{"detection", spent.detection},
+        {"assembly", spent.assembly},
+        {"factorization", spent.factorization},
+        {"delassus", spent.delassus},
+        {"nlgs", spent.nlgs},
+        {"solves", spent.solves}}},
+      {"converged", checks.total.converged()},
+      {"newton_unconverged_steps", checks.total.newton_unconverged_steps},
+      {"nlgs_unconverged_steps", checks.total.nlgs_unconverged_steps},
+      {"failed_contact_problems_written", checks.problems_written},
+      {"failed_contact_problems_not_written", checks.problems_not_written},
+      {"max_overlap_depth", checks.max_overlap_depth},
+      {"overlap_steps", checks.overlap_steps}};
   const std::filesystem::path tmp = _raw / ".done.json";
   std::ofstream(tmp) << done.dump(2) << '\n';
   std::filesystem::rename(tmp, _raw / "done.json");

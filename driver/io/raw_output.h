@@ -11,6 +11,40 @@
 namespace softpack::io
 {
 
+/// Steps of an output interval (or of the whole run) whose solves did not
+/// converge: they are counted, never silent (issue 16, item 4).
+struct ConvergenceCounts
+{
+  /// Steps whose Newton iterations stopped at time.newton_max_iterations
+  long newton_unconverged_steps = 0;
+  /// Steps with at least one contact solve that stopped unconverged
+  long nlgs_unconverged_steps = 0;
+
+  void add(const dynamics::StepReport& r)
+  {
+    newton_unconverged_steps += r.newton_converged ? 0 : 1;
+    nlgs_unconverged_steps +=
+        (r.nlgs_converged && r.unsolved_contact_solves == 0) ? 0 : 1;
+  }
+  bool converged() const
+  {
+    return newton_unconverged_steps == 0 && nlgs_unconverged_steps == 0;
+  }
+};
+
+/// What raw/done.json reports beyond the stop: the run's convergence and
+/// the independent overlap check.
+struct RunChecks
+{
+  ConvergenceCounts total;
+  /// Unsolved contact problems dumped, and how many were not (bounded)
+  long problems_written = 0, problems_not_written = 0;
+  /// Largest overlap depth seen at an output step (overlap_check.h), m
+  double max_overlap_depth = 0;
+  /// Output steps whose overlap depth exceeded the tolerance
+  long overlap_steps = 0;
+};
+
 /// Writer of a run's raw output (docs/driver_io.md, "Raw output"): the
 /// per-step series, per-particle values and per-contact forces, flushed at
 /// each output so that a crash loses nothing already computed, and
@@ -33,15 +67,19 @@ public:
   /// @param[in] spent Wall time per part of the step, summed since the start
   /// @param[in] forces Contact and wall forces averaged since the previous
   /// output step (the forces written)
+  /// @param[in] interval Unconverged steps since the previous output step
+  /// @param[in] overlap_depth Largest overlap depth now (overlap_check.h)
   void write(long step, const dynamics::MoreauJean& scheme,
              const dynamics::StepReport& report, std::optional<double> phi,
              double seconds, const bodies::BodySet& bodies,
              const dynamics::StepTimings& spent,
-             const dynamics::ContactForceAverage& forces);
+             const dynamics::ContactForceAverage& forces,
+             const ConvergenceCounts& interval, double overlap_depth);
 
   /// Mark the run complete.
   void finish(long steps, double seconds, const std::string& reason,
-              const dynamics::StepTimings& spent, int factorizations);
+              const dynamics::StepTimings& spent, int factorizations,
+              const RunChecks& checks);
 
 private:
   void write_particles(long step, const bodies::BodySet& bodies);

@@ -2,14 +2,29 @@
 
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
+#include <string_view>
 
 namespace softpack::io
 {
 namespace
 {
-constexpr char magic[16] = {'s', 'o', 'f', 't', 'p', 'a', 'c', 'k',
-                            '-', 's', 't', 'a', 't', 'e', '-', '1'};
+constexpr std::string_view magic = "softpack-state-2";
+constexpr std::string_view magic_v1 = "softpack-state-1";
+
+/// FNV-1a, 64 bits: a checksum of the payload (detects flipped bytes and
+/// truncation; not a cryptographic hash).
+struct Fnv1a
+{
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  void add(const void* p, std::size_t bytes)
+  {
+    const auto* c = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < bytes; ++i)
+      h = (h ^ c[i]) * 0x100000001b3ULL;
+  }
+};
 
 /// The energy accounts in file order.
 std::array<double*, 10> energy_fields(dynamics::EnergyBalance& e)
@@ -19,98 +34,190 @@ std::array<double*, 10> energy_fields(dynamics::EnergyBalance& e)
           &e.contact_normal, &e.numerical};
 }
 
-template <typename T> void put(std::ofstream& out, const T& x)
+template <typename T> void put(std::string& out, const T& x)
 {
-  out.write(reinterpret_cast<const char*>(&x), sizeof(T));
+  out.append(reinterpret_cast<const char*>(&x), sizeof(T));
 }
 
-template <typename T> void put(std::ofstream& out, const std::vector<T>& x)
+template <typename T> void put(std::string& out, const std::vector<T>& x)
 {
-  out.write(reinterpret_cast<const char*>(x.data()), sizeof(T) * x.size());
+  out.append(reinterpret_cast<const char*>(x.data()), sizeof(T) * x.size());
+}
+
+/// Reads a byte buffer; running past its end is a truncated file.
+struct Reader
+{
+  const std::string& bytes;
+  const std::filesystem::path& path;
+  std::size_t at = 0;
+  void get(void* p, std::size_t n)
+  {
+    if (n > bytes.size() - at)
+      throw std::runtime_error(path.string() + ": state file is truncated");
+    std::memcpy(p, bytes.data() + at, n);
+    at += n;
+  }
+  template <typename T> T get()
+  {
+    T x;
+    get(&x, sizeof(T));
+    return x;
+  }
+};
+
+std::string payload(const dynamics::SchemeState& s, const StateIdentity& id)
+{
+  std::string out(magic);
+  put(out, id.mesh);
+  put(out, id.walls);
+  const bool velocities = s.wall_velocities.size() == s.wall_points.size();
+  put(out, static_cast<std::int64_t>(s.u.size()));
+  put(out, static_cast<std::int64_t>(s.wall_points.size()));
+  put(out, static_cast<std::int64_t>(s.reactions.size()));
+  put(out, static_cast<std::int64_t>(velocities ? s.wall_points.size() : 0));
+  put(out, s.time);
+  put(out, static_cast<std::int64_t>(s.steps));
+  put(out, s.u);
+  put(out, s.v);
+  put(out, s.wall_points);
+  for (const auto& [key, R] : s.reactions)
+  {
+    put(out, key);
+    put(out, R);
+  }
+  dynamics::EnergyBalance e = s.energy;
+  for (double* x : energy_fields(e))
+    put(out, *x);
+  if (velocities)
+    put(out, s.wall_velocities);
+  return out;
+}
+
+/// Check the magic and the checksum of a whole file's bytes.
+void check_layout(const std::string& bytes, const std::filesystem::path& path)
+{
+  const std::string_view head(bytes.data(),
+                              std::min(bytes.size(), magic.size()));
+  if (head == magic_v1)
+    throw std::runtime_error(
+        path.string() + ": state layout softpack-state-1 (no checksum, no "
+                        "identity of its mesh) is no longer read: rerun the "
+                        "run that wrote it");
+  if (head != magic)
+    throw std::runtime_error(path.string() + ": not a softpack state file");
+  if (bytes.size() < magic.size() + sizeof(std::uint64_t))
+    throw std::runtime_error(path.string() + ": state file is truncated");
+  const std::size_t n = bytes.size() - sizeof(std::uint64_t);
+  Fnv1a sum;
+  sum.add(bytes.data(), n);
+  std::uint64_t stored;
+  std::memcpy(&stored, bytes.data() + n, sizeof(stored));
+  if (stored != sum.h)
+    throw std::runtime_error(path.string() +
+                             ": state file checksum mismatch (the file is "
+                             "truncated or corrupted)");
 }
 } // namespace
 
-void write_state(const std::filesystem::path& path,
-                 const dynamics::SchemeState& s)
+StateIdentity state_identity(const bodies::BodySet& bodies,
+                             const std::vector<dynamics::Wall>& walls)
 {
+  StateIdentity id;
+  Fnv1a mesh;
+  const std::span<const double> X = bodies.reference_coordinates();
+  mesh.add(X.data(), X.size_bytes());
+  const std::vector<int>& tags = bodies.cell_body();
+  mesh.add(tags.data(), tags.size() * sizeof(int));
+  id.mesh = mesh.h;
+  Fnv1a lines;
+  for (const dynamics::Wall& w : walls)
+  {
+    lines.add(w.point.data(), sizeof(w.point));
+    lines.add(w.normal.data(), sizeof(w.normal));
+  }
+  id.walls = lines.h;
+  return id;
+}
+
+void write_state(const std::filesystem::path& path,
+                 const dynamics::SchemeState& s, const StateIdentity& id)
+{
+  std::string bytes = payload(s, id);
+  Fnv1a sum;
+  sum.add(bytes.data(), bytes.size());
+  put(bytes, sum.h);
   const std::filesystem::path tmp = path.string() + ".tmp";
   {
     std::ofstream out(tmp, std::ios::binary);
-    if (!out)
-      throw std::runtime_error("cannot write " + tmp.string());
-    out.write(magic, sizeof(magic));
-    put(out, static_cast<std::int64_t>(s.u.size()));
-    put(out, static_cast<std::int64_t>(s.wall_points.size()));
-    put(out, static_cast<std::int64_t>(s.reactions.size()));
-    put(out, s.time);
-    put(out, static_cast<std::int64_t>(s.steps));
-    put(out, s.u);
-    put(out, s.v);
-    put(out, s.wall_points);
-    for (const auto& [key, R] : s.reactions)
-    {
-      put(out, key);
-      put(out, R);
-    }
-    dynamics::EnergyBalance e = s.energy;
-    for (double* x : energy_fields(e))
-      put(out, *x);
-    // Appended (older files end before it): a servo wall's velocity is
-    // state.
-    if (s.wall_velocities.size() == s.wall_points.size())
-      put(out, s.wall_velocities);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     if (!out)
       throw std::runtime_error("cannot write " + tmp.string());
   }
   std::filesystem::rename(tmp, path);
 }
 
-dynamics::SchemeState read_state(const std::filesystem::path& path)
+StateFile read_state_file(const std::filesystem::path& path)
 {
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw std::runtime_error(path.string() + ": cannot open the state file");
-  auto get = [&](void* p, std::size_t bytes)
-  {
-    in.read(static_cast<char*>(p), static_cast<std::streamsize>(bytes));
-    if (!in)
-      throw std::runtime_error(path.string() + ": state file is truncated");
-  };
-  char head[sizeof(magic)];
-  get(head, sizeof(head));
-  if (std::memcmp(head, magic, sizeof(magic)) != 0)
-    throw std::runtime_error(path.string() + ": not a softpack state file");
-  std::int64_t n, nw, nr, steps;
-  dynamics::SchemeState s;
-  get(&n, sizeof(n));
-  get(&nw, sizeof(nw));
-  get(&nr, sizeof(nr));
-  if (n < 0 || nw < 0 || nr < 0 || n > (std::int64_t(1) << 34))
+  const std::string bytes((std::istreambuf_iterator<char>(in)),
+                          std::istreambuf_iterator<char>());
+  check_layout(bytes, path);
+  Reader r{bytes, path, magic.size()};
+  StateFile f;
+  f.identity.mesh = r.get<std::uint64_t>();
+  f.identity.walls = r.get<std::uint64_t>();
+  const auto n = r.get<std::int64_t>(), nw = r.get<std::int64_t>(),
+             nr = r.get<std::int64_t>(), nv = r.get<std::int64_t>();
+  if (n < 0 || nw < 0 || nr < 0 || (nv != 0 && nv != nw) ||
+      n > std::int64_t(bytes.size()) || nr > std::int64_t(bytes.size()))
     throw std::runtime_error(path.string() + ": state file has bad sizes");
-  get(&s.time, sizeof(double));
-  get(&steps, sizeof(steps));
-  s.steps = steps;
+  dynamics::SchemeState& s = f.state;
+  s.time = r.get<double>();
+  s.steps = r.get<std::int64_t>();
   s.u.resize(n);
   s.v.resize(n);
   s.wall_points.resize(nw);
   s.reactions.resize(nr);
-  get(s.u.data(), sizeof(double) * n);
-  get(s.v.data(), sizeof(double) * n);
-  get(s.wall_points.data(), sizeof(double) * 2 * nw);
+  r.get(s.u.data(), sizeof(double) * n);
+  r.get(s.v.data(), sizeof(double) * n);
+  r.get(s.wall_points.data(), sizeof(double) * 2 * nw);
   for (auto& [key, R] : s.reactions)
   {
-    get(key.data(), sizeof(key));
-    get(R.data(), sizeof(R));
+    r.get(key.data(), sizeof(key));
+    r.get(R.data(), sizeof(R));
   }
   for (double* x : energy_fields(s.energy))
-    get(x, sizeof(double));
-  // The walls' velocities, absent from files written before servo walls.
-  std::vector<std::array<double, 2>> velocities(nw);
-  const auto bytes = static_cast<std::streamsize>(sizeof(double) * 2 * nw);
-  if (in.read(reinterpret_cast<char*>(velocities.data()), bytes) &&
-      in.gcount() == bytes)
-    s.wall_velocities = std::move(velocities);
-  return s;
+    r.get(x, sizeof(double));
+  s.wall_velocities.resize(nv);
+  r.get(s.wall_velocities.data(), sizeof(double) * 2 * nv);
+  if (r.at + sizeof(std::uint64_t) != bytes.size())
+    throw std::runtime_error(path.string() + ": state file has bad sizes");
+  return f;
+}
+
+dynamics::SchemeState read_state(const std::filesystem::path& path)
+{
+  return read_state_file(path).state;
+}
+
+dynamics::SchemeState read_state(const std::filesystem::path& path,
+                                 const StateIdentity& expected)
+{
+  StateFile f = read_state_file(path);
+  if (f.identity.mesh != expected.mesh)
+    throw std::runtime_error(
+        path.string() + ": the state belongs to another mesh or packing "
+                        "(its reference coordinates or cell-to-body tags "
+                        "differ from this run's): start from a state written "
+                        "by this run");
+  if (f.identity.walls != expected.walls)
+    throw std::runtime_error(path.string() +
+                             ": the state belongs to other walls (their "
+                             "initial points or normals differ from this "
+                             "run's driver.json)");
+  return std::move(f.state);
 }
 
 } // namespace softpack::io

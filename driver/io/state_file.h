@@ -1,25 +1,65 @@
 #pragma once
 
+#include <bodies/BodySet.h>
+#include <cstdint>
 #include <dynamics/moreau_jean.h>
 #include <filesystem>
 
 namespace softpack::io
 {
 
+/// What a state belongs to: hashes (FNV-1a, 64 bits) of the mesh and
+/// packing (the nodes' reference coordinates and each cell's body) and of
+/// the walls' initial lines (points and normals). A state continues only
+/// the run it came from: another seed, a shifted mesh or other walls are
+/// refused on load instead of failing later as an inverted element.
+struct StateIdentity
+{
+  std::uint64_t mesh = 0;
+  std::uint64_t walls = 0;
+  bool operator==(const StateIdentity&) const = default;
+};
+
+/// The identity of a run's bodies and its walls as driver.json gives them
+/// (their initial lines, not the current ones).
+StateIdentity state_identity(const bodies::BodySet& bodies,
+                             const std::vector<dynamics::Wall>& walls);
+
+/// A state file's content.
+struct StateFile
+{
+  dynamics::SchemeState state;
+  StateIdentity identity;
+};
+
 /// A run's state on disk (docs/driver_io.md, raw/state.bin): a small binary
 /// file, written atomically, that lets a run (or a benchmark) start from the
 /// middle of a compaction. The layout is the driver's own: no other stage
-/// parses it (its time and step are in the raw/steps.csv written with it).
+/// parses it (`softpack-simulate --state-info FILE` prints its step and
+/// time).
 ///
-/// Layout (native little-endian): the 16 bytes "softpack-state-1", then
-/// int64 counts (DOFs, walls, reactions), time (double), steps (int64), u,
-/// v, the wall points (2 doubles each), the reactions (3 int32 keys and 2
-/// doubles each), and the 10 doubles of the energy balance.
+/// Layout (native little-endian): the 16 bytes "softpack-state-2", the
+/// identity (2 uint64), int64 counts (DOFs, walls, reactions, wall
+/// velocities: 0 or the wall count), time (double), steps (int64), u, v,
+/// the wall points (2 doubles each), the reactions (3 int32 keys and 2
+/// doubles each), the 10 doubles of the energy balance, the wall
+/// velocities, and last the FNV-1a 64 hash of every byte before it.
 void write_state(const std::filesystem::path& path,
-                 const dynamics::SchemeState& state);
+                 const dynamics::SchemeState& state,
+                 const StateIdentity& identity = {});
 
-/// @throws std::runtime_error naming the file if it is not a state file or
-/// is truncated
+/// Read a state file, checking its layout and checksum.
+/// @throws std::runtime_error naming the file if it is not a state file of
+/// this layout, is truncated or its checksum does not match
+StateFile read_state_file(const std::filesystem::path& path);
+
+/// The state of read_state_file, without its identity.
 dynamics::SchemeState read_state(const std::filesystem::path& path);
+
+/// Read a state file for the run whose identity is `expected`.
+/// @throws std::runtime_error naming the file and what differs (its mesh
+/// and packing, or its walls) when it belongs to another run
+dynamics::SchemeState read_state(const std::filesystem::path& path,
+                                 const StateIdentity& expected);
 
 } // namespace softpack::io

@@ -11,6 +11,7 @@
 #include <io/state_file.h>
 #include <material_registry.h>
 #include <numeric>
+#include <simulation/overlap_check.h>
 
 namespace softpack::simulation
 {
@@ -62,13 +63,22 @@ void add_timings(dynamics::StepTimings& sum, const dynamics::StepTimings& t)
   sum.solves += t.solves;
 }
 
+/// Unsolved contact problems dumped at most (each can be megabytes): the
+/// first ones show the failure; the rest are only counted (done.json).
+constexpr long max_problem_dumps = 20;
+
+/// A warning on stderr for the first unconverged step and every 100th
+/// after it: a run that never converges must not flood the log.
+bool warn_now(long count)
+{
+  return count == 1 || count % 100 == 0;
+}
+
 /// raw/failed_contact_problems/step_NNNNNNNN.hdf5 (FCLIB layout, replay
 /// with ./softpack fclib) when the step left a contact problem unsolved.
 void write_unsolved_problem(const std::filesystem::path& raw, long step,
                             const dynamics::StepReport& r)
 {
-  if (!r.unsolved_problem)
-    return;
   const std::filesystem::path dir = raw / "failed_contact_problems";
   std::filesystem::create_directories(dir);
   char name[40];
@@ -130,10 +140,11 @@ public:
         _bodies(make_bodies(comm, config)),
         _scheme(_bodies, config.walls,
                 {_p.time, _p.contact, _p.damping, config.velocity_scale}),
-        _raw(config.directory, config.walls)
+        _raw(config.directory, config.walls),
+        _identity(io::state_identity(_bodies, config.walls))
   {
     if (config.initial_state)
-      _scheme.restore(io::read_state(*config.initial_state));
+      _scheme.restore(io::read_state(*config.initial_state, _identity));
     io::write_setup(_raw_dir, io::setup_json(config, _bodies));
     if (_p.output.fields)
       _fields =
@@ -150,7 +161,7 @@ public:
     for (long step = _first + 1;; ++step)
     {
       const dynamics::StepReport r = _scheme.step();
-      write_unsolved_problem(_raw_dir, step, r);
+      check_convergence(step, r);
       _average.add_step(_scheme);
       add_timings(_spent, r.seconds);
       const std::optional<double> now = phi();
@@ -162,13 +173,65 @@ public:
       {
         const RunSummary summary{step, elapsed(), reason};
         _raw.finish(summary.steps, summary.seconds, summary.reason, _spent,
-                    _scheme.factorizations());
+                    _scheme.factorizations(), _checks);
         return summary;
       }
     }
   }
 
 private:
+  /// Count the step if a solve did not converge, warn (rate-limited) and
+  /// keep the first unsolved contact problems.
+  void check_convergence(long step, const dynamics::StepReport& r)
+  {
+    io::ConvergenceCounts& total = _checks.total;
+    const io::ConvergenceCounts before = total;
+    _interval.add(r);
+    total.add(r);
+    if (total.newton_unconverged_steps > before.newton_unconverged_steps &&
+        warn_now(total.newton_unconverged_steps))
+      std::fprintf(stderr,
+                   "softpack-simulate: warning: step %ld: Newton did not "
+                   "converge in %d iterations (%ld such steps so far)\n",
+                   step, r.newton_iterations, total.newton_unconverged_steps);
+    if (total.nlgs_unconverged_steps > before.nlgs_unconverged_steps &&
+        warn_now(total.nlgs_unconverged_steps))
+      std::fprintf(stderr,
+                   "softpack-simulate: warning: step %ld: a contact solve "
+                   "did not converge (error %.2e; %ld such steps so far)\n",
+                   step, r.nlgs_error, total.nlgs_unconverged_steps);
+    if (!r.unsolved_problem)
+      return;
+    if (_checks.problems_written < max_problem_dumps)
+    {
+      write_unsolved_problem(_raw_dir, step, r);
+      ++_checks.problems_written;
+    }
+    else
+      ++_checks.problems_not_written;
+  }
+
+  /// The overlap measured from the deformed boundaries (overlap_check.h),
+  /// warned about when deeper than the contact detection's alert distance.
+  double check_overlap(long step)
+  {
+    const double depth =
+        max_overlap_depth(deformed_boundaries(_bodies), _scheme.walls());
+    _checks.max_overlap_depth = std::max(_checks.max_overlap_depth, depth);
+    if (depth > _p.contact.alert_distance)
+    {
+      ++_checks.overlap_steps;
+      if (warn_now(_checks.overlap_steps))
+        std::fprintf(stderr,
+                     "softpack-simulate: warning: step %ld: bodies overlap "
+                     "by %.3g m, more than contact.alert_distance = %.3g m "
+                     "(%ld such output steps so far)\n",
+                     step, depth, _p.contact.alert_distance,
+                     _checks.overlap_steps);
+    }
+    return depth;
+  }
+
   double elapsed() const
   {
     return std::chrono::duration<double>(clock::now() - _start).count();
@@ -196,10 +259,12 @@ private:
   void output(long step, const dynamics::StepReport& r,
               std::optional<double> now)
   {
-    _raw.write(step, _scheme, r, now, elapsed(), _bodies, _spent, _average);
+    _raw.write(step, _scheme, r, now, elapsed(), _bodies, _spent, _average,
+               _interval, check_overlap(step));
     _average.reset();
+    _interval = {};
     if (_p.output.state)
-      io::write_state(_raw_dir / "state.bin", _scheme.state());
+      io::write_state(_raw_dir / "state.bin", _scheme.state(), _identity);
     if (_fields && _outputs % _p.output.fields_every == 0)
       _fields->write(_bodies, _scheme.time());
     ++_outputs;
@@ -216,9 +281,12 @@ private:
   bodies::BodySet _bodies;
   dynamics::MoreauJean _scheme;
   io::RawOutput _raw;
+  const io::StateIdentity _identity;
   std::unique_ptr<io::FieldOutput> _fields;
   dynamics::StepTimings _spent;
   dynamics::ContactForceAverage _average;
+  io::ConvergenceCounts _interval;
+  io::RunChecks _checks;
   long _outputs = 0;
   long _first = 0;
   std::optional<double> _phi0;
