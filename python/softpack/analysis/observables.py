@@ -60,13 +60,19 @@ from softpack.analysis.tables import read_table, write_table
 ENERGY_COLUMNS = ("strain_energy", "kinetic_energy", "wall_work",
                   "external_work", "damping", "friction", "contact_normal",
                   "numerical", "energy_residual")
+#: Copied from ``raw/steps.csv`` when the driver wrote them (NaN otherwise):
+#: steps since the previous row whose Newton iterations or contact solves
+#: did not converge, and the overlap depth measured from the deformed
+#: boundaries, independently of the contact detection (m).
+CHECK_COLUMNS = ("newton_unconverged_steps", "nlgs_unconverged_steps",
+                 "max_overlap_depth")
 SERIES_COLUMNS = (
     "step", "time", "piston_displacement", "eps", "phi", "E_over_WHLmu",
     "z", "z_without_walls", "retained", "rattlers", "unbalanced", "cv_psi",
     "cv_psi_retained", "piston_force", *ENERGY_COLUMNS,
     "energy_residual_relative", "newton_iterations", "nlgs_iterations",
     "nlgs_error", "nlgs_converged", "contacts", "active_contacts",
-    "max_penetration", "seconds", "contacts_file")
+    "max_penetration", "seconds", "contacts_file", *CHECK_COLUMNS)
 PARTICLE_COLUMNS = (
     "step", "time", "phi", "particle", "radius", "reference_area", "area",
     "psi_p", "contacts", "wall_contacts", "z_contacts", "resultant_force",
@@ -145,6 +151,9 @@ def series_from_steps(steps: dict, setup: RunSetup) -> dict:
         out=np.full(len(supplied), np.nan), where=supplied > 0)
     for name in DRIVER_COLUMNS:
         series[name] = steps[name]
+    for name in CHECK_COLUMNS:
+        if name in steps:
+            series[name] = steps[name]
     return series
 
 

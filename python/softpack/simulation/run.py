@@ -465,5 +465,26 @@ def _postprocess(out: Path, say) -> int:
     say(f"stopped by {finish.get('reason', '?')} after"
         f" {finish.get('steps', '?')} steps; Phi = {last.get('phi', 0):.4f},"
         f" eps = {last.get('eps', 0):.4f}, Z = {last.get('z', 0):.3f}")
+    _say_checks(finish, say)
     say(f"wrote {series_csv} and {particles_csv}")
     return 0
+
+
+def _say_checks(finish: dict, say) -> None:
+    """Say when the driver marked the run as not converged or overlapping.
+
+    ``raw/done.json`` counts the steps whose Newton iterations or contact
+    solves stopped unconverged, and the output steps whose bodies overlapped
+    by more than ``contact.alert_distance`` (the driver's independent check).
+    """
+    if finish.get("converged", True) is False:
+        say(f"WARNING: marked as not converged:"
+            f" {finish.get('newton_unconverged_steps', '?')} steps with"
+            f" Newton and {finish.get('nlgs_unconverged_steps', '?')} with a"
+            f" contact solve unconverged (raw/steps.csv"
+            f" newton_unconverged_steps, nlgs_unconverged_steps)")
+    if finish.get("overlap_steps", 0):
+        say(f"WARNING: bodies overlap by up to"
+            f" {finish.get('max_overlap_depth', 0):.3g} m at"
+            f" {finish['overlap_steps']} output steps (more than"
+            f" contact.alert_distance; raw/steps.csv max_overlap_depth)")
