@@ -10,7 +10,9 @@
 #include <bodies/material_parameters.h>
 #include <cmath>
 #include <dynamics/moreau_jean.h>
+#include <filesystem>
 #include <gtest/gtest.h>
+#include <io/state_file.h>
 #include <material_registry.h>
 #include <mesh_fixtures.h>
 
@@ -161,4 +163,38 @@ TEST(ServoWalls, BadServoWallsAreRefused)
   massless[1].mass = 0;
   EXPECT_THROW(dynamics::MoreauJean(bodies, massless, options(0)),
                std::invalid_argument);
+}
+
+TEST(ServoWalls, AContinuedRunEqualsTheUninterruptedOne)
+{
+  // A servo wall's velocity is state: the state file carries it.
+  const int first = 25, second = 25;
+  std::vector<dynamics::Wall> walls = box();
+  walls[1] = servo(walls[1], dynamics::WallControl::pressure, 1500.0);
+  dynamics::MoreauJeanOptions o = options(30);
+  o.time.full_newton = true; // the restored run refactors at its first step
+  bodies::BodySet bodies_a = one_disk();
+  dynamics::MoreauJean a(bodies_a, walls, o);
+  run(a, first + second);
+
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / "softpack_test_servo_state.bin";
+  bodies::BodySet bodies_b = one_disk();
+  {
+    dynamics::MoreauJean b(bodies_b, walls, o);
+    run(b, first);
+    ASSERT_GT(std::abs(b.walls()[1].velocity[0]), 0.0);
+    softpack::io::write_state(path, b.state());
+  }
+  bodies::BodySet bodies_c = one_disk();
+  dynamics::MoreauJean c(bodies_c, walls, o);
+  c.restore(softpack::io::read_state(path));
+  std::filesystem::remove(path);
+  run(c, second);
+  const double travel = walls[1].point[0] - a.walls()[1].point[0];
+  ASSERT_GT(travel, 1e-5);
+  EXPECT_NEAR(c.walls()[1].point[0], a.walls()[1].point[0], 1e-12 * travel);
+  EXPECT_NEAR(c.walls()[1].velocity[0], a.walls()[1].velocity[0],
+              1e-9 * std::abs(a.walls()[1].velocity[0]));
+  EXPECT_NEAR(c.energy().wall_work / a.energy().wall_work, 1.0, 1e-10);
 }
