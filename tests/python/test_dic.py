@@ -117,3 +117,16 @@ def test_rigid_rotation_gives_zero():
     est = dic.dic_energy(_snapshot(R, translation=(0.01, 0.02)), MU, H)
     assert abs(est.total) < 1e-12 * MU * _total_area() * H
     np.testing.assert_allclose(est.i1, 3.0, atol=1e-13)
+
+
+def test_i1_density_is_area_weighted_and_normalised():
+    """Fig. 5's density: each triangle weighs its reference area."""
+    from softpack.plots.dic import i1_density
+
+    est = dic.dic_energy(_snapshot(np.diag([1.2, 1 / 1.2])), MU, H)
+    bins = np.linspace(3.0, 3.2, 41)
+    centres, density, above = i1_density(est, bins)
+    assert np.sum(density * np.diff(bins)) == pytest.approx(1.0, rel=1e-12)
+    assert above == 0.0
+    # every triangle has I1 = 1.44 + 1/1.44 + 1 = 3.1344: one bin holds all
+    assert centres[np.argmax(density)] == pytest.approx(3.1344, abs=0.0025)
