@@ -43,3 +43,22 @@ def test_unconverged_steps_reach_series_and_summary(tmp_path, capsys):
     printed = capsys.readouterr()
     assert "marked as not converged" in printed.out + printed.err
     assert "Newton did not converge" in (out / "run.log").read_text()
+
+
+def test_max_penetration_is_bounded_by_the_element_size_and_the_step():
+    """Issue 16 item 5: 1e-9 m let bodies pass through each other unseen."""
+    from softpack.scene.config import ConfigError
+    small = ROOT / "examples" / "small.toml"  # h = 3 mm, piston 0.1 m/s
+    with pytest.raises(ConfigError, match=r"\[contact\] max_penetration ="
+                       r" 1e-09: must be >= 0.0003 m \(0.1 x \[mesh\]"
+                       r" element_size"):
+        cfg.load_config(small, {"contact.max_penetration": 1e-9})
+    # h / 10 is accepted ...
+    cfg.load_config(small, {"contact.max_penetration": 3e-4})
+    # ... unless a wall moves farther in one step (1 m/s x 7.2e-4 s).
+    with pytest.raises(ConfigError, match=r"max_penetration = 0.0003: must"
+                       r" be >= 0.00072 m \(the travel of \[walls.right\]"):
+        cfg.load_config(small, {"contact.max_penetration": 3e-4,
+                                "contact.alert_distance": 1e-3,
+                                "walls.right.velocity": [-1.0, 0.0],
+                                "time.time_step": 7.2e-4})
