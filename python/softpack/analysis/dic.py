@@ -122,6 +122,9 @@ class DicEnergy:
     fe_per_particle : ndarray, shape (bodies,)
     i1 : ndarray, shape (m,)
         I1 of Eq. 13 on each triangle.
+    det : ndarray, shape (m,)
+        ``det F_2D`` on each triangle: the model's area change, which the
+        closure reads as ``1/lambda_z^2``.
     area : ndarray, shape (m,)
         Reference area of each triangle (m^2), the weight of ``i1``.
     body : ndarray of int, shape (m,)
@@ -133,6 +136,7 @@ class DicEnergy:
     fe_total: float
     fe_per_particle: np.ndarray
     i1: np.ndarray
+    det: np.ndarray
     area: np.ndarray
     body: np.ndarray
 
@@ -167,7 +171,8 @@ def dic_energy(snapshot, shear_modulus, thickness, bodies=None) -> DicEnergy:
                          minlength=count)
     return DicEnergy(time=snapshot.time, total=float(per_particle.sum()),
                      per_particle=per_particle, fe_total=float(fe.sum()),
-                     fe_per_particle=fe, i1=i1, area=area, body=body)
+                     fe_per_particle=fe, i1=i1, det=np.linalg.det(F),
+                     area=area, body=body)
 
 
 def dic_series(run_dir) -> dict:

@@ -60,6 +60,24 @@ def i1_density(estimate, bins):
     return 0.5 * (edges[1:] + edges[:-1]), density, float(above)
 
 
+def particle_spread(estimate, share=0.01) -> str:
+    """Per-particle E_DIC/E_FE and the model's area change, as one line.
+
+    Particles holding less than ``share`` of the mean particle energy are
+    left out of the ratio (their ratio is noise over nothing).
+    """
+    fe, est = estimate.fe_per_particle, estimate.per_particle
+    keep = fe > share * np.nanmean(fe)
+    ratio = est[keep] / fe[keep]
+    lo, mid, hi = (np.percentile(ratio, [5, 50, 95]) if ratio.size
+                   else (np.nan,) * 3)
+    change = np.average(np.abs(estimate.det - 1.0), weights=estimate.area)
+    return (f"per particle ({keep.sum()} holding > {share:.0%} of the mean"
+            f" energy): E_DIC/E_FE median {mid:.4f}, 5-95 % {lo:.4f} to"
+            f" {hi:.4f}; area-weighted mean |det F_2D - 1| = {change:.4f},"
+            f" min det F_2D = {estimate.det.min():.4f}")
+
+
 def _nearest(series, phi):
     """Index of the row of ``series`` with Phi nearest ``phi``."""
     return int(np.nanargmin(np.abs(series["phi"] - phi)))
@@ -113,6 +131,7 @@ def plot_i1_pdf(run_dir, picks, path) -> list[str]:
                      f"{time:.5g} s: mean I1 = "
                      f"{np.average(estimate.i1, weights=estimate.area):.4f},"
                      f" max I1 = {estimate.i1.max():.3f}")
+        lines.append("    " + particle_spread(estimate))
     ax.set_xlabel("$I_1$ (Eq. 13)")
     ax.set_ylabel("$P(I_1)$")
     ax.legend(fontsize=7)
