@@ -65,7 +65,8 @@ struct Reader
   }
 };
 
-std::string payload(const dynamics::SchemeState& s, const StateIdentity& id)
+std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
+                    const RunChecks& c)
 {
   std::string out(magic);
   put(out, id.mesh);
@@ -90,6 +91,12 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id)
     put(out, *x);
   if (velocities)
     put(out, s.wall_velocities);
+  for (long n :
+       {c.total.newton_unconverged_steps, c.total.nlgs_unconverged_steps,
+        c.problems_written, c.problems_not_written})
+    put(out, static_cast<std::int64_t>(n));
+  put(out, c.max_overlap_depth);
+  put(out, static_cast<std::int64_t>(c.overlap_steps));
   return out;
 }
 
@@ -117,6 +124,21 @@ void check_layout(const std::string& bytes, const std::filesystem::path& path)
                              ": state file checksum mismatch (the file is "
                              "truncated or corrupted)");
 }
+void check_identity(const std::filesystem::path& path,
+                    const StateIdentity& found, const StateIdentity& expected)
+{
+  if (found.mesh != expected.mesh)
+    throw std::runtime_error(
+        path.string() + ": the state belongs to another mesh or packing "
+                        "(its reference coordinates or cell-to-body tags "
+                        "differ from this run's): start from a state written "
+                        "by this run");
+  if (found.walls != expected.walls)
+    throw std::runtime_error(path.string() +
+                             ": the state belongs to other walls (their "
+                             "initial points or normals differ from this "
+                             "run's driver.json)");
+}
 } // namespace
 
 StateIdentity state_identity(const bodies::BodySet& bodies,
@@ -140,9 +162,10 @@ StateIdentity state_identity(const bodies::BodySet& bodies,
 }
 
 void write_state(const std::filesystem::path& path,
-                 const dynamics::SchemeState& s, const StateIdentity& id)
+                 const dynamics::SchemeState& s, const StateIdentity& id,
+                 const RunChecks& checks)
 {
-  std::string bytes = payload(s, id);
+  std::string bytes = payload(s, id, checks);
   Fnv1a sum;
   sum.add(bytes.data(), bytes.size());
   put(bytes, sum.h);
@@ -156,7 +179,8 @@ void write_state(const std::filesystem::path& path,
   std::filesystem::rename(tmp, path);
 }
 
-StateFile read_state_file(const std::filesystem::path& path)
+StateFile read_state_file(const std::filesystem::path& path,
+                          const StateIdentity* expected)
 {
   std::ifstream in(path, std::ios::binary);
   if (!in)
@@ -192,8 +216,17 @@ StateFile read_state_file(const std::filesystem::path& path)
     r.get(x, sizeof(double));
   s.wall_velocities.resize(nv);
   r.get(s.wall_velocities.data(), sizeof(double) * 2 * nv);
+  RunChecks& c = f.checks;
+  for (long* n :
+       {&c.total.newton_unconverged_steps, &c.total.nlgs_unconverged_steps,
+        &c.problems_written, &c.problems_not_written})
+    *n = r.get<std::int64_t>();
+  c.max_overlap_depth = r.get<double>();
+  c.overlap_steps = r.get<std::int64_t>();
   if (r.at + sizeof(std::uint64_t) != bytes.size())
     throw std::runtime_error(path.string() + ": state file has bad sizes");
+  if (expected)
+    check_identity(path, f.identity, *expected);
   return f;
 }
 
@@ -205,19 +238,7 @@ dynamics::SchemeState read_state(const std::filesystem::path& path)
 dynamics::SchemeState read_state(const std::filesystem::path& path,
                                  const StateIdentity& expected)
 {
-  StateFile f = read_state_file(path);
-  if (f.identity.mesh != expected.mesh)
-    throw std::runtime_error(
-        path.string() + ": the state belongs to another mesh or packing "
-                        "(its reference coordinates or cell-to-body tags "
-                        "differ from this run's): start from a state written "
-                        "by this run");
-  if (f.identity.walls != expected.walls)
-    throw std::runtime_error(path.string() +
-                             ": the state belongs to other walls (their "
-                             "initial points or normals differ from this "
-                             "run's driver.json)");
-  return std::move(f.state);
+  return read_state_file(path, &expected).state;
 }
 
 } // namespace softpack::io

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <dynamics/moreau_jean.h>
 #include <filesystem>
+#include <io/raw_output.h>
 
 namespace softpack::io
 {
@@ -30,6 +31,9 @@ struct StateFile
 {
   dynamics::SchemeState state;
   StateIdentity identity;
+  /// The run's convergence and overlap counts up to the state's step, so
+  /// that a run continued from it reports totals over the whole run
+  RunChecks checks;
 };
 
 /// A run's state on disk (docs/driver_io.md, raw/state.bin): a small binary
@@ -43,15 +47,20 @@ struct StateFile
 /// velocities: 0 or the wall count), time (double), steps (int64), u, v,
 /// the wall points (2 doubles each), the reactions (3 int32 keys and 2
 /// doubles each), the 10 doubles of the energy balance, the wall
-/// velocities, and last the FNV-1a 64 hash of every byte before it.
+/// velocities, the run checks (4 int64, a double, an int64), and last the
+/// FNV-1a 64 hash of every byte before it.
 void write_state(const std::filesystem::path& path,
                  const dynamics::SchemeState& state,
-                 const StateIdentity& identity = {});
+                 const StateIdentity& identity = {},
+                 const RunChecks& checks = {});
 
-/// Read a state file, checking its layout and checksum.
+/// Read a state file, checking its layout and checksum, and its identity
+/// against `expected` when given.
 /// @throws std::runtime_error naming the file if it is not a state file of
-/// this layout, is truncated or its checksum does not match
-StateFile read_state_file(const std::filesystem::path& path);
+/// this layout, is truncated, its checksum does not match, or it belongs
+/// to another mesh and packing or other walls
+StateFile read_state_file(const std::filesystem::path& path,
+                          const StateIdentity* expected = nullptr);
 
 /// The state of read_state_file, without its identity.
 dynamics::SchemeState read_state(const std::filesystem::path& path);

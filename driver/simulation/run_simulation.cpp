@@ -144,7 +144,11 @@ public:
         _identity(io::state_identity(_bodies, config.walls))
   {
     if (config.initial_state)
-      _scheme.restore(io::read_state(*config.initial_state, _identity));
+    {
+      io::StateFile f = io::read_state_file(*config.initial_state, &_identity);
+      _scheme.restore(f.state);
+      _checks = f.checks; // totals over the whole run in done.json
+    }
     io::write_setup(_raw_dir, io::setup_json(config, _bodies));
     if (_p.output.fields)
       _fields =
@@ -264,7 +268,8 @@ private:
     _average.reset();
     _interval = {};
     if (_p.output.state)
-      io::write_state(_raw_dir / "state.bin", _scheme.state(), _identity);
+      io::write_state(_raw_dir / "state.bin", _scheme.state(), _identity,
+                      _checks);
     if (_fields && _outputs % _p.output.fields_every == 0)
       _fields->write(_bodies, _scheme.time());
     ++_outputs;

@@ -137,8 +137,25 @@ TEST(RunChecks, UnconvergedStepsAreCountedAndDumpsBounded)
   EXPECT_EQ(files, 20);
   EXPECT_EQ(done.at("failed_contact_problems_written"), 20);
   EXPECT_EQ(done.at("failed_contact_problems_not_written"), 5);
+
+  // Continued from its state for 5 steps: the totals cover the whole run,
+  // and the dumps stay bounded.
+  const std::filesystem::path next = test::fresh_directory("checks-next");
+  doc["directory"] = next.string();
+  doc["initial_state"] = (dir / "raw" / "state.bin").string();
+  doc["stop"]["steps"] = 5;
+  run(doc, next);
+  const json more = read_json(next / "raw" / "done.json");
+  EXPECT_EQ(more.at("newton_unconverged_steps"), 30);
+  EXPECT_EQ(more.at("failed_contact_problems_written"), 20);
+  EXPECT_EQ(more.at("failed_contact_problems_not_written"), 10);
+  EXPECT_FALSE(
+      std::filesystem::exists(next / "raw" / "failed_contact_problems"));
   if (!HasFailure())
+  {
     std::filesystem::remove_all(dir);
+    std::filesystem::remove_all(next);
+  }
 }
 
 TEST(RunChecks, ConvergedRunIsMarkedConverged)
