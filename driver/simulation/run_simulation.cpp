@@ -222,7 +222,9 @@ private:
     const double depth =
         max_overlap_depth(deformed_boundaries(_bodies), _scheme.walls());
     _checks.max_overlap_depth = std::max(_checks.max_overlap_depth, depth);
-    if (depth > _p.contact.alert_distance)
+    // A continued run's first row is the state's step, counted already.
+    const bool counted = _config.initial_state && step == _first;
+    if (depth > _p.contact.alert_distance && !counted)
     {
       ++_checks.overlap_steps;
       if (warn_now(_checks.overlap_steps))
