@@ -1,7 +1,9 @@
 """The one reader of ``fields.h5`` (the driver's field output).
 
-The driver writes ``fields.xdmf`` + ``fields.h5`` with dolfinx's XDMFFile
-(``driver/io/field_output.cpp``); in the HDF5 file:
+The driver writes ``fields.h5`` with dolfinx's XDMFFile
+(``driver/io/field_output.cpp``) and its own ``fields.xdmf`` (one temporal
+collection, read by ParaView and ``meshio.xdmf.TimeSeriesReader``; this
+module does not read it); in the HDF5 file:
 
 ``/Mesh/<mesh>/geometry``
     reference node coordinates, shape ``(n, 2)`` (or ``(n, 3)``);
