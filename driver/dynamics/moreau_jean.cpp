@@ -193,14 +193,15 @@ bool MoreauJean::needs_refactorization() const
          _last_iterations > _options.time.refactor_above_iterations;
 }
 
-void MoreauJean::refactorize(const StepContacts& sc,
-                             contact::FrictionContactProblem2D& problem,
-                             StepReport& report)
+void MoreauJean::factorize_tangent(StepReport* report)
 {
   const double h = _options.time.time_step, th = _options.time.theta;
   auto t0 = clock::now();
   _bodies.tangent(_K);
-  report.seconds.assembly += seconds_since(t0);
+  const std::span<const double> u = _bodies.displacement();
+  _u_tangent.assign(u.begin(), u.end());
+  if (report)
+    report->seconds.assembly += seconds_since(t0);
   t0 = clock::now();
   // Kbar = M + h th C + h^2 th^2 K; A = M + h th C multiplies v_k in the
   // residual.
@@ -209,12 +210,20 @@ void MoreauJean::refactorize(const StepContacts& sc,
   for (std::size_t b = 0; b < _A.size(); ++b)
     combine(A, _kbar.mass(static_cast<int>(b)), _K[b], _A[b]);
   _products_valid = false;
-  report.seconds.factorization += seconds_since(t0);
+  if (report)
+    report->seconds.factorization += seconds_since(t0);
+}
+
+void MoreauJean::refactorize(const StepContacts& sc,
+                             contact::FrictionContactProblem2D& problem,
+                             StepReport& report)
+{
+  factorize_tangent(&report);
   _matrix_age = 0;
   report.refactorized = true;
   if (sc.size() > 0)
   {
-    t0 = clock::now();
+    const auto t0 = clock::now();
     problem.W = build_delassus(_bodies, sc.H, _kbar,
                                _options.contact.delassus_drop_tolerance,
                                sc.servo.couplings);

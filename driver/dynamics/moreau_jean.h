@@ -81,8 +81,11 @@ struct StepReport
 };
 
 /// Everything the time stepping carries from one step to the next: enough
-/// to continue a run from where it was (the factorized iteration matrix is
-/// rebuilt at the first step after a restore).
+/// to continue a run from where it was, exactly. With modified Newton the
+/// kept iteration matrix is part of the state: the restore reassembles and
+/// refactors it at the displacement it was assembled at, and the age and
+/// the last iteration count make the resumed run take the same refactor
+/// decisions as the uninterrupted one.
 struct SchemeState
 {
   double time = 0;
@@ -98,6 +101,14 @@ struct SchemeState
   std::vector<ImpulseHistory::Entry> reactions;
   /// The energy accounts since the start of the run
   EnergyBalance energy;
+  /// Steps since the last factorization of the iteration matrix (-1: none;
+  /// the first step after the restore then refactors)
+  int matrix_age = -1;
+  /// Newton iterations of the last step (the early-refactor rule uses it)
+  int last_iterations = 0;
+  /// Global displacement at which the kept tangent was assembled (empty
+  /// when matrix_age < 0)
+  std::vector<double> u_tangent;
 };
 
 /// The Moreau–Jean theta-method with Newton iterations on finite-strain
@@ -180,6 +191,10 @@ private:
   contact::FrictionContactProblem2D prepare_problem(const StepContacts& sc,
                                                     StepReport& report);
   bool needs_refactorization() const;
+  /// Assemble K at the bodies' current displacement, factorize Kbar and
+  /// form A (the arithmetic of every refactorization, and of a restore);
+  /// adds its times to `report` when given
+  void factorize_tangent(StepReport* report);
   void refactorize(const StepContacts& sc,
                    contact::FrictionContactProblem2D& problem,
                    StepReport& report);
@@ -244,6 +259,8 @@ private:
   mutable bool _energy_stale = true;
   int _matrix_age = -1; ///< steps since the last factorization (-1: none)
   int _last_iterations = 0;
+  /// Displacement at which _K was assembled (saved in the state)
+  std::vector<double> _u_tangent;
 };
 
 } // namespace softpack::dynamics

@@ -38,6 +38,10 @@ SchemeState MoreauJean::state() const
   }
   s.reactions = _history.entries();
   s.energy = energy();
+  s.matrix_age = _matrix_age;
+  s.last_iterations = _last_iterations;
+  if (_matrix_age >= 0)
+    s.u_tangent = _u_tangent;
   return s;
 }
 
@@ -52,6 +56,17 @@ void MoreauJean::restore(const SchemeState& s)
     throw std::invalid_argument(
         "state: " + std::to_string(s.wall_points.size()) +
         " walls, the run has " + std::to_string(_walls.size()));
+  if (s.matrix_age >= 0 && s.u_tangent.size() != u.size())
+    throw std::invalid_argument(
+        "state: a kept tangent of " + std::to_string(s.u_tangent.size()) +
+        " DOFs, the bodies have " + std::to_string(u.size()));
+  if (s.matrix_age >= 0)
+  {
+    // The kept iteration matrix, rebuilt where it was assembled: the same
+    // arithmetic as the uninterrupted run's refactorization.
+    std::copy(s.u_tangent.begin(), s.u_tangent.end(), u.begin());
+    factorize_tangent(nullptr);
+  }
   std::copy(s.u.begin(), s.u.end(), u.begin());
   _v = s.v;
   for (std::size_t w = 0; w < _walls.size(); ++w)
@@ -69,7 +84,9 @@ void MoreauJean::restore(const SchemeState& s)
   _energy = s.energy;
   _energy_stale = true;
   _started = true;
-  _matrix_age = -1;
+  _matrix_age = s.matrix_age;
+  _last_iterations = s.last_iterations;
+  // M v and K v are recomputed at the first step from the restored K and v.
   _products_valid = false;
 }
 

@@ -10,8 +10,9 @@ namespace softpack::io
 {
 namespace
 {
-constexpr std::string_view magic = "softpack-state-2";
+constexpr std::string_view magic = "softpack-state-3";
 constexpr std::string_view magic_v1 = "softpack-state-1";
+constexpr std::string_view magic_v2 = "softpack-state-2";
 
 /// FNV-1a, 64 bits: a checksum of the payload (detects flipped bytes and
 /// truncation; not a cryptographic hash).
@@ -97,6 +98,14 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
     put(out, static_cast<std::int64_t>(n));
   put(out, c.max_overlap_depth);
   put(out, static_cast<std::int64_t>(c.overlap_steps));
+  // The kept iteration matrix: its age, the last iteration count and the
+  // displacement it was assembled at (none when there is no matrix).
+  const bool tangent = s.matrix_age >= 0 && s.u_tangent.size() == s.u.size();
+  put(out, static_cast<std::int64_t>(tangent ? s.matrix_age : -1));
+  put(out, static_cast<std::int64_t>(s.last_iterations));
+  put(out, static_cast<std::int64_t>(tangent ? s.u_tangent.size() : 0));
+  if (tangent)
+    put(out, s.u_tangent);
   return out;
 }
 
@@ -110,6 +119,11 @@ void check_layout(const std::string& bytes, const std::filesystem::path& path)
         path.string() + ": state layout softpack-state-1 (no checksum, no "
                         "identity of its mesh) is no longer read: rerun the "
                         "run that wrote it");
+  if (head == magic_v2)
+    throw std::runtime_error(
+        path.string() + ": state layout softpack-state-2 (without the kept "
+                        "iteration matrix, so not resumable exactly) is no "
+                        "longer read: rerun the run that wrote it");
   if (head != magic)
     throw std::runtime_error(path.string() + ": not a softpack state file");
   if (bytes.size() < magic.size() + sizeof(std::uint64_t))
@@ -223,6 +237,13 @@ StateFile read_state_file(const std::filesystem::path& path,
     *n = r.get<std::int64_t>();
   c.max_overlap_depth = r.get<double>();
   c.overlap_steps = r.get<std::int64_t>();
+  s.matrix_age = static_cast<int>(r.get<std::int64_t>());
+  s.last_iterations = static_cast<int>(r.get<std::int64_t>());
+  const auto nt = r.get<std::int64_t>();
+  if ((nt != 0 && nt != n) || (nt > 0) != (s.matrix_age >= 0 && n > 0))
+    throw std::runtime_error(path.string() + ": state file has bad sizes");
+  s.u_tangent.resize(nt);
+  r.get(s.u_tangent.data(), sizeof(double) * nt);
   if (r.at + sizeof(std::uint64_t) != bytes.size())
     throw std::runtime_error(path.string() + ": state file has bad sizes");
   if (expected)

@@ -283,6 +283,10 @@ TEST(StateFile, RefusesCorruptedFilesAndStatesOfOtherRuns)
   bytes.replace(0, 16, "softpack-state-1");
   std::ofstream(state, std::ios::binary | std::ios::trunc) << bytes;
   EXPECT_NE(error_of(other, next).find("softpack-state-1"), std::string::npos);
+  // So is the layout without the kept iteration matrix.
+  bytes.replace(0, 16, "softpack-state-2");
+  std::ofstream(state, std::ios::binary | std::ios::trunc) << bytes;
+  EXPECT_NE(error_of(other, next).find("softpack-state-2"), std::string::npos);
   if (!HasFailure())
   {
     std::filesystem::remove_all(first);
