@@ -31,7 +31,7 @@ from pathlib import Path
 from softpack.simulation import driver
 from softpack.simulation.driver_input import write_driver_json
 
-STEPS = 400
+STEPS = 1500
 #: Scale of the paper's assembly: 18 small and 8 large disks.
 SCALE = 0.26
 ELEMENT_SIZE = 2e-3
