@@ -250,11 +250,12 @@ def test_why_z_is_undefined_is_written(tmp_path):
     assert s["contacts_file"].tolist() == [1, 0, 1]
     assert math.isnan(s["retained"][1]) and s["retained"][2] == 0
     assert s["rattlers"][2] == 5 and math.isnan(s["z"][2])
+    assert s["z_undefined"].tolist() == [0, 1, 2]
     assert obs.z_report(s) == (
-        "Z undefined at 2 of 3 output steps: 1 with no retained particle"
-        " (all rattlers or unbalanced), 1 without a raw/contacts file")
-    assert obs.z_report({"z": [2.0], "contacts_file": [1],
-                         "retained": [3]}) == ""
+        "Z undefined at 2 of 3 output steps: 1 no raw/contacts file for this"
+        " output step; 1 no force-bearing contact: every particle floats (a"
+        " rattler) (series.csv z_undefined)")
+    assert obs.z_report({"z": [2.0], "z_undefined": [0]}) == ""
 
 
 def test_no_box_leaves_box_columns_nan(tmp_path):

@@ -109,3 +109,99 @@ def test_from_csv_needs_box(tmp_path):
     path.write_text("particle,x,y,radius,area\n0,0.1,0.1,0.01,0.0003\n")
     with pytest.raises(ValueError, match="length"):
         Packing.from_csv(path)
+
+
+# -- the initial packing fraction and the growth protocol ---------------------
+
+def _admissible(centres, radii, length, width, gap):
+    p = Packing(centres=centres, radii=radii, length=length, width=width)
+    return p.min_particle_gap() >= gap and p.min_wall_gap() >= gap
+
+
+def test_growth_reaches_full_size_without_overlaps():
+    from softpack.scene.placement import _padded, _sequential
+    from softpack.scene.preparation import grow
+    radii = np.repeat([0.01, 0.015], (14, 6))
+    area = np.pi * np.sum(radii**2)
+    width = 0.1
+    length = area / (0.70 * width)
+    rng = np.random.default_rng(0)
+    start = 0.55
+    placed, overlapping = _sequential(radii * start, length, width, 1e-4,
+                                      rng, 200, relax=False)
+    assert not overlapping
+    x = grow(placed, radii, length, width, _padded(1e-4), start, rng)
+    assert _admissible(x, radii, length, width, 1e-4)
+    # the growth moved the circles, and it is reproducible
+    assert not np.allclose(x, placed)
+    rng = np.random.default_rng(0)
+    again, _ = _sequential(radii * start, length, width, 1e-4, rng, 200,
+                           relax=False)
+    assert np.array_equal(grow(again, radii, length, width, _padded(1e-4),
+                               start, rng), x)
+
+
+def test_growth_jams_in_an_overfull_box():
+    from softpack.scene.placement import _padded
+    from softpack.scene.preparation import grow
+    import softpack.scene.preparation as preparation
+    radii = np.full(4, 0.01)
+    # four disks of 20 mm need 40 x 40 mm; the box is 39 mm square
+    centres = np.array([[0.01, 0.01], [0.029, 0.01], [0.01, 0.029],
+                        [0.029, 0.029]])
+    old = preparation.STALL_SWEEPS
+    preparation.STALL_SWEEPS = 50
+    try:
+        with pytest.raises(PackingError, match="growth jammed at 0.9"):
+            grow(centres, radii, 0.039, 0.039, _padded(1e-4), 0.9,
+                 np.random.default_rng(0))
+    finally:
+        preparation.STALL_SWEEPS = old
+
+
+def test_place_falls_back_to_growth_when_inflation_jams(monkeypatch):
+    import softpack.scene.placement as placement
+
+    def jammed(*args, **kwargs):
+        raise PackingError("stalled (test)")
+
+    monkeypatch.setattr(placement, "_relax_overlaps", jammed)
+    monkeypatch.setattr(placement, "ATTEMPTS", 1)
+    radii = np.repeat([0.01, 0.015], (14, 6))
+    width = 0.1
+    length = np.pi * np.sum(radii**2) / (0.72 * width)
+    x = placement.place(radii, length, width, 1e-4,
+                        np.random.default_rng(3))
+    assert _admissible(x, radii, length, width, 1e-4)
+
+
+def _config(**packing):
+    from softpack.scene.config import load_config
+    return load_config("examples/paper_phi078.toml",
+                       overrides={f"packing.{k}": v
+                                  for k, v in packing.items()})
+
+
+def test_paper_phi078_starts_at_078():
+    from softpack.scene.packing import scene_packing
+    config = _config()
+    radii = np.repeat([0.01, 0.015], (70, 30))
+    area = np.pi * np.sum(radii**2)
+    assert area / (config["box"]["length"] * 0.202) == pytest.approx(
+        0.78, abs=1e-12)
+    requested = _config(initial_packing_fraction=0.78)
+    a = scene_packing(config, radii)
+    b = scene_packing(requested, radii)  # the key only checks the box
+    assert np.array_equal(a.centres, b.centres)
+    assert a.packing_fraction == pytest.approx(0.78, abs=1e-12)
+    assert a.min_particle_gap() >= 1e-4 and a.min_wall_gap() >= 1e-4
+
+
+def test_requested_fraction_the_box_does_not_give_is_refused():
+    from softpack.scene.packing import scene_packing
+    config = _config(initial_packing_fraction=0.8)
+    radii = np.repeat([0.01, 0.015], (70, 30))
+    with pytest.raises(PackingError, match=r"\[packing\]"
+                       r" initial_packing_fraction = 0.8: .* fill 0.7800 .*"
+                       r"set \[box\] length = 0.2673075432"):
+        scene_packing(config, radii)

@@ -20,17 +20,28 @@ force-bearing contact (two-node rule)
     >= 2 of its nodes are active against it; that is one contact.
 unbalanced particles
     ``|sum of contact forces on the particle| > f_p*``,
-    ``f_p* = unbalanced_threshold x piston force`` (the paper 0.05 % ...
-    0.1 %). Resultants include all contacts, active or not.
+    ``f_p* = unbalanced_threshold x f`` (the paper: 0.05 % ... 0.1 % of "the
+    total compressive force f of the system"). Resultants include all
+    contacts, active or not. Two readings of f (``unbalanced_reference``):
+    ``"piston_force"``, the force on the piston; ``"total_normal_force"``,
+    the sum of the normal forces of all nodal contacts of the output step
+    (particle-particle and particle-wall).
+excluded particles' contacts (``excluded_contacts``)
+    ``"dropped"``: a contact with an unbalanced particle leaves the count of
+    its balanced neighbour too; ``"kept"``: the neighbour keeps it (only the
+    unbalanced particle leaves the average).
 rattlers (floating particles)
-    Particles that are not unbalanced and have no force-bearing contact with
-    a wall or with a particle that is not unbalanced.
+    Particles that are not unbalanced and have no counted force-bearing
+    contact (with a wall, or with a particle under the reading above).
 Z
-    Retained particles: neither unbalanced nor rattlers. ``Z = (2 N_pp +
-    N_pw) / N_retained``, N_pp the force-bearing contacts between retained
-    particles, N_pw those between retained particles and walls;
-    ``z_without_walls = 2 N_pp / N_retained`` over the same particles. NaN
-    when no particle is retained (``retained`` = 0 says so).
+    Retained particles: neither unbalanced nor rattlers. ``Z = sum of the
+    counted contacts of the retained particles / N_retained``; with
+    ``"dropped"`` this is ``(2 N_pp + N_pw) / N_retained``, N_pp the
+    force-bearing contacts between retained particles, N_pw those between
+    retained particles and walls. ``z_without_walls`` counts only the
+    particle contacts, over the same particles. Undefined (NaN) when no
+    particle is retained; :func:`z_undefined_code` says why
+    (:data:`Z_UNDEFINED`).
 """
 
 from __future__ import annotations
@@ -44,6 +55,16 @@ from softpack.analysis.setup import Rules
 from softpack.analysis.tables import read_table
 
 RULES = ("loaded_nodes", "candidate_nodes")
+#: Readings of the paper's f in f_p* (``unbalanced_reference``).
+REFERENCES = ("piston_force", "total_normal_force")
+#: What an unbalanced particle's contacts do for its neighbours.
+EXCLUDED_CONTACTS = ("dropped", "kept")
+#: Why Z is undefined (``series.csv`` column ``z_undefined``; 0: defined).
+Z_UNDEFINED = {
+    1: "no raw/contacts file for this output step",
+    2: "no force-bearing contact: every particle floats (a rattler)",
+    3: "every particle is unbalanced",
+    4: "every particle is unbalanced or a rattler"}
 CONTACT_COLUMNS = ("candidate", "node", "antagonist", "wall", "fn", "ft",
                    "fx", "fy")
 
@@ -174,8 +195,9 @@ def contact_network(contacts: dict, n_particles: int, piston_force: float,
     piston_force : float
         Force on the piston in the units of the contact forces.
     rules : Rules
-        Relative thresholds of :func:`active_mask` and of f_p*, and the
-        two-node rule (see the module doc).
+        Relative thresholds of :func:`active_mask` and of f_p*, the
+        two-node rule, the reading of f and of the excluded particles'
+        contacts (see the module doc).
 
     Returns
     -------
@@ -189,9 +211,15 @@ def contact_network(contacts: dict, n_particles: int, piston_force: float,
     resultant = np.linalg.norm(resultant_forces(
         contacts["candidate"], contacts["antagonist"], contacts["fx"],
         contacts["fy"], n_particles), axis=1)
-    unbalanced = resultant > rules.unbalanced_threshold * piston_force
-    pair_ok = ~unbalanced[pairs[:, 0]] & ~unbalanced[pairs[:, 1]]
-    wall_ok = ~unbalanced[walls[:, 0]]
+    reference = reference_force(contacts, piston_force,
+                                _rule(rules, "unbalanced_reference"))
+    unbalanced = resultant > rules.unbalanced_threshold * reference
+    if _rule(rules, "excluded_contacts") == "kept":
+        pair_ok = np.ones(len(pairs), dtype=bool)
+        wall_ok = np.ones(len(walls), dtype=bool)
+    else:
+        pair_ok = ~unbalanced[pairs[:, 0]] & ~unbalanced[pairs[:, 1]]
+        wall_ok = ~unbalanced[walls[:, 0]]
     pp = _count(pairs.reshape(-1), n_particles)
     pw = _count(walls[:, 0], n_particles)
     z_pp = _count(pairs[pair_ok].reshape(-1), n_particles)
@@ -206,6 +234,62 @@ def contact_network(contacts: dict, n_particles: int, piston_force: float,
         rattler=rattler, retained=retained,
         z=z_contacts.sum() / n if n else float("nan"),
         z_without_walls=z_pp[retained].sum() / n if n else float("nan"))
+
+
+def reference_force(contacts: dict, piston_force: float,
+                    reference: str) -> float:
+    """The f of f_p* = unbalanced_threshold x f under a reading.
+
+    ``"piston_force"``: ``piston_force``; ``"total_normal_force"``: the sum
+    of the positive normal forces of all nodal contacts.
+    """
+    if reference == "piston_force":
+        return float(piston_force)
+    if reference == "total_normal_force":
+        return float(np.sum(np.maximum(np.asarray(contacts["fn"], float),
+                                       0.0)))
+    raise ValueError(f"unbalanced_reference must be one of {REFERENCES},"
+                     f" got {reference!r}")
+
+
+def z_undefined_code(network) -> int:
+    """Why Z is undefined (a key of :data:`Z_UNDEFINED`), 0 when it is
+    defined; ``network`` None means no contacts file."""
+    if network is None:
+        return 1
+    if network.retained.any():
+        return 0
+    if not network.unbalanced.any():
+        return 2
+    return 3 if network.unbalanced.all() else 4
+
+
+def z_change(phi, z_a, z_b, phi_range=None) -> float:
+    """The insensitivity criterion: max |Z_a - Z_b| over the output steps
+    (within ``phi_range = (lo, hi)`` if given) where both are defined.
+
+    NaN when there is no such step.
+    """
+    phi, z_a, z_b = (np.asarray(v, dtype=float) for v in (phi, z_a, z_b))
+    keep = np.isfinite(z_a) & np.isfinite(z_b)
+    if phi_range is not None:
+        keep &= (phi >= phi_range[0]) & (phi <= phi_range[1])
+    if not keep.any():
+        return float("nan")
+    return float(np.max(np.abs(z_a[keep] - z_b[keep])))
+
+
+def _rule(rules, name):
+    """A reading of ``rules`` (the default, the first choice, for a
+    ``Rules`` without it)."""
+    default = {"unbalanced_reference": REFERENCES[0],
+               "excluded_contacts": EXCLUDED_CONTACTS[0]}[name]
+    value = getattr(rules, name, default)
+    allowed = REFERENCES if name == "unbalanced_reference" \
+        else EXCLUDED_CONTACTS
+    if value not in allowed:
+        raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
+    return value
 
 
 def _count(indices, n) -> np.ndarray:

@@ -36,8 +36,12 @@ Psi_p, c_v(Psi_p)
 Z, rattlers, unbalanced particles
     :mod:`softpack.analysis.connectivity`. ``z`` is NaN where no particle is
     retained (``retained`` = 0) and where the output step has no contacts
-    file (``contacts_file`` = 0, and the contact columns NaN);
-    :func:`z_report` counts both.
+    file (``contacts_file`` = 0, and the contact columns NaN); the column
+    ``z_undefined`` says why, as a code of
+    :data:`softpack.analysis.connectivity.Z_UNDEFINED` (0: Z defined; 1: no
+    contacts file; 2: every particle a rattler; 3: every particle
+    unbalanced; 4: every particle unbalanced or a rattler), and
+    :func:`z_report` counts each.
 piston force
     ``-(f . n)`` of the wall ``right``, f the force it receives, n its
     inward normal: positive in compression.
@@ -49,8 +53,9 @@ from pathlib import Path
 
 import numpy as np
 
-from softpack.analysis.connectivity import (contact_network, contacts_path,
-                                            read_contacts)
+from softpack.analysis.connectivity import (Z_UNDEFINED, contact_network,
+                                            contacts_path, read_contacts,
+                                            z_undefined_code)
 from softpack.analysis.setup import (PISTON, RunSetup, read_rules,
                                      read_setup)
 from softpack.analysis.strain import cumulative_strain
@@ -68,7 +73,8 @@ CHECK_COLUMNS = ("newton_unconverged_steps", "nlgs_unconverged_steps",
                  "max_overlap_depth")
 SERIES_COLUMNS = (
     "step", "time", "piston_displacement", "eps", "phi", "E_over_WHLmu",
-    "z", "z_without_walls", "retained", "rattlers", "unbalanced", "cv_psi",
+    "z", "z_without_walls", "z_undefined", "retained", "rattlers",
+    "unbalanced", "cv_psi",
     "cv_psi_retained", "piston_force", *ENERGY_COLUMNS,
     "energy_residual_relative", "newton_iterations", "nlgs_iterations",
     "nlgs_error", "nlgs_converged", "contacts", "active_contacts",
@@ -190,6 +196,7 @@ def series_and_particles(steps: dict, particles: dict, contacts_of,
         series["contacts_file"][k] = contacts is not None
         net = None if contacts is None else contact_network(
             contacts, n, force[k], rules)
+        series["z_undefined"][k] = z_undefined_code(net)
         if net is not None:
             series["z"][k], series["z_without_walls"][k] = \
                 net.z, net.z_without_walls
@@ -216,12 +223,11 @@ def z_report(series: dict) -> str:
     undefined = ~np.isfinite(np.asarray(series["z"], dtype=float))
     if not undefined.any():
         return ""
-    no_file = undefined & (np.asarray(series["contacts_file"]) == 0)
-    none_kept = undefined & (np.asarray(series["retained"]) == 0)
+    codes = np.asarray(series["z_undefined"], dtype=float)[undefined]
+    reasons = [f"{int(np.sum(codes == code))} {text}"
+               for code, text in Z_UNDEFINED.items() if np.any(codes == code)]
     return (f"Z undefined at {int(undefined.sum())} of {len(undefined)}"
-            f" output steps: {int(none_kept.sum())} with no retained particle"
-            f" (all rattlers or unbalanced), {int(no_file.sum())} without a"
-            " raw/contacts file")
+            f" output steps: {'; '.join(reasons)} (series.csv z_undefined)")
 
 
 def _per_particle(particles, step, n):

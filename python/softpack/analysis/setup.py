@@ -117,11 +117,25 @@ class Rules:
     rule : str
         ``two_node_rule``, one of
         :data:`softpack.analysis.connectivity.RULES`.
+    unbalanced_reference, excluded_contacts : str
+        The readings of the exclusion rule
+        (:mod:`softpack.analysis.connectivity`); ``None``: the schema's
+        default.
     """
 
     force_threshold: float
     unbalanced_threshold: float
     rule: str
+    unbalanced_reference: str = None
+    excluded_contacts: str = None
+
+    def __post_init__(self):
+        from softpack.scene.schema import load_schema
+
+        spec = load_schema()["observables"].parameters
+        for name in ("unbalanced_reference", "excluded_contacts"):
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, spec[name].default)
 
 
 def setup_path(run_dir) -> Path:
@@ -216,9 +230,13 @@ def read_rules(run_dir) -> Rules:
         raise SetupError(f"{path}: {err}") from None
     names = {"contact_force_threshold": "force_threshold",
              "unbalanced_threshold": "unbalanced_threshold",
-             "two_node_rule": "rule"}
+             "two_node_rule": "rule",
+             "unbalanced_reference": "unbalanced_reference",
+             "excluded_contacts": "excluded_contacts"}
+    # runs older than these two readings: the schema's default
+    optional = {"unbalanced_reference", "excluded_contacts"}
     unknown = set(section) - set(names)
-    missing = set(names) - set(section)
+    missing = set(names) - set(section) - optional
     if unknown or missing:
         raise SetupError(f"{path} [observables]: unknown keys"
                          f" {sorted(unknown)}, missing keys {sorted(missing)}")
@@ -231,6 +249,8 @@ def _check_against_schema(path, section) -> None:
     from softpack.scene.schema import load_schema
 
     for key, spec in load_schema()["observables"].parameters.items():
+        if key not in section:
+            continue  # an optional reading, checked as the default
         value = section[key]
         if spec.type == "str":
             ok = isinstance(value, str) and value in (spec.choices or (value,))

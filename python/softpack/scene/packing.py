@@ -11,7 +11,11 @@ shapes at least ``gap`` apart.
 
 The placement itself is :func:`softpack.scene.placement.place` (RSA of
 shrunken circles, then inflation with relaxation of the overlaps; 1,000
-particles in a few seconds).
+particles in a few seconds; past about Phi = 0.78 the growth protocol of
+:mod:`softpack.scene.preparation`). The box sets the initial packing
+fraction: with the particles' sizes fixed, Phi0 = their area / (L W), so a
+requested Phi0 ([packing] initial_packing_fraction) is a box length L, the
+piston's start.
 """
 
 from __future__ import annotations
@@ -281,6 +285,8 @@ def scene_packing(config, radii, areas=None) -> Packing:
         raise PackingError(
             f"a particle of bounding diameter {2 * radii.max():g} m does not"
             f" fit in the {length} x {width} m box {keys}")
+    _check_requested_fraction(config, radii if areas is None else None,
+                              areas)
     phi = _fraction(radii, length, width)
     if phi >= HEXAGONAL_FRACTION:
         raise PackingError(
@@ -295,6 +301,30 @@ def scene_packing(config, radii, areas=None) -> Packing:
         raise PackingError(f"{err} {keys}") from None
     return Packing(centres=centres, radii=radii, length=length, width=width,
                    seed=seed, shape_areas=areas)
+
+
+#: How far the box's packing fraction may be from [packing]
+#: initial_packing_fraction (a box length typed to 0.01 mm is within).
+REQUESTED_FRACTION_TOLERANCE = 1e-4
+
+
+def _check_requested_fraction(config, radii, areas) -> None:
+    """Refuse a [packing] initial_packing_fraction that the box does not
+    give, naming the box length that does (the piston's start)."""
+    requested = config["packing"].get("initial_packing_fraction", 0.0)
+    if not requested:
+        return
+    box = config["box"]
+    area = float(np.sum(np.pi * np.asarray(radii)**2 if areas is None
+                        else areas))
+    phi = area / (box["length"] * box["width"])
+    if abs(phi - requested) > REQUESTED_FRACTION_TOLERANCE:
+        raise PackingError(
+            f"[packing] initial_packing_fraction = {requested!r}: the"
+            f" particles ({area:.6g} m^2) fill {phi:.4f} of the [box]"
+            f" {box['length']!r} x {box['width']!r} m; for {requested!r}"
+            f" set [box] length = {area / (requested * box['width']):.10g}"
+            " m (the piston's start), or leave initial_packing_fraction out")
 
 
 def _check_arguments(seed, counts, diameters, length, width, gap, trials,

@@ -17,10 +17,13 @@ starts again from a new random placement, up to ``ATTEMPTS`` times.
 ``relax=False`` the algorithm is plain RSA of the full-size circles and
 fails when the box is too full.
 
-Measured (100 paper disks): phi = 0.748 for any seed; 0.77 works (seeds 0-2);
-at 0.80 the relaxation stalls in a jammed state (in 7-9 s) and
-:class:`PackingError` is raised.  Relaxed circles often end exactly ``gap``
-apart (or ``gap`` from a wall).
+Measured (100 paper disks): phi = 0.748 for any seed; 0.78 works (seeds
+0-2); at 0.79 and 0.80 the relaxation stalls in a jammed state (in 7-11 s).
+Then :func:`place` goes on with the growth protocol of
+:mod:`softpack.scene.preparation` (hard-disk Monte Carlo with slow growth),
+which reaches 0.80; :class:`PackingError` is raised only when that jams too.
+Configurations that the inflation places are placed exactly as before.
+Relaxed circles often end exactly ``gap`` apart (or ``gap`` from a wall).
 """
 
 from __future__ import annotations
@@ -35,6 +38,9 @@ RSA_FRACTION = 0.35
 #: Inflation steps from the shrunken circles to their size, each followed
 #: by a relaxation of the overlaps.
 INFLATION_STEPS = 40
+#: Size of the growth protocol's first circles relative to the inflation's
+#: (plain RSA must place them all: packing fraction 0.35 x 0.8^2 = 0.22).
+GROWTH_START = 0.8
 #: Random starts tried before a jammed relaxation is reported.
 ATTEMPTS = 10
 #: Nearest placed circles examined per trial position (more: all of them).
@@ -92,7 +98,26 @@ def place(radii, length, width, gap, rng, *, relax=True, trials=200,
         centres = np.empty_like(placed)
         centres[order] = placed
         return centres
-    raise PackingError(failure)
+    if not relax or start >= 1.0:
+        raise PackingError(failure)
+    placed = _grown(radii[order], start * GROWTH_START, length, width, gap,
+                    rng, trials, failure)
+    centres = np.empty_like(placed)
+    centres[order] = placed
+    return centres
+
+
+def _grown(radii, start, length, width, gap, rng, trials, failure):
+    """The growth protocol (:mod:`.preparation`) from a plain RSA of the
+    shrunken circles, for a box too full for the inflation."""
+    from softpack.scene.preparation import grow
+
+    try:
+        placed, _ = _sequential(radii * start, length, width, gap, rng,
+                                trials, relax=False)
+        return grow(placed, radii, length, width, _padded(gap), start, rng)
+    except PackingError as err:
+        raise PackingError(f"{failure}; then {err}") from None
 
 
 def _sequential(radii, length, width, gap, rng, trials, relax):
