@@ -2,6 +2,7 @@
 exact values of their shapes."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -78,3 +79,47 @@ def test_a_stretch_elongates_a_disk():
     assert out["orientation"][0] == pytest.approx(t, abs=1e-6)
     assert out["elongation"][0] == pytest.approx((1 + e)**2, rel=1e-3)
     assert out["area"][0] == pytest.approx(disk.area, rel=1e-12)
+
+
+def test_rotation_of_a_rigid_motion_and_of_a_stretch():
+    """A pentagon (no second-moment axis) and an ellipse turned by known
+    angles and moved: the rotation is recovered exactly; a symmetric
+    stretch about the centroid adds none."""
+    tables = [spec("polygon", sides=5, corner_radius=1e-3),
+              spec("ellipse", aspect_ratio=1.5)]
+    templates = meshed(tables)
+    reference, cells, body = assemble(templates, np.zeros((2, 2)), [0, 0])
+    centres = np.array([[0.05, 0.02], [-0.03, 0.1]])
+    angles = [0.7, -2.5]
+    current, _, _ = assemble(templates, centres, angles)
+    out = particle_shapes(current, cells, body, reference)
+    np.testing.assert_allclose(out["rotation"], angles, atol=1e-12)
+    assert np.isnan(out["orientation"][0])
+    # a symmetric stretch (1.1, 1/1.1) along 20 degrees of the turned
+    # pentagon: still its rotation, to round-off
+    t = math.radians(20)
+    R = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])
+    F = R @ np.diag([1.1, 1 / 1.1]) @ R.T
+    first = body == 0
+    nodes = np.unique(cells[first])
+    stretched = current.copy()
+    stretched[nodes] = (current[nodes] - centres[0]) @ F.T + centres[0]
+    out = particle_shapes(stretched, cells, body, reference)
+    assert out["rotation"][0] == pytest.approx(0.7, abs=1e-12)
+    assert "rotation" not in particle_shapes(current, cells, body)
+
+
+def test_shapes_plot_summary_interpolates_on_the_compaction_branch():
+    from softpack.plots.shapes import at_phi, parse_runs
+
+    series = {"phi": np.array([0.6, 0.7, 0.8, 0.9, 0.85]),
+              "eps": np.array([0.0, 0.1, 0.2, 0.3, 0.35]),
+              "E_over_WHLmu": np.array([0.0, 0.0, 1.0, 3.0, 2.0]),
+              "z": np.array([np.nan, 2.0, 3.0, 4.0, 3.5])}
+    rows = {row["phi"]: row for row in at_phi(series, (0.75, 0.88, 0.95))}
+    assert set(rows) == {0.75, 0.88}  # 0.95 never reached
+    assert rows[0.75]["eps"] == pytest.approx(0.15)
+    assert rows[0.88]["E_over_WHLmu"] == pytest.approx(2.6)  # not 0.85's
+    assert rows[0.88]["z"] == pytest.approx(3.8)
+    assert parse_runs(["a/b=pent", "c/d"]) == [
+        (Path("a/b"), "pent"), (Path("c/d"), "d")]

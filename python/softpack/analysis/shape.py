@@ -18,7 +18,15 @@ each particle's
 ``asphericity``   P^2 / (4 pi A) of its current boundary polygon (perimeter P,
                   area A): 1 for a circle, 4 / pi for a square, growing as
                   the particle deforms away from a disk (the shape factor
-                  of the 2D soft-particle literature).
+                  of the 2D soft-particle literature);
+``rotation``      (when the reference positions are given) the particle's
+                  rigid rotation from its reference configuration,
+                  counter-clockwise, in (-pi, pi] (rad): the polar
+                  rotation of its area-averaged deformation gradient
+                  (exact for a rigid motion, zero for a symmetric
+                  stretch). For a regular polygon or a disk, whose second
+                  moment has no axis, this (plus the particle's initial
+                  angle) is its orientation.
 
 A new module of the analysis stage (issue 13): the existing observables are
 left as they are; these are computed on demand.
@@ -35,7 +43,7 @@ import numpy as np
 ISOTROPIC = 1e-9
 
 
-def particle_shapes(points, cells, body) -> dict:
+def particle_shapes(points, cells, body, reference=None) -> dict:
     """Shape observables of every body (see the module doc).
 
     Parameters
@@ -46,6 +54,8 @@ def particle_shapes(points, cells, body) -> dict:
         Triangles (either orientation).
     body : ndarray of int, shape (m,)
         Each triangle's body id, ``0..B-1``.
+    reference : ndarray, shape (n, 2), optional
+        Reference node positions (m): adds ``rotation``.
 
     Returns
     -------
@@ -76,11 +86,30 @@ def particle_shapes(points, cells, body) -> dict:
     orientation = np.mod(0.5 * np.arctan2(2 * J[:, 2], J[:, 0] - J[:, 1]),
                          math.pi)
     orientation[half <= ISOTROPIC * mean] = np.nan
-    return {"body": np.arange(n), "area": np.abs(area), "x": centre[:, 0],
-            "y": centre[:, 1], "orientation": orientation,
-            "elongation": np.sqrt((mean + half) / (mean - half)),
-            "asphericity": _perimeter(p, cells, body, n) ** 2
-            / (4 * math.pi * np.abs(area))}
+    out = {"body": np.arange(n), "area": np.abs(area), "x": centre[:, 0],
+           "y": centre[:, 1], "orientation": orientation,
+           "elongation": np.sqrt((mean + half) / (mean - half)),
+           "asphericity": _perimeter(p, cells, body, n) ** 2
+           / (4 * math.pi * np.abs(area))}
+    if reference is not None:
+        out["rotation"] = _rotation(np.asarray(reference, float)[:, :2], p,
+                                    cells, body, n)
+    return out
+
+
+def _rotation(reference, current, cells, body, n) -> np.ndarray:
+    """The polar rotation angle of each body's mean deformation gradient
+    F = (1 / A0) sum_t A0_t F_t (P1: F_t maps the triangle's reference
+    edges to its current ones): for F = R(theta) U, U symmetric,
+    theta = atan2(F21 - F12, F11 + F22)."""
+    X, x = reference[cells], current[cells]
+    dX = np.stack([X[:, 1] - X[:, 0], X[:, 2] - X[:, 0]], axis=2)
+    dx = np.stack([x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]], axis=2)
+    F = dx @ np.linalg.inv(dX)
+    area0 = 0.5 * np.abs(np.linalg.det(dX))
+    mean = np.stack([np.bincount(body, area0 * F[:, i, j], n)
+                     for i, j in ((0, 0), (0, 1), (1, 0), (1, 1))], axis=1)
+    return np.arctan2(mean[:, 2] - mean[:, 1], mean[:, 0] + mean[:, 3])
 
 
 def _perimeter(points, cells, body, n) -> np.ndarray:
@@ -106,6 +135,6 @@ def shapes_at(fields_h5, time) -> dict:
     if snap.body is None:
         raise KeyError(f"{fields_h5}: no particle field (the body of each"
                        " cell)")
-    out = particle_shapes(snap.current, snap.cells, snap.body)
+    out = particle_shapes(snap.current, snap.cells, snap.body, snap.points)
     out["time"] = snap.time
     return out

@@ -1,0 +1,198 @@
+"""``python -m softpack.plots.shapes RUN[=LABEL]... --out DIR``: runs of
+different particle shapes side by side (issue 13).
+
+Only draws, from what the analysis stage wrote: each run's ``series.csv``,
+``raw/setup.json`` and ``fields.h5``. Unlike ``./softpack plot`` (which
+groups runs by friction and averages over seeds) every run here is its own
+curve, labelled ``LABEL`` (default: the directory's name), so that a
+pentagon run and a disk run at the same friction are compared, not
+averaged.
+
+phi_eps.png       Phi against eps.
+energy.png        E/(W H L mu) against Phi.
+z_phi.png         Z (two-node rule, rattlers removed, with wall contacts)
+                  against Phi.
+shape_distributions.png
+                  per run, at its first and last field output: the
+                  distribution of the particles' orientation (major axis of
+                  the second moment of area, degrees; particles without one,
+                  e.g. disks and regular polygons, are counted apart) and of
+                  their asphericity P^2/(4 pi A) of the current boundary
+                  and of their rigid rotation since the start (polar
+                  rotation of the mean deformation gradient, degrees: the
+                  orientation change of shapes without an axis)
+                  (:mod:`softpack.analysis.shape`).
+snapshots_LABEL.png
+                  each run's deformed particles coloured by Psi/mu at
+                  Phi = 0.78, 0.83, 0.88 where reached (the paper's Fig. 7
+                  drawing, :func:`softpack.plots.paper.plot_snapshots`).
+summary.csv       per run and target Phi (0.70 ... 0.88): eps, E/(WHL mu)
+                  and Z interpolated at it; the run's largest Phi.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+#: Packing fractions of summary.csv.
+SUMMARY_PHIS = (0.70, 0.75, 0.80, 0.83, 0.85, 0.88)
+
+
+def parse_runs(items) -> list[tuple[Path, str]]:
+    """``DIR`` or ``DIR=LABEL`` -> (path, label)."""
+    out = []
+    for item in items:
+        path, _, label = item.partition("=")
+        out.append((Path(path), label or Path(path).name))
+    return out
+
+
+def monotone_part(phi, *columns):
+    """Rows up to the largest Phi (the compaction branch), finite Phi."""
+    phi = np.asarray(phi, float)
+    ok = np.isfinite(phi)
+    last = int(np.nanargmax(phi)) + 1
+    ok[last:] = False
+    return [np.asarray(c, float)[ok] for c in (phi, *columns)]
+
+
+def at_phi(series, targets=SUMMARY_PHIS) -> list[dict]:
+    """eps, E and Z interpolated at each target Phi the run reached."""
+    phi, eps, energy, z = monotone_part(series["phi"], series["eps"],
+                                        series["E_over_WHLmu"], series["z"])
+    order = np.argsort(phi, kind="stable")
+    rows = []
+    for target in targets:
+        if phi.size == 0 or target > phi.max():
+            continue
+        rows.append({"phi": target,
+                     "eps": float(np.interp(target, phi[order], eps[order])),
+                     "E_over_WHLmu": float(np.interp(target, phi[order],
+                                                     energy[order])),
+                     "z": float(np.interp(target, phi[order], z[order]))})
+    return rows
+
+
+def _curves(runs, x_name, y_name, xlabel, ylabel, path):
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5, 3.8))
+    for (run, label), marker in zip(runs, "osD^v<>"):
+        x, y = run.series[x_name], run.series[y_name]
+        ok = np.isfinite(x) & np.isfinite(y)
+        ax.plot(x[ok], y[ok], marker=marker, ms=3, lw=1, label=label)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+
+
+def shape_distributions(runs, path) -> list[str]:
+    """Orientation and asphericity histograms; returns messages."""
+    import matplotlib.pyplot as plt
+
+    from softpack.analysis.fields import stored_times
+    from softpack.analysis.shape import shapes_at
+
+    messages = []
+    fig, axes = plt.subplots(3, len(runs), figsize=(4 * len(runs), 9),
+                             squeeze=False)
+    for col, (run, label) in enumerate(runs):
+        h5 = run.path / "fields.h5"
+        if not h5.is_file():
+            messages.append(f"shape_distributions: {h5} missing; skipped")
+            continue
+        times = stored_times(h5)
+        for time, style in ((times[0], "first"), (times[-1], "last")):
+            s = shapes_at(h5, time)
+            phi = float(np.interp(s["time"], run.series["time"],
+                                  run.series["phi"]))
+            oriented = np.isfinite(s["orientation"])
+            axes[0, col].hist(np.degrees(s["orientation"][oriented]),
+                              bins=np.linspace(0, 180, 19), histtype="step",
+                              lw=1.5, label=f"Phi = {phi:.3f}"
+                              f" ({(~oriented).sum()} without axis)")
+            axes[1, col].hist(s["asphericity"], bins=20, histtype="step",
+                              lw=1.5, label=f"Phi = {phi:.3f}")
+            axes[2, col].hist(np.degrees(s["rotation"]), bins=20,
+                              histtype="step", lw=1.5,
+                              label=f"Phi = {phi:.3f}")
+            messages.append(
+                f"shape_distributions: {label} at Phi = {phi:.3f}:"
+                f" asphericity mean {s['asphericity'].mean():.4f}, max"
+                f" {s['asphericity'].max():.4f}; elongation mean"
+                f" {s['elongation'].mean():.4f}; |rotation| mean"
+                f" {np.degrees(np.abs(s['rotation'])).mean():.2f} deg")
+        axes[0, col].set_title(label, fontsize=9)
+        axes[0, col].set_xlabel("orientation (deg)")
+        axes[1, col].set_xlabel("asphericity P^2 / (4 pi A)")
+        axes[2, col].set_xlabel("rotation since the start (deg)")
+        for ax in axes[:, col]:
+            ax.set_ylabel("particles")
+            ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+    return messages
+
+
+def write_summary(runs, path) -> None:
+    lines = ["run,phi,eps,E_over_WHLmu,z,phi_max"]
+    for run, label in runs:
+        phi_max = float(np.nanmax(run.series["phi"]))
+        for row in at_phi(run.series):
+            lines.append(f"{label},{row['phi']:g},{row['eps']:.6g},"
+                         f"{row['E_over_WHLmu']:.6g},{row['z']:.6g},"
+                         f"{phi_max:.6g}")
+        if not at_phi(run.series):
+            lines.append(f"{label},,,,,{phi_max:.6g}")
+    Path(path).write_text("\n".join(lines) + "\n")
+
+
+def main(argv=None) -> int:
+    import matplotlib
+    matplotlib.use("Agg")
+
+    from softpack.plots.paper import load_runs, plot_snapshots
+
+    p = argparse.ArgumentParser(prog="python -m softpack.plots.shapes",
+                                description=__doc__.split("\n\n")[0])
+    p.add_argument("runs", nargs="+", help="run directory, or DIR=LABEL")
+    p.add_argument("--out", type=Path, required=True,
+                   help="directory of the figures")
+    args = p.parse_args(argv)
+    wanted = parse_runs(args.runs)
+    runs = []
+    for path, label in wanted:
+        loaded = load_runs([path])
+        if loaded:
+            runs.append((loaded[0], label))
+    if not runs:
+        print("softpack plots.shapes: no complete run given", file=sys.stderr)
+        return 1
+    out = args.out
+    out.mkdir(parents=True, exist_ok=True)
+    _curves(runs, "eps", "phi", "eps", "Phi", out / "phi_eps.png")
+    _curves(runs, "phi", "E_over_WHLmu", "Phi", "E / (W H L mu)",
+            out / "energy.png")
+    _curves(runs, "phi", "z", "Phi", "Z", out / "z_phi.png")
+    for message in shape_distributions(runs, out /
+                                       "shape_distributions.png"):
+        print(message)
+    for run, label in runs:
+        print(plot_snapshots(run, out / f"snapshots_{label}.png"))
+    write_summary(runs, out / "summary.csv")
+    print(f"softpack plots.shapes: wrote {out}/phi_eps.png, energy.png,"
+          " z_phi.png, shape_distributions.png, snapshots_*.png,"
+          " summary.csv")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
