@@ -8,7 +8,7 @@ import pytest
 from fake_runs import write_rules, write_setup
 from softpack.analysis import connectivity as net_
 from softpack.analysis import observables as obs
-from softpack.analysis.setup import Rules
+from softpack.analysis.setup import Rules, read_setup
 from softpack.analysis.strain import cumulative_strain
 from softpack.analysis.tables import read_table
 
@@ -268,3 +268,38 @@ def test_no_box_leaves_box_columns_nan(tmp_path):
     assert np.isnan(s["eps"]).all() and np.isnan(s["piston_force"]).all()
     assert np.isnan(s["phi"][0]) and not np.isnan(s["phi"][1])  # driver's
     assert np.allclose(s["strain_energy"], THICKNESS * 1e-3 * np.arange(2))
+
+
+def test_seed_csvs_regenerate_the_paper_tables(tmp_path):
+    """docs/paper's pipeline: run -> per-seed CSV -> figures and tables."""
+    import matplotlib
+    matplotlib.use("Agg")
+    from softpack.plots import paper_seeds
+
+    run = tmp_path / "phi078-seed0"
+    run.mkdir()
+    write_fake_run(run, n_steps=3)
+    obs.process_run(run)
+    paper_seeds.export_seeds([run], tmp_path / "seeds")
+    s = read_table(tmp_path / "seeds" / "phi078-seed0.csv")
+    series = read_table(run / "series.csv")
+    assert np.array_equal(s["z"], series["z"], equal_nan=True)
+    # every reading's Z is the network's under that reading
+    for reference, excluded in paper_seeds.READINGS:
+        for threshold in paper_seeds.THRESHOLDS:
+            rules = Rules(1e-4, threshold, "loaded_nodes", reference,
+                          excluded)
+            z = net_.contact_network(chain_contacts(), 5, F, rules).z
+            column = paper_seeds.reading_column(reference, excluded,
+                                                threshold)
+            assert s[column][1:] == pytest.approx([z, z], rel=1e-6)
+    groups = paper_seeds.load_seeds(tmp_path / "seeds")
+    (label, seeds), = groups.items()
+    assert seeds[0].seed == read_setup(run).seed
+    assert seeds[0].length == LENGTH
+    written = paper_seeds.regenerate(tmp_path / "seeds", tmp_path / "out")
+    names = {p.name for p in written}
+    assert {"summary.md", "exclusion_table.md", "fig8_connectivity.png",
+            "fig6_energy.png"} <= names
+    table = (tmp_path / "out" / "exclusion_table.md").read_text()
+    assert table.count("| piston_force |") == 2

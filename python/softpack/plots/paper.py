@@ -1,5 +1,8 @@
 """``./softpack plot DIR... [--out FIGDIR]``: the paper's Figs. 4, 6, 7, 8, 9.
 
+(``--export-seeds SEEDDIR DIR...`` and ``--seeds SEEDDIR``: docs/paper's
+figures and tables from small per-seed CSVs, :mod:`.paper_seeds`.)
+
 Only draws. Reads each run directory written by ``./softpack run`` through
 the analysis stage: ``series.csv`` (:mod:`softpack.analysis.tables`), the
 run's identity (friction, seed, mu, L, W) from ``raw/setup.json``
@@ -147,9 +150,10 @@ def _style(index):
 
 
 def _label(mu, runs):
-    """Legend text of a friction group."""
+    """Legend text of a friction group (or of a group named by a text)."""
     seeds = f"{len(runs)} seeds" if len(runs) > 1 else f"seed {runs[0].seed}"
-    return f"mu_f = {mu:g} ({seeds})"
+    name = mu if isinstance(mu, str) else f"mu_f = {mu:g}"
+    return f"{name} ({seeds})"
 
 
 def plot_curves(groups, x_name, y_name, xlabel, ylabel, path, extra=None):
@@ -206,7 +210,8 @@ def plot_connectivity(groups, path) -> list[str]:
                         **style)
         fit = fits.fit_runs([(r.series["phi"], r.series["z"])
                              for r in runs])
-        lines.append(f"mu_f = {mu:g}: {fit.summary()}; {len(runs)} run(s)")
+        name = mu if isinstance(mu, str) else f"mu_f = {mu:g}"
+        lines.append(f"{name}: {fit.summary()}; {len(runs)} run(s)")
         if fit.ok:
             x = np.linspace(fit.phi_t, np.nanmax(
                 np.concatenate([r.series["phi"] for r in runs])), 100)
@@ -291,11 +296,18 @@ def _parser() -> argparse.ArgumentParser:
         prog="softpack plot",
         description="Draw the paper's Figs. 4, 6, 7, 8, 9 from run"
         " directories (grouped by friction, averaged over seeds).")
-    p.add_argument("runs", nargs="+", type=Path, metavar="DIR",
+    p.add_argument("runs", nargs="*", type=Path, metavar="DIR",
                    help="run directories written by ./softpack run")
     p.add_argument("--out", type=Path, metavar="FIGDIR",
                    help="figure directory (default: the first DIR's"
                    " figures/; nothing is written in the current directory)")
+    seeds = p.add_mutually_exclusive_group()
+    seeds.add_argument("--export-seeds", type=Path, metavar="SEEDDIR",
+                       help="write each DIR's per-seed CSV (series and Z"
+                       " under every exclusion reading) to SEEDDIR")
+    seeds.add_argument("--seeds", type=Path, metavar="SEEDDIR",
+                       help="draw the figures and tables of docs/paper from"
+                       " the per-seed CSVs of SEEDDIR (no DIR)")
     return p
 
 
@@ -304,7 +316,15 @@ def main(argv=None) -> int:
     import matplotlib
     matplotlib.use("Agg")
 
-    args = _parser().parse_args(argv)
+    parser = _parser()
+    args = parser.parse_args(argv)
+    if args.seeds or args.export_seeds:
+        if bool(args.seeds) == bool(args.runs):
+            parser.error("--seeds takes no DIR; --export-seeds needs DIRs")
+        from softpack.plots.paper_seeds import main_seeds
+        return main_seeds(args)
+    if not args.runs:
+        parser.error("expected run directories DIR...")
     runs = load_runs(args.runs)
     if not runs:
         print("softpack plot: no complete run to plot", file=sys.stderr)

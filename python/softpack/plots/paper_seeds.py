@@ -1,0 +1,304 @@
+"""docs/paper's numbers and figures from small per-seed CSV files.
+
+``./softpack plot --export-seeds SEEDDIR DIR...`` writes, for each run
+directory DIR (a complete run with ``raw/contacts``), ``SEEDDIR/NAME.csv``
+(NAME = the directory's name) with the series columns the paper needs
+(:data:`SERIES`) and Z under every reading of the unbalanced-particle
+exclusion (:data:`READINGS` x :data:`THRESHOLDS`, and without exclusion),
+and adds the run's constants to ``SEEDDIR/runs.csv``.
+
+``./softpack plot --seeds SEEDDIR --out FIGDIR`` then regenerates, from
+those files only: Figs. 4, 6, 8, 9 (Phi0 groups averaged over seeds),
+``fig8_fit.txt``, ``summary.md`` (Phi_T, E and c_v at Phi 0.80, 0.84, 0.88,
+mean and spread over seeds) and ``exclusion_table.md`` (max |dZ| between
+f_p* = 0.05 % and 0.1 % under each reading). Runs are grouped by their
+initial packing fraction (``phi0``, rounded to 3 digits).
+
+E is given in J (``E_J``) and normalised in the summary with the paper's
+set-up, L = 286 mm (:data:`PAPER_LENGTH`), for every group: a run started
+at Phi0 = 0.78 has a shorter initial box, whose own E/(W H L mu) would be
+4.3 % larger for the same energy.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from softpack.analysis import connectivity as net_
+from softpack.analysis import fits
+from softpack.analysis.observables import piston_force
+from softpack.analysis.setup import read_rules, read_setup
+from softpack.analysis.tables import read_table, write_table
+
+#: series.csv columns kept per seed.
+SERIES = ("step", "time", "eps", "phi", "E_over_WHLmu", "cv_psi", "z",
+          "z_without_walls", "z_undefined", "retained", "rattlers",
+          "unbalanced", "piston_force")
+#: Readings of the exclusion rule: (unbalanced_reference, excluded_contacts).
+READINGS = tuple((r, e) for r in net_.REFERENCES
+                 for e in net_.EXCLUDED_CONTACTS)
+#: The paper's f_p* range (Sec. VI).
+THRESHOLDS = (5e-4, 1e-3)
+#: The paper's set-up length, the L of E/(W H L mu) in the summary (m).
+PAPER_LENGTH = 0.286
+#: Packing fractions of the summary table.
+SUMMARY_PHIS = (0.80, 0.84, 0.88)
+RUN_COLUMNS = ("name", "seed", "phi0", "length", "width", "thickness",
+               "shear_modulus", "friction")
+
+
+def reading_column(reference, excluded, threshold) -> str:
+    """``z_piston_dropped_0.001``-like column name of a reading."""
+    return f"z_{reference.split('_')[0]}_{excluded}_{threshold:g}"
+
+
+def unbalanced_column(reference, threshold) -> str:
+    return f"unbalanced_{reference.split('_')[0]}_{threshold:g}"
+
+
+def seed_columns(run_dir) -> dict:
+    """The per-seed columns of one run (see the module doc)."""
+    run_dir = Path(run_dir)
+    series = read_table(run_dir / "series.csv")
+    steps = read_table(run_dir / "raw" / "steps.csv")
+    setup, rules = read_setup(run_dir), read_rules(run_dir)
+    force = piston_force(steps, setup)
+    out = {name: series[name] for name in SERIES if name in series}
+    out["E_J"] = series["strain_energy"]
+    names = [reading_column(r, e, t) for (r, e) in READINGS
+             for t in THRESHOLDS]
+    extra = {name: np.full(len(series["step"]), np.nan) for name in
+             [*names, "z_no_exclusion",
+              *(unbalanced_column(r, t) for r in net_.REFERENCES
+                for t in THRESHOLDS)]}
+    for k, step in enumerate(steps["step"]):
+        path = net_.contacts_path(run_dir, step)
+        if not path.is_file():
+            continue
+        contacts = net_.read_contacts(path)
+        for (reference, excluded) in READINGS:
+            for threshold in THRESHOLDS:
+                net = net_.contact_network(
+                    contacts, setup.count, force[k], dataclasses.replace(
+                        rules, unbalanced_threshold=threshold,
+                        unbalanced_reference=reference,
+                        excluded_contacts=excluded))
+                extra[reading_column(reference, excluded, threshold)][k] = \
+                    net.z
+                extra[unbalanced_column(reference, threshold)][k] = \
+                    net.unbalanced.sum()
+        extra["z_no_exclusion"][k] = net_.contact_network(
+            contacts, setup.count, force[k], dataclasses.replace(
+                rules, unbalanced_threshold=np.inf)).z
+    out.update(extra)
+    return out, setup
+
+
+def export_seeds(run_dirs, seed_dir) -> list[Path]:
+    """Write ``SEEDDIR/NAME.csv`` per run and update ``SEEDDIR/runs.csv``."""
+    seed_dir = Path(seed_dir)
+    seed_dir.mkdir(parents=True, exist_ok=True)
+    index = seed_dir / "runs.csv"
+    rows = _read_index(index)
+    written = []
+    for run_dir in map(Path, run_dirs):
+        columns, setup = seed_columns(run_dir)
+        written.append(write_table(seed_dir / f"{run_dir.name}.csv",
+                                   _rounded(columns)))
+        phi = columns["phi"]
+        rows[run_dir.name] = [setup.seed, float(phi[np.isfinite(phi)][0]),
+                              setup.length, setup.width, setup.thickness,
+                              setup.shear_modulus, setup.friction]
+    lines = [",".join(RUN_COLUMNS)] + [
+        ",".join([name, *(repr(v) for v in values)])
+        for name, values in sorted(rows.items())]
+    index.write_text("\n".join(lines) + "\n")
+    return written
+
+
+def _read_index(path) -> dict:
+    if not path.is_file():
+        return {}
+    lines = path.read_text().splitlines()[1:]
+    return {f[0]: [float(v) for v in f[1:]]
+            for f in (line.split(",") for line in lines if line)}
+
+
+def _rounded(columns) -> dict:
+    """Seven significant digits: the files stay small."""
+    return {k: np.array([float(f"{v:.7g}") for v in np.asarray(c, float)])
+            for k, c in columns.items()}
+
+
+@dataclasses.dataclass(frozen=True)
+class Seed:
+    """One seed's CSV and its constants."""
+
+    name: str
+    seed: int
+    phi0: float
+    length: float
+    width: float
+    thickness: float
+    shear_modulus: float
+    series: dict
+
+    def at(self, column, phi) -> float:
+        """``column`` where Phi first reaches ``phi`` (linear between rows);
+        NaN when it never does."""
+        p, y = self.series["phi"], self.series[column]
+        above = np.flatnonzero(p >= phi)
+        if not len(above) or above[0] == 0:
+            return float("nan")
+        k = above[0]
+        w = (phi - p[k - 1]) / (p[k] - p[k - 1])
+        return float(y[k - 1] + w * (y[k] - y[k - 1]))
+
+
+def load_seeds(seed_dir) -> dict:
+    """``{phi0 label: [Seed, ...]}`` from ``SEEDDIR/runs.csv``."""
+    seed_dir = Path(seed_dir)
+    groups = {}
+    for name, values in _read_index(seed_dir / "runs.csv").items():
+        seed, phi0, length, width, thickness, mu, _ = values
+        series = read_table(seed_dir / f"{name}.csv")
+        s = Seed(name, int(seed), phi0, length, width, thickness, mu, series)
+        groups.setdefault(f"{phi0:.3f}", []).append(s)
+    return {k: sorted(v, key=lambda s: s.seed)
+            for k, v in sorted(groups.items())}
+
+
+def energy(seed, phi) -> float:
+    """E / (W H L mu) at ``phi`` with L = :data:`PAPER_LENGTH`."""
+    return seed.at("E_J", phi) / (seed.width * seed.thickness
+                                  * PAPER_LENGTH * seed.shear_modulus)
+
+
+def _spread(values) -> str:
+    v = np.array([x for x in values if np.isfinite(x)])
+    if not len(v):
+        return "n/a"
+    if len(v) == 1:
+        return f"{v[0]:.4g} (1 seed)"
+    return f"{v.mean():.4g} +- {v.std(ddof=1):.2g}"
+
+
+def summary(groups, z_column="z") -> list[str]:
+    """The summary table (markdown lines)."""
+    head = ["| Phi0 | seeds | Phi_T (Eq. 14) |"
+            + "".join(f" E/(WHLmu) at {p} |" for p in SUMMARY_PHIS)
+            + "".join(f" c_v at {p} |" for p in SUMMARY_PHIS),
+            "|" + " --- |" * (3 + 2 * len(SUMMARY_PHIS))]
+    rows = []
+    for label, seeds in groups.items():
+        fit = fits.fit_runs([(s.series["phi"], s.series[z_column])
+                             for s in seeds])
+        phi_t = (f"{fit.phi_t:.3f} +- {fit.error:.3f}" if fit.ok
+                 else f"no fit ({fit.reason})")
+        rows.append(
+            f"| {label} | {', '.join(str(s.seed) for s in seeds)} |"
+            f" {phi_t} |"
+            + "".join(f" {_spread([energy(s, p) for s in seeds])} |"
+                      for p in SUMMARY_PHIS)
+            + "".join(f" {_spread([s.at('cv_psi', p) for s in seeds])} |"
+                      for p in SUMMARY_PHIS))
+    return head + rows
+
+
+def exclusion_table(groups, phi_range=(0.80, 0.88)) -> list[str]:
+    """max |Z(0.05 %) - Z(0.1 %)| per reading (markdown lines)."""
+    lines = [f"| Phi0 | f | excluded particles' contacts | max abs(dZ),"
+             f" Phi {phi_range[0]}-{phi_range[1]} (per seed) |"
+             " mean abs(dZ) | unbalanced at 0.1 % (mean, Phi 0.80 / 0.84"
+             " / 0.88) | Phi_T (Eq. 14) at 0.1 % |",
+             "| --- | --- | --- | --- | --- | --- | --- |"]
+    for label, seeds in groups.items():
+        for reference, excluded in READINGS:
+            a, b = (reading_column(reference, excluded, t)
+                    for t in THRESHOLDS)
+            changes, means = [], []
+            for s in seeds:
+                p = s.series["phi"]
+                changes.append(net_.z_change(p, s.series[a], s.series[b],
+                                             phi_range))
+                keep = (p >= phi_range[0]) & (p <= phi_range[1]) \
+                    & np.isfinite(s.series[a]) & np.isfinite(s.series[b])
+                means.append(float(np.mean(np.abs(
+                    s.series[a][keep] - s.series[b][keep])))
+                    if keep.any() else np.nan)
+            count = unbalanced_column(reference, THRESHOLDS[-1])
+            excluded_n = " / ".join(
+                f"{np.nanmean([s.at(count, p) for s in seeds]):.0f}"
+                for p in SUMMARY_PHIS)
+            fit = fits.fit_runs([(s.series["phi"], s.series[b])
+                                 for s in seeds])
+            lines.append(
+                f"| {label} | {reference} | {excluded} |"
+                f" {', '.join(f'{c:.2f}' for c in changes)} |"
+                f" {np.nanmean(means):.3f} | {excluded_n} |"
+                f" {f'{fit.phi_t:.3f} +- {fit.error:.3f}' if fit.ok else 'no fit'} |")
+        fit = fits.fit_runs([(s.series["phi"], s.series["z_no_exclusion"])
+                             for s in seeds])
+        lines.append(f"| {label} | (no exclusion) | | | | 0 / 0 / 0 |"
+                     f" {f'{fit.phi_t:.3f} +- {fit.error:.3f}' if fit.ok else 'no fit'} |")
+    return lines
+
+
+def regenerate(seed_dir, out) -> list[Path]:
+    """Every figure and table of docs/paper that the seeds give."""
+    from softpack.plots import paper
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    groups = load_seeds(seed_dir)
+    if not groups:
+        raise FileNotFoundError(f"{seed_dir}/runs.csv: no seeds")
+    runs = {f"Phi0 = {label}": [paper.Run(Path(s.name), 0.3, s.seed,
+                                          s.shear_modulus, s.length,
+                                          s.width, s.series) for s in seeds]
+            for label, seeds in groups.items()}
+    written = [
+        paper.plot_curves(runs, "eps", "phi", "eps = -ln(1 - delta / L0)",
+                          "Phi", out / "fig4_phi_eps.png"),
+        paper.plot_curves(runs, "phi", "E_over_WHLmu", "Phi",
+                          "E / (W H L mu), L = the run's initial length",
+                          out / "fig6_energy.png"),
+        paper.plot_curves(runs, "phi", "cv_psi", "Phi", "c_v(Psi_p)",
+                          out / "fig9_cv_psi.png")]
+    fit = paper.plot_connectivity(runs, out / "fig8_connectivity.png")
+    written.append(out / "fig8_connectivity.png")
+    (out / "fig8_fit.txt").write_text("\n".join(fit) + "\n")
+    written.append(_write(out / "summary.md", [
+        "<!-- generated by ./softpack plot --seeds; do not edit -->",
+        "Z with the default [observables] rules (series.csv z):", "",
+        *summary(groups), "",
+        "Z without the unbalanced-particle exclusion:", "",
+        *summary(groups, "z_no_exclusion")]))
+    written.append(_write(out / "exclusion_table.md", [
+        "<!-- generated by ./softpack plot --seeds; do not edit -->",
+        *exclusion_table(groups)]))
+    return written
+
+
+def _write(path, lines) -> Path:
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def main_seeds(args) -> int:
+    """``--export-seeds`` / ``--seeds`` of ``./softpack plot``."""
+    if args.export_seeds:
+        for path in export_seeds(args.runs, args.export_seeds):
+            print(f"softpack plot: wrote {path}")
+        return 0
+    try:
+        written = regenerate(args.seeds, args.out or args.seeds)
+    except FileNotFoundError as err:
+        print(f"softpack plot: {err}", file=sys.stderr)
+        return 1
+    print("softpack plot: wrote " + ", ".join(map(str, written)))
+    return 0
