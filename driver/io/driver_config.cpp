@@ -51,6 +51,18 @@ public:
     return v.get<std::string>();
   }
 
+  /// A number >= lo (> lo when open), < hi.
+  double number(const json& v, const std::string& path, double lo, bool open,
+                double hi = HUGE_VAL) const
+  {
+    if (!v.is_number() || !std::isfinite(v.get<double>()))
+      fail(path, "= " + v.dump() + " must be a number");
+    const double x = v.get<double>();
+    if (x < lo || (open && x == lo) || x >= hi)
+      fail(path, "= " + v.dump() + " is out of range");
+    return x;
+  }
+
   std::array<double, 2> pair(const json& v, const std::string& path) const
   {
     if (!v.is_array() || v.size() != 2 || !v[0].is_number() ||
@@ -115,6 +127,102 @@ void read_walls(const Reader& r, const json& walls, DriverConfig& c)
         r.fail(p + ".name", "\"" + wall.name + "\" names two walls");
     c.walls.push_back(wall);
     c.wall_parameters.push_back(entry);
+  }
+}
+
+/// One wall entry of a stage: its new drive, only its own value nonzero.
+StageWall read_stage_wall(const Reader& r, const json& w, const std::string& p,
+                          int wall)
+{
+  r.keys(w, p, {"control", "velocity", "pressure", "force"});
+  StageWall out;
+  out.wall = wall;
+  const std::string control = r.string(w.at("control"), p + ".control");
+  out.velocity = r.pair(w.at("velocity"), p + ".velocity");
+  out.pressure = r.number(w.at("pressure"), p + ".pressure", 0, false);
+  out.force = r.number(w.at("force"), p + ".force", 0, false);
+  const bool moving = out.velocity[0] != 0 || out.velocity[1] != 0;
+  if (control == "velocity")
+    out.control = dynamics::WallControl::velocity;
+  else if (control == "pressure")
+    out.control = dynamics::WallControl::pressure;
+  else if (control == "force")
+    out.control = dynamics::WallControl::force;
+  else
+    r.fail(p + ".control",
+           "= \"" + control + "\" is not one of velocity, pressure, force");
+  if ((control != "velocity" && moving) ||
+      (control != "pressure" && out.pressure != 0) ||
+      (control != "force" && out.force != 0))
+    r.fail(p, "a wall is driven by one of velocity, pressure or force: "
+              "only the value of control = \"" +
+                  control + "\" may be nonzero");
+  return out;
+}
+
+StageStop read_stage_stop(const Reader& r, const json& j, const std::string& p,
+                          const DriverConfig& c)
+{
+  r.keys(j, p,
+         {"packing_fraction", "strain", "strain_wall", "pressure",
+          "equilibrium", "max_time"});
+  StageStop s;
+  s.packing_fraction =
+      r.number(j.at("packing_fraction"), p + ".packing_fraction", 0, false, 1);
+  s.strain = r.number(j.at("strain"), p + ".strain", 0, false, 1);
+  s.pressure = r.number(j.at("pressure"), p + ".pressure", 0, false);
+  s.equilibrium =
+      r.number(j.at("equilibrium"), p + ".equilibrium", 0, false, 1);
+  s.max_time = r.number(j.at("max_time"), p + ".max_time", 0, true);
+  const json& wall = j.at("strain_wall");
+  if (!wall.is_string())
+    r.fail(p + ".strain_wall", "= " + wall.dump() + " must be a string");
+  if (!wall.get<std::string>().empty())
+    s.strain_wall = wall_index(c.walls, wall.get<std::string>());
+  if (s.strain > 0 && s.strain_wall < 0)
+    r.fail(p + ".strain_wall", "must name a wall when strain > 0");
+  if ((s.packing_fraction > 0 || s.pressure > 0) && !c.box)
+    r.fail(p, "packing_fraction and pressure need a box "
+              "(scene.box.enabled)");
+  return s;
+}
+
+/// stages: [{name, walls: {NAME: {control, velocity, pressure, force}},
+/// stop: {...}}], every key explicit (the Python config derives them).
+void read_stages(const Reader& r, const json& stages, DriverConfig& c)
+{
+  if (!stages.is_array())
+    r.fail("stages", "must be a list of stages (empty: none)");
+  for (std::size_t i = 0; i < stages.size(); ++i)
+  {
+    const std::string p = "stages[" + std::to_string(i) + "]";
+    const json& j = stages[i];
+    r.keys(j, p, {"name", "walls", "stop"});
+    Stage stage;
+    stage.name = r.string(j.at("name"), p + ".name");
+    if (!j.at("walls").is_object())
+      r.fail(p + ".walls", "must be a table of walls by name");
+    for (const auto& [name, w] : j.at("walls").items())
+    {
+      const auto it = std::find_if(c.walls.begin(), c.walls.end(),
+                                   [&](const dynamics::Wall& wall)
+                                   { return wall.name == name; });
+      if (it == c.walls.end())
+        r.fail(p + ".walls." + name, "no such wall");
+      stage.walls.push_back(read_stage_wall(r, w, p + ".walls." + name,
+                                            int(it - c.walls.begin())));
+    }
+    try
+    {
+      stage.stop = read_stage_stop(r, j.at("stop"), p + ".stop", c);
+    }
+    catch (const std::runtime_error& e) // wall_index: no such wall
+    {
+      if (std::string(e.what()).rfind(r.file(), 0) == 0)
+        throw;
+      r.fail(p + ".stop.strain_wall", e.what());
+    }
+    c.stages.push_back(std::move(stage));
   }
 }
 
@@ -205,7 +313,15 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
   if (c.parameters.stop.packing_fraction > 0 && !c.box)
     r.fail("stop.packing_fraction",
            "> 0 needs a box (scene.box.enabled): Phi is measured inside it");
-  c.velocity_scale = fastest_wall_speed(c.walls);
+  read_stages(r, doc.at("stages"), c);
+  if (!c.stages.empty() && c.parameters.stop.packing_fraction > 0)
+    r.fail("stop.packing_fraction",
+           "must be 0 with stages (each stage has its own)");
+  std::vector<dynamics::Wall> moving = c.walls;
+  for (const Stage& stage : c.stages)
+    for (const StageWall& w : stage.walls)
+      moving.push_back({"", {0, 0}, {1, 0}, w.velocity});
+  c.velocity_scale = fastest_wall_speed(moving);
   return c;
 }
 

@@ -13,6 +13,34 @@ namespace softpack::io
 {
 
 /// Everything `softpack-simulate` needs, read from driver.json.
+/// One wall's new drive in a loading stage (schema [stages] walls.NAME).
+struct StageWall
+{
+  /// Index of the wall in DriverConfig::walls
+  int wall = -1;
+  dynamics::WallControl control = dynamics::WallControl::velocity;
+  std::array<double, 2> velocity = {0, 0};
+  double pressure = 0, force = 0;
+};
+
+/// A stage's stop keys (schema [stages] stop.KEY; 0: no such criterion).
+struct StageStop
+{
+  double packing_fraction = 0, strain = 0, pressure = 0, equilibrium = 0;
+  /// The stage's time bound, from its start (> 0)
+  double max_time = 0;
+  /// Index of the wall whose strain `strain` measures (-1: none)
+  int strain_wall = -1;
+};
+
+/// One loading stage of driver.json's "stages" (docs/driver_io.md).
+struct Stage
+{
+  std::string name;
+  std::vector<StageWall> walls;
+  StageStop stop;
+};
+
 struct DriverConfig
 {
   /// The driver.json file (named in error messages)
@@ -39,7 +67,7 @@ struct DriverConfig
   /// schema/parameters.toml)
   parameters::Parameters parameters;
   /// Velocity scale of the Newton test: the fastest wall speed (derived
-  /// here, not a parameter)
+  /// here, not a parameter), over the stages' velocities too
   double velocity_scale = 0;
 };
 
@@ -49,6 +77,8 @@ struct DriverConfig
 DriverConfig read_driver_config(const std::filesystem::path& path);
 
 /// Refuse a scene.bodies.species whose length is not the mesh's body count.
+  /// The loading stages, in order (empty: one stage from walls and stop)
+  std::vector<Stage> stages;
 /// @throws std::runtime_error naming the file and the key
 void check_body_count(const DriverConfig& config, int num_bodies);
 

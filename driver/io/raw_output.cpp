@@ -19,7 +19,7 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
     throw std::runtime_error("cannot write in " + _raw.string());
   _steps << std::setprecision(12);
   _particles << std::setprecision(12);
-  _steps << "step,time,newton_iterations,nlgs_iterations,nlgs_error,"
+  _steps << "step,time,stage,newton_iterations,nlgs_iterations,nlgs_error,"
             "nlgs_converged,contacts,active_contacts,max_penetration";
   for (const dynamics::Wall& w : walls)
     _steps << ',' << w.name << "_x," << w.name << "_y," << w.name << "_fx,"
@@ -40,10 +40,10 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
                       const dynamics::ContactForceAverage& average,
                       const ConvergenceCounts& interval, double overlap_depth)
 {
-  _steps << step << ',' << scheme.time() << ',' << r.newton_iterations << ','
-         << r.nlgs_iterations << ',' << r.nlgs_error << ','
-         << (r.nlgs_converged ? 1 : 0) << ',' << r.contacts << ','
-         << r.active_contacts << ',' << r.max_penetration;
+  _steps << step << ',' << scheme.time() << ',' << _stage << ','
+         << r.newton_iterations << ',' << r.nlgs_iterations << ','
+         << r.nlgs_error << ',' << (r.nlgs_converged ? 1 : 0) << ','
+         << r.contacts << ',' << r.active_contacts << ',' << r.max_penetration;
   std::vector<std::array<double, 2>> forces = average.wall_forces();
   forces.resize(scheme.walls().size(), {0, 0});
   for (std::size_t w = 0; w < forces.size(); ++w)
@@ -106,9 +106,9 @@ void RawOutput::write_contacts(long step,
 
 void RawOutput::finish(long steps, double seconds, const std::string& reason,
                        const dynamics::StepTimings& spent, int factorizations,
-                       const RunChecks& checks)
+                       const RunChecks& checks, const nlohmann::json& extra)
 {
-  const nlohmann::json done = {
+  nlohmann::json done = {
       {"steps", steps},
       {"seconds", seconds},
       {"reason", reason},
@@ -133,3 +133,5 @@ void RawOutput::finish(long steps, double seconds, const std::string& reason,
 }
 
 } // namespace softpack::io
+  if (extra.is_object())
+    done.update(extra);

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace softpack::io
@@ -76,10 +77,15 @@ public:
              const dynamics::ContactForceAverage& forces,
              const ConvergenceCounts& interval, double overlap_depth);
 
-  /// Mark the run complete.
+  /// The loading stage the next rows belong to (the `stage` column; 0
+  /// without stages).
+  void set_stage(int stage) { _stage = stage; }
+
+  /// Mark the run complete; `extra` (an object) adds its keys to done.json
+  /// (a run with stages: its last stage and whether it ended complete).
   void finish(long steps, double seconds, const std::string& reason,
               const dynamics::StepTimings& spent, int factorizations,
-              const RunChecks& checks);
+              const RunChecks& checks, const nlohmann::json& extra = nullptr);
 
 private:
   void write_particles(long step, const bodies::BodySet& bodies);
@@ -89,4 +95,5 @@ private:
   std::ofstream _steps, _particles;
 };
 
+  int _stage = 0;
 } // namespace softpack::io

@@ -12,6 +12,7 @@
 #include <material_registry.h>
 #include <numeric>
 #include <simulation/overlap_check.h>
+#include <simulation/stages.h>
 
 namespace softpack::simulation
 {
@@ -138,10 +139,17 @@ public:
       : _config(config), _p(config.parameters),
         _raw_dir(config.directory / "raw"), _quiet(quiet),
         _bodies(make_bodies(comm, config)),
+      if (!_program.empty()) // the stage's drives before the walls' state
+        _program.resume(
+            read_stage_record(stage_record_path(*config.initial_state),
+                              f.state.steps, _program.size()),
+            _scheme);
         _scheme(_bodies, config.walls,
                 {_p.time, _p.contact, _p.damping, config.velocity_scale}),
         _raw(config.directory, config.walls),
-        _identity(io::state_identity(_bodies, config.walls))
+    else if (!_program.empty())
+      _program.begin(0, _scheme, phi());
+        _identity(io::state_identity(_bodies, config.walls)), _program(config)
   {
     if (config.initial_state)
     {
@@ -161,29 +169,91 @@ public:
   /// output step.
   RunSummary run()
   {
-    output(_first, dynamics::StepReport{}, _phi0);
+    output(_first, dynamics::StepReport{}, _phi0,
+      const bool output_step = step % _p.output.every_steps == 0;
+      if (!_program.empty())
+      {
+        const std::optional<RunSummary> end = stage_step(step, r, now);
+        if (end)
+          return *end;
+        continue;
+      }
+           _program.empty() ? 0 : _program.start().index);
     for (long step = _first + 1;; ++step)
     {
       const dynamics::StepReport r = _scheme.step();
       check_convergence(step, r);
-      _average.add_step(_scheme);
-      add_timings(_spent, r.seconds);
-      const std::optional<double> now = phi();
-      const std::string reason =
-          stop_reason(_config, _scheme, _first, step, now);
-      if (!reason.empty() || step % _p.output.every_steps == 0)
-        output(step, r, now);
-      if (!reason.empty())
-      {
-        const RunSummary summary{step, elapsed(), reason};
-        _raw.finish(summary.steps, summary.seconds, summary.reason, _spent,
-                    _scheme.factorizations(), _checks);
-        return summary;
-      }
+        return finish(step, reason);
     }
   }
 
 private:
+  RunSummary finish(long step, const std::string& reason,
+                    const nlohmann::json& extra = nullptr)
+  {
+    const RunSummary summary{step, elapsed(), reason};
+    _raw.finish(summary.steps, summary.seconds, summary.reason, _spent,
+                _scheme.factorizations(), _checks, extra);
+    return summary;
+  }
+
+  /// After a step of a run with stages: the current stage's criteria, then
+  /// the run's ([stop] max_time, steps). A stage whose criterion is met
+  /// ends with an output step (labelled with it) and the next one begins
+  /// before that step's state is written; a stage that reaches its
+  /// max_time first ends the run, incomplete. The run's end, or nothing.
+  std::optional<RunSummary> stage_step(long step, const dynamics::StepReport& r,
+                                       std::optional<double> now)
+  {
+    const bool output_step = step % _p.output.every_steps == 0;
+    const StageCheck check = _program.check(_scheme, _bodies, now, output_step);
+    const int label = _program.start().index;
+    const std::string name = _program.stage().name;
+    nlohmann::json extra = {{"stage", label},
+                            {"stage_name", name},
+                            {"stages", _program.size()},
+                            {"complete", true}};
+    if (check.timed_out)
+    {
+      const std::string why = _program.missed(_scheme, _bodies, now);
+      std::fprintf(stderr, "softpack-simulate: %s: the run ends incomplete\n",
+                   why.c_str());
+      output(step, r, now, label);
+      extra["complete"] = false;
+      return finish(step, why, extra);
+    }
+    if (!check.met.empty())
+    {
+      if (!_quiet)
+        std::printf("stage %d \"%s\" ended by %s at t=%.5f s\n", label,
+                    name.c_str(), check.met.c_str(), _scheme.time());
+      if (_program.last())
+      _average.add_step(_scheme);
+      add_timings(_spent, r.seconds);
+      const std::optional<double> now = phi();
+      const std::string reason =
+      _program.begin(label + 1, _scheme, now);
+      output(step, r, now, label);
+      return std::nullopt;
+          stop_reason(_config, _scheme, _first, step, now);
+    const std::string reason = stop_reason(_config, _scheme, _first, step, now);
+    if (!reason.empty() || output_step)
+      output(step, r, now, label);
+    if (reason.empty())
+      return std::nullopt;
+    // [stop] steps (or max_time) ended the run inside a stage.
+    extra["complete"] = false;
+    return finish(step, reason, extra);
+      if (!reason.empty() || output_step)
+        output(step, r, now);
+      if (!reason.empty())
+      {
+        output(step, r, now, label);
+        return finish(step, "stages", extra);
+      }
+    }
+  }
+
   /// Count the step if a solve did not converge, warn (rate-limited) and
   /// keep the first unsolved contact problems.
   void check_convergence(long step, const dynamics::StepReport& r)
@@ -254,16 +324,24 @@ private:
   double progress(long step, std::optional<double> phi_now) const
   {
     const parameters::Stop& stop = _p.stop;
+  /// An output row (its stage column `stage`), the state and its stage
+  /// record, the fields.
     double f = _scheme.time() / stop.max_time;
     if (phi_now && stop.packing_fraction > 0)
       f = std::max(f, (*phi_now - *_phi0) / (stop.packing_fraction - *_phi0));
+    _raw.set_stage(stage);
     if (stop.steps > 0)
       f = std::max(f, double(step - _first) / stop.steps);
     return std::clamp(f, 0.0, 1.0);
   }
 
+    {
   void output(long step, const dynamics::StepReport& r,
-              std::optional<double> now)
+              std::optional<double> now, int stage = 0)
+      if (!_program.empty())
+        write_stage_record(stage_record_path(_raw_dir / "state.bin"), step,
+                           _program.start(), _program.stage().name);
+    }
   {
     _raw.write(step, _scheme, r, now, elapsed(), _bodies, _spent, _average,
                _interval, check_overlap(step));
@@ -281,6 +359,7 @@ private:
 
   using clock = std::chrono::steady_clock;
   const io::DriverConfig& _config;
+  StageProgram _program;
   const parameters::Parameters& _p;
   const std::filesystem::path _raw_dir;
   const bool _quiet;

@@ -17,8 +17,10 @@ COMMANDS = {
     "run": "softpack.simulation.run",
     "mesh": "softpack.scene.mesh",
     "single-disk": "softpack.references.single_disk",
+    "plates": "softpack.references.plates",
     "plot-single-disk": "softpack.plots.single_disk",
     "plot": "softpack.plots.paper",
+    "plot-loading": "softpack.plots.loading",
     "bench": "softpack.bench",
     "reference3d": "softpack.references.cylinder3d",
 }

@@ -461,10 +461,22 @@ def _parser():
                    " it")
     p.add_argument("--every", type=cli.positive_int, default=d.every,
                    help="output every this many steps (default 10)")
+    p.add_argument("--shape", choices=("disk", "square", "pentagon"),
+                   default="disk",
+                   help="disk (default, this check); square or pentagon:"
+                   " a rounded polygon against a static dolfinx solve of"
+                   " the same mesh (softpack.references.plates; see"
+                   " --shape square --help)")
     return p
 
 
 def main(argv=None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    shape = argparse.ArgumentParser(add_help=False)
+    shape.add_argument("--shape")
+    if shape.parse_known_args(argv)[0].shape in ("square", "pentagon"):
+        from softpack.references import plates
+        return plates.main(argv)
     args = _parser().parse_args(argv)
     params = Params(diameter=args.diameter, element_size=args.element_size,
                     max_strain=args.max_strain, speed=args.speed,

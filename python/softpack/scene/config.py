@@ -34,7 +34,7 @@ import math
 import tomllib
 from pathlib import Path
 
-from softpack.scene import consistency
+from softpack.scene import consistency, stages
 from softpack.scene.materials import RegistryError, load_registry, resolve
 from softpack.scene.schema import MATERIAL_CHOICES, load_schema
 from softpack.scene.walls import BOX_WALLS, box_geometry, unit
@@ -123,6 +123,8 @@ def validate(data: dict, source="<config>", overrides=None,
                               f" {allowed}")
     sections = {}
     for name, section in schema.items():
+        if name == "stages":
+            continue  # after [walls], which they change
         if section.is_list:
             sections[name] = checker.species(section, data.get(name))
         elif section.is_map:
@@ -135,6 +137,12 @@ def validate(data: dict, source="<config>", overrides=None,
         if section.is_map:
             sections[name] = checker.walls(section, data.get(name, {}),
                                            sections["box"])
+    try:
+        sections["stages"] = stages.validate(
+            checker, schema["stages"], data.get("stages"), sections,
+            data.get("stop", {}))
+    except stages.StageError as err:
+        raise ConfigError(f"{source}: {err}") from None
     sections = {name: sections[name] for name in schema}
     try:
         consistency.derive(sections)
@@ -387,7 +395,9 @@ def to_toml(config) -> str:
             lines.append(f"{key} = {_show(values[key])}  # {spec.doc}{unit}")
 
     for name, section in schema.items():
-        if section.is_list:
+        if name == "stages":
+            lines += stages.toml_lines(config[name])
+        elif section.is_list:
             for item in config[name]:
                 lines += ["", f"[[{name}]]"]
                 entries(name, item, section.parameters)

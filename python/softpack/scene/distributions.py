@@ -152,5 +152,8 @@ def _lognormal(spec, rng, n) -> np.ndarray:
             return out
         out[bad] = rng.lognormal(math.log(spec["diameter"]), spec["sigma"],
                                  int(bad.sum()))
-    raise DistributionError(f"lognormal draws keep falling outside"
-                            f" [{low:g}, {high:g}] m")
+    raise DistributionError(
+        f"[[species]] {spec.get('name', '')!r} distribution = \"lognormal\":"
+        f" draws keep falling outside diameter_min = {low:g} m,"
+        f" diameter_max = {high:g} m (median diameter = {spec['diameter']:g}"
+        f" m, sigma = {spec['sigma']:g}): widen the cuts")

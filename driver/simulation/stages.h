@@ -1,0 +1,141 @@
+#pragma once
+
+#include <bodies/BodySet.h>
+#include <dynamics/moreau_jean.h>
+#include <filesystem>
+#include <io/driver_config.h>
+#include <optional>
+#include <string>
+
+/// Loading programs: a run as a sequence of stages (schema [stages],
+/// docs/loading.md), each changing the walls' drives between two time
+/// steps and ending at its own stop criterion.
+namespace softpack::simulation
+{
+
+/// Where the current stage started: its criteria are measured from there.
+struct StageStart
+{
+  /// Index of the stage in the program
+  int index = 0;
+  /// Time step and time at which it started
+  long step = 0;
+  double time = 0;
+  /// The energy accounts' wall_work at its start (after the drive change)
+  double wall_work = 0;
+  /// Distance between the strain wall and the wall facing it (0: none)
+  double length = 0;
+  /// +1 when Phi (pressure) started below the stage's target, -1 above
+  int phi_side = 1, pressure_side = 1;
+};
+
+/// What a stage check found after a step.
+struct StageCheck
+{
+  /// The criterion met ("packing_fraction", "strain", "pressure",
+  /// "equilibrium", or "max_time" for a stage with no other), or ""
+  std::string met;
+  /// The stage's max_time was reached before its other criteria
+  bool timed_out = false;
+};
+
+/// The two ratios of the equilibrium criterion at the last step.
+struct Balance
+{
+  /// K / |W_stage|: kinetic energy of the bodies and servo walls over the
+  /// wall work done since the stage's start (inf when that work is 0 and
+  /// K > 0)
+  double kinetic = 0;
+  /// max_p |f_p| / <|f_c|>: the largest resultant contact force on a
+  /// particle over the mean magnitude of the nonzero pair contact forces
+  /// (each pair's nodal forces summed); 0 without contact forces
+  double force = 0;
+};
+
+/// The box's wall pressure P = (sxx + syy) / 2, sxx = (F_left / l_left +
+/// F_right / l_right) / 2 and syy likewise with bottom and top, F the
+/// normal force each wall received (along -normal, so > 0 in compression)
+/// and l its current length.
+/// @param[in] walls The walls (with the four box walls)
+/// @param[in] forces The force each wall received (MoreauJean::wall_forces)
+double box_pressure(const std::vector<dynamics::Wall>& walls,
+                    const std::vector<std::array<double, 2>>& forces);
+
+/// The wall facing wall w (its normal opposite), or -1.
+int facing_wall(const std::vector<dynamics::Wall>& walls, int w);
+
+/// Distance between wall w and the wall facing it, along w's normal.
+double facing_distance(const std::vector<dynamics::Wall>& walls, int w);
+
+/// max_p |f_p| / <|f_c|> from the last step's contacts and impulses
+/// (Balance::force).
+double unbalanced_force_ratio(const dynamics::MoreauJean& scheme,
+                              int num_bodies);
+
+/// The stages of a run and the current one.
+///
+/// A stage's drives are applied between two steps: a wall that becomes a
+/// servo wall starts at rest, a servo wall that becomes velocity-driven
+/// leaves the accounts' kinetic energy, so its m V^2 / 2 is taken from
+/// wall_work (the loading program took it back) and the balance closes.
+class StageProgram
+{
+public:
+  explicit StageProgram(const io::DriverConfig& config);
+
+  bool empty() const { return _stages.empty(); }
+  int size() const { return static_cast<int>(_stages.size()); }
+  const io::Stage& stage() const { return _stages[_start.index]; }
+  const StageStart& start() const { return _start; }
+  bool last() const { return _start.index + 1 == size(); }
+
+  /// Begin stage k after step `step`: its drives on the scheme's walls,
+  /// its start recorded.
+  void begin(int k, dynamics::MoreauJean& scheme, std::optional<double> phi);
+
+  /// Set the walls' drives of stages 0..start.index (before the scheme's
+  /// restore from a state) and continue that stage from `start`.
+  void resume(const StageStart& start, dynamics::MoreauJean& scheme);
+
+  /// The current stage's criteria after a step; equilibrium only when
+  /// `output_step` (it needs the energies).
+  StageCheck check(const dynamics::MoreauJean& scheme,
+                   const bodies::BodySet& bodies, std::optional<double> phi,
+                   bool output_step) const;
+
+  /// The equilibrium ratios now.
+  Balance balance(const dynamics::MoreauJean& scheme,
+                  const bodies::BodySet& bodies) const;
+
+  /// A line saying which criterion the stage missed and where it stood.
+  std::string missed(const dynamics::MoreauJean& scheme,
+                     const bodies::BodySet& bodies,
+                     std::optional<double> phi) const;
+
+private:
+  /// Set stage k's drives on the walls; the kinetic energy of servo walls
+  /// turned velocity-driven (taken from wall_work by the caller)
+  static double set_drives(const io::Stage& stage,
+                           std::vector<dynamics::Wall>& walls);
+  double strain(const std::vector<dynamics::Wall>& walls) const;
+
+  std::vector<io::Stage> _stages;
+  StageStart _start;
+};
+
+/// The stage record of a state file S.bin: S.stage.json next to it.
+std::filesystem::path stage_record_path(const std::filesystem::path& state);
+
+/// Write the record of the current stage (atomically), for a state written
+/// at `step`.
+void write_stage_record(const std::filesystem::path& path, long step,
+                        const StageStart& start, const std::string& name);
+
+/// Read the stage record of a state at `step`.
+/// @throws std::runtime_error naming the file when it is absent, of
+/// another step or malformed: a run with stages continues only from a
+/// state whose stage is known
+StageStart read_stage_record(const std::filesystem::path& path, long step,
+                             int stages);
+
+} // namespace softpack::simulation

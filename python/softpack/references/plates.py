@@ -1,0 +1,530 @@
+"""``./softpack single-disk --shape square|pentagon``: one rounded polygon
+between two rigid plates, softpack against an independent dolfinx solve.
+
+The shape check of issue 13: one soft regular polygon with rounded corners
+(a square with two faces on the plates, or a pentagon with a vertex up and
+a face down) squeezed between two rigid plates normal to y, computed twice
+on the SAME mesh:
+
+softpack (``sim/``)
+    the production pipeline exactly as :mod:`softpack.references.single_disk`
+    runs it (its module doc lists the overrides): a configuration without a
+    box, ``[[species]]`` one ``shape = "polygon"`` (``sides``,
+    ``corner_radius``, ``orientation = "fixed"``, ``angle``) of equal-area
+    diameter D, meshed by :mod:`softpack.scene.shapes`, both plates starting
+    at the mesh's extreme nodes and moving towards each other at
+    ``--speed`` each, Moreau–Jean + NLGS node-to-wall contact, friction
+    0.01 on the plates, Rayleigh alpha = 200 1/s, theta = 0.5, time step
+    1e-4 s, every other setting the production default.
+
+dolfinx reference (:func:`static_reference`)
+    the same triangles read back from the run's mesh file, the same
+    plane-strain neo-Hookean energy written out here (paper Eq. 1:
+    Psi = mu/2 (tr C + 1 - 3) - mu ln J + lambda/2 (ln J)^2, with mu and
+    lambda from the run's configuration), P1 displacements, solved STATICALLY
+    (no mass, no damping, no time) by Newton at prescribed plate positions
+    (``--reference-steps`` equal increments of eps, halved on failure).
+    Contact: a NODAL PENALTY of the boundary nodes against the two plates,
+    frictionless, the energy sum_i k l_i <g_i>_+^2 / 2 over the boundary
+    nodes i (l_i half the length of its two boundary edges, g_i its
+    penetration of a plate), with k = ``--penalty`` mu / D. It is node-to-
+    plate like softpack's constraint (same discrete contact kinematics, so
+    that the two differ only by how the contact problem is solved) but
+    shares no code with it: no Delassus operator, no NLGS, no time
+    stepping. Its error is the penetration it allows, g ~ p / k (p the
+    contact pressure), ~ 1e-5 (p / mu) D at the default k = 1e5 mu / D;
+    it lowers the force by a relative 1.2e-4 to 1.7e-4 on an exactly
+    solvable homogeneous compression (tests/python/test_plates.py; the
+    error is proportional to 1/k: 1.2e-3 at k = 1e4 mu / D, 1.2e-5 at
+    1e6); the penetration is ``max_penetration_over_D`` in the output and
+    ``--penalty`` changes k. The x translation, a zero-energy mode between
+    frictionless plates, is removed by fixing u_x at the node nearest the
+    centroid; its reaction is reported (the shape and the load are mirror-
+    symmetric about x = 0, only the mesh is not).
+
+Both give eps = -ln(1 - delta/H0) (H0 the initial height, the distance
+between the plates at first contact, delta their approach) and
+f_norm = f / (H0 mu), f the mean force of the two plates per unit length
+(for a disk H0 = D: the single-disk normalisation).
+
+Outputs in ``--out DIR``: ``force_softpack.csv`` (``eps,f_norm`` per driver
+output), ``force_dolfinx.csv`` (``eps,f_norm,f_norm_top,f_norm_bottom,
+newton_iterations,max_penetration_over_D,pin_reaction_over_f``),
+``plates.json`` (parameters, mesh, the comparison at the reference
+strains, the softpack run's plate mismatch, rotation and energies),
+``sim/`` (the softpack run directory).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+
+from softpack.references import single_disk as sd
+from softpack.scene.config import ConfigError, to_toml, validate
+
+#: shape name -> (sides, angle): the orientation of the polygon between the
+#: plates (at angle 0 a vertex points along +y, docs/parameters.md).
+SHAPES = {"square": (4, math.pi / 4), "pentagon": (5, 0.0)}
+#: Strains at which plates.json compares the two computations.
+COMPARE_STRAINS = (0.01, 0.02, 0.05, 0.10, 0.15, 0.20)
+SOURCE = "plates"
+
+
+@dataclass
+class Params:
+    """The protocol's settings (SI units); the rest is the production
+    default (module doc)."""
+
+    shape: str = "pentagon"
+    diameter: float = 0.020          # equal-area diameter D
+    corner_radius: float = 2.0e-3
+    element_size: float = 1.0e-3
+    max_strain: float = 0.20
+    speed: float = 0.01
+    time_step: float = 1e-4
+    alpha: float = 200.0
+    theta: float = 0.5
+    friction: float = 1e-2
+    every: int = 10
+    reference_steps: int = 40        # dolfinx: equal steps in eps
+    penalty: float = 1e5             # dolfinx: k = penalty mu / D
+
+    @property
+    def sides(self) -> int:
+        return SHAPES[self.shape][0]
+
+    @property
+    def angle(self) -> float:
+        return SHAPES[self.shape][1]
+
+
+# ---------------------------------------------------------------- softpack
+
+def config_data(params: Params, y_bottom: float, y_top: float,
+                height: float) -> dict:
+    """single_disk's overrides with a polygon instead of the disk; the stop
+    time is that of the approach delta_max = H0 (1 - exp(-max_strain))."""
+    data = sd.config_data(sd.Params(
+        diameter=params.diameter, element_size=params.element_size,
+        max_strain=params.max_strain, speed=params.speed,
+        time_step=params.time_step, alpha=params.alpha, theta=params.theta,
+        friction=params.friction, every=params.every), y_bottom, y_top)
+    data["species"] = [{"name": params.shape, "shape": "polygon",
+                        "sides": params.sides,
+                        "corner_radius": params.corner_radius,
+                        "diameter": params.diameter, "count": 1,
+                        "orientation": "fixed", "angle": params.angle}]
+    approach = height * (1 - math.exp(-params.max_strain))
+    data["stop"]["max_time"] = (approach / (2 * params.speed)
+                                + 2 * params.every * params.time_step)
+    return data
+
+
+def plates_config(params: Params, y_bottom=None, y_top=None, height=None):
+    """The validated configuration (plates at +-D/2 unless given)."""
+    if y_bottom is None:
+        y_bottom, y_top = -params.diameter / 2, params.diameter / 2
+    height = height or (y_top - y_bottom)
+    return validate(config_data(params, y_bottom, y_top, height), SOURCE)
+
+
+def simulate(params: Params, sim_dir) -> dict:
+    """Scene, driver.json and softpack-simulate in ``sim_dir``."""
+    from softpack.scene.build import build_scene
+    from softpack.simulation import driver
+    from softpack.simulation.driver_input import write_driver_json
+
+    sim_dir = Path(sim_dir)
+    sim_dir.mkdir(parents=True, exist_ok=True)
+    for stale in ("raw/done.json", "raw/steps.csv", "fields.h5",
+                  "fields.xdmf"):
+        (sim_dir / stale).unlink(missing_ok=True)
+    scene = build_scene(plates_config(params), sim_dir / "mesh" / "body")
+    nodes = sd.reference_nodes(scene.mesh.h5)
+    y_bottom, y_top = float(nodes[:, 1].min()), float(nodes[:, 1].max())
+    config = plates_config(params, y_bottom, y_top)
+    (sim_dir / "config.toml").write_text(to_toml(config))
+    write_driver_json(config, scene.record(), sim_dir)
+    sd.driver_executable()
+    started = time.time()
+    (sim_dir / "driver.log").unlink(missing_ok=True)
+    status, _ = driver.simulate(sim_dir / "driver.json",
+                                sim_dir / "driver.log")
+    seconds = time.time() - started
+    if status != 0 or not (sim_dir / "raw" / "done.json").exists():
+        tail = (sim_dir / "driver.log").read_text().splitlines()[-15:]
+        raise sd.SingleDiskError(
+            f"softpack-simulate failed (exit status {status}); last lines of"
+            f" {sim_dir / 'driver.log'}:\n" + "\n".join(tail))
+    return {"config": config, "mesh_h5": str(scene.mesh.h5),
+            "triangles": scene.mesh.n_triangles, "nodes": int(len(nodes)),
+            "y_bottom0": y_bottom, "y_top0": y_top,
+            "driver_seconds": seconds}
+
+
+def softpack_curve(steps, meta) -> dict:
+    """eps and f_norm = f/(H0 mu) of the driver's plates (single_disk's
+    :func:`~softpack.references.single_disk.force_curve` with D -> H0)."""
+    height = meta["y_top0"] - meta["y_bottom0"]
+    mu = meta["config"]["material"]["parameters"]["shear_modulus"]
+    return sd.force_curve(steps, SimpleNamespace(diameter=height),
+                          meta["y_bottom0"], meta["y_top0"], mu)
+
+
+# ---------------------------------------------------------------- dolfinx
+
+def boundary_weights(points, cells):
+    """Boundary nodes and their tributary lengths (half of each adjacent
+    boundary edge)."""
+    edges = np.sort(np.vstack([cells[:, [0, 1]], cells[:, [1, 2]],
+                               cells[:, [2, 0]]]), axis=1)
+    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    boundary = unique[counts == 1]
+    lengths = np.linalg.norm(points[boundary[:, 0]] - points[boundary[:, 1]],
+                             axis=1)
+    weight = np.zeros(len(points))
+    np.add.at(weight, boundary[:, 0], 0.5 * lengths)
+    np.add.at(weight, boundary[:, 1], 0.5 * lengths)
+    nodes = np.flatnonzero(weight > 0)
+    return nodes, weight[nodes]
+
+
+class _Reference:
+    """The static problem on one mesh: energy forms, nodal plate penalty."""
+
+    def __init__(self, points, cells, mu, lam, stiffness):
+        import ufl
+        from dolfinx import fem, mesh
+        from mpi4py import MPI
+        from scipy.spatial import cKDTree
+
+        domain = mesh.create_mesh(
+            MPI.COMM_SELF, cells.astype(np.int64), points.astype(float),
+            ufl.Mesh(ufl.VectorElement("Lagrange", ufl.triangle, 1)))
+        V = fem.VectorFunctionSpace(domain, ("Lagrange", 1))
+        self.u = fem.Function(V)
+        v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
+        F = ufl.Identity(2) + ufl.grad(self.u)
+        J = ufl.det(F)
+        psi = (mu / 2 * (ufl.tr(F.T * F) + 1 - 3) - mu * ufl.ln(J)
+               + lam / 2 * ufl.ln(J) ** 2)
+        self.energy = fem.form(psi * ufl.dx)
+        residual = ufl.derivative(psi * ufl.dx, self.u, v)
+        self.residual = fem.form(residual)
+        self.tangent = fem.form(ufl.derivative(residual, self.u, du))
+        # the dolfinx node of each input point (create_mesh reorders them)
+        x = V.tabulate_dof_coordinates()[:, :2]
+        distance, self.node_of = cKDTree(x).query(points)
+        if distance.max() > 1e-12 * np.ptp(points):
+            raise RuntimeError("dolfinx mesh nodes do not match the input")
+        self.X = x
+        nodes, weight = boundary_weights(points, cells)
+        self.contact = self.node_of[nodes]
+        self.k_weight = stiffness * weight
+        # u_x = 0 at the node nearest the centroid (the x translation)
+        self.pin = int(self.node_of[np.argmin(np.hypot(*points.T))])
+        self.n = len(x)
+
+    def displacement(self):
+        return self.u.x.array.reshape(-1, 2)
+
+    def gaps(self, bottom, top):
+        """Penetrations of the contact nodes into the bottom and top plates
+        (positive = overlap)."""
+        y = self.X[self.contact, 1] + self.displacement()[self.contact, 1]
+        return bottom - y, y - top
+
+    def system(self, bottom, top):
+        """Tangent (scipy CSR) and residual with the penalty, no pin."""
+        import scipy.sparse as sp
+        from dolfinx.fem import petsc as fp
+
+        A = fp.assemble_matrix(self.tangent)
+        A.assemble()
+        indptr, indices, data = A.getValuesCSR()
+        K = sp.csr_matrix((data, indices, indptr), shape=A.getSize())
+        A.destroy()
+        b = fp.assemble_vector(self.residual)
+        r = b.array.copy()
+        b.destroy()
+        g_bottom, g_top = self.gaps(bottom, top)
+        rows = 2 * self.contact + 1
+        r[rows] += self.k_weight * (np.maximum(g_top, 0)
+                                    - np.maximum(g_bottom, 0))
+        active = (g_top > 0) | (g_bottom > 0)
+        K = K + sp.csr_matrix((self.k_weight * active, (rows, rows)),
+                              shape=K.shape)
+        return K, r
+
+    def plate_forces(self, bottom, top):
+        """Force per unit length the body exerts on each plate (>= 0)."""
+        g_bottom, g_top = self.gaps(bottom, top)
+        return (float(np.sum(self.k_weight * np.maximum(g_bottom, 0))),
+                float(np.sum(self.k_weight * np.maximum(g_top, 0))))
+
+    def solve(self, bottom, top, tolerance, max_iterations=30):
+        """Newton at fixed plates; returns iterations or None (diverged)."""
+        import scipy.sparse.linalg as spla
+
+        pin = 2 * self.pin
+        for iteration in range(1, max_iterations + 1):
+            K, r = self.system(bottom, top)
+            r[pin] = 0.0
+            K = K.tolil()
+            K[pin, :] = 0.0
+            K[:, pin] = 0.0
+            K[pin, pin] = 1.0
+            step = spla.spsolve(K.tocsc(), -r)
+            if not np.all(np.isfinite(step)):
+                return None
+            self.u.x.array[:] += step
+            if not np.isfinite(self.energy_value()):
+                return None
+            if np.abs(step).max() < tolerance:
+                return iteration
+        return None
+
+    def energy_value(self):
+        from dolfinx import fem
+
+        return fem.assemble_scalar(self.energy)
+
+    def pin_reaction(self, bottom, top):
+        """|x force| the pin exerts (the x residual at the pinned node)."""
+        _, r = self.system(bottom, top)
+        return abs(float(r[2 * self.pin]))
+
+
+def static_reference(points, cells, mu, lam, y_bottom0, y_top0, diameter,
+                     max_strain, n_steps=40, penalty=1e5, max_halvings=6):
+    """The dolfinx curve (module doc): eps, f_norm (mean of the plates) and
+    each plate's, Newton iterations, penetration and pin reaction."""
+    ref = _Reference(np.asarray(points, float), np.asarray(cells),
+                     mu, lam, penalty * mu / diameter)
+    height = y_top0 - y_bottom0
+    middle = 0.5 * (y_top0 + y_bottom0)
+    tolerance = 1e-10 * diameter
+    rows = [dict(eps=0.0, f_norm=0.0, f_norm_top=0.0, f_norm_bottom=0.0,
+                 newton_iterations=0, max_penetration_over_D=0.0,
+                 pin_reaction_over_f=0.0, energy=0.0)]
+    eps_done = 0.0
+    for eps in np.linspace(0.0, max_strain, n_steps + 1)[1:]:
+        iterations = _advance(ref, eps_done, eps, height, middle, tolerance,
+                              max_halvings)
+        delta = height * (1 - math.exp(-eps))
+        bottom, top = y_bottom0 + delta / 2, y_top0 - delta / 2
+        f_bottom, f_top = ref.plate_forces(bottom, top)
+        f = 0.5 * (f_bottom + f_top)
+        penetration = max(0.0, *[float(g.max()) for g in ref.gaps(bottom,
+                                                                 top)])
+        rows.append(dict(
+            eps=float(eps), f_norm=f / (height * mu),
+            f_norm_top=f_top / (height * mu),
+            f_norm_bottom=f_bottom / (height * mu),
+            newton_iterations=iterations,
+            max_penetration_over_D=penetration / diameter,
+            pin_reaction_over_f=ref.pin_reaction(bottom, top) / f,
+            energy=float(ref.energy_value())))
+        eps_done = eps
+    return {key: np.array([row[key] for row in rows]) for key in rows[0]}
+
+
+def _advance(ref, eps_old, eps_new, height, middle, tolerance, halvings):
+    """Move the plates from eps_old to eps_new, halving on failure."""
+    backup = ref.u.x.array.copy()
+    for level in range(halvings + 1):
+        targets = np.linspace(eps_old, eps_new, 2 ** level + 1)[1:]
+        total, previous = 0, eps_old
+        for target in targets:
+            _predict(ref, previous, target, height, middle)
+            delta = height * (1 - math.exp(-target))
+            its = ref.solve(middle - height / 2 + delta / 2,
+                            middle + height / 2 - delta / 2, tolerance)
+            if its is None:
+                break
+            total, previous = total + its, target
+        else:
+            return total
+        ref.u.x.array[:] = backup
+    raise RuntimeError(f"dolfinx reference: no equilibrium at eps ="
+                       f" {eps_new:.4f}")
+
+
+def _predict(ref, eps_old, eps_new, height, middle):
+    """Guess: the current shape compressed in y about the plates' middle by
+    the plates' ratio and stretched in x by its inverse."""
+    s = math.exp(eps_old - eps_new)  # (H0 - delta_new) / (H0 - delta_old)
+    x = ref.X + ref.displacement()
+    centre = x[:, 0].mean()
+    new = np.column_stack([centre + (x[:, 0] - centre) / s,
+                           middle + (x[:, 1] - middle) * s])
+    ref.u.x.array[:] = (new - ref.X).ravel()
+
+
+# ---------------------------------------------------------------- run
+
+def run(params: Params, out_dir) -> dict:
+    """Both computations; writes the CSVs and plates.json (module doc)."""
+    from softpack.analysis.fields import read_mesh
+    from softpack.analysis.tables import write_table
+    from softpack.references.p1_fields import rigid_rotation
+
+    out_dir = Path(out_dir)
+    meta = simulate(params, out_dir / "sim")
+    steps = sd.read_steps(out_dir / "sim" / "raw" / "steps.csv")
+    curve = softpack_curve(steps, meta)
+    material = meta["config"]["material"]["parameters"]
+    points, cells = read_mesh(meta["mesh_h5"])
+    started = time.time()
+    ref = static_reference(points, cells, material["shear_modulus"],
+                           material["lame_lambda"], meta["y_bottom0"],
+                           meta["y_top0"], params.diameter,
+                           params.max_strain, params.reference_steps,
+                           params.penalty)
+    reference_seconds = time.time() - started
+    keep = curve["eps"] <= params.max_strain + 0.002
+    write_table(out_dir / "force_softpack.csv",
+                {"eps": curve["eps"][keep], "f_norm": curve["f_norm"][keep]})
+    write_table(out_dir / "force_dolfinx.csv",
+                {k: v for k, v in ref.items() if k != "energy"})
+    x, fcells, snaps = sd.read_fields(out_dir / "sim" / "fields.h5")
+    rotation = max(abs(rigid_rotation(x, fcells, u)) for _, u in snaps)
+    comparison = compare(curve, ref, params.max_strain)
+    loaded = curve["f_norm"] > 0
+    mismatch = np.abs(curve["f_norm_top"] - curve["f_norm_bottom"])[loaded]
+    doc = {"params": asdict(params),
+           "mesh": {"triangles": meta["triangles"], "nodes": meta["nodes"],
+                    "boundary_nodes": int(len(ref_boundary(points, cells)))},
+           "height_H0_m": meta["y_top0"] - meta["y_bottom0"],
+           "plates_initial_y": [meta["y_bottom0"], meta["y_top0"]],
+           "comparison": comparison,
+           "softpack": {
+               "steps": int(steps["step"][-1]),
+               "driver_seconds": round(meta["driver_seconds"], 1),
+               "max_plate_force_mismatch_f_norm": float(mismatch.max()),
+               "max_rigid_rotation_rad": float(rotation),
+               "max_penetration_m": float(np.nanmax(
+                   steps["max_penetration"]))},
+           "dolfinx": {
+               "seconds": round(reference_seconds, 1),
+               "max_penetration_over_D": float(
+                   ref["max_penetration_over_D"].max()),
+               "max_pin_reaction_over_f": float(
+                   ref["pin_reaction_over_f"][1:].max()),
+               "max_newton_iterations": int(ref["newton_iterations"].max())},
+           "eps": "-ln(1 - delta/H0), delta the plates' approach, H0 the"
+                  " initial height", "f_norm": "mean plate force per unit"
+                  " length / (H0 mu)"}
+    (out_dir / "plates.json").write_text(json.dumps(doc, indent=1) + "\n")
+    return {"curve": curve, "reference": ref, "doc": doc}
+
+
+def ref_boundary(points, cells):
+    return boundary_weights(points, cells)[0]
+
+
+def compare(curve, ref, max_strain) -> dict:
+    """softpack / dolfinx - 1 at COMPARE_STRAINS and its largest magnitude
+    over the reference's strains from 0.02 on (softpack interpolated
+    linearly between its outputs)."""
+    at = {f"{e:g}": {"softpack": float(np.interp(e, curve["eps"],
+                                                  curve["f_norm"])),
+                     "dolfinx": float(np.interp(e, ref["eps"],
+                                                ref["f_norm"]))}
+          for e in COMPARE_STRAINS if e <= max_strain + 1e-12}
+    for row in at.values():
+        row["relative_difference"] = row["softpack"] / row["dolfinx"] - 1
+    sel = ref["eps"] >= 0.02 - 1e-12
+    diff = np.interp(ref["eps"][sel], curve["eps"], curve["f_norm"]) \
+        / ref["f_norm"][sel] - 1
+    return {"at": at, "max_abs_relative_difference_from_0.02":
+            float(np.abs(diff).max()) if diff.size else None}
+
+
+def _parser():
+    from softpack import cli
+
+    d = Params()
+    p = argparse.ArgumentParser(
+        prog="softpack single-disk --shape square|pentagon",
+        description="One rounded polygon between two rigid plates: softpack"
+        " against a static dolfinx computation of the same mesh (writes"
+        " DIR/force_softpack.csv, force_dolfinx.csv, plates.json).")
+    p.add_argument("--shape", choices=sorted(SHAPES), default=d.shape)
+    p.add_argument("--diameter", type=cli.positive_float, default=d.diameter,
+                   help="equal-area diameter D (m, default 0.02)")
+    p.add_argument("--corner-radius", type=cli.nonnegative_float,
+                   default=d.corner_radius,
+                   help="corner radius (m, default 2e-3)")
+    p.add_argument("--element-size", type=cli.positive_float,
+                   default=d.element_size, help="h (m, default 1e-3)")
+    p.add_argument("--max-strain", type=cli.positive_float,
+                   default=d.max_strain, help="final eps (default 0.2)")
+    p.add_argument("--out", type=Path, default=Path("runs/plates"))
+    p.add_argument("--speed", type=cli.positive_float, default=d.speed,
+                   help="speed of each plate (m/s, default 0.01)")
+    p.add_argument("--time-step", type=cli.positive_float,
+                   default=d.time_step, help="s, default 1e-4")
+    p.add_argument("--alpha", type=cli.nonnegative_float, default=d.alpha,
+                   help="Rayleigh mass coefficient (1/s, default 200)")
+    p.add_argument("--friction", type=cli.nonnegative_float,
+                   default=d.friction, help="plate friction (default 0.01)")
+    p.add_argument("--every", type=cli.positive_int, default=d.every,
+                   help="driver output every this many steps (default 10)")
+    p.add_argument("--reference-steps", type=cli.positive_int,
+                   default=d.reference_steps,
+                   help="dolfinx: equal steps in eps (default 40)")
+    p.add_argument("--penalty", type=cli.positive_float, default=d.penalty,
+                   help="dolfinx: plate stiffness k in mu/D (default 1e5)")
+    return p
+
+
+def main(argv=None) -> int:
+    args = _parser().parse_args(argv)
+    params = Params(**{k: v for k, v in vars(args).items() if k != "out"})
+    if not 0 < params.max_strain < 1:
+        print("softpack single-disk: --max-strain must be in (0, 1)",
+              file=sys.stderr)
+        return 2
+    try:
+        plates_config(params)
+    except ConfigError as err:
+        print(f"softpack single-disk: {err}", file=sys.stderr)
+        return 2
+    from softpack.simulation.run import UsageError, check_out_directory
+    try:
+        check_out_directory(args.out)
+    except UsageError as err:
+        print(f"softpack single-disk: {err}", file=sys.stderr)
+        return 2
+    print(f"softpack single-disk: {params.shape}, D = {params.diameter:g} m,"
+          f" corner radius {params.corner_radius:g} m, h ="
+          f" {params.element_size:g} m, up to eps = {params.max_strain:g}"
+          f" -> {args.out}", flush=True)
+    try:
+        result = run(params, args.out)
+    except (sd.SingleDiskError, RuntimeError) as err:
+        print(f"softpack single-disk: {err}", file=sys.stderr)
+        return 1
+    doc = result["doc"]
+    for e, row in doc["comparison"]["at"].items():
+        print(f"  eps = {e}: f_norm softpack {row['softpack']:.5g}, dolfinx"
+              f" {row['dolfinx']:.5g} ({100 * row['relative_difference']:+.2f}"
+              " %)")
+    print(f"softpack single-disk: {doc['mesh']['triangles']} triangles;"
+          f" wrote {args.out}/force_softpack.csv, force_dolfinx.csv,"
+          " plates.json")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,287 @@
+"""``[[stages]]``: a loading program, validated and completed.
+
+A run is a sequence of stages (schema/parameters.toml, section
+``[stages]``); each gives some walls a new drive and ends at its own stop
+criterion. In the TOML file::
+
+    [[stages]]
+    name = "consolidate"
+    walls.right = { control = "pressure", pressure = 1e4 }
+    walls.top = { pressure = 1e4 }          # control "pressure" implied
+    stop = { equilibrium = 1e-3, max_time = 0.5 }
+
+A :class:`~softpack.scene.config.Config` holds every stage complete, as
+driver.json takes it: ``{"name", "walls": {NAME: {"control", "velocity",
+"pressure", "force"}}, "stop": {KEY: value}}`` with every stop key of the
+schema (``stop.KEY``) set, the derived ``max_time`` and ``strain_wall``
+computed. Walls a stage does not name keep the drive they had; the first
+stage starts from ``[walls]``.
+
+Errors name the file, the stage (``[stages.INDEX]``) and the key, like
+the rest of the configuration's.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from softpack.scene.walls import BOX_WALLS
+
+#: The drives of a wall, each with its value key.
+DRIVES = ("velocity", "pressure", "force")
+#: The keys a stage's wall entry may have (those of [walls.NAME]).
+WALL_KEYS = ("control",) + DRIVES
+#: The keys of one stage.
+STAGE_KEYS = ("name", "walls", "stop")
+#: The prefix of the stop keys in the schema's [stages] section.
+STOP = "stop."
+#: Normals whose dot product is below -1 + this face each other.
+FACING_TOLERANCE = 1e-9
+
+
+class StageError(ValueError):
+    """An invalid stage; the config stage prefixes the file name."""
+
+
+def stop_specs(section) -> dict:
+    """``key -> Parameter`` of the stop keys (without ``stop.``)."""
+    return {key[len(STOP):]: spec for key, spec in section.parameters.items()
+            if key.startswith(STOP)}
+
+
+def validate(checker, section, items, sections, given_stop) -> list:
+    """Check the ``[[stages]]`` tables; return them complete.
+
+    Parameters
+    ----------
+    checker : softpack.scene.config._Checker
+        Checks values against their schema entries, naming file and key.
+    section : softpack.scene.schema.Section
+        The schema's [stages].
+    items : list or None
+        The file's ``stages`` (None: no stages).
+    sections : dict
+        The configuration's sections checked so far (box, walls, time,
+        contact, stop); with stages, ``stop.packing_fraction`` is set to 0
+        and ``stop.max_time`` derived as the sum of the stages' bounds.
+    given_stop : dict
+        The file's own [stop] table (what the user set).
+
+    Raises
+    ------
+    StageError
+    """
+    if items is None or items == []:
+        return []
+    if not isinstance(items, list) or not all(isinstance(i, dict)
+                                              for i in items):
+        raise StageError("[[stages]] must be one or more tables")
+    drives = {name: {k: w[k] for k in WALL_KEYS}
+              for name, w in sections["walls"].items()}
+    out = []
+    for i, item in enumerate(items):
+        title = f"stages.{i}"
+        checker.keys(title, item, STAGE_KEYS)
+        name = item.get("name", f"stage{i}")
+        name = checker.value(title, ["stages", i, "name"],
+                             section.parameters["name"], name) or f"stage{i}"
+        drives = _apply_walls(checker, i, item.get("walls", {}), drives,
+                              sections)
+        stop = _stop(checker, section, i, item.get("stop", {}), drives,
+                     sections)
+        out.append({"name": name,
+                     "walls": {w: dict(d) for w, d in drives.items()
+                               if w in item.get("walls", {})},
+                     "stop": stop})
+    names = [s["name"] for s in out]
+    if len(set(names)) != len(names):
+        raise StageError(f"[[stages]] names {names!r}: must differ")
+    _global_stop(sections["stop"], given_stop, out)
+    return out
+
+
+def _apply_walls(checker, index, entries, drives, sections) -> dict:
+    """The walls' drives after a stage's ``walls`` entries."""
+    title = f"stages.{index}"
+    if not isinstance(entries, dict):
+        raise StageError(f"[{title}] walls must be a table of walls.NAME ="
+                         " { control, velocity, pressure, force }")
+    walls_schema = checker_schema(sections)
+    boxed = sections["box"]["enabled"]
+    new = {name: dict(d) for name, d in drives.items()}
+    for wall, entry in entries.items():
+        where = f"[{title}] walls.{wall}"
+        if wall not in drives:
+            raise StageError(f"{where}: unknown wall (walls: "
+                             f"{', '.join(drives)})")
+        checker.keys(f"{title}.walls.{wall}", entry, WALL_KEYS)
+        values = {}
+        for key, value in entry.items():
+            spec = dataclasses.replace(walls_schema[key],
+                                       key=f"walls.{wall}.{key}")
+            values[key] = checker.value(title, ["stages", index, "walls",
+                                                wall, key], spec, value)
+        control = _control(where, wall, values)
+        if control == "pressure" and not (boxed and wall in BOX_WALLS):
+            raise StageError(
+                f"{where}.control = \"pressure\": only a box wall (left,"
+                " right, bottom, top with [box] enabled) has a length to"
+                " turn a pressure into a force; use control = \"force\"")
+        new[wall] = {"control": control,
+                     "velocity": list(values.get("velocity", [0.0, 0.0])),
+                     "pressure": float(values.get("pressure", 0.0)),
+                     "force": float(values.get("force", 0.0))}
+        _check_speed(where, new[wall], sections)
+    return new
+
+
+def checker_schema(sections) -> dict:
+    """The [walls] keys' Parameters (their one definition)."""
+    from softpack.scene.schema import load_schema
+
+    return load_schema()["walls"].parameters
+
+
+def _control(where, wall, values) -> str:
+    """The entry's control: given, or the one drive whose value is given.
+
+    A wall driven two ways in one stage (a velocity and a pressure or
+    force) is refused, naming the key of the second drive.
+    """
+    given = [k for k in DRIVES if k in values]
+    control = values.get("control")
+    if control is None:
+        if not given:
+            raise StageError(f"{where}: give control or one of velocity,"
+                             " pressure, force")
+        control = given[0]
+    for key in given:
+        if key != control:
+            raise StageError(
+                f"{where}.{key} = {values[key]!r}: the wall is under control"
+                f" = \"{control}\" in this stage; a wall is driven by one of"
+                f" velocity, pressure or force (remove {key}, or set"
+                " control)")
+    if control != "velocity" and control not in values:
+        raise StageError(f"{where}.{control} missing: control ="
+                         f" \"{control}\" needs its value")
+    return control
+
+
+def _check_speed(where, drive, sections) -> None:
+    """No wall may move more than the alert distance (or the largest
+    penetration taken as real) in one time step."""
+    speed = math.hypot(*drive["velocity"])
+    step = sections["time"]["time_step"]
+    contact = sections["contact"]
+    limit = min(contact["alert_distance"], contact["max_penetration"])
+    if speed * step > limit:
+        raise StageError(
+            f"{where}.velocity = {drive['velocity']!r}: moves"
+            f" {speed * step:.3g} m per [time] time_step, more than [contact]"
+            f" alert_distance or max_penetration ({limit:g} m)")
+
+
+def _stop(checker, section, index, table, drives, sections) -> dict:
+    """A stage's stop keys, checked, with max_time and strain_wall derived."""
+    title = f"stages.{index}"
+    specs = stop_specs(section)
+    if not isinstance(table, dict):
+        raise StageError(f"[{title}] stop must be a table (keys:"
+                         f" {', '.join(specs)})")
+    checker.keys(f"{title}.stop", table, list(specs))
+    stop = {}
+    for key, spec in specs.items():
+        if key in table:
+            stop[key] = checker.value(title, ["stages", index, "stop", key],
+                                      spec, table[key])
+        else:
+            stop[key] = None if spec.derived else spec.default
+    boxed = sections["box"]["enabled"]
+    for key in ("packing_fraction", "pressure"):
+        if stop[key] > 0 and not boxed:
+            raise StageError(f"[{title}] stop.{key} = {stop[key]!r}: needs a"
+                             " box (it is measured on the box's walls)")
+    moving = _fastest(drives)
+    if stop["strain_wall"] is None:
+        stop["strain_wall"] = moving if (stop["strain"] > 0 and moving) \
+            else ""
+    if stop["strain"] > 0:
+        if not stop["strain_wall"]:
+            raise StageError(
+                f"[{title}] stop.strain = {stop['strain']!r}: the stage has"
+                " no moving velocity-controlled wall; name the wall whose"
+                " strain it is with stop.strain_wall")
+        _check_strain_wall(title, stop["strain_wall"], sections["walls"])
+    elif stop["strain_wall"]:
+        _check_strain_wall(title, stop["strain_wall"], sections["walls"])
+    if stop["max_time"] is None:
+        if not (moving and boxed):
+            raise StageError(
+                f"[{title}] stop.max_time missing: it is derived as [box]"
+                " length / (2 x the stage's fastest wall speed) only with a"
+                " box and a moving velocity-controlled wall; give it")
+        speed = math.hypot(*drives[moving]["velocity"])
+        stop["max_time"] = sections["box"]["length"] / (2.0 * speed)
+    return stop
+
+
+def _fastest(drives) -> str:
+    """The fastest moving velocity-controlled wall ("" when none)."""
+    best, name = 0.0, ""
+    for wall, d in drives.items():
+        speed = math.hypot(*d["velocity"]) if d["control"] == "velocity" \
+            else 0.0
+        if speed > best:
+            best, name = speed, wall
+    return name
+
+
+def _check_strain_wall(title, name, walls) -> None:
+    """The wall exists and another faces it (its strain has a length)."""
+    if name not in walls:
+        raise StageError(f"[{title}] stop.strain_wall = {name!r}: unknown"
+                         f" wall (walls: {', '.join(walls)})")
+    n = walls[name]["normal"]
+    if not any(other != name and n[0] * w["normal"][0] + n[1] *
+               w["normal"][1] < -1 + FACING_TOLERANCE
+               for other, w in walls.items()):
+        raise StageError(f"[{title}] stop.strain_wall = {name!r}: no wall"
+                         " faces it (opposite normal), so its strain has no"
+                         " length")
+
+
+def _global_stop(stop, given, stages) -> None:
+    """[stop] with stages: no global Phi target; max_time the stages' sum."""
+    if given.get("packing_fraction", 0) != 0:
+        raise StageError(
+            f"[stop] packing_fraction = {given['packing_fraction']!r}: must"
+            " be 0 with [[stages]] (each stage has its own"
+            " stop.packing_fraction)")
+    stop["packing_fraction"] = 0.0
+    total = sum(s["stop"]["max_time"] for s in stages)
+    if stop["max_time"] is None:
+        stop["max_time"] = total
+    elif stop["max_time"] < total * (1 - 1e-12):
+        raise StageError(
+            f"[stop] max_time = {stop['max_time']!r}: must be >= {total:g} s,"
+            " the sum of the stages' stop.max_time (or left out: it is then"
+            " that sum)")
+
+
+def toml_lines(stages) -> list:
+    """The ``[[stages]]`` tables of a resolved configuration (reloadable:
+    each wall entry has only its drive's keys)."""
+    from softpack.scene.config import _show
+
+    lines = []
+    for stage in stages:
+        lines += ["", "[[stages]]", f"name = {_show(stage['name'])}"]
+        for wall, d in stage["walls"].items():
+            control = d["control"]
+            lines.append(f"walls.{wall} = {{ control = {_show(control)},"
+                         f" {control} = {_show(d[control])} }}")
+        keys = ", ".join(f"{k} = {_show(v)}" for k, v in stage["stop"].items())
+        lines.append(f"stop = {{ {keys} }}")
+    return lines
