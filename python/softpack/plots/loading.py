@@ -1,0 +1,177 @@
+"""Figures of a loading run: compaction and shear (issue 12 item 4).
+
+``./softpack plot-loading RUN [--out DIR] [--estimate wall|contact|fe]``
+writes, from a run directory (its analysis, ``series.csv`` and
+``stress.csv``, is done first when missing):
+
+- ``pressure_phi.png``: P(Phi) of the three stress estimates and the fitted
+  compaction law (:mod:`softpack.analysis.compaction_law`) on the chosen
+  estimate, or the reason it was refused;
+- ``z_phi.png``: the coordination number Z(Phi) (the analysis' rules);
+- ``stress_estimates.png``: the relative differences of the three
+  estimates against the step (they must vanish at rest);
+- ``shear.png``: q/P and eps_v against eps_q (a shear test);
+- ``loading.json``: the fit (values, errors, method or reason) and the
+  last row's P, q and differences.
+
+Figures only: every number comes from the analysis modules.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from softpack.analysis import compaction_law
+from softpack.analysis.stress import NAME as STRESS_NAME
+from softpack.analysis.tables import read_table
+
+ESTIMATES = ("wall", "contact", "fe")
+LABELS = {"wall": "walls", "contact": "Love-Weber (contacts)",
+          "fe": "finite elements (particles' stress)"}
+
+
+def load(run_dir) -> tuple[dict, dict]:
+    """``(series, stress)`` of a run, running its analysis when missing."""
+    run_dir = Path(run_dir)
+    if not (run_dir / "series.csv").is_file() or not (
+            run_dir / STRESS_NAME).is_file():
+        from softpack.analysis.observables import process_run
+        process_run(run_dir)
+    if not (run_dir / STRESS_NAME).is_file():
+        raise SystemExit(f"softpack plot-loading: {run_dir}: no {STRESS_NAME}"
+                         " (a run without a box has no assembly stress)")
+    return read_table(run_dir / "series.csv"), read_table(run_dir
+                                                          / STRESS_NAME)
+
+
+def _save(fig, ax, xlabel, ylabel, path) -> str:
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+    import matplotlib.pyplot as plt
+    plt.close(fig)
+    return str(path)
+
+
+def plot_pressure(phi, stress, fit, estimate, path) -> str:
+    """P(Phi) of each estimate, the fitted law on ``estimate``."""
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    for i, name in enumerate(ESTIMATES):
+        p = np.asarray(stress[f"{name}_P"], float)
+        if np.isfinite(p).any():
+            ax.plot(phi, p / 1e3, ("o", "s", "^")[i], ms=3, mfc="none",
+                    label=LABELS[name])
+    if fit.ok:
+        v = fit.values
+        grid = np.linspace(v["phi_0"], min(np.nanmax(phi) + 0.01,
+                                           v["phi_max"] - 1e-4), 200)
+        ax.plot(grid, compaction_law.pressure(grid, **v) / 1e3, "k-", lw=1,
+                label=f"law on {estimate}: Phi_max = {v['phi_max']:.4f}"
+                      f" +- {fit.errors['phi_max']:.4f}")
+        ax.axvline(v["phi_max"], color="k", ls=":", lw=0.8)
+    else:
+        ax.set_title(fit.summary(), fontsize=7, wrap=True)
+    return _save(fig, ax, "packing fraction Phi", "P (kPa, per unit length)",
+                 path)
+
+
+def plot_connectivity(series, path) -> str:
+    """Z(Phi) of the analysis."""
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    ax.plot(series["phi"], series["z"], "o", ms=3, mfc="none", label="Z")
+    return _save(fig, ax, "packing fraction Phi", "coordination number Z",
+                 path)
+
+
+def plot_differences(stress, path) -> str:
+    """Relative differences of the three estimates against the step."""
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    for column, label in (("difference", "walls vs contacts"),
+                          ("difference_wall_fe", "walls vs FE"),
+                          ("difference_contact_fe", "contacts vs FE")):
+        values = np.asarray(stress.get(column, []), float)
+        if np.isfinite(values).any():
+            ax.semilogy(stress["step"], values, ".", ms=3, label=label)
+    ax.axhline(0.02, color="k", ls=":", lw=0.8)
+    return _save(fig, ax, "step", "relative difference |a - b| / |a|", path)
+
+
+def plot_shear(shear, path) -> str:
+    """q/P and eps_v against eps_q (two panels)."""
+    import matplotlib.pyplot as plt
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(5.5, 6), sharex=True)
+    top.plot(shear["eps_q"], shear["q_over_p"], "-", lw=1)
+    top.set_ylabel("q / P")
+    bottom.plot(shear["eps_q"], shear["eps_v"], "-", lw=1)
+    bottom.axhline(0, color="k", lw=0.5)
+    return _save(fig, bottom, "deviatoric strain eps_q = eps_xx - eps_yy",
+                 "volumetric strain eps_v (compression > 0)", path)
+
+
+def write_figures(run_dir, out, estimate="wall") -> dict:
+    """Write the figures and ``loading.json``; return the summary dict."""
+    import matplotlib
+    matplotlib.use("Agg")
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    series, stress = load(run_dir)
+    phi = np.asarray(series["phi"], float)
+    p = np.asarray(stress[f"{estimate}_P"], float)
+    fit = compaction_law.fit_compaction(phi, p)
+    shear = compaction_law.shear_series(stress, estimate)
+    files = [plot_pressure(phi, stress, fit, estimate,
+                           out / "pressure_phi.png"),
+             plot_connectivity(series, out / "z_phi.png"),
+             plot_differences(stress, out / "stress_estimates.png"),
+             plot_shear(shear, out / "shear.png")]
+    last = {c: float(stress[c][-1]) for c in stress
+            if c.endswith(("_P", "_q")) or c.startswith("difference")}
+    summary = {"run": str(run_dir), "estimate": estimate,
+               "rows": len(phi), "phi_last": float(phi[-1]),
+               "fit": {"values": fit.values, "errors": fit.errors,
+                       "method": fit.method, "reason": fit.reason,
+                       "points": fit.points,
+                       "pressure_max": fit.pressure_max},
+               "last_row": last, "figures": files}
+    (out / "loading.json").write_text(json.dumps(summary, indent=2) + "\n")
+    return summary
+
+
+def main(argv=None) -> int:
+    """``./softpack plot-loading RUN [--out DIR] [--estimate E]``."""
+    parser = argparse.ArgumentParser(
+        prog="softpack plot-loading", description=__doc__.splitlines()[0])
+    parser.add_argument("run", help="a finished run directory with a box")
+    parser.add_argument("--out", help="output directory (default:"
+                        " RUN/figures/loading)")
+    parser.add_argument("--estimate", choices=ESTIMATES, default="wall",
+                        help="the stress estimate the law is fitted to"
+                        " (default: wall)")
+    args = parser.parse_args(argv)
+    run = Path(args.run)
+    if not (run / "raw" / "steps.csv").is_file():
+        parser.error(f"{run}: no raw/steps.csv (not a run directory)")
+    out = Path(args.out) if args.out else run / "figures" / "loading"
+    summary = write_figures(run, out, args.estimate)
+    fit = summary["fit"]
+    line = (compaction_law.CompactionFit(
+        fit["values"], fit["errors"], fit["reason"], fit["method"],
+        fit["points"], fit["pressure_max"]).summary())
+    print(f"{run}: {line}")
+    print(f"figures in {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,109 @@
+"""The compaction law fit (softpack.analysis.compaction_law) on synthetic
+data drawn from the law with noise: the parameters are recovered within
+their (bootstrap) uncertainty; data that stop before saturation, or too
+few rows, are refused with a reason; q/P and strains of a shear test."""
+
+import numpy as np
+import pytest
+
+from softpack.analysis import compaction_law as law
+
+TRUE = {"phi_0": 0.80, "phi_max": 0.965, "kappa": 40e3}
+
+
+def synthetic(p_max, rows=120, noise=1e-3, seed=1):
+    """Rows (Phi, P) of the law up to p_max, Phi with Gaussian noise."""
+    rng = np.random.default_rng(seed)
+    p = np.linspace(0.0, p_max, rows + 1)[1:]
+    phi = law.packing_fraction(p, **TRUE) + noise * rng.standard_normal(rows)
+    return phi, p
+
+
+def test_the_law_and_its_inverse_agree():
+    p = np.array([1e3, 3e4, 2e5])
+    phi = law.packing_fraction(p, **TRUE)
+    np.testing.assert_allclose(law.pressure(phi, **TRUE), p, rtol=1e-10)
+    assert law.packing_fraction(0.0, **TRUE) == pytest.approx(TRUE["phi_0"])
+    assert np.isnan(law.pressure(0.97, **TRUE))  # beyond Phi_max
+
+
+def test_parameters_recovered_within_their_uncertainty():
+    phi, p = synthetic(p_max=4 * TRUE["kappa"])
+    fit = law.fit_compaction(phi, p)
+    assert fit.ok, fit.reason
+    for k in law.PARAMETERS:
+        assert fit.errors[k] > 0
+        # 3 sigma: a correct fit fails this 0.3 % of the time; seed fixed
+        assert abs(fit.values[k] - TRUE[k]) < 3 * fit.errors[k], (
+            k, fit.summary())
+    assert fit.errors["phi_max"] < 0.01
+    assert "bootstrap" in fit.method
+
+
+def test_seeds_give_a_spread_across_runs():
+    curves = [synthetic(4 * TRUE["kappa"], rows=60, seed=s) for s in range(4)]
+    fit = law.fit_runs(curves, law.CompactionSettings(resamples=40))
+    assert fit.ok, fit.reason
+    assert "4 seeds" in fit.method
+    for k in law.PARAMETERS:
+        assert abs(fit.values[k] - TRUE[k]) < 4 * fit.errors[k], k
+
+
+def test_data_before_saturation_are_refused():
+    # P up to kappa / 5: the curve is still nearly straight
+    phi, p = synthetic(p_max=0.2 * TRUE["kappa"], noise=3e-4)
+    fit = law.fit_compaction(phi, p)
+    assert not fit.ok
+    assert np.isnan(fit.values["phi_max"])
+    assert ("only the initial slope" in fit.reason
+            or "bootstrap spread" in fit.reason), fit.reason
+
+
+def test_too_few_rows_are_refused():
+    phi, p = synthetic(p_max=4 * TRUE["kappa"], rows=5)
+    fit = law.fit_compaction(phi, p)
+    assert not fit.ok and "fewer than 8" in fit.reason
+    assert "no compaction law" in fit.summary()
+
+
+def test_shear_series_ratio_and_strains():
+    stress = {"wall_P": np.array([0.0, 10.0, 20.0]),
+              "wall_q": np.array([0.0, 3.0, 9.0]),
+              "eps_q": np.array([0.0, 0.01, 0.02]),
+              "eps_v": np.array([0.0, 0.002, -0.001])}
+    s = law.shear_series(stress)
+    assert np.isnan(s["q_over_p"][0])
+    np.testing.assert_allclose(s["q_over_p"][1:], [0.3, 0.45])
+    np.testing.assert_array_equal(s["eps_v"], stress["eps_v"])
+
+
+def test_plot_loading_writes_the_figures_and_the_fit(tmp_path):
+    pytest.importorskip("matplotlib")
+    from softpack.analysis import stress as stress_module
+    from softpack.analysis.tables import write_table
+    from softpack.plots import loading
+
+    phi, p = synthetic(p_max=4 * TRUE["kappa"], rows=80)
+    run = tmp_path / "run"
+    (run / "raw").mkdir(parents=True)
+    rows = len(p)
+    write_table(run / "raw" / "steps.csv", {"step": np.arange(rows)},
+                ("step",))
+    write_table(run / "series.csv", {"phi": phi, "z": 3 + 10 * (phi - 0.8)},
+                ("phi", "z"))
+    table = {c: np.full(rows, np.nan) for c in stress_module.COLUMNS}
+    table.update(step=np.arange(rows), wall_P=p, wall_q=0.01 * p,
+                 fe_P=1.01 * p, fe_q=0.01 * p, eps_q=np.linspace(0, .1, rows),
+                 eps_v=np.linspace(0, .05, rows),
+                 difference_wall_fe=np.full(rows, 0.01))
+    write_table(run / stress_module.NAME, table, stress_module.COLUMNS)
+    assert loading.main([str(run), "--out", str(tmp_path / "fig")]) == 0
+    for name in ("pressure_phi.png", "z_phi.png", "stress_estimates.png",
+                 "shear.png", "loading.json"):
+        assert (tmp_path / "fig" / name).is_file(), name
+    import json
+    summary = json.loads((tmp_path / "fig" / "loading.json").read_text())
+    fit = summary["fit"]
+    assert fit["reason"] == ""
+    assert abs(fit["values"]["phi_max"] - TRUE["phi_max"]) < \
+        3 * fit["errors"]["phi_max"]
