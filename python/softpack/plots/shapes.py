@@ -28,6 +28,12 @@ snapshots_LABEL.png
                   drawing, :func:`softpack.plots.paper.plot_snapshots`).
 summary.csv       per run and target Phi (0.70 ... 0.88): eps, E/(WHL mu)
                   and Z interpolated at it; the run's largest Phi.
+
+With ``--plates`` the directories are outputs of ``./softpack single-disk
+--shape square|pentagon`` (:mod:`softpack.references.plates`) instead:
+plates_force.png (f/(H0 mu) against eps, softpack as markers, dolfinx as
+lines, one colour per element size; below, softpack/dolfinx - 1) and
+plates_refinement.csv (:func:`softpack.references.plates.refinement`).
 """
 
 from __future__ import annotations
@@ -155,9 +161,74 @@ def write_summary(runs, path) -> None:
     Path(path).write_text("\n".join(lines) + "\n")
 
 
+def plates_figures(directories, out) -> None:
+    """plates_force.png and plates_refinement.csv (module doc)."""
+    import json
+
+    import matplotlib.pyplot as plt
+
+    from softpack.analysis.tables import read_table
+    from softpack.references.plates import refinement
+
+    runs = []
+    for d in map(Path, directories):
+        doc = json.loads((d / "plates.json").read_text())
+        runs.append((doc["params"]["shape"], doc["params"]["element_size"],
+                     read_table(d / "force_softpack.csv"),
+                     read_table(d / "force_dolfinx.csv")))
+    shapes = sorted({r[0] for r in runs})
+    fig, axes = plt.subplots(2, len(shapes), figsize=(5 * len(shapes), 6.5),
+                             squeeze=False, sharex=True,
+                             gridspec_kw={"height_ratios": [2, 1]})
+    for col, shape in enumerate(shapes):
+        mine = sorted((r for r in runs if r[0] == shape), key=lambda r: -r[1])
+        for (_, h, sp, dx), colour in zip(mine, ("C0", "C1", "C2", "C3")):
+            label = f"h = {h * 1e3:g} mm"
+            axes[0, col].plot(dx["eps"], dx["f_norm"], "-", color=colour,
+                              lw=1, label=f"dolfinx, {label}")
+            step = max(1, len(sp["eps"]) // 40)
+            axes[0, col].plot(sp["eps"][::step], sp["f_norm"][::step], "o",
+                              color=colour, mfc="none", ms=4,
+                              label=f"softpack, {label}")
+            eps = dx["eps"][dx["eps"] >= 0.005]
+            diff = np.interp(eps, sp["eps"], sp["f_norm"]) / np.interp(
+                eps, dx["eps"], dx["f_norm"]) - 1
+            axes[1, col].plot(eps, 100 * diff, "o-", color=colour, ms=3,
+                              lw=1, label=label)
+        axes[0, col].set_title(f"rounded {shape} between two plates")
+        axes[0, col].set_ylabel("f / (H0 mu)")
+        axes[0, col].legend(fontsize=7)
+        axes[1, col].axhline(0, color="k", lw=0.5)
+        axes[1, col].set_ylabel("softpack / dolfinx - 1 (%)")
+        axes[1, col].set_xlabel("eps = -ln(1 - delta / H0)")
+    fig.tight_layout()
+    fig.savefig(Path(out) / "plates_force.png", dpi=150)
+    plt.close(fig)
+    rows = refinement(directories)
+    lines = [",".join(rows[0])]
+    for row in rows:
+        lines.append(",".join(v if isinstance(v, str) else f"{v:.6g}"
+                              for v in row.values()))
+    (Path(out) / "plates_refinement.csv").write_text("\n".join(lines) + "\n")
+
+
 def main(argv=None) -> int:
     import matplotlib
     matplotlib.use("Agg")
+
+    if argv is None:
+        argv = sys.argv[1:]
+    if "--plates" in argv:
+        p = argparse.ArgumentParser(prog="python -m softpack.plots.shapes"
+                                    " --plates")
+        p.add_argument("--plates", action="store_true")
+        p.add_argument("dirs", nargs="+")
+        p.add_argument("--out", type=Path, required=True)
+        args = p.parse_args(argv)
+        args.out.mkdir(parents=True, exist_ok=True)
+        plates_figures(args.dirs, args.out)
+        print(f"wrote {args.out}/plates_force.png, plates_refinement.csv")
+        return 0
 
     from softpack.plots.paper import load_runs, plot_snapshots
 

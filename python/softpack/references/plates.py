@@ -450,6 +450,66 @@ def compare(curve, ref, max_strain) -> dict:
             float(np.abs(diff).max()) if diff.size else None}
 
 
+# ---------------------------------------------------------------- refinement
+
+def refinement(directories, strains=(0.02, 0.05, 0.10, 0.15, 0.20)) -> list:
+    """Rows (shape, h, eps, softpack, dolfinx, difference) of several
+    ``run`` output directories, and per shape and strain the estimated
+    discretization error of each mesh.
+
+    With three meshes h > h/2 > h/4 of one shape the limit is estimated by
+    Richardson extrapolation, f_0 = f_3 + (f_3 - f_2) / (2^p - 1) with the
+    observed order p = log2((f_1 - f_2) / (f_2 - f_3)) when the two
+    differences have the same sign (else ``error_*`` is left empty); each
+    mesh's error is f_h / f_0 - 1, for softpack and dolfinx separately.
+    """
+    from softpack.analysis.tables import read_table
+
+    runs = []
+    for d in map(Path, directories):
+        doc = json.loads((d / "plates.json").read_text())
+        runs.append((doc["params"]["shape"], doc["params"]["element_size"],
+                     read_table(d / "force_softpack.csv"),
+                     read_table(d / "force_dolfinx.csv"), doc))
+    rows = []
+    for shape in sorted({r[0] for r in runs}):
+        mine = sorted((r for r in runs if r[0] == shape), key=lambda r: -r[1])
+        reached = min(min(sp["eps"].max(), dx["eps"].max())
+                      for _, _, sp, dx, _ in mine)
+        for eps in (e for e in strains if e <= reached + 1e-9):
+            values = {"softpack": [], "dolfinx": []}
+            for _, h, sp, dx, doc in mine:
+                values["softpack"].append(float(np.interp(eps, sp["eps"],
+                                                          sp["f_norm"])))
+                values["dolfinx"].append(float(np.interp(eps, dx["eps"],
+                                                         dx["f_norm"])))
+            limits = {k: _richardson(v) for k, v in values.items()}
+            for i, (_, h, _, _, doc) in enumerate(mine):
+                row = {"shape": shape, "element_size": h, "eps": eps,
+                       "triangles": doc["mesh"]["triangles"]}
+                for k in ("softpack", "dolfinx"):
+                    row[k] = values[k][i]
+                    limit, order = limits[k]
+                    row[f"error_{k}"] = (values[k][i] / limit - 1
+                                         if limit else float("nan"))
+                    row[f"order_{k}"] = order
+                row["difference"] = row["softpack"] / row["dolfinx"] - 1
+                rows.append(row)
+    return rows
+
+
+def _richardson(values):
+    """(limit, observed order) of three values on halved meshes, or
+    (None, nan)."""
+    if len(values) != 3:
+        return None, float("nan")
+    d1, d2 = values[0] - values[1], values[1] - values[2]
+    if d1 == 0 or d2 == 0 or d1 * d2 < 0:
+        return None, float("nan")
+    order = math.log2(d1 / d2)
+    return values[2] + d2 / (2 ** order - 1), order
+
+
 def _parser():
     from softpack import cli
 
