@@ -129,3 +129,50 @@ def test_a_bad_geo_file_writes_nothing(tmp_path):
     with pytest.raises(ShapeError, match=r"\[species.0\].*open\.geo"):
         build_scene(config, tmp_path / "out" / "m")
     assert not (tmp_path / "out").exists()
+
+
+BAD_INPUTS = {
+    # a .geo whose curve loop is not closed: gmsh aborts in the child
+    "open_geo": ("[[species]]\nshape = \"geo\"\nfile = \"open.geo\"\n"
+                 "count = 4\n", r"\[species.0\].*open\.geo.*closed loop"),
+    # an ellipse of minor axis 0.63 mm at h = 1.065 mm: flat triangles
+    "unmeshable": ("[[species]]\nshape = \"ellipse\"\n"
+                   "aspect_ratio = 1000.0\ncount = 4\n",
+                   r"\[species.0\].*quality.*element_size"),
+    # ellipses whose bounding circles cannot be placed in the box
+    "cannot_fit": ("[box]\nlength = 0.1\nwidth = 0.1\n[[species]]\n"
+                   "shape = \"ellipse\"\naspect_ratio = 3.0\n"
+                   "diameter = 0.02\ncount = 10\n",
+                   r"bounding circles.*\[\[species\]\] count"),
+    # a size distribution that fills more than the box can hold
+    "distribution_too_full": (
+        "[box]\nlength = 0.1\nwidth = 0.1\n[[species]]\n"
+        "distribution = \"uniform\"\ndiameter_min = 0.02\n"
+        "diameter_max = 0.04\ncount = 14\n", r"bad\.toml.*fill"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_INPUTS))
+def test_bad_input_through_the_run_command_leaves_no_run(case, tmp_path,
+                                                         capsys):
+    """``./softpack run`` on each bad input of issue 13: a nonzero exit,
+    one error line naming the key (and the file), and nothing that looks
+    like a run (no driver.json, no raw/, no series.csv)."""
+    from softpack.simulation.run import main
+
+    (tmp_path / "open.geo").write_text(
+        "Point(1) = {0, 0, 0}; Point(2) = {1, 0, 0}; Point(3) = {1, 1, 0};\n"
+        "Line(1) = {1, 2}; Line(2) = {2, 3};\n"
+        "Curve Loop(1) = {1, 2}; Plane Surface(1) = {1};\n")
+    text, message = BAD_INPUTS[case]
+    config = tmp_path / "bad.toml"
+    config.write_text(text + "[walls.right]\nvelocity = [-0.1, 0.0]\n")
+    out = tmp_path / "out"
+    assert main([str(config), "--out", str(out)]) != 0
+    errors = [line for line in capsys.readouterr().err.splitlines()
+              if line.strip()]
+    assert len(errors) == 1
+    assert __import__("re").search(message, errors[0]), errors[0]
+    for name in ("driver.json", "raw", "series.csv", "particles.csv",
+                 "fields.h5", "mesh"):
+        assert not (out / name).exists(), name
