@@ -12,7 +12,6 @@
 namespace softpack::io
 {
 
-/// Everything `softpack-simulate` needs, read from driver.json.
 /// One wall's new drive in a loading stage (schema [stages] walls.NAME).
 struct StageWall
 {
@@ -41,6 +40,7 @@ struct Stage
   StageStop stop;
 };
 
+/// Everything `softpack-simulate` needs, read from driver.json.
 struct DriverConfig
 {
   /// The driver.json file (named in error messages)
@@ -69,6 +69,8 @@ struct DriverConfig
   /// Velocity scale of the Newton test: the fastest wall speed (derived
   /// here, not a parameter), over the stages' velocities too
   double velocity_scale = 0;
+  /// The loading stages, in order (empty: one stage from walls and stop)
+  std::vector<Stage> stages;
 };
 
 /// Parse and check a driver.json file: every key required, unknown keys
@@ -77,8 +79,6 @@ struct DriverConfig
 DriverConfig read_driver_config(const std::filesystem::path& path);
 
 /// Refuse a scene.bodies.species whose length is not the mesh's body count.
-  /// The loading stages, in order (empty: one stage from walls and stop)
-  std::vector<Stage> stages;
 /// @throws std::runtime_error naming the file and the key
 void check_body_count(const DriverConfig& config, int num_bodies);
 

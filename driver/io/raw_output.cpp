@@ -127,11 +127,11 @@ void RawOutput::finish(long steps, double seconds, const std::string& reason,
       {"failed_contact_problems_not_written", checks.problems_not_written},
       {"max_overlap_depth", checks.max_overlap_depth},
       {"overlap_steps", checks.overlap_steps}};
+  if (extra.is_object())
+    done.update(extra);
   const std::filesystem::path tmp = _raw / ".done.json";
   std::ofstream(tmp) << done.dump(2) << '\n';
   std::filesystem::rename(tmp, _raw / "done.json");
 }
 
 } // namespace softpack::io
-  if (extra.is_object())
-    done.update(extra);

@@ -5,8 +5,8 @@
 #include <dynamics/moreau_jean.h>
 #include <filesystem>
 #include <fstream>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 namespace softpack::io
@@ -93,7 +93,7 @@ private:
 
   std::filesystem::path _raw;
   std::ofstream _steps, _particles;
+  int _stage = 0;
 };
 
-  int _stage = 0;
 } // namespace softpack::io

@@ -139,24 +139,24 @@ public:
       : _config(config), _p(config.parameters),
         _raw_dir(config.directory / "raw"), _quiet(quiet),
         _bodies(make_bodies(comm, config)),
-      if (!_program.empty()) // the stage's drives before the walls' state
-        _program.resume(
-            read_stage_record(stage_record_path(*config.initial_state),
-                              f.state.steps, _program.size()),
-            _scheme);
         _scheme(_bodies, config.walls,
                 {_p.time, _p.contact, _p.damping, config.velocity_scale}),
         _raw(config.directory, config.walls),
-    else if (!_program.empty())
-      _program.begin(0, _scheme, phi());
         _identity(io::state_identity(_bodies, config.walls)), _program(config)
   {
     if (config.initial_state)
     {
       io::StateFile f = io::read_state_file(*config.initial_state, &_identity);
+      if (!_program.empty()) // the stage's drives before the walls' state
+        _program.resume(
+            read_stage_record(stage_record_path(*config.initial_state),
+                              f.state.steps, _program.size()),
+            _scheme);
       _scheme.restore(f.state);
       _checks = f.checks; // totals over the whole run in done.json
     }
+    else if (!_program.empty())
+      _program.begin(0, _scheme, phi());
     io::write_setup(_raw_dir, io::setup_json(config, _bodies));
     if (_p.output.fields)
       _fields =
@@ -170,6 +170,14 @@ public:
   RunSummary run()
   {
     output(_first, dynamics::StepReport{}, _phi0,
+           _program.empty() ? 0 : _program.start().index);
+    for (long step = _first + 1;; ++step)
+    {
+      const dynamics::StepReport r = _scheme.step();
+      check_convergence(step, r);
+      _average.add_step(_scheme);
+      add_timings(_spent, r.seconds);
+      const std::optional<double> now = phi();
       const bool output_step = step % _p.output.every_steps == 0;
       if (!_program.empty())
       {
@@ -178,11 +186,11 @@ public:
           return *end;
         continue;
       }
-           _program.empty() ? 0 : _program.start().index);
-    for (long step = _first + 1;; ++step)
-    {
-      const dynamics::StepReport r = _scheme.step();
-      check_convergence(step, r);
+      const std::string reason =
+          stop_reason(_config, _scheme, _first, step, now);
+      if (!reason.empty() || output_step)
+        output(step, r, now);
+      if (!reason.empty())
         return finish(step, reason);
     }
   }
@@ -228,14 +236,14 @@ private:
         std::printf("stage %d \"%s\" ended by %s at t=%.5f s\n", label,
                     name.c_str(), check.met.c_str(), _scheme.time());
       if (_program.last())
-      _average.add_step(_scheme);
-      add_timings(_spent, r.seconds);
-      const std::optional<double> now = phi();
-      const std::string reason =
+      {
+        output(step, r, now, label);
+        return finish(step, "stages", extra);
+      }
       _program.begin(label + 1, _scheme, now);
       output(step, r, now, label);
       return std::nullopt;
-          stop_reason(_config, _scheme, _first, step, now);
+    }
     const std::string reason = stop_reason(_config, _scheme, _first, step, now);
     if (!reason.empty() || output_step)
       output(step, r, now, label);
@@ -244,14 +252,6 @@ private:
     // [stop] steps (or max_time) ended the run inside a stage.
     extra["complete"] = false;
     return finish(step, reason, extra);
-      if (!reason.empty() || output_step)
-        output(step, r, now);
-      if (!reason.empty())
-      {
-        output(step, r, now, label);
-        return finish(step, "stages", extra);
-      }
-    }
   }
 
   /// Count the step if a solve did not converge, warn (rate-limited) and
@@ -324,32 +324,32 @@ private:
   double progress(long step, std::optional<double> phi_now) const
   {
     const parameters::Stop& stop = _p.stop;
-  /// An output row (its stage column `stage`), the state and its stage
-  /// record, the fields.
     double f = _scheme.time() / stop.max_time;
     if (phi_now && stop.packing_fraction > 0)
       f = std::max(f, (*phi_now - *_phi0) / (stop.packing_fraction - *_phi0));
-    _raw.set_stage(stage);
     if (stop.steps > 0)
       f = std::max(f, double(step - _first) / stop.steps);
     return std::clamp(f, 0.0, 1.0);
   }
 
-    {
+  /// An output row (its stage column `stage`), the state and its stage
+  /// record, the fields.
   void output(long step, const dynamics::StepReport& r,
               std::optional<double> now, int stage = 0)
-      if (!_program.empty())
-        write_stage_record(stage_record_path(_raw_dir / "state.bin"), step,
-                           _program.start(), _program.stage().name);
-    }
   {
+    _raw.set_stage(stage);
     _raw.write(step, _scheme, r, now, elapsed(), _bodies, _spent, _average,
                _interval, check_overlap(step));
     _average.reset();
     _interval = {};
     if (_p.output.state)
+    {
       io::write_state(_raw_dir / "state.bin", _scheme.state(), _identity,
                       _checks);
+      if (!_program.empty())
+        write_stage_record(stage_record_path(_raw_dir / "state.bin"), step,
+                           _program.start(), _program.stage().name);
+    }
     if (_fields && _outputs % _p.output.fields_every == 0)
       _fields->write(_bodies, _scheme.time());
     ++_outputs;
@@ -359,7 +359,6 @@ private:
 
   using clock = std::chrono::steady_clock;
   const io::DriverConfig& _config;
-  StageProgram _program;
   const parameters::Parameters& _p;
   const std::filesystem::path _raw_dir;
   const bool _quiet;
@@ -368,6 +367,7 @@ private:
   dynamics::MoreauJean _scheme;
   io::RawOutput _raw;
   const io::StateIdentity _identity;
+  StageProgram _program;
   std::unique_ptr<io::FieldOutput> _fields;
   dynamics::StepTimings _spent;
   dynamics::ContactForceAverage _average;
