@@ -23,6 +23,10 @@ struct MaterialForms
   ufcx_form* tangent;
   /// Cell integrals of \f$\Psi\f$ tested against DG0 (rank 1)
   ufcx_form* energy_density;
+  /// Cell integrals of the Cauchy stress, \f$\int P F^T dX\f$ (= \f$\int
+  /// \sigma\,da\f$), tested against a DG0 4-vector: components xx, yy, xy,
+  /// yx (rank 1; derived from `energy` by forms/cauchy_integral.py)
+  ufcx_form* cauchy_integral;
   /// The displacement space ("v", "u", "du") of this material's forms
   ufcx_function_space* (*function_space)(const char*);
 };
