@@ -455,13 +455,15 @@ def compare(curve, ref, max_strain) -> dict:
 def refinement(directories, strains=(0.02, 0.05, 0.10, 0.15, 0.20)) -> list:
     """Rows (shape, h, eps, softpack, dolfinx, difference) of several
     ``run`` output directories, and per shape and strain the estimated
-    discretization error of each mesh.
+    discretization error of each mesh, for softpack and dolfinx separately.
 
-    With three meshes h > h/2 > h/4 of one shape the limit is estimated by
-    Richardson extrapolation, f_0 = f_3 + (f_3 - f_2) / (2^p - 1) with the
-    observed order p = log2((f_1 - f_2) / (f_2 - f_3)) when the two
-    differences have the same sign (else ``error_*`` is left empty); each
-    mesh's error is f_h / f_0 - 1, for softpack and dolfinx separately.
+    ``vs_finest_*``: f_h / f_finest - 1, the change to the finest mesh
+    given (an estimate of f_h's discretization error when the finest is
+    converged). ``error_*``, ``order_*``: with three or more meshes
+    halving h, Richardson's limit from the three finest, f_0 = f_3 +
+    (f_3 - f_2) / (2^p - 1), observed order p = log2((f_1 - f_2) /
+    (f_2 - f_3)), and f_h / f_0 - 1; NaN when the two differences have
+    opposite signs (no asymptotic convergence visible).
     """
     from softpack.analysis.tables import read_table
 
@@ -483,16 +485,18 @@ def refinement(directories, strains=(0.02, 0.05, 0.10, 0.15, 0.20)) -> list:
                                                           sp["f_norm"])))
                 values["dolfinx"].append(float(np.interp(eps, dx["eps"],
                                                          dx["f_norm"])))
-            limits = {k: _richardson(v) for k, v in values.items()}
+            limits = {k: _richardson(v[-3:]) for k, v in values.items()}
             for i, (_, h, _, _, doc) in enumerate(mine):
                 row = {"shape": shape, "element_size": h, "eps": eps,
-                       "triangles": doc["mesh"]["triangles"]}
+                       "triangles": doc["mesh"]["triangles"],
+                       "height_H0": doc["height_H0_m"]}
                 for k in ("softpack", "dolfinx"):
                     row[k] = values[k][i]
                     limit, order = limits[k]
                     row[f"error_{k}"] = (values[k][i] / limit - 1
                                          if limit else float("nan"))
                     row[f"order_{k}"] = order
+                    row[f"vs_finest_{k}"] = values[k][i] / values[k][-1] - 1
                 row["difference"] = row["softpack"] / row["dolfinx"] - 1
                 rows.append(row)
     return rows
