@@ -1,5 +1,6 @@
 #include "raw_output.h"
 
+#include <bodies/stress_average.h>
 #include <cstdio>
 #include <iomanip>
 #include <nlohmann/json.hpp>
@@ -29,8 +30,9 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
             "seconds,seconds_detection,seconds_assembly,seconds_factorization,"
             "seconds_delassus,seconds_nlgs,seconds_solves,refactorized,"
             "newton_unconverged_steps,nlgs_unconverged_steps,"
-            "max_overlap_depth\n";
-  _particles << "step,particle,area,strain_energy,reference_area\n";
+            "max_overlap_depth,cauchy_xx,cauchy_yy,cauchy_xy,cauchy_yx\n";
+  _particles << "step,particle,area,strain_energy,reference_area,cauchy_xx,"
+                "cauchy_yy,cauchy_xy,cauchy_yx\n";
 }
 
 void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
@@ -61,19 +63,36 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
          << spent.factorization << ',' << spent.delassus << ',' << spent.nlgs
          << ',' << spent.solves << ',' << (r.refactorized ? 1 : 0) << ','
          << interval.newton_unconverged_steps << ','
-         << interval.nlgs_unconverged_steps << ',' << overlap_depth << '\n';
+         << interval.nlgs_unconverged_steps << ',' << overlap_depth;
+  // Each body's integral of its Cauchy stress (stress_average.h), summed
+  // over the bodies: the finite elements' estimate of the mean stress times
+  // the box area, for analysis/stress.py.
+  const std::vector<bodies::CauchyIntegral> cauchy =
+      bodies::cauchy_integrals(bodies);
+  for (int k = 0; k < 4; ++k)
+  {
+    double total = 0;
+    for (const bodies::CauchyIntegral& c : cauchy)
+      total += c[k];
+    _steps << ',' << total;
+  }
+  _steps << '\n';
   _steps.flush();
-  write_particles(step, bodies);
+  write_particles(step, bodies, cauchy);
   write_contacts(step, average);
 }
 
-void RawOutput::write_particles(long step, const bodies::BodySet& bodies)
+void RawOutput::write_particles(
+    long step, const bodies::BodySet& bodies,
+    const std::vector<bodies::CauchyIntegral>& cauchy)
 {
   const std::vector<double> area = bodies.body_current_area();
   const std::vector<double> energy = bodies.body_strain_energy();
   for (int b = 0; b < bodies.num_bodies(); ++b)
     _particles << step << ',' << b << ',' << area[b] << ',' << energy[b] << ','
-               << bodies.body(b).reference_area << '\n';
+               << bodies.body(b).reference_area << ',' << cauchy[b][0] << ','
+               << cauchy[b][1] << ',' << cauchy[b][2] << ',' << cauchy[b][3]
+               << '\n';
   _particles.flush();
 }
 

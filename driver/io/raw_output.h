@@ -1,6 +1,7 @@
 #pragma once
 
 #include <bodies/BodySet.h>
+#include <bodies/stress_average.h>
 #include <dynamics/contact_history.h>
 #include <dynamics/moreau_jean.h>
 #include <filesystem>
@@ -88,7 +89,8 @@ public:
               const RunChecks& checks, const nlohmann::json& extra = nullptr);
 
 private:
-  void write_particles(long step, const bodies::BodySet& bodies);
+  void write_particles(long step, const bodies::BodySet& bodies,
+                       const std::vector<bodies::CauchyIntegral>& cauchy);
   void write_contacts(long step, const dynamics::ContactForceAverage& forces);
 
   std::filesystem::path _raw;

@@ -1,6 +1,6 @@
 """The assembly's stress at every output step, written to ``stress.csv``.
 
-Two estimates of the mean (2D, per unit length along z) Cauchy stress of a
+Three estimates of the mean (2D, per unit length along z) Cauchy stress of a
 box of particles, compression counted positive (the granular convention),
 A the current box area from the walls' positions in ``raw/steps.csv``:
 
@@ -25,6 +25,18 @@ the candidate's for a particle contact, and from the contact point to the
 candidate's centre for a wall contact; centres are the area centroids of
 the deformed particles.
 
+From the finite elements (the volume average of the particles' own
+stress, zero in the voids): sigma = -(1/A) sum over particles of the
+integral of their Cauchy stress over the deformed particle, the columns
+``cauchy_xx, cauchy_yy, cauchy_xy, cauchy_yx`` of ``raw/steps.csv`` (N per
+unit length, tension positive: hence the sign). The driver computes
+int sigma da = int P F^T dX (plane strain, F33 = 1) at each output step
+from the internal force, sum over nodes of f_int (x) x, exact for P1
+elements (``driver/bodies/stress_average.h``; checked against the law's
+compiled form ``forms/cauchy_integral.py`` and homogeneous deformations).
+It is the stress at the output step itself, not an interval average. Runs
+written before these columns existed get NaN.
+
 Each box wall's own normal stress, ``NAME_stress`` = normal force on the
 wall / its current length (the distance between its two neighbours), is
 what a pressure-controlled wall holds.
@@ -37,10 +49,14 @@ estimates.
 
 Scalars (compression positive): the pressure P = (sigma_xx + sigma_yy) / 2
 and the deviator q = sqrt(((sigma_xx - sigma_yy) / 2)^2 + sigma_xy^2) (the
-2D maximum shear stress, of the symmetric part); the relative difference of
-the two estimates ``difference`` = |sigma_wall - sigma_contact|_F /
-|sigma_wall|_F, so that a user sees when they do not agree (they must in
-equilibrium). Strains from the box, compression positive: eps_xx = -ln(L /
+2D maximum shear stress, of the symmetric part) of each estimate; the
+relative difference of each pair, ``difference`` = |sigma_wall -
+sigma_contact|_F / |sigma_wall|_F, ``difference_wall_fe`` = |sigma_wall -
+sigma_fe|_F / |sigma_wall|_F and ``difference_contact_fe`` = |sigma_contact
+- sigma_fe|_F / |sigma_contact|_F, so that a user sees when they do not
+agree (they must in equilibrium: at rest, the integral of sigma over a
+particle is the sum over its contacts of force (x) point, what the other
+two sum). Strains from the box, compression positive: eps_xx = -ln(L /
 L0), eps_yy = -ln(H / H0), volumetric eps_v = eps_xx + eps_yy, deviatoric
 eps_q = eps_xx - eps_yy.
 """
@@ -68,7 +84,9 @@ COLUMNS = ("step", "time", "area", "eps_xx", "eps_yy", "eps_v", "eps_q",
            *(f"{w}_stress" for w in BOX),
            "wall_xx", "wall_yy", "wall_xy", "wall_yx", "wall_P", "wall_q",
            "contact_xx", "contact_yy", "contact_xy", "contact_yx",
-           "contact_P", "contact_q", "difference")
+           "contact_P", "contact_q", "difference",
+           "fe_xx", "fe_yy", "fe_xy", "fe_yx", "fe_P", "fe_q",
+           "difference_wall_fe", "difference_contact_fe")
 
 COMPONENTS = ("xx", "xy", "yx", "yy")
 
@@ -239,19 +257,38 @@ def stress_table(run_dir) -> dict:
         for i, c in enumerate(COMPONENTS):
             contact[c][k] = lw.flat[i]
             wall[c][k] = bs.flat[i]
-    return _columns(steps, wall, contact, eps_xx, eps_yy)
+    return _columns(steps, wall, contact, fe_stress(steps, wall["area"]),
+                    eps_xx, eps_yy)
 
 
-def _columns(steps, wall, contact, eps_xx, eps_yy) -> dict:
+def fe_stress(steps: dict, area) -> dict:
+    """The finite elements' mean stress, compression positive.
+
+    ``-cauchy_C / area`` for each component C of ``raw/steps.csv`` (the sum
+    over particles of the integral of their Cauchy stress, tension
+    positive); NaN when the run has no such columns.
+    """
+    area = np.asarray(area, float)
+    return {c: (-np.asarray(steps[f"cauchy_{c}"], float) / area
+                if f"cauchy_{c}" in steps else np.full(area.shape, np.nan))
+            for c in COMPONENTS}
+
+
+def relative_difference(a: dict, b: dict):
+    """|a - b|_F / |a|_F over the components (NaN where |a| = 0)."""
+    diff = np.sqrt(sum((np.asarray(a[c]) - b[c]) ** 2 for c in COMPONENTS))
+    norm = np.sqrt(sum(np.asarray(a[c]) ** 2 for c in COMPONENTS))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(norm > 0, diff / norm, np.nan)
+
+
+def _columns(steps, wall, contact, fe, eps_xx, eps_yy) -> dict:
     """The table of :func:`stress_table` from its parts."""
     wall_P, wall_q = pressure_deviator(wall["xx"], wall["yy"], wall["xy"],
                                        wall["yx"])
     contact_P, contact_q = pressure_deviator(contact["xx"], contact["yy"],
                                              contact["xy"], contact["yx"])
-    diff = np.sqrt(sum((wall[c] - contact[c]) ** 2 for c in COMPONENTS))
-    norm = np.sqrt(sum(wall[c] ** 2 for c in COMPONENTS))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        difference = np.where(norm > 0, diff / norm, np.nan)
+    fe_P, fe_q = pressure_deviator(fe["xx"], fe["yy"], fe["xy"], fe["yx"])
     return {"step": steps["step"], "time": steps["time"],
             "area": wall["area"], "eps_xx": eps_xx, "eps_yy": eps_yy,
             "eps_v": eps_xx + eps_yy, "eps_q": eps_xx - eps_yy,
@@ -260,7 +297,11 @@ def _columns(steps, wall, contact, eps_xx, eps_yy) -> dict:
             "wall_P": wall_P, "wall_q": wall_q,
             **{f"contact_{c}": contact[c] for c in COMPONENTS},
             "contact_P": contact_P, "contact_q": contact_q,
-            "difference": difference}
+            "difference": relative_difference(wall, contact),
+            **{f"fe_{c}": fe[c] for c in COMPONENTS},
+            "fe_P": fe_P, "fe_q": fe_q,
+            "difference_wall_fe": relative_difference(wall, fe),
+            "difference_contact_fe": relative_difference(contact, fe)}
 
 
 def write_stress(run_dir) -> Path:
