@@ -40,12 +40,12 @@ EffectiveStiffness::boundary_compliance(int b, std::span<const int> slots) const
   const std::vector<std::int32_t>& nodes = _boundary[b];
   const int m = 2 * static_cast<int>(nodes.size());
   Eigen::MatrixXd& G = _compliance[b];
-  Eigen::MatrixXd& C = _columns[b];
+  std::vector<Eigen::VectorXd>& C = _columns[b];
   std::vector<char>& ready = _column_ready[b];
   if (ready.empty())
   {
     G.resize(m, m);
-    C.resize(_kbar[b].rows(), m);
+    C.assign(m, Eigen::VectorXd());
     ready.assign(nodes.size(), 0);
   }
   Eigen::VectorXd e = Eigen::VectorXd::Zero(_kbar[b].rows());
@@ -57,8 +57,8 @@ EffectiveStiffness::boundary_compliance(int b, std::span<const int> slots) const
     {
       const int j = 2 * slot + c, dof = 2 * nodes[slot] + c;
       e[dof] = 1;
-      C.col(j) = _factors[b].solve(e);
-      const auto x = C.col(j);
+      C[j] = _factors[b].solve(e);
+      const Eigen::VectorXd& x = C[j];
       e[dof] = 0;
       for (int i = 0; i < m; ++i)
         G(i, j) = x[2 * nodes[i / 2] + i % 2];
@@ -90,8 +90,13 @@ void EffectiveStiffness::factorize(const std::vector<bodies::BodyMatrix>& K,
     throw std::runtime_error("the iteration matrix of a body is not positive "
                              "definite (element inverted or time step too "
                              "large)");
-  for (std::vector<char>& ready : _column_ready)
-    ready.clear();
+  // The old columns are stale: free them (memory follows the contacts).
+  for (std::size_t b = 0; b < _columns.size(); ++b)
+  {
+    _column_ready[b].clear();
+    _columns[b].clear();
+    _columns[b].shrink_to_fit();
+  }
   ++_count;
 }
 

@@ -56,8 +56,8 @@ public:
   Eigen::Vector2d boundary_response(int body, int slot,
                                     const Eigen::VectorXd& y) const
   {
-    const Eigen::MatrixXd& C = _columns[body];
-    return {C.col(2 * slot).dot(y), C.col(2 * slot + 1).dot(y)};
+    const std::vector<Eigen::VectorXd>& C = _columns[body];
+    return {C[2 * slot].dot(y), C[2 * slot + 1].dot(y)};
   }
 
   /// Position of a local node in Body::boundary_nodes (-1 if interior)
@@ -76,9 +76,13 @@ private:
   std::vector<bodies::BodyMatrix> _mass, _kbar;
   std::vector<Eigen::SimplicialLDLT<bodies::BodyMatrix>> _factors;
   std::vector<std::vector<std::int32_t>> _boundary, _slot;
-  /// Boundary rows (G) and whole columns (C) of each body's compliance at
-  /// its boundary DOFs; columns are filled on demand
-  mutable std::vector<Eigen::MatrixXd> _compliance, _columns;
+  /// Boundary rows (G) of each body's compliance at its boundary DOFs ...
+  mutable std::vector<Eigen::MatrixXd> _compliance;
+  /// ... and its whole columns (C), allocated only for the boundary DOFs
+  /// that carried a contact since the last factorization (empty vectors
+  /// otherwise): they are most of the driver's memory, and only the
+  /// contact nodes' columns are ever needed
+  mutable std::vector<std::vector<Eigen::VectorXd>> _columns;
   mutable std::vector<std::vector<char>> _column_ready;
   int _count = 0;
 };
