@@ -87,8 +87,10 @@ def test_plot_loading_writes_the_figures_and_the_fit(tmp_path):
     run = tmp_path / "run"
     (run / "raw").mkdir(parents=True)
     rows = len(p)
-    write_table(run / "raw" / "steps.csv", {"step": np.arange(rows)},
-                ("step",))
+    write_table(run / "raw" / "steps.csv",
+                {"step": np.arange(rows), "kinetic_energy": np.zeros(rows),
+                 "strain_energy": np.ones(rows)},
+                ("step", "kinetic_energy", "strain_energy"))
     write_table(run / "series.csv", {"phi": phi, "z": 3 + 10 * (phi - 0.8)},
                 ("phi", "z"))
     table = {c: np.full(rows, np.nan) for c in stress_module.COLUMNS}
@@ -107,3 +109,40 @@ def test_plot_loading_writes_the_figures_and_the_fit(tmp_path):
     assert fit["reason"] == ""
     assert abs(fit["values"]["phi_max"] - TRUE["phi_max"]) < \
         3 * fit["errors"]["phi_max"]
+
+
+def staged(stages, rows=6, noise=1e-3, seed=2):
+    """Rows of a loading program: `rows` near-equal rows per equilibrium."""
+    rng = np.random.default_rng(seed)
+    p = np.repeat(np.linspace(5e3, 160e3, stages), rows)
+    phi = (np.repeat(law.packing_fraction(np.unique(p), **TRUE)
+                     + noise * rng.standard_normal(stages), rows)
+           + 1e-5 * rng.standard_normal(stages * rows))
+    return phi, p, np.repeat(np.arange(stages), rows)
+
+
+def test_groups_are_resampled_whole_and_too_few_are_refused():
+    phi, p, stage = staged(9)
+    fit = law.fit_compaction(phi, p, groups=stage)
+    assert fit.ok, fit.reason
+    assert "9 groups" in fit.method
+    assert abs(fit.values["phi_max"] - TRUE["phi_max"]) < \
+        3 * fit.errors["phi_max"]
+    # the same rows as independent ones would claim a smaller error
+    rows = law.fit_compaction(phi, p)
+    assert rows.errors["phi_max"] < fit.errors["phi_max"]
+    phi, p, stage = staged(4)
+    few = law.fit_compaction(phi, p, groups=stage)
+    assert not few.ok and "4 groups (equilibria), fewer than 5" in few.reason
+
+
+def test_data_without_a_compaction_curve_are_refused():
+    # one pressure and a cloud of Phi (a servo test at rest): nothing to fit
+    rng = np.random.default_rng(3)
+    p = 3000.0 + 1000.0 * rng.random(40)
+    phi = 0.758 + 0.002 * rng.random(40)
+    fit = law.fit_compaction(phi, p)
+    assert not fit.ok
+    assert any(text in fit.reason for text in (
+        "bound of the optimiser", "further below the data",
+        "only the initial slope", "bootstrap spread")), fit.reason

@@ -34,20 +34,26 @@ The fit
     applied one) over the output rows with P > ``min_pressure_fraction`` x
     max P, by ``scipy.optimize.curve_fit``. The uncertainty never comes from
     the optimiser's covariance alone: it is the standard deviation of the
-    parameters refitted on ``resamples`` moving-block bootstrap resamples of
-    the rows (blocks of ~n^(1/3) consecutive rows, the resampling of
-    :mod:`softpack.analysis.fits`), or, over several runs (seeds), the
-    standard deviation across seeds.
+    parameters refitted on ``resamples`` bootstrap resamples: moving-block
+    resamples of the rows (blocks of ~n^(1/3) consecutive rows, the
+    resampling of :mod:`softpack.analysis.fits`), or, when the rows come in
+    groups (the equilibria of a loading program's stages, each several
+    nearly equal rows), resamples of whole groups, so that one equilibrium
+    counts once; over several runs (seeds), the standard deviation across
+    seeds.
 
 When the data do not constrain the law (``reason`` says why, values NaN)
-    - fewer than ``min_points`` usable rows;
+    - fewer than ``min_points`` usable rows, or fewer than ``min_groups``
+      groups;
     - the data do not reach saturation: P_max / kappa < ``min_saturation``
       (exp(-P/kappa) stays near 1, so only the initial slope
       (Phi_max - Phi_0)/kappa is measured, not Phi_max and kappa apart);
     - the optimiser fails, or more than ``max_failed_fraction`` of the
       bootstrap refits fail;
-    - a bootstrap spread of Phi_max larger than ``max_spread`` x
-      (Phi_max - Phi_0).
+    - the best fit at a bound of the optimiser, or Phi_0 further below the
+      data than they span (an extrapolation, not a measurement);
+    - a bootstrap spread of Phi_0 or Phi_max larger than ``max_spread`` x
+      (Phi_max - Phi_0), or of kappa larger than ``max_spread`` x kappa.
 
 Shear tests: :func:`shear_series` gives q/P and the volumetric and
 deviatoric strains from ``stress.csv`` (dilatancy: eps_v against eps_q).
@@ -62,6 +68,9 @@ import numpy as np
 from scipy.optimize import curve_fit
 
 from softpack.analysis.fits import _block_weights
+
+#: Upper bound of Phi_max in the optimiser (a fit there is refused).
+_PHI_MAX_BOUND = 1.5
 
 #: Names of the fitted parameters, in the order of :func:`packing_fraction`.
 PARAMETERS = ("phi_0", "phi_max", "kappa")
@@ -86,6 +95,7 @@ class CompactionSettings:
     """What the fit uses and when it refuses (see the module doc)."""
 
     min_points: int = 8
+    min_groups: int = 5
     min_pressure_fraction: float = 1e-3
     min_saturation: float = 0.5
     resamples: int = 200
@@ -144,14 +154,15 @@ def _refused(reason, points, pressure_max, runs=()) -> CompactionFit:
                          tuple(runs))
 
 
-def _usable(phi, p, s: CompactionSettings):
+def _usable(phi, p, s: CompactionSettings, labels):
     """Finite rows with P above the threshold, sorted by P."""
     phi, p = np.asarray(phi, float), np.asarray(p, float)
+    labels = np.asarray(labels)
     ok = np.isfinite(phi) & np.isfinite(p) & (p > 0)
     if ok.any():
         ok &= p > s.min_pressure_fraction * p[ok].max()
     order = np.argsort(p[ok], kind="stable")
-    return phi[ok][order], p[ok][order]
+    return phi[ok][order], p[ok][order], labels[ok][order]
 
 
 def _least_squares(phi, p, weights=None, start=None):
@@ -166,12 +177,37 @@ def _least_squares(phi, p, weights=None, start=None):
         values, _ = curve_fit(packing_fraction, p[keep], phi[keep], p0=start,
                               sigma=sigma, maxfev=20000,
                               bounds=([0.0, 0.0, 1e-12 * p[-1]],
-                                      [1.0, 1.5, 1e6 * p[-1]]))
+                                      [1.0, _PHI_MAX_BOUND, 1e6 * p[-1]]))
     return values
 
 
-def fit_compaction(phi, p, settings: CompactionSettings = CompactionSettings()
-                   ) -> CompactionFit:
+def _group_weights(groups, resamples, rng) -> np.ndarray:
+    """Draw counts of each row when whole groups are resampled."""
+    labels, index = np.unique(groups, return_inverse=True)
+    picks = rng.integers(0, len(labels), size=(resamples, len(labels)))
+    counts = np.zeros((resamples, len(labels)))
+    np.add.at(counts, (np.arange(resamples)[:, None], picks), 1.0)
+    return counts[:, index]
+
+
+def _at_an_edge(best, phi, p) -> str:
+    """Why the best fit is not a measurement (at a bound, or extrapolated
+    further than the data span), or ""."""
+    phi_0, phi_max, kappa = best
+    span = phi.max() - phi.min()
+    if phi_0 <= 1e-6 or phi_max >= _PHI_MAX_BOUND - 1e-6 or not (
+            1e-12 * p[-1] * 1.001 < kappa < 1e6 * p[-1] * 0.999):
+        return (f"the fit sits at a bound of the optimiser (Phi_0 ="
+                f" {phi_0:.3g}, Phi_max = {phi_max:.3g}, kappa ="
+                f" {kappa:.3g} Pa)")
+    if phi_0 < phi.min() - span:
+        return (f"Phi_0 = {phi_0:.4f} lies further below the data"
+                f" ({phi.min():.4f}) than they span ({span:.4f})")
+    return ""
+
+
+def fit_compaction(phi, p, settings: CompactionSettings = CompactionSettings(),
+                   groups=None) -> CompactionFit:
     """Fit the compaction law to one run's rows (Phi, P).
 
     Parameters
@@ -180,20 +216,31 @@ def fit_compaction(phi, p, settings: CompactionSettings = CompactionSettings()
         Packing fraction and pressure (Pa, compression positive) of the
         output rows (e.g. ``raw/steps.csv`` phi and ``stress.csv`` wall_P).
     settings : CompactionSettings
+    groups : array_like, optional
+        A label per row (e.g. the loading stage): the bootstrap resamples
+        whole groups. Default: moving blocks of rows.
     """
     s = settings
-    phi, p = _usable(phi, p, s)
+    labels = np.zeros(len(np.asarray(p))) if groups is None else groups
+    phi, p, labels = _usable(phi, p, s, labels)
     n = len(p)
     p_max = float(p.max()) if n else float("nan")
     if n < s.min_points:
         return _refused(f"{n} usable rows (P > 0), fewer than"
                         f" {s.min_points}", n, p_max)
+    distinct = len(np.unique(labels))
+    if groups is not None and distinct < s.min_groups:
+        return _refused(f"{distinct} groups (equilibria), fewer than"
+                        f" {s.min_groups}", n, p_max)
     try:
         best = _least_squares(phi, p)
     except (RuntimeError, ValueError) as error:
         return _refused(f"the least squares did not converge ({error})", n,
                         p_max)
     phi_0, phi_max, kappa = best
+    edge = _at_an_edge(best, phi, p)
+    if edge:
+        return _refused(edge, n, p_max)
     if p_max / kappa < s.min_saturation:
         return _refused(f"the data reach P/kappa = {p_max / kappa:.2g} <"
                         f" {s.min_saturation:g}: they do not approach"
@@ -201,7 +248,9 @@ def fit_compaction(phi, p, settings: CompactionSettings = CompactionSettings()
                         p_max)
     rng = np.random.default_rng(s.seed)
     refits = []
-    for w in _block_weights(n, s.resamples, rng):
+    weights = (_block_weights(n, s.resamples, rng) if groups is None
+               else _group_weights(labels, s.resamples, rng))
+    for w in weights:
         try:
             refits.append(_least_squares(phi, p, w, start=best))
         except (RuntimeError, ValueError):
@@ -211,13 +260,21 @@ def fit_compaction(phi, p, settings: CompactionSettings = CompactionSettings()
         return _refused(f"{failed:.0%} of the bootstrap refits failed", n,
                         p_max)
     spread = np.std(np.array(refits), axis=0, ddof=1)
-    if spread[1] > s.max_spread * (phi_max - phi_0):
-        return _refused(f"bootstrap spread of Phi_max {spread[1]:.3g} >"
-                        f" {s.max_spread:g} x (Phi_max - Phi_0)", n, p_max)
+    limits = s.max_spread * np.array([phi_max - phi_0, phi_max - phi_0,
+                                      kappa])
+    for name, error, limit in zip(("Phi_0", "Phi_max", "kappa"), spread,
+                                  limits):
+        if error > limit:
+            return _refused(f"bootstrap spread of {name} {error:.3g} >"
+                            f" {s.max_spread:g} x "
+                            + ("kappa" if name == "kappa"
+                               else "(Phi_max - Phi_0)"), n, p_max)
     return CompactionFit(dict(zip(PARAMETERS, map(float, best))),
                          dict(zip(PARAMETERS, map(float, spread))), "",
-                         f"block bootstrap over {n} output rows,"
-                         f" {len(refits)} refits", n, p_max)
+                         (f"block bootstrap over {n} output rows"
+                          if groups is None else f"bootstrap over {distinct}"
+                          f" groups ({n} rows)") + f", {len(refits)} refits",
+                         n, p_max)
 
 
 def fit_runs(curves, settings: CompactionSettings = CompactionSettings()

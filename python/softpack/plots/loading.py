@@ -1,12 +1,15 @@
 """Figures of a loading run: compaction and shear (issue 12 item 4).
 
-``./softpack plot-loading RUN [--out DIR] [--estimate wall|contact|fe]``
-writes, from a run directory (its analysis, ``series.csv`` and
+``./softpack plot-loading RUN [--out DIR] [--estimate wall|contact|fe]
+[--rest R]`` writes, from a run directory (its analysis, ``series.csv`` and
 ``stress.csv``, is done first when missing):
 
 - ``pressure_phi.png``: P(Phi) of the three stress estimates and the fitted
   compaction law (:mod:`softpack.analysis.compaction_law`) on the chosen
-  estimate, or the reason it was refused;
+  estimate, or the reason it was refused. The law is fitted to the rows at
+  rest only (kinetic energy <= R x strain energy, default R = 1e-3: P(Phi)
+  is an equilibrium relation); with loading stages (the ``stage`` column of
+  ``raw/steps.csv``) the bootstrap resamples whole stages;
 - ``z_phi.png``: the coordination number Z(Phi) (the analysis' rules);
 - ``stress_estimates.png``: the relative differences of the three
   estimates against the step (they must vanish at rest);
@@ -29,6 +32,7 @@ import numpy as np
 from softpack.analysis import compaction_law
 from softpack.analysis.stress import NAME as STRESS_NAME
 from softpack.analysis.tables import read_table
+from softpack.cli import positive_float
 
 ESTIMATES = ("wall", "contact", "fe")
 LABELS = {"wall": "walls", "contact": "Love-Weber (contacts)",
@@ -61,15 +65,24 @@ def _save(fig, ax, xlabel, ylabel, path) -> str:
     return str(path)
 
 
-def plot_pressure(phi, stress, fit, estimate, path) -> str:
-    """P(Phi) of each estimate, the fitted law on ``estimate``."""
+def rows_at_rest(steps: dict, rest: float) -> np.ndarray:
+    """Rows whose kinetic energy is at most ``rest`` x the strain energy."""
+    kinetic = np.asarray(steps["kinetic_energy"], float)
+    strain = np.asarray(steps["strain_energy"], float)
+    return (strain > 0) & (kinetic <= rest * strain)
+
+
+def plot_pressure(phi, stress, fit, estimate, rest, path) -> str:
+    """P(Phi) of each estimate (rows at rest filled), the law on one."""
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     for i, name in enumerate(ESTIMATES):
         p = np.asarray(stress[f"{name}_P"], float)
         if np.isfinite(p).any():
-            ax.plot(phi, p / 1e3, ("o", "s", "^")[i], ms=3, mfc="none",
-                    label=LABELS[name])
+            line, = ax.plot(phi, p / 1e3, ("o", "s", "^")[i], ms=2.5,
+                            mfc="none", alpha=0.35)
+            ax.plot(phi[rest], p[rest] / 1e3, ("o", "s", "^")[i], ms=3.5,
+                    color=line.get_color(), label=LABELS[name] + " (at rest)")
     if fit.ok:
         v = fit.values
         grid = np.linspace(v["phi_0"], min(np.nanmax(phi) + 0.01,
@@ -119,26 +132,34 @@ def plot_shear(shear, path) -> str:
                  "volumetric strain eps_v (compression > 0)", path)
 
 
-def write_figures(run_dir, out, estimate="wall") -> dict:
+def write_figures(run_dir, out, estimate="wall", rest=1e-3) -> dict:
     """Write the figures and ``loading.json``; return the summary dict."""
     import matplotlib
     matplotlib.use("Agg")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     series, stress = load(run_dir)
+    steps = read_table(Path(run_dir) / "raw" / "steps.csv")
     phi = np.asarray(series["phi"], float)
     p = np.asarray(stress[f"{estimate}_P"], float)
-    fit = compaction_law.fit_compaction(phi, p)
+    at_rest = rows_at_rest(steps, rest)
+    stage = np.asarray(steps.get("stage", np.zeros(len(phi))))
+    groups = stage[at_rest] if len(np.unique(stage[at_rest])) > 1 else None
+    fit = compaction_law.fit_compaction(phi[at_rest], p[at_rest],
+                                        groups=groups)
     shear = compaction_law.shear_series(stress, estimate)
-    files = [plot_pressure(phi, stress, fit, estimate,
+    files = [plot_pressure(phi, stress, fit, estimate, at_rest,
                            out / "pressure_phi.png"),
              plot_connectivity(series, out / "z_phi.png"),
              plot_differences(stress, out / "stress_estimates.png"),
              plot_shear(shear, out / "shear.png")]
     last = {c: float(stress[c][-1]) for c in stress
-            if c.endswith(("_P", "_q")) or c.startswith("difference")}
+            if c.startswith(tuple(f"{e}_" for e in ESTIMATES))
+            and c.endswith(("_P", "_q")) or c.startswith("difference")}
     summary = {"run": str(run_dir), "estimate": estimate,
-               "rows": len(phi), "phi_last": float(phi[-1]),
+               "rows": len(phi), "rows_at_rest": int(at_rest.sum()),
+               "rest": rest, "stages": int(len(np.unique(stage))),
+               "phi_last": float(phi[-1]),
                "fit": {"values": fit.values, "errors": fit.errors,
                        "method": fit.method, "reason": fit.reason,
                        "points": fit.points,
@@ -158,12 +179,15 @@ def main(argv=None) -> int:
     parser.add_argument("--estimate", choices=ESTIMATES, default="wall",
                         help="the stress estimate the law is fitted to"
                         " (default: wall)")
+    parser.add_argument("--rest", type=positive_float, default=1e-3,
+                        help="rows at rest: kinetic energy <= REST x strain"
+                        " energy (default 1e-3)")
     args = parser.parse_args(argv)
     run = Path(args.run)
     if not (run / "raw" / "steps.csv").is_file():
         parser.error(f"{run}: no raw/steps.csv (not a run directory)")
     out = Path(args.out) if args.out else run / "figures" / "loading"
-    summary = write_figures(run, out, args.estimate)
+    summary = write_figures(run, out, args.estimate, args.rest)
     fit = summary["fit"]
     line = (compaction_law.CompactionFit(
         fit["values"], fit["errors"], fit["reason"], fit["method"],
