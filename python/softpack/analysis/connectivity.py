@@ -23,13 +23,16 @@ unbalanced particles
     ``f_p* = unbalanced_threshold x f`` (the paper: 0.05 % ... 0.1 % of "the
     total compressive force f of the system"). Resultants include all
     contacts, active or not. Two readings of f (``unbalanced_reference``):
-    ``"piston_force"``, the force on the piston; ``"total_normal_force"``,
-    the sum of the normal forces of all nodal contacts of the output step
-    (particle-particle and particle-wall).
+    ``"total_normal_force"`` (the default), the sum of the normal forces of
+    all nodal contacts of the output step (particle-particle and
+    particle-wall); ``"piston_force"``, the force on the piston. The
+    default readings are those under which Z does not change between
+    f_p* = 0.05 % and 0.1 % on the paper's runs (docs/paper/
+    exclusion_rule.md).
 excluded particles' contacts (``excluded_contacts``)
-    ``"dropped"``: a contact with an unbalanced particle leaves the count of
-    its balanced neighbour too; ``"kept"``: the neighbour keeps it (only the
-    unbalanced particle leaves the average).
+    ``"kept"`` (the default): the balanced neighbour of an unbalanced
+    particle keeps their contact (only the unbalanced particle leaves the
+    average); ``"dropped"``: the contact leaves the neighbour's count too.
 rattlers (floating particles)
     Particles that are not unbalanced and have no counted force-bearing
     contact (with a wall, or with a particle under the reading above).
@@ -280,11 +283,8 @@ def z_change(phi, z_a, z_b, phi_range=None) -> float:
 
 
 def _rule(rules, name):
-    """A reading of ``rules`` (the default, the first choice, for a
-    ``Rules`` without it)."""
-    default = {"unbalanced_reference": REFERENCES[0],
-               "excluded_contacts": EXCLUDED_CONTACTS[0]}[name]
-    value = getattr(rules, name, default)
+    """A reading of ``rules``, checked."""
+    value = getattr(rules, name)
     allowed = REFERENCES if name == "unbalanced_reference" \
         else EXCLUDED_CONTACTS
     if value not in allowed:
