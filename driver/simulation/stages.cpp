@@ -70,6 +70,9 @@ double unbalanced_force_ratio(const dynamics::MoreauJean& scheme,
 {
   const std::vector<dynamics::Contact>& contacts = scheme.contacts();
   const std::vector<double>& R = scheme.impulses();
+  // The ratio is taken on impulses (forces x h): the particles' contacts
+  // give impulses, the walls' forces are multiplied by h.
+  const double h = scheme.options().time.time_step;
   std::vector<std::array<double, 2>> resultant(num_bodies, {0, 0});
   // A pair: (candidate, antagonist body) or (candidate, -1 - wall).
   std::map<std::pair<int, int>, std::array<double, 2>> pairs;
@@ -109,6 +112,15 @@ double unbalanced_force_ratio(const dynamics::MoreauJean& scheme,
   double largest = 0;
   for (const auto& f : resultant)
     largest = std::max(largest, std::hypot(f[0], f[1]));
+  // A servo wall is a body too: its imposed force against the contact
+  // forces it received (along its normal, the one direction it moves).
+  const std::vector<dynamics::Wall>& walls = scheme.walls();
+  const std::vector<std::array<double, 2>> received = scheme.wall_forces();
+  for (std::size_t w = 0; w < walls.size(); ++w)
+    if (walls[w].servo())
+      largest =
+          std::max(largest, h * std::abs(dynamics::imposed_force(walls, w) +
+                                         dot(received[w], walls[w].normal)));
   return largest / (sum / n);
 }
 

@@ -47,8 +47,10 @@ struct Balance
   /// K > 0)
   double kinetic = 0;
   /// max_p |f_p| / <|f_c|>: the largest resultant contact force on a
-  /// particle over the mean magnitude of the nonzero pair contact forces
-  /// (each pair's nodal forces summed); 0 without contact forces
+  /// particle, or unbalanced force on a servo wall (its imposed force minus
+  /// the normal contact force it received), over the mean magnitude of the
+  /// nonzero pair contact forces (each pair's nodal forces summed); 0
+  /// without contact forces
   double force = 0;
 };
 

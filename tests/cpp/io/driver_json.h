@@ -45,6 +45,7 @@ inline nlohmann::json driver_json(const std::filesystem::path& directory,
       {"name": "top", "point": [0, 0], "normal": [0, -1], "velocity": [0, 0],
        "control": "velocity", "pressure": 0, "force": 0, "mass": 1}
     ],
+    "stages": [],
     "stop": {"packing_fraction": 0.88, "max_time": 1.43, "steps": 0},
     "contact": {"friction": 0.3, "alert_distance": 2e-4,
                 "max_penetration": 5e-4, "nlgs_tolerance": 1e-6,
