@@ -45,6 +45,10 @@ The fit
 When the data do not constrain the law (``reason`` says why, values NaN)
     - fewer than ``min_points`` usable rows, or fewer than ``min_groups``
       groups;
+    - a systematic misfit: the signs of the residuals, in the order of P
+      (of the group means with groups), form fewer runs than random ones
+      would (Wald-Wolfowitz runs test, z < ``min_runs_z``): the data
+      follow another curve than the law, whatever the error bars;
     - the data do not reach saturation: P_max / kappa < ``min_saturation``
       (exp(-P/kappa) stays near 1, so only the initial slope
       (Phi_max - Phi_0)/kappa is measured, not Phi_max and kappa apart);
@@ -98,6 +102,7 @@ class CompactionSettings:
     min_groups: int = 5
     min_pressure_fraction: float = 1e-3
     min_saturation: float = 0.5
+    min_runs_z: float = -3.0
     resamples: int = 200
     max_spread: float = 0.25
     max_failed_fraction: float = 0.2
@@ -190,6 +195,25 @@ def _group_weights(groups, resamples, rng) -> np.ndarray:
     return counts[:, index]
 
 
+def _runs_z(residual, labels) -> float:
+    """Wald-Wolfowitz z of the residuals' signs (in P order; group means
+    when rows come in groups); 0 when there are too few to test."""
+    _, first, index = np.unique(labels, return_index=True,
+                                return_inverse=True)
+    if len(first) > 1:  # one residual per group, in the groups' P order
+        means = np.bincount(index, weights=residual) / np.bincount(index)
+        residual = means[np.argsort(first)]
+    signs = residual[residual != 0] > 0
+    n, up = len(signs), int(signs.sum())
+    down = n - up
+    if n < 10 or up == 0 or down == 0:
+        return 0.0
+    runs = 1 + int(np.count_nonzero(signs[1:] != signs[:-1]))
+    mean = 2.0 * up * down / n + 1
+    variance = (mean - 1) * (mean - 2) / (n - 1)
+    return float((runs - mean) / np.sqrt(variance))
+
+
 def _at_an_edge(best, phi, p) -> str:
     """Why the best fit is not a measurement (at a bound, or extrapolated
     further than the data span), or ""."""
@@ -241,6 +265,12 @@ def fit_compaction(phi, p, settings: CompactionSettings = CompactionSettings(),
     edge = _at_an_edge(best, phi, p)
     if edge:
         return _refused(edge, n, p_max)
+    z = _runs_z(phi - packing_fraction(p, *best), labels)
+    if z < s.min_runs_z:
+        return _refused(f"systematic misfit: the residuals' signs form too"
+                        f" few runs (runs test z = {z:.1f} <"
+                        f" {s.min_runs_z:g}); the data follow another"
+                        " curve", n, p_max)
     if p_max / kappa < s.min_saturation:
         return _refused(f"the data reach P/kappa = {p_max / kappa:.2g} <"
                         f" {s.min_saturation:g}: they do not approach"

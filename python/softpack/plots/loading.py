@@ -1,15 +1,19 @@
 """Figures of a loading run: compaction and shear (issue 12 item 4).
 
-``./softpack plot-loading RUN [--out DIR] [--estimate wall|contact|fe]
+``./softpack plot-loading RUN [--out DIR] [--estimate fe|contact|wall]
 [--rest R]`` writes, from a run directory (its analysis, ``series.csv`` and
 ``stress.csv``, is done first when missing):
 
 - ``pressure_phi.png``: P(Phi) of the three stress estimates and the fitted
   compaction law (:mod:`softpack.analysis.compaction_law`) on the chosen
-  estimate, or the reason it was refused. The law is fitted to the rows at
-  rest only (kinetic energy <= R x strain energy, default R = 1e-3: P(Phi)
-  is an equilibrium relation); with loading stages (the ``stage`` column of
-  ``raw/steps.csv``) the bootstrap resamples whole stages;
+  estimate (default: the finite elements' when the run has it, which needs
+  no ``fields.h5`` and is not biased by wall friction as the wall-total
+  fallback is; else Love-Weber, else the walls), or the reason it was
+  refused. With loading stages (the ``stage`` column of ``raw/steps.csv``)
+  the law is fitted to the rows at rest only (kinetic energy <= R x strain
+  energy, default R = 1e-3: P(Phi) is an equilibrium relation) and the
+  bootstrap resamples whole stages; a run without stages (a continuous,
+  slow loading) uses every row unless ``--rest`` is given;
 - ``z_phi.png``: the coordination number Z(Phi) (the analysis' rules);
 - ``stress_estimates.png``: the relative differences of the three
   estimates against the step (they must vanish at rest);
@@ -132,7 +136,15 @@ def plot_shear(shear, path) -> str:
                  "volumetric strain eps_v (compression > 0)", path)
 
 
-def write_figures(run_dir, out, estimate="wall", rest=1e-3) -> dict:
+def choose_estimate(stress: dict) -> str:
+    """The first of fe, contact, wall with a finite P in some row."""
+    for name in ("fe", "contact", "wall"):
+        if np.isfinite(np.asarray(stress[f"{name}_P"], float)).any():
+            return name
+    return "wall"
+
+
+def write_figures(run_dir, out, estimate=None, rest=None) -> dict:
     """Write the figures and ``loading.json``; return the summary dict."""
     import matplotlib
     matplotlib.use("Agg")
@@ -141,9 +153,13 @@ def write_figures(run_dir, out, estimate="wall", rest=1e-3) -> dict:
     series, stress = load(run_dir)
     steps = read_table(Path(run_dir) / "raw" / "steps.csv")
     phi = np.asarray(series["phi"], float)
+    estimate = estimate or choose_estimate(stress)
     p = np.asarray(stress[f"{estimate}_P"], float)
-    at_rest = rows_at_rest(steps, rest)
     stage = np.asarray(steps.get("stage", np.zeros(len(phi))))
+    if rest is None and len(np.unique(stage)) > 1:
+        rest = 1e-3
+    at_rest = (rows_at_rest(steps, rest) if rest is not None
+               else np.ones(len(phi), bool))
     groups = stage[at_rest] if len(np.unique(stage[at_rest])) > 1 else None
     fit = compaction_law.fit_compaction(phi[at_rest], p[at_rest],
                                         groups=groups)
@@ -176,12 +192,14 @@ def main(argv=None) -> int:
     parser.add_argument("run", help="a finished run directory with a box")
     parser.add_argument("--out", help="output directory (default:"
                         " RUN/figures/loading)")
-    parser.add_argument("--estimate", choices=ESTIMATES, default="wall",
+    parser.add_argument("--estimate", choices=ESTIMATES,
                         help="the stress estimate the law is fitted to"
-                        " (default: wall)")
-    parser.add_argument("--rest", type=positive_float, default=1e-3,
-                        help="rows at rest: kinetic energy <= REST x strain"
-                        " energy (default 1e-3)")
+                        " (default: fe if the run has it, else contact,"
+                        " else wall)")
+    parser.add_argument("--rest", type=positive_float,
+                        help="fit the rows at rest only: kinetic energy <="
+                        " REST x strain energy (default: 1e-3 with loading"
+                        " stages, every row without)")
     args = parser.parse_args(argv)
     run = Path(args.run)
     if not (run / "raw" / "steps.csv").is_file():
