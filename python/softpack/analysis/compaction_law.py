@@ -54,8 +54,9 @@ When the data do not constrain the law (``reason`` says why, values NaN)
       (Phi_max - Phi_0)/kappa is measured, not Phi_max and kappa apart);
     - the optimiser fails, or more than ``max_failed_fraction`` of the
       bootstrap refits fail;
-    - the best fit at a bound of the optimiser, or Phi_0 further below the
-      data than they span (an extrapolation, not a measurement);
+    - the best fit at a bound of the optimiser, Phi_max below the data's
+      largest Phi, or Phi_0 further below the data than they span (an
+      extrapolation, not a measurement);
     - a bootstrap spread of Phi_0 or Phi_max larger than ``max_spread`` x
       (Phi_max - Phi_0), or of kappa larger than ``max_spread`` x kappa.
 
@@ -224,6 +225,9 @@ def _at_an_edge(best, phi, p) -> str:
         return (f"the fit sits at a bound of the optimiser (Phi_0 ="
                 f" {phi_0:.3g}, Phi_max = {phi_max:.3g}, kappa ="
                 f" {kappa:.3g} Pa)")
+    if phi_max <= phi.max():
+        return (f"Phi_max = {phi_max:.4f} lies below the largest Phi of the"
+                f" data ({phi.max():.4f})")
     if phi_0 < phi.min() - span:
         return (f"Phi_0 = {phi_0:.4f} lies further below the data"
                 f" ({phi.min():.4f}) than they span ({span:.4f})")

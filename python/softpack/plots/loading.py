@@ -86,7 +86,8 @@ def plot_pressure(phi, stress, fit, estimate, rest, path) -> str:
             line, = ax.plot(phi, p / 1e3, ("o", "s", "^")[i], ms=2.5,
                             mfc="none", alpha=0.35)
             ax.plot(phi[rest], p[rest] / 1e3, ("o", "s", "^")[i], ms=3.5,
-                    color=line.get_color(), label=LABELS[name] + " (at rest)")
+                    color=line.get_color(), label=LABELS[name]
+                    + ("" if rest.all() else " (rows at rest)"))
     if fit.ok:
         v = fit.values
         grid = np.linspace(v["phi_0"], min(np.nanmax(phi) + 0.01,
