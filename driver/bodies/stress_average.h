@@ -25,7 +25,9 @@ using CauchyIntegral = std::array<double, 4>;
 /// \f$\sum_n f^{int}_{n,i} x_{n,j} = \int P : \nabla(A x)\,dX
 /// = \int P : (A F)\,dX = (\int P F^T dX)_{ij}\f$ exactly (the same
 /// quadrature as the residual). One internal-force evaluation: valid for
-/// every law, whatever law each body has.
+/// every law, whatever law each body has. A body that moves rigidly (a
+/// rigid material) has no internal force and gets zero: its share of the
+/// assembly's stress is then only in the wall and Love-Weber estimates.
 std::vector<CauchyIntegral> cauchy_integrals(const BodySet& bodies);
 
 /// Each body's Cauchy integral from its law's compiled `cauchy_integral`
