@@ -14,40 +14,6 @@ using namespace dolfinx;
 
 namespace
 {
-using ConstantMap =
-    std::map<std::string, std::shared_ptr<const fem::Constant<double>>>;
-
-/// Every constant the material declares must be given, and nothing else
-/// (driver.json's material.parameters are exactly the law's constants).
-ConstantMap
-make_material_constants(const forms::MaterialForms& material,
-                        const std::map<std::string, double>& parameters)
-{
-  const std::vector<std::string> declared =
-      forms::material_parameters(material);
-  std::string allowed;
-  for (const std::string& d : declared)
-    allowed += (allowed.empty() ? "" : ", ") + d;
-  auto fail = [&](const std::string& name, const std::string& what)
-  {
-    throw std::invalid_argument("material.parameters." + name + ": " + what +
-                                " (law '" + std::string(material.name) +
-                                "' has the parameters " + allowed + ")");
-  };
-  ConstantMap constants;
-  for (const std::string& name : declared)
-  {
-    auto it = parameters.find(name);
-    if (it == parameters.end())
-      fail(name, "missing");
-    constants[name] = std::make_shared<fem::Constant<double>>(it->second);
-  }
-  for (const auto& [name, value] : parameters)
-    if (std::find(declared.begin(), declared.end(), name) == declared.end())
-      fail(name, "unknown parameter");
-  return constants;
-}
-
 /// Twice the signed area of triangle (a, b, c).
 double signed_area2(std::span<const double> x, std::int32_t a, std::int32_t b,
                     std::int32_t c)
@@ -60,39 +26,96 @@ double signed_area2(std::span<const double> x, std::int32_t a, std::int32_t b,
 BodySet::BodySet(BodyMesh mesh, const forms::MaterialForms& material,
                  const std::map<std::string, double>& parameters,
                  double density)
-    : _mesh(mesh.mesh), _cell_body(std::move(mesh.cell_body)), _density(density)
+    : BodySet(std::move(mesh), {BodyMaterial{&material, parameters, density}},
+              {})
 {
-  if (!(density > 0))
-    throw std::invalid_argument("density must be positive");
-  _constants = make_material_constants(material, parameters);
-  _constants["rho"] = std::make_shared<fem::Constant<double>>(density);
+}
 
-  _V = std::make_shared<fem::FunctionSpace>(
-      fem::create_functionspace(material.function_space, "v", _mesh));
+BodySet::BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
+                 std::vector<int> body_material)
+    : _mesh(mesh.mesh), _cell_body(std::move(mesh.cell_body)),
+      _materials(std::move(materials)), _body_material(std::move(body_material))
+{
+  if (_materials.empty())
+    throw std::invalid_argument("BodySet: no material");
+  for (const BodyMaterial& m : _materials)
+    _constants.push_back(material_constants(m));
+  _V = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(
+      _materials.front().law->function_space, "v", _mesh));
   _Q = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(
       functionspace_form_body_current_area, "q", _mesh));
   _u = std::make_shared<fem::Function<double>>(_V);
 
-  using FormPtr = std::shared_ptr<fem::Form<double>>;
+  build_bodies();
+  if (_body_material.empty())
+    _body_material.assign(_bodies.size(), 0);
+  if (_body_material.size() != _bodies.size())
+    throw std::invalid_argument(
+        "BodySet: " + std::to_string(_body_material.size()) +
+        " body materials for " + std::to_string(_bodies.size()) + " bodies");
+  for (int k : _body_material)
+    if (k < 0 || k >= static_cast<int>(_materials.size()))
+      throw std::invalid_argument("BodySet: body material " +
+                                  std::to_string(k) + " out of range");
+  build_forms();
+  build_mass();
+  std::vector<const fem::Form<double>*> residuals;
+  std::vector<int> body_form(_bodies.size(), 0);
+  for (std::size_t f = 0; f < _forms.size(); ++f)
+  {
+    residuals.push_back(_forms[f].residual.get());
+    for (std::size_t b = 0; b < _bodies.size(); ++b)
+      if (_body_material[b] == _forms[f].material)
+        body_form[b] = static_cast<int>(f);
+  }
+  _parallel_residual =
+      std::make_unique<ParallelResidual>(residuals, body_form, _u, _bodies);
+}
+
+void BodySet::build_forms()
+{
   const std::map<std::string, std::shared_ptr<const fem::Function<double>>>
       coefficients = {{"u", _u}};
-  auto make = [&](const ufcx_form& f,
+  auto make = [&](const ConstantMap& constants, const ufcx_form& f,
                   std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces)
   {
     return std::make_shared<fem::Form<double>>(fem::create_form<double>(
-        f, spaces, coefficients, _constants, {}, _mesh));
+        f, spaces, coefficients, constants, {}, _mesh));
   };
-  _energy = make(*material.energy, {});
-  _residual = make(*material.residual, {_V});
-  _tangent = make(*material.tangent, {_V, _V});
-  _energy_density = make(*material.energy_density, {_Q});
-  _current_area = make(*form_body_current_area, {_Q});
-  _reference_area = make(*form_body_reference_area, {_Q});
-
-  build_bodies();
-  build_mass();
-  _parallel_residual =
-      std::make_unique<ParallelResidual>(*_residual, _u, _bodies);
+  // One material in use: its forms over all cells, exactly as with one
+  // material; several: each material's forms over its own bodies' cells.
+  std::vector<int> used(_body_material.begin(), _body_material.end());
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  if (used.empty())
+    used.push_back(0);
+  for (int k : used)
+  {
+    const forms::MaterialForms& law = *_materials[k].law;
+    const ConstantMap& c = _constants[k];
+    MaterialForms f{k,
+                    make(c, *law.energy, {}),
+                    make(c, *law.residual, {_V}),
+                    make(c, *law.tangent, {_V, _V}),
+                    make(c, *law.energy_density, {_Q}),
+                    make(c, *form_body_mass, {_V, _V}),
+                    make(c, *form_body_lumped_mass, {_V, _V})};
+    if (used.size() > 1)
+    {
+      std::vector<std::int32_t> cells;
+      for (std::size_t b = 0; b < _bodies.size(); ++b)
+        if (_body_material[b] == k)
+          cells.insert(cells.end(), _bodies[b].cells.begin(),
+                       _bodies[b].cells.end());
+      std::sort(cells.begin(), cells.end());
+      for (auto* form : {&f.energy, &f.residual, &f.tangent, &f.energy_density,
+                         &f.mass, &f.lumped_mass})
+        *form = restrict_to_cells(**form, cells);
+    }
+    _forms.push_back(std::move(f));
+  }
+  _current_area = make(_constants.front(), *form_body_current_area, {_Q});
+  _reference_area = make(_constants.front(), *form_body_reference_area, {_Q});
 }
 
 BodySet::BodySet(BodySet&&) noexcept = default;
@@ -220,13 +243,18 @@ std::vector<BodyMatrix> BodySet::create_matrices() const
 namespace
 {
 /// Assemble a bilinear form into per-body matrices holding its pattern.
+void zero(std::vector<BodyMatrix>& matrices)
+{
+  for (BodyMatrix& A : matrices)
+    std::fill_n(A.valuePtr(), A.nonZeros(), 0.0);
+}
+
+/// Add a bilinear form into per-body matrices holding its pattern.
 void assemble_by_body(const fem::Form<double>& a,
                       const std::vector<std::int32_t>& node_body,
                       const std::vector<std::int32_t>& node_local,
                       std::vector<BodyMatrix>& matrices)
 {
-  for (BodyMatrix& A : matrices)
-    std::fill_n(A.valuePtr(), A.nonZeros(), 0.0);
   auto add = [&](std::span<const std::int32_t> rows,
                  std::span<const std::int32_t> cols,
                  std::span<const double> values)
@@ -248,20 +276,22 @@ void assemble_by_body(const fem::Form<double>& a,
 
 void BodySet::tangent(std::vector<BodyMatrix>& K) const
 {
-  assemble_by_body(*_tangent, _node_body, _node_local, K);
+  zero(K);
+  for (const MaterialForms& f : _forms)
+    assemble_by_body(*f.tangent, _node_body, _node_local, K);
 }
 
 void BodySet::build_mass()
 {
-  auto form = [&](const ufcx_form& f) {
-    return fem::create_form<double>(f, {_V, _V}, {}, _constants, {}, _mesh);
-  };
   _mass = create_matrices();
-  assemble_by_body(form(*form_body_mass), _node_body, _node_local, _mass);
-
   std::vector<BodyMatrix> lumped = create_matrices();
-  assemble_by_body(form(*form_body_lumped_mass), _node_body, _node_local,
-                   lumped);
+  zero(_mass);
+  zero(lumped);
+  for (const MaterialForms& f : _forms)
+  {
+    assemble_by_body(*f.mass, _node_body, _node_local, _mass);
+    assemble_by_body(*f.lumped_mass, _node_body, _node_local, lumped);
+  }
   _lumped_mass.clear();
   for (const BodyMatrix& A : lumped)
     _lumped_mass.push_back(A.diagonal());
@@ -275,7 +305,8 @@ void BodySet::internal_force(std::span<double> f) const
   if (_parallel_residual->supported())
     _parallel_residual->assemble(f, _bodies);
   else
-    fem::assemble_vector(f, *_residual);
+    for (const MaterialForms& form : _forms)
+      fem::assemble_vector(f, *form.residual);
 }
 
 bool BodySet::parallel_residual() const
@@ -285,7 +316,10 @@ bool BodySet::parallel_residual() const
 
 double BodySet::strain_energy() const
 {
-  return fem::assemble_scalar(*_energy);
+  double e = 0;
+  for (const MaterialForms& f : _forms)
+    e += fem::assemble_scalar(*f.energy);
+  return e;
 }
 
 std::vector<double> BodySet::assemble_cellwise(const fem::Form<double>& L) const
@@ -311,7 +345,16 @@ BodySet::sum_per_body(const std::vector<double>& per_cell) const
 
 std::vector<double> BodySet::cell_strain_energy() const
 {
-  return assemble_cellwise(*_energy_density);
+  std::vector<double> e = assemble_cellwise(*_forms.front().energy_density);
+  for (std::size_t k = 1; k < _forms.size(); ++k)
+  {
+    // Each material's form is zero on the other materials' cells.
+    const std::vector<double> more =
+        assemble_cellwise(*_forms[k].energy_density);
+    for (std::size_t c = 0; c < e.size(); ++c)
+      e[c] += more[c];
+  }
+  return e;
 }
 
 std::vector<double> BodySet::body_strain_energy() const

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "body_materials.h"
 #include "body_mesh.h"
 #include <Eigen/SparseCore>
 #include <array>
@@ -46,8 +47,8 @@ struct Body
   int num_dofs() const { return 2 * static_cast<int>(nodes.size()); }
 };
 
-/// All deformable bodies of a simulation, sharing one material law and one
-/// dolfinx mesh, with per-body DOF blocks.
+/// All deformable bodies of a simulation, in one dolfinx mesh, with per-body
+/// DOF blocks; each body is made of one of the set's materials.
 ///
 /// State is kept in one global displacement vector (dolfinx ordering, two
 /// interleaved components per node); every per-body quantity is gathered
@@ -63,6 +64,14 @@ public:
   /// @throws std::invalid_argument if a parameter is missing or unknown
   BodySet(BodyMesh mesh, const forms::MaterialForms& material,
           const std::map<std::string, double>& parameters, double density);
+  /// Bodies of several materials: body b is made of
+  /// materials[body_material[b]]. With one material (or every body of the
+  /// same one) the forms are those of the constructor above, unchanged;
+  /// otherwise each material's forms run over its bodies' cells only.
+  /// @throws std::invalid_argument naming the material (BodyMaterial::name)
+  /// and key at fault, or a body_material of the wrong size or range
+  BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
+          std::vector<int> body_material);
   BodySet(BodySet&&) noexcept;
   ~BodySet();
 
@@ -71,6 +80,12 @@ public:
 
   /// Body b
   const Body& body(int b) const { return _bodies[b]; }
+
+  /// The materials, and the material of body b
+  const std::vector<BodyMaterial>& materials() const { return _materials; }
+  int body_material(int b) const { return _body_material[b]; }
+  /// Whether body b is rigid (its material's BodyMaterial::rigid)
+  bool rigid(int b) const { return _materials[_body_material[b]].rigid; }
 
   /// Number of global scalar DOFs (2 per node)
   std::size_t num_dofs() const { return _reference_x.size(); }
@@ -139,14 +154,27 @@ public:
   /// The mesh of all bodies
   std::shared_ptr<const dolfinx::mesh::Mesh> mesh() const { return _mesh; }
 
-  /// The internal force form (for checks against dolfinx's assembler)
-  const dolfinx::fem::Form<double>& residual_form() const { return *_residual; }
+  /// The internal force form (for checks against dolfinx's assembler) of
+  /// the first material in use (with one material: of every body)
+  const dolfinx::fem::Form<double>& residual_form() const
+  {
+    return *_forms.front().residual;
+  }
 
   /// Whether internal_force runs body by body on all cores
   /// (ParallelResidual) rather than through dolfinx's serial assembler
   bool parallel_residual() const;
 
 private:
+  /// The forms of one material in use, over its bodies' cells (all cells
+  /// when every body is of this material)
+  struct MaterialForms
+  {
+    int material;
+    std::shared_ptr<dolfinx::fem::Form<double>> energy, residual, tangent,
+        energy_density, mass, lumped_mass;
+  };
+  void build_forms();
   void build_bodies();
   void build_mass();
   std::vector<double> sum_per_body(const std::vector<double>& per_cell) const;
@@ -155,13 +183,13 @@ private:
 
   std::shared_ptr<dolfinx::mesh::Mesh> _mesh;
   std::vector<int> _cell_body;
-  double _density;
+  std::vector<BodyMaterial> _materials;
+  std::vector<int> _body_material;
   std::shared_ptr<dolfinx::fem::FunctionSpace> _V, _Q;
   std::shared_ptr<dolfinx::fem::Function<double>> _u;
-  std::map<std::string, std::shared_ptr<const dolfinx::fem::Constant<double>>>
-      _constants;
-  std::shared_ptr<dolfinx::fem::Form<double>> _energy, _residual, _tangent,
-      _energy_density, _current_area, _reference_area;
+  std::vector<ConstantMap> _constants;
+  std::vector<MaterialForms> _forms;
+  std::shared_ptr<dolfinx::fem::Form<double>> _current_area, _reference_area;
   std::vector<Body> _bodies;
   std::vector<double> _reference_x;
   /// body and local node of each global node

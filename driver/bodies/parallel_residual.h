@@ -17,16 +17,20 @@ namespace softpack::bodies
 /// by cell, reads the displacement straight from its array, and gives
 /// whole bodies to the threads (bodies share no node, so no two threads
 /// write the same entry). It handles the forms the materials produce: one
-/// cell integral over all cells, the displacement as the only coefficient,
-/// an element without DOF transformations (Lagrange). For anything else
+/// cell integral per form (one form per material, together over all
+/// cells), the displacement as the only coefficient, an element without
+/// DOF transformations (Lagrange). For anything else
 /// supported() is false and the caller uses dolfinx's assembler.
 class ParallelResidual
 {
 public:
-  /// @param[in] L The linear form (its test space must be u's space)
-  /// @param[in] u The only coefficient of L
+  /// @param[in] L The linear forms, one per material in use (each with its
+  /// test space u's space); together they cover every cell once
+  /// @param[in] body_form Index in L of the form of each body
+  /// @param[in] u The only coefficient of every L
   /// @param[in] bodies Cells of each body
-  ParallelResidual(const dolfinx::fem::Form<double>& L,
+  ParallelResidual(std::vector<const dolfinx::fem::Form<double>*> L,
+                   std::vector<int> body_form,
                    std::shared_ptr<const dolfinx::fem::Function<double>> u,
                    const std::vector<Body>& bodies);
 
@@ -38,7 +42,8 @@ public:
   void assemble(std::span<double> b, const std::vector<Body>& bodies) const;
 
 private:
-  const dolfinx::fem::Form<double>& _L;
+  std::vector<const dolfinx::fem::Form<double>*> _L;
+  std::vector<int> _body_form;
   std::shared_ptr<const dolfinx::fem::Function<double>> _u;
   bool _supported = false;
 };

@@ -6,20 +6,22 @@ namespace softpack::dynamics
 {
 namespace
 {
-/// A contact's node terms on one body: (boundary slot, weight).
+/// A contact's node terms on one body: (boundary slot, weight) and the
+/// local nodes.
 struct BodyShare
 {
   std::int32_t contact;
   std::vector<std::pair<int, double>> slots;
+  std::vector<std::int32_t> nodes;
 };
 } // namespace
 
-contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
-                                       const ContactOperator& H,
-                                       const EffectiveStiffness& Kbar,
-                                       double drop_tolerance,
-                                       std::span<const WallCoupling> walls)
+contact::DelassusMatrix
+build_delassus(const bodies::BodySet& bodies, const ContactOperator& H,
+               const EffectiveStiffness& Kbar, double drop_tolerance,
+               std::span<const WallCoupling> walls, const RigidBodies* rigid)
 {
+  auto is_rigid = [&](int b) { return rigid && rigid->rigid(b); };
   std::vector<std::vector<BodyShare>> shares(bodies.num_bodies());
   for (std::size_t a = 0; a < H.size(); ++a)
     for (const NodeTerm& term : H.terms(a))
@@ -29,6 +31,7 @@ contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
         list.push_back({static_cast<std::int32_t>(a), {}});
       list.back().slots.push_back(
           {Kbar.boundary_slot(term.body, term.node), term.weight});
+      list.back().nodes.push_back(term.node);
     }
 
   // The compliance columns (one solve per new boundary DOF) body by body on
@@ -37,7 +40,7 @@ contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
   {
-    if (shares[b].empty())
+    if (shares[b].empty() || is_rigid(b))
       continue;
     std::vector<int> slots;
     for (const BodyShare& share : shares[b])
@@ -56,10 +59,29 @@ contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
         block += wi * wj * G.block<2, 2>(2 * i, 2 * j);
     return block;
   };
+  // A rigid body's block: sum_ij w_i w_j P_i Mr^-1 P_j^T.
+  auto rigid_block = [&](int b, const BodyShare& sa, const BodyShare& sb)
+  {
+    Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
+    for (std::size_t i = 0; i < sa.nodes.size(); ++i)
+      for (std::size_t j = 0; j < sb.nodes.size(); ++j)
+        block += sa.slots[i].second * sb.slots[j].second *
+                 rigid->compliance(b, sa.nodes[i], sb.nodes[j]);
+    return block;
+  };
   for (int b = 0; b < nb; ++b)
   {
     if (shares[b].empty())
       continue;
+    if (is_rigid(b))
+    {
+      for (const BodyShare& sa : shares[b])
+        for (const BodyShare& sb : shares[b])
+          W.add_block(sa.contact, sb.contact,
+                      H.frame(sa.contact).transpose() * rigid_block(b, sa, sb) *
+                          H.frame(sb.contact));
+      continue;
+    }
     const Eigen::MatrixXd& G = Kbar.boundary_compliance(b, {});
     // Each contact's own block on this body, for the drop test.
     std::vector<double> own(shares[b].size());

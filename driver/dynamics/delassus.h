@@ -2,6 +2,7 @@
 
 #include "contact_operator.h"
 #include "effective_stiffness.h"
+#include "rigid_bodies.h"
 #include <contact/DelassusMatrix.h>
 
 namespace softpack::dynamics
@@ -43,10 +44,15 @@ struct WallCoupling
 /// @param[in] drop_tolerance Relative size below which an off-diagonal
 /// block is dropped (0: keep all)
 /// @param[in] walls The servo walls' couplings (never dropped)
+/// @param[in] rigid The rigid bodies, whose compliance is \f$P_i M_r^{-1}
+/// P_j^T\f$ (RigidBodies::compliance) in place of the FE one; it does not
+/// decay with distance and none of its blocks is dropped (null: none)
 /// @return The finalized block-sparse W
-contact::DelassusMatrix
-build_delassus(const bodies::BodySet& bodies, const ContactOperator& H,
-               const EffectiveStiffness& Kbar, double drop_tolerance = 0,
-               std::span<const WallCoupling> walls = {});
+contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
+                                       const ContactOperator& H,
+                                       const EffectiveStiffness& Kbar,
+                                       double drop_tolerance = 0,
+                                       std::span<const WallCoupling> walls = {},
+                                       const RigidBodies* rigid = nullptr);
 
 } // namespace softpack::dynamics

@@ -71,12 +71,13 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
       _detection(detection_options(options.contact)),
       _nlgs(nlgs_options(options.contact)), _damping{options.damping.alpha,
                                                      options.damping.beta},
-      _kbar(bodies, options.time.mass == "lumped"),
+      _kbar(bodies, options.time.mass == "lumped"), _rigid(bodies, _kbar),
       _K(bodies.create_matrices()), _A(bodies.create_matrices()),
       _v(bodies.num_dofs(), 0.0), _f_ext(bodies.num_dofs(), 0.0),
       _f_int(bodies.num_dofs(), 0.0), _v_contact(bodies.num_dofs(), 0.0)
 {
   _bodies.internal_force(_f_int);
+  _rigid.zero(_f_int);
   _energy.strain0 = _bodies.strain_energy();
   link_walls(_walls);
 }
@@ -172,6 +173,9 @@ MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
 {
   contact::FrictionContactProblem2D problem;
   problem.friction.assign(sc.size(), _options.contact.friction);
+  if (!_options.friction.empty())
+    for (std::size_t a = 0; a < sc.size(); ++a)
+      problem.friction[a] = _options.friction(_contacts[a]);
   problem.q.resize(2 * sc.size());
   if (needs_refactorization())
     refactorize(sc, problem, report);
@@ -180,7 +184,7 @@ MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
     const auto t0 = clock::now();
     problem.W = build_delassus(_bodies, sc.H, _kbar,
                                _options.contact.delassus_drop_tolerance,
-                               sc.servo.couplings);
+                               sc.servo.couplings, &_rigid);
     report.seconds.delassus += seconds_since(t0);
   }
   return problem;
@@ -226,7 +230,7 @@ void MoreauJean::refactorize(const StepContacts& sc,
     const auto t0 = clock::now();
     problem.W = build_delassus(_bodies, sc.H, _kbar,
                                _options.contact.delassus_drop_tolerance,
-                               sc.servo.couplings);
+                               sc.servo.couplings, &_rigid);
     report.seconds.delassus += seconds_since(t0);
   }
 }
@@ -246,7 +250,10 @@ MoreauJean::StepStart MoreauJean::start_step(std::vector<double> u_old,
   s.known.resize(nb);
   for (int b = 0; b < nb; ++b)
   {
-    s.Cv_old[b] = _damping.force(_Mv[b], _Kv[b]);
+    // No damping acts on a rigid body.
+    s.Cv_old[b] = _rigid.rigid(b)
+                      ? Eigen::VectorXd(Eigen::VectorXd::Zero(_Mv[b].size()))
+                      : _damping.force(_Mv[b], _Kv[b]);
     s.known[b] =
         _Mv[b] + h * (1 - th) * (s.f_ext_b[b] - f_int_old[b] - s.Cv_old[b]);
   }
@@ -286,10 +293,14 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
     const bodies::Body& body = _bodies.body(b);
     for (const std::int32_t node : sc.contact_nodes[b])
     {
-      const Eigen::Vector2d dv =
-          _kbar.boundary_response(b, _kbar.boundary_slot(b, node), residual[b]);
+      const Eigen::Vector2d v_free =
+          _rigid.rigid(b) ? _rigid.free_velocity(b, node)
+                          : Eigen::Vector2d(vk[b].segment<2>(2 * node) -
+                                            _kbar.boundary_response(
+                                                b, _kbar.boundary_slot(b, node),
+                                                residual[b]));
       for (int c = 0; c < 2; ++c)
-        _v_contact[2 * body.nodes[node] + c] = vk[b][2 * node + c] - dv[c];
+        _v_contact[2 * body.nodes[node] + c] = v_free[c];
     }
   }
   const std::vector<double> U_free =
@@ -322,7 +333,9 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
         sc.contact_nodes[b].empty() ? 0 : residual[b].size());
   sc.H.add_impulses(_R, impulse);
   for (int b = 0; b < nb; ++b)
-    if (!sc.contact_nodes[b].empty())
+    if (!sc.contact_nodes[b].empty() && _rigid.rigid(b))
+      _rigid.add_impulse(b, impulse[b]);
+    else if (!sc.contact_nodes[b].empty())
       residual[b] -= impulse[b];
   report.seconds.solves += seconds_since(t0);
 }
@@ -335,6 +348,8 @@ void MoreauJean::set_displacement(const std::vector<double>& u_old,
   std::span<double> u = _bodies.displacement();
   for (std::size_t i = 0; i < u.size(); ++i)
     u[i] = u_old[i] + h * (th * v[i] + (1 - th) * v_old[i]);
+  // Rigid bodies: the exact rigid motion of their iterate.
+  _rigid.displace(u, h, th);
 }
 
 double MoreauJean::newton_iteration(int k, const StepContacts& sc,
@@ -348,6 +363,7 @@ double MoreauJean::newton_iteration(int k, const StepContacts& sc,
   set_displacement(start.u_old, start.v_old, vk);
   std::vector<double> f_int(vk.size());
   _bodies.internal_force(f_int);
+  _rigid.zero(f_int);
   report.seconds.assembly += seconds_since(t0);
   if (k > 0 && _options.time.full_newton)
     refactorize(sc, problem, report);
@@ -356,6 +372,7 @@ double MoreauJean::newton_iteration(int k, const StepContacts& sc,
   const Vectors vk_b = gather(vk);
   Vectors r = residual(vk_b, gather(f_int), start.f_ext_b, start.known);
   report.seconds.solves += seconds_since(t0);
+  _rigid.reset_to_free();
   if (sc.size() > 0)
     solve_contacts(sc, vk_b, r, problem, report);
   // v_{k+1} = v_k - Kbar^-1 (r - H R), one solve per body
@@ -363,7 +380,9 @@ double MoreauJean::newton_iteration(int k, const StepContacts& sc,
   Vectors v_new(nb);
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
-    v_new[b] = vk_b[b] - _kbar.solve(b, r[b]);
+    v_new[b] = _rigid.rigid(b)
+                   ? _rigid.velocity_field(b)
+                   : Eigen::VectorXd(vk_b[b] - _kbar.solve(b, r[b]));
   report.seconds.solves += seconds_since(t0);
 
   std::vector<double> v_next(vk.size());
@@ -415,6 +434,8 @@ StepReport MoreauJean::step()
   StepReport report;
   auto t0 = clock::now();
   const std::span<const double> u = _bodies.displacement();
+  // Rigid bodies: V- from the node velocities, which become exactly rigid.
+  _rigid.start_step(u, _v, _f_ext, _options.time.time_step);
   std::vector<double> u_old(u.begin(), u.end()), v_old = _v;
   StepContacts sc = prepare_contacts(u_old, v_old);
   report.contacts = static_cast<int>(sc.size());
@@ -437,6 +458,7 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
   set_displacement(start.u_old, start.v_old, _v);
   const std::vector<double> f_int_before = _f_int;
   _bodies.internal_force(_f_int);
+  _rigid.zero(_f_int);
   report.seconds.assembly += seconds_since(t0);
   add_stiffness_dissipation(_energy, _options.time.theta, start.u_old,
                             _bodies.displacement(), f_int_before, _f_int);
@@ -451,6 +473,13 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
   finish_servo_walls(sc.servo, _walls, _R, h, _options.time.theta);
   t0 = clock::now();
   account_step(sc, start, report);
+  if (!_rigid.empty())
+  {
+    // The next step's contacts see the rigid bodies' velocity field at
+    // their new positions (the accounts used the step's start ones).
+    _rigid.set_velocities(_bodies.displacement(), _v);
+    _products_valid = false;
+  }
   report.seconds.solves += seconds_since(t0);
 }
 
@@ -466,7 +495,9 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
   for (std::size_t b = 0; b < nb; ++b)
   {
     v_mid_b[b] = th * v_new_b[b] + (1 - th) * start.v_old_b[b];
-    Cv_new[b] = _damping.force(_Mv[b], _Kv[b]);
+    Cv_new[b] = _rigid.rigid(b)
+                    ? Eigen::VectorXd(Eigen::VectorXd::Zero(_Mv[b].size()))
+                    : _damping.force(_Mv[b], _Kv[b]);
   }
   add_body_terms(_energy, h, th,
                  {.v_old = start.v_old_b,

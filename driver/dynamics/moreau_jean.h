@@ -6,6 +6,8 @@
 #include "detection.h"
 #include "effective_stiffness.h"
 #include "energy_balance.h"
+#include "friction_table.h"
+#include "rigid_bodies.h"
 #include "walls.h"
 #include <bodies/BodySet.h>
 #include <contact/nlgs.h>
@@ -34,6 +36,9 @@ struct MoreauJeanOptions
   /// Velocity below which changes do not matter in the Newton test (the
   /// fastest wall speed); must be set, > 0
   double velocity_scale = 0;
+  /// Friction coefficient of each contact by its pair of species (or
+  /// species and wall); empty: contact.friction for every contact
+  FrictionTable friction;
 };
 
 /// The detection's options from the contact parameters (the one place).
@@ -239,6 +244,8 @@ private:
   contact::NlgsOptions _nlgs;
   RayleighDamping _damping;
   EffectiveStiffness _kbar;
+  /// The rigid bodies' three degrees of freedom (none: every body soft)
+  RigidBodies _rigid;
   /// Tangent stiffness as last assembled, and A = M + h th C on the same
   /// pattern (it multiplies v_k in the Newton residual)
   std::vector<bodies::BodyMatrix> _K, _A;

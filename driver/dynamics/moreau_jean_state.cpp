@@ -81,6 +81,7 @@ void MoreauJean::restore(const SchemeState& s)
   _time = s.time;
   _steps = s.steps;
   _bodies.internal_force(_f_int);
+  _rigid.zero(_f_int);
   _energy = s.energy;
   _energy_stale = true;
   _started = true;

@@ -304,6 +304,10 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
   read_scene(r, doc.at("scene"), c);
   read_walls(r, doc.at("walls"), c);
   parameters::read(doc, c.parameters, r.file());
+  c.body_materials = read_body_materials(doc, c);
+  c.friction = read_friction_table(doc, c);
+  c.materials = doc.at("materials");
+  c.friction_pairs = doc.at("friction");
   if (c.box)
     for (const std::string& name : box_wall_names)
       if (std::none_of(c.walls.begin(), c.walls.end(),

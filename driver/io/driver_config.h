@@ -1,5 +1,6 @@
 #pragma once
 
+#include "material_config.h"
 #include <dynamics/walls.h>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -66,6 +67,13 @@ struct DriverConfig
   /// stop, contact, time, damping, output, material (generated from
   /// schema/parameters.toml)
   parameters::Parameters parameters;
+  /// The bodies' materials (material, materials and each species'
+  /// material) and the contacts' friction coefficients (contact.friction
+  /// and friction): docs/materials.md
+  BodyMaterials body_materials;
+  dynamics::FrictionTable friction;
+  /// driver.json's materials and friction as given (raw/setup.json)
+  nlohmann::json materials, friction_pairs;
   /// Velocity scale of the Newton test: the fastest wall speed (derived
   /// here, not a parameter), over the stages' velocities too
   double velocity_scale = 0;

@@ -55,6 +55,8 @@ json setup_json(const DriverConfig& config, const bodies::BodySet& bodies)
                      "scene.model.thickness"}}},
           {"scene", config.scene},
           {"material", parameters::to_json(p.material)},
+          {"materials", config.materials},
+          {"friction", config.friction_pairs},
           {"walls", walls_json(config)},
           {"parameters",
            {{"stop", parameters::to_json(p.stop)},

@@ -90,26 +90,17 @@ void write_unsolved_problem(const std::filesystem::path& raw, long step,
                         r.unsolved_start);
 }
 
-/// The bodies of driver.json's mesh and material; errors in the material
-/// name driver.json and the key (material.law, material.parameters.KEY).
+/// The bodies of driver.json's mesh and materials; errors in a material
+/// name driver.json and the key (material.parameters.KEY,
+/// materials[0].parameters.KEY).
 bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
 {
-  const parameters::Material& m = config.parameters.material;
   bodies::BodyMesh mesh = bodies::read_body_mesh(comm, config.mesh);
   io::check_body_count(config, mesh.num_bodies);
-  const forms::MaterialForms* law = nullptr;
   try
   {
-    law = &forms::find_material(m.law);
-  }
-  catch (const std::invalid_argument& e)
-  {
-    throw std::runtime_error(config.file.string() +
-                             ": material.law: " + e.what());
-  }
-  try
-  {
-    return bodies::BodySet(std::move(mesh), *law, m.parameters, m.density);
+    return bodies::BodySet(std::move(mesh), config.body_materials.materials,
+                           config.body_materials.body_material);
   }
   catch (const std::invalid_argument& e)
   {
@@ -140,7 +131,8 @@ public:
         _raw_dir(config.directory / "raw"), _quiet(quiet),
         _bodies(make_bodies(comm, config)),
         _scheme(_bodies, config.walls,
-                {_p.time, _p.contact, _p.damping, config.velocity_scale}),
+                {_p.time, _p.contact, _p.damping, config.velocity_scale,
+                  config.friction}),
         _raw(config.directory, config.walls),
         _identity(io::state_identity(_bodies, config.walls)), _program(config)
   {

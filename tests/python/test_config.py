@@ -116,7 +116,8 @@ def test_small_example_is_ci_sized():
     ("[time]\nstepp = 1\n",
      "unknown key [time] stepp (allowed: time_step, theta, mass,"),
     ("[timing]\ntime_step = 1e-5\n", "unknown section [timing] (allowed"
-     " sections: model, box, packing, species, mesh, material, walls,"),
+     " sections: model, box, packing, species, mesh, material, materials,"
+     " walls,"),
     ("friction = 0.3\n[walls.right]\nvelocity = [-0.1, 0.0]\n",
      "key friction outside a section"),
     ("[material.parameters]\nmu = 1e5\n", "unknown key [material.parameters]"

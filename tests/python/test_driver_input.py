@@ -17,8 +17,8 @@ from softpack.simulation.driver_input import driver_document, write_driver_json
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 TOP_KEYS = ["schema_version", "directory", "initial_state", "scene",
-            "material", "walls", "stages", "stop", "contact", "time", "damping",
-            "output"]
+            "material", "materials", "walls", "stages", "stop", "contact",
+            "friction", "time", "damping", "output"]
 
 
 @pytest.fixture(autouse=True)
@@ -46,7 +46,7 @@ def test_every_key_is_explicit_and_named_as_in_the_schema(paper_document):
         assert list(doc[name]) == list(schema[name].parameters), name
         assert all(v is not None for v in doc[name].values())
     assert doc["material"] == {"law": "neo_hookean", "density": 1180.0,
-                               "parameters": {"shear_modulus": 0.15e6,
+                               "rigid": False, "parameters": {"shear_modulus": 0.15e6,
                                               "lame_lambda": 0.3e6}}
     assert doc["contact"]["delassus_drop_tolerance"] == pytest.approx(1e-9)
     assert doc["stop"] == {"packing_fraction": 0.88,

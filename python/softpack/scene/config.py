@@ -34,7 +34,7 @@ import math
 import tomllib
 from pathlib import Path
 
-from softpack.scene import consistency, stages
+from softpack.scene import consistency, species as species_rules, stages
 from softpack.scene.materials import RegistryError, load_registry, resolve
 from softpack.scene.schema import MATERIAL_CHOICES, load_schema
 from softpack.scene.walls import BOX_WALLS, box_geometry, unit
@@ -125,6 +125,8 @@ def validate(data: dict, source="<config>", overrides=None,
     for name, section in schema.items():
         if name == "stages":
             continue  # after [walls], which they change
+        if name == "friction":
+            continue  # after [walls] and [materials], whose names it uses
         if section.is_list:
             sections[name] = checker.species(section, data.get(name))
         elif section.is_map:
@@ -134,9 +136,17 @@ def validate(data: dict, source="<config>", overrides=None,
         else:
             sections[name] = checker.table(section, data.get(name, {}), name)
     for name, section in schema.items():
-        if section.is_map:
+        if section.is_map and name == "materials":
+            sections[name] = checker.materials(section, data.get(name, {}))
+        elif section.is_map:
             sections[name] = checker.walls(section, data.get(name, {}),
                                            sections["box"])
+    try:
+        species_rules.check_materials(sections)
+        sections["friction"] = species_rules.validate_friction(
+            checker, schema["friction"], data.get("friction", []), sections)
+    except species_rules.SpeciesError as err:
+        raise ConfigError(f"{source}: {err}") from None
     try:
         sections["stages"] = stages.validate(
             checker, schema["stages"], data.get("stages"), sections,
@@ -297,18 +307,20 @@ class _Checker:
                     spec.default)
         return out
 
-    def material(self, section, table) -> dict:
-        """[material] and [material.parameters] of the chosen law."""
-        out = self.table(section, table, "material", skip=(LAW_TABLE,))
+    def material(self, section, table, title="material") -> dict:
+        """[material] (or [materials.NAME]: ``title``) and its parameters
+        sub-table for the chosen law."""
+        path = title.split(".")
+        out = self.table(section, table, title, path, skip=(LAW_TABLE,))
         law = self.registry().get(out["law"])
         if law is None:  # the default law is not registered
-            raise ConfigError(f"{self.source}: [material] law ="
+            raise ConfigError(f"{self.source}: [{title}] law ="
                               f" {_show(out['law'])}: not registered (laws:"
                               f" {', '.join(sorted(self.registry()))})")
         given = table.get(LAW_TABLE, {})
-        title = f"material.{LAW_TABLE}"
+        title = f"{title}.{LAW_TABLE}"
         self.keys(title, given, law.parameters)
-        checked = {key: self.value(title, ["material", LAW_TABLE, key],
+        checked = {key: self.value(title, path + [LAW_TABLE, key],
                                    law.parameters[key], value)
                    for key, value in given.items()}
         try:
@@ -316,6 +328,15 @@ class _Checker:
         except RegistryError as err:
             raise ConfigError(f"{self.source}: [{title}]: {err}") from None
         return out
+
+    def materials(self, section, tables) -> dict:
+        """[materials.NAME]: each a material like [material]."""
+        if not isinstance(tables, dict) or not all(
+                isinstance(t, dict) for t in tables.values()):
+            raise ConfigError(f"{self.source}: [{section.name}] must be a"
+                              f" table of [{section.name}.NAME] tables")
+        return {name: self.material(section, table, f"{section.name}.{name}")
+                for name, table in tables.items()}
 
     def species(self, section, items) -> list:
         """[[species]]: each table checked; the schema's list when absent."""
@@ -409,19 +430,26 @@ def to_toml(config) -> str:
                         if not (boxed and wall in BOX_WALLS
                                 and k in ("point", "normal"))}
                 entries(name, values, keep)
+                if name == "materials":
+                    lines += _law_lines(f"{name}.{wall}", values)
         else:
             lines += ["", f"[{name}]"]
             entries(name, config[name], section.parameters)
             if name == "material":
-                lines += ["", f"[material.{LAW_TABLE}]"]
-                law = _law_or_none(config[name]["law"])
-                for key, value in config[name][LAW_TABLE].items():
-                    spec = law.parameters.get(key) if law else None
-                    doc = (f"  # {spec.doc}" + (f" ({spec.unit})" if
-                                               spec.unit else "")
-                           if spec else "")
-                    lines.append(f"{key} = {_show(value)}{doc}")
+                lines += _law_lines(name, config[name])
     return "\n".join(lines) + "\n"
+
+
+def _law_lines(title, material) -> list:
+    """The TOML lines of a material's [TITLE.parameters] sub-table."""
+    lines = ["", f"[{title}.{LAW_TABLE}]"]
+    law = _law_or_none(material["law"])
+    for key, value in material[LAW_TABLE].items():
+        spec = law.parameters.get(key) if law else None
+        doc = (f"  # {spec.doc}" + (f" ({spec.unit})" if spec.unit else "")
+               if spec else "")
+        lines.append(f"{key} = {_show(value)}{doc}")
+    return lines
 
 
 def _law_or_none(name):

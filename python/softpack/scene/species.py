@@ -98,6 +98,104 @@ def present(species) -> list:
     return [s for s in species if int(s["count"]) > 0]
 
 
+class SpeciesError(ValueError):
+    """A species' material or a [[friction]] table that names what does
+    not exist; the config stage prefixes the file name."""
+
+
+#: The word of [[friction]] ``against`` that means every wall.
+EVERY_WALL = "walls"
+
+
+def check_materials(sections) -> None:
+    """Refuse a species whose ``material`` names no [materials.NAME].
+
+    Raises
+    ------
+    SpeciesError
+        Naming ``[species.I] material`` and the names allowed.
+    """
+    named = sections["materials"]
+    for k, s in enumerate(sections["species"]):
+        if s["material"] and s["material"] not in named:
+            allowed = ", ".join(repr(n) for n in named) or "none given"
+            raise SpeciesError(
+                f"[species.{k}] material = {s['material']!r}: no"
+                f" [materials.{s['material']}] table (named materials:"
+                f" {allowed}; empty: [material])")
+
+
+def validate_friction(checker, section, items, sections) -> list:
+    """Check the [[friction]] tables; return them complete.
+
+    Each names a pair: ``species`` (a species name) and ``against`` (a
+    species name, a wall name or ``"walls"``: every wall). A pair may be
+    named once (in either order); a wall named both by itself and through
+    ``"walls"`` for the same species is refused too.
+
+    Parameters
+    ----------
+    checker : softpack.scene.config._Checker
+        Checks each table's keys and values against the schema.
+    section : softpack.scene.schema.Section
+        The schema's [friction].
+    items : list
+        The TOML's [[friction]] tables.
+    sections : dict
+        The validated sections (species, walls).
+
+    Raises
+    ------
+    SpeciesError
+        For a name that is neither a species nor a wall, a name that is both,
+        or a pair named twice.
+    """
+    if not isinstance(items, (list, dict)):
+        raise SpeciesError(
+            f"key {section.name} outside a section: [[{section.name}]] is a"
+            " list of pair tables; the default coefficient is [contact]"
+            f" {section.name}")
+    if not isinstance(items, list) or not all(isinstance(i, dict)
+                                              for i in items):
+        raise SpeciesError(f"[[{section.name}]] must be a list of tables")
+    species = [s["name"] for s in sections["species"]]
+    walls = list(sections["walls"])
+    both = sorted(set(species) & set(walls + [EVERY_WALL]))
+    out, seen = [], {}
+    for i, item in enumerate(items):
+        title = f"{section.name}.{i}"
+        for key in ("species", "against"):
+            if key not in item:
+                raise SpeciesError(f"[{title}] {key} missing")
+        entry = checker.table(section, item, title, [section.name, i])
+        if entry["species"] not in species:
+            raise SpeciesError(
+                f"[{title}] species = {entry['species']!r}: not a species"
+                f" (species: {', '.join(species)})")
+        if entry["against"] not in species + walls + [EVERY_WALL]:
+            raise SpeciesError(
+                f"[{title}] against = {entry['against']!r}: not a species,"
+                f" a wall or {EVERY_WALL!r} (species: {', '.join(species)};"
+                f" walls: {', '.join(walls)})")
+        if entry["against"] in both or entry["species"] in both:
+            raise SpeciesError(
+                f"[{title}]: {both[0]!r} names both a species and a wall"
+                " (or the word 'walls'): rename the species")
+        against = (walls if entry["against"] == EVERY_WALL
+                   else [entry["against"]])
+        for other in against:
+            pair = frozenset((entry["species"], other))
+            if pair in seen:
+                raise SpeciesError(
+                    f"[{title}] species = {entry['species']!r}, against ="
+                    f" {entry['against']!r}: the pair"
+                    f" ({entry['species']}, {other}) is already given by"
+                    f" [{section.name}.{seen[pair]}]")
+            seen[pair] = i
+        out.append(entry)
+    return out
+
+
 def _sized(spec) -> dict:
     """A species with the size keys' defaults (tables written by hand, in
     tests, may give only diameter and count)."""

@@ -7,7 +7,10 @@ the schema, not from a list of keys here: a parameter added to
 
 - ``scene``: the scene stage's record (:meth:`softpack.scene.build.Scene.
   record`), with the bodies' mesh and species;
-- ``material``: law, density and the law's ``parameters``;
+- ``material``: law, density, rigid and the law's ``parameters`` (the
+  default material); ``materials``: the named ones, a list of the same
+  tables each with its ``name`` (a species' ``material`` names one);
+- ``friction``: the [[friction]] tables (species, against, coefficient);
 - ``walls``: a list, box walls first (left, right, bottom, top), then the
   others in the TOML file's order;
 - every other driver-stage section as a table of its keys.
@@ -55,9 +58,12 @@ def driver_document(config, scene_record: dict, directory,
         if section.stage != "driver":
             continue
         if section.is_map:
-            document[name] = [{"name": wall, **{k: _plain(values[k]) for k
-                                                in section.parameters}}
-                              for wall, values in config[name].items()]
+            # A named material carries its law's parameters too.
+            extra = ("parameters",) if name == "materials" else ()
+            document[name] = [{"name": entry, **{k: _plain(values[k]) for k
+                                                 in (*section.parameters,
+                                                     *extra)}}
+                              for entry, values in config[name].items()]
         else:
             document[name] = json.loads(json.dumps(config[name]))
     return document

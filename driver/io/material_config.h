@@ -1,0 +1,40 @@
+#pragma once
+
+#include <bodies/body_material.h>
+#include <dynamics/friction_table.h>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+/// driver.json's materials and friction pairs (docs/materials.md).
+namespace softpack::io
+{
+struct DriverConfig;
+
+/// The bodies' materials: every material a species uses, and each body's.
+struct BodyMaterials
+{
+  /// materials[0] is driver.json's `material`, materials[k] (k >= 1) its
+  /// `materials[k - 1]`
+  std::vector<bodies::BodyMaterial> materials;
+  /// Index in `materials` of each body's material (its species')
+  std::vector<int> body_material;
+};
+
+/// Read `material`, `materials` (each {name, law, density,
+/// rigid, parameters}) and each species' `scene.species[k].material` ("": the
+/// default `material`, else a name of `materials`).
+/// @param[in] doc driver.json
+/// @param[in] config Its body species (scene.bodies.species) and file name
+/// @throws std::runtime_error naming the file and the key at fault
+BodyMaterials read_body_materials(const nlohmann::json& doc,
+                                  const DriverConfig& config);
+
+/// Read `friction` ([{species, against, coefficient}]: a species name
+/// against a species name, a wall name or "walls") into the table of the
+/// contacts' coefficients, [contact] friction for every other pair.
+/// @throws std::runtime_error naming the file and the key at fault
+dynamics::FrictionTable read_friction_table(const nlohmann::json& doc,
+                                            const DriverConfig& config);
+
+} // namespace softpack::io

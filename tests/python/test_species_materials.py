@@ -1,0 +1,144 @@
+"""Materials and friction per species (docs/materials.md): the TOML forms,
+their one-line errors, the resolved config.toml and driver.json."""
+
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from material_registry import use_registry
+from softpack.scene.build import scene_record
+from softpack.scene.config import ConfigError, load_config, to_toml, validate
+from softpack.simulation.driver_input import driver_document
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+MIXTURE = """
+[walls.right]
+velocity = [-0.1, 0.0]
+
+[materials.stiff]
+law = "saint_venant_kirchhoff"
+density = 2500.0
+[materials.stiff.parameters]
+shear_modulus = 1.5e6
+
+[[species]]
+name = "soft"
+diameter = 0.02
+count = 4
+[[species]]
+name = "hard"
+diameter = 0.03
+count = 2
+material = "stiff"
+
+[[friction]]
+species = "soft"
+against = "hard"
+coefficient = 0.5
+[[friction]]
+species = "hard"
+against = "walls"
+coefficient = 0.1
+"""
+
+
+@pytest.fixture(autouse=True)
+def registry(tmp_path_factory, monkeypatch):
+    return use_registry(tmp_path_factory, monkeypatch)
+
+
+def load(tmp_path, text):
+    path = tmp_path / "mix.toml"
+    path.write_text(text)
+    return load_config(path)
+
+
+def error_of(tmp_path, text):
+    with pytest.raises(ConfigError) as err:
+        load(tmp_path, text)
+    message = str(err.value)
+    assert "\n" not in message and "mix.toml" in message
+    return message
+
+
+def test_named_materials_species_and_pairs(tmp_path):
+    config = load(tmp_path, MIXTURE)
+    stiff = config["materials"]["stiff"]
+    assert stiff["law"] == "saint_venant_kirchhoff"
+    assert stiff["density"] == 2500.0
+    # The law's defaults are resolved from the given parameters.
+    assert stiff["parameters"] == {"shear_modulus": 1.5e6,
+                                   "lame_lambda": 3.0e6}
+    assert [s["material"] for s in config["species"]] == ["", "stiff"]
+    assert config["friction"] == [
+        {"species": "soft", "against": "hard", "coefficient": 0.5},
+        {"species": "hard", "against": "walls", "coefficient": 0.1}]
+    # The resolved copy reloads to the same configuration.
+    assert validate(tomllib.loads(to_toml(config))) == config
+
+
+def test_existing_configurations_are_unchanged():
+    config = load_config(EXAMPLES / "paper.toml")
+    assert config["materials"] == {} and config["friction"] == []
+    assert all(s["material"] == "" for s in config["species"])
+
+
+def test_driver_json_carries_materials_and_pairs(tmp_path):
+    config = load(tmp_path, MIXTURE)
+    record = scene_record(config, tmp_path / "mesh" / "packing.xdmf")
+    doc = driver_document(config, record, tmp_path / "out")
+    assert doc["materials"] == [{"name": "stiff",
+                                 "law": "saint_venant_kirchhoff",
+                                 "density": 2500.0, "rigid": False,
+                                 "parameters": {"shear_modulus": 1.5e6,
+                                                "lame_lambda": 3.0e6}}]
+    assert doc["friction"] == config["friction"]
+    assert [s["material"] for s in doc["scene"]["species"]] == ["", "stiff"]
+    assert doc["scene"]["bodies"]["species"] == [0, 0, 0, 0, 1, 1]
+    assert list(doc["material"]) == ["law", "density", "rigid", "parameters"]
+
+
+@pytest.mark.parametrize("change, expected", [
+    (('material = "stiff"', 'material = "stif"'),
+     "[species.1] material = 'stif': no [materials.stif] table (named"
+     " materials: 'stiff'; empty: [material])"),
+    (("shear_modulus = 1.5e6", "shear_moduls = 1.5e6"),
+     "unknown key [materials.stiff.parameters] shear_moduls (allowed:"
+     " shear_modulus, lame_lambda)"),
+    (("density = 2500.0", "density = -1.0"),
+     "[materials.stiff] density = -1.0: must be > 0"),
+    (('law = "saint_venant_kirchhoff"', 'law = "rubber"'),
+     "[materials.stiff] law = \"rubber\": must be one of"),
+    (('against = "hard"', 'against = "rigid"'),
+     "[friction.0] against = 'rigid': not a species, a wall or 'walls'"),
+    (('species = "hard"', 'species = "left"'),
+     "[friction.1] species = 'left': not a species"),
+    (('against = "walls"', 'against = "soft"'),
+     "[friction.1] species = 'hard', against = 'soft': the pair (hard, soft)"
+     " is already given by [friction.0]"),
+    (("coefficient = 0.1", "coefficient = -0.1"),
+     "[friction.1] coefficient = -0.1: must be >= 0"),
+    (("coefficient = 0.1", "coefficent = 0.1"),
+     "unknown key [friction.1] coefficent (allowed: species, against,"
+     " coefficient)"),
+])
+def test_bad_input_is_refused_in_one_line(tmp_path, change, expected):
+    old, new = change
+    assert old in MIXTURE
+    assert expected in error_of(tmp_path, MIXTURE.replace(old, new, 1))
+
+
+def test_a_wall_given_twice_for_a_species_is_refused(tmp_path):
+    text = MIXTURE + ('[[friction]]\nspecies = "hard"\nagainst = "right"\n'
+                      "coefficient = 0.2\n")
+    assert ("[friction.2] species = 'hard', against = 'right': the pair"
+            " (hard, right) is already given by [friction.1]"
+            in error_of(tmp_path, text))
+
+
+def test_a_species_named_like_a_wall_is_refused(tmp_path):
+    text = MIXTURE.replace('name = "soft"', 'name = "left"').replace(
+        'species = "soft"', 'species = "left"')
+    assert "'left' names both a species and a wall" in error_of(tmp_path, text)
