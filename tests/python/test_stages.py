@@ -191,6 +191,7 @@ def test_a_stage_that_cannot_meet_its_criterion_ends_the_run(tmp_path):
     log = "".join(p.read_text() for p in out.glob("*.log"))
     assert 'stage 0 "settle" reached its max_time' in log
     assert "the run ends incomplete" in log
+    assert "WARNING: incomplete: the run ended in stage 0 'settle'" in log
 
 
 def test_a_run_continued_from_a_state_inside_a_stage_is_the_same(

@@ -33,6 +33,8 @@ import subprocess
 from pathlib import Path
 
 PART = "raw.part"
+#: The driver's stage record beside raw/state.bin (runs with [[stages]])
+STAGE_RECORD = "state.stage.json"
 #: Per-step files of the raw output: ``DIR/step_NNNNNNNN.*``.
 STEP_DIRS = ("contacts", "failed_contact_problems")
 
@@ -69,6 +71,10 @@ def prepare_resume(out: Path, config, run_error) -> int:
                         " or [output] state = false); start it again")
     state = out / "resume-state.bin"
     shutil.copyfile(part / "state.bin", state)
+    # A run with [[stages]] keeps its stage beside the state (the driver's
+    # stage record, S.stage.json next to S.bin).
+    if (part / STAGE_RECORD).is_file():
+        shutil.copyfile(part / STAGE_RECORD, out / "resume-state.stage.json")
     try:
         step = state_step(state)
     except ValueError as err:
@@ -107,6 +113,7 @@ def finish_resume(out: Path) -> None:
     merge_raw(part, out / "raw", into_new=True)
     shutil.rmtree(part)
     (out / "resume-state.bin").unlink(missing_ok=True)
+    (out / "resume-state.stage.json").unlink(missing_ok=True)
 
 
 def merge_raw(old: Path, new: Path, into_new=False) -> None:
@@ -126,7 +133,7 @@ def merge_raw(old: Path, new: Path, into_new=False) -> None:
     if into_new:
         shutil.copyfile(old / "setup.json", new / "setup.json")
     else:
-        for name in ("state.bin", "done.json"):
+        for name in ("state.bin", STAGE_RECORD, "done.json"):
             if (new / name).exists():
                 shutil.copyfile(new / name, old / name)
 

@@ -479,6 +479,11 @@ def _say_checks(finish: dict, say) -> None:
     solves stopped unconverged, and the output steps whose bodies overlapped
     by more than ``contact.alert_distance`` (the driver's independent check).
     """
+    if finish.get("complete", True) is False:
+        say(f"WARNING: incomplete: the run ended in stage"
+            f" {finish.get('stage', '?')} '{finish.get('stage_name', '?')}'"
+            f" (of {finish.get('stages', '?')}) before its stop criterion:"
+            f" {finish.get('reason', '?')} (raw/done.json complete = false)")
     if finish.get("converged", True) is False:
         say(f"WARNING: marked as not converged:"
             f" {finish.get('newton_unconverged_steps', '?')} steps with"
