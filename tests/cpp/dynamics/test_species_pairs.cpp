@@ -20,7 +20,7 @@ constexpr double rho = 1180, width = 0.02, height = 0.005;
 bodies::BodyMaterial material(const char* law, double mu, double density)
 {
   return {&forms::find_material(law), bodies::plane_strain_parameters(mu),
-          density, law};
+          density, false, law};
 }
 
 /// Uniform body force per unit mass (gx, gy) on body b, lumped.
