@@ -114,9 +114,14 @@ def shape_distributions(runs, path) -> list[str]:
         if not h5.is_file():
             messages.append(f"shape_distributions: {h5} missing; skipped")
             continue
-        times = stored_times(h5)
-        for time, style in ((times[0], "first"), (times[-1], "last")):
-            s = shapes_at(h5, time)
+        try:
+            times = stored_times(h5)
+            snaps = [shapes_at(h5, t) for t in (times[0], times[-1])]
+        except (OSError, KeyError) as err:
+            messages.append(f"shape_distributions: cannot read {h5}: {err};"
+                            " skipped")
+            continue
+        for s in snaps:
             phi = float(np.interp(s["time"], run.series["time"],
                                   run.series["phi"]))
             oriented = np.isfinite(s["orientation"])
