@@ -190,6 +190,25 @@ def test_run_with_real_mesh(tmp_path, fake_bin, capsys):
     assert s["eps"][0] == 0 and s["eps"][-1] > 0.1
 
 
+def test_scene_error_names_the_file_and_the_key(tmp_path, fake_bin,
+                                                fake_mesh, capsys):
+    """A packing the box cannot give is refused naming the TOML file (not
+    "packing:") and the key, before the driver runs."""
+    pytest.importorskip("gmsh")  # the disk templates are meshed first
+    bad = tmp_path / "too_full.toml"
+    bad.write_text(SMALL.read_text().replace(
+        "seed = 0", "seed = 0\ninitial_packing_fraction = 0.5"))
+    out = tmp_path / "out"
+    assert run.main([str(bad), "--out", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert f"softpack run: {bad}: [packing] initial_packing_fraction = 0.5" \
+        in err
+    assert "[box] length" in err  # and the key that would make it right
+    assert not (out / "driver.json").exists()
+    assert not (out / "series.csv").exists()
+    assert "scene failed" in (out / "run.log").read_text()
+
+
 def test_refuses_complete_run_unless_forced(tmp_path, fake_bin, fake_mesh,
                                             capsys):
     out = tmp_path / "out"

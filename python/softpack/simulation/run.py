@@ -390,7 +390,9 @@ def _run_logged(config, out, initial_state, log, say) -> int:
     try:
         scene = build_scene(config, out / "mesh" / "packing")
     except PackingError as err:
-        raise RunError(f"packing: {err}") from None
+        # the scene's messages name the keys; the file is the run's config
+        say(f"scene failed: {err}")
+        raise RunError(f"{config.source}: {err}") from None
     reclaim_signals()
     phi0 = scene.packing.packing_fraction
     say(f"packing: {scene.packing.n_particles} particles, seed"
