@@ -176,8 +176,21 @@ def test_out_of_range(tmp_path, text, expected):
      " species small"),
     ("[stop]\npacking_fraction = 0.7\n", "the particles fill 0.748 of"
      " the box: must be < [stop] packing_fraction = 0.7"),
-    ("[box]\nwidth = 0.03\n", "[[species]] diameter = 0.03 (species large):"
-     " must be < 0.0298 m"),
+    ("[box]\nwidth = 0.03\n", "[species.1] (species 'large') diameter ="
+     " 0.03: must be < 0.0298 m"),
+    # a distribution's bound is named by the key the user wrote
+    ("[box]\nwidth = 0.08\n[[species]]\ndistribution = \"lognormal\"\n"
+     "diameter = 0.03\nsigma = 0.1\ndiameter_max = 0.1\ncount = 2\n",
+     "[species.0] (species 'species0') diameter_max = 0.1: must be <"
+     " 0.0798 m"),
+    ("[[species]]\ndistribution = \"uniform\"\ndiameter_min = 0.001\n"
+     "diameter_max = 0.03\ncount = 2\n[mesh]\nelement_size = 0.001\n",
+     "D = 0.001 m from [species.0] diameter_min = 0.001)"),
+    ("[box]\nwidth = 0.08\n[[species]]\ndistribution = \"lognormal\"\n"
+     "diameter = 0.03\nsigma = 0.4\ncount = 2\n",
+     "[species.0] (species 'species0') diameter = 0.03, sigma = 0.4"
+     " (lognormal without diameter_max: its 1 - 1e-4 quantile, 0.1328 m):"
+     " must be < 0.0798 m"),
     ("[time]\ntime_step = 0.005\n", "[time] time_step = 0.005: must be <="
      " 0.002 s ([contact] alert_distance / the speed of [walls.right]"),
     ("[contact]\nnlgs_tolerance = 1e-4\n", "[contact] nlgs_tolerance ="

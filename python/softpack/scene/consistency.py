@@ -80,7 +80,8 @@ def _check_particles(sections) -> None:
         species_sizes.check(sections["species"])
     except ValueError as err:
         raise Inconsistent(str(err)) from None
-    smallest = min(used, key=lambda s: species_sizes.size_bounds(s)[0])
+    k = _extreme(sections["species"], 0)
+    smallest = sections["species"][k]
     d_min = species_sizes.size_bounds(smallest)[0]
     h = sections["mesh"]["element_size"]
     h_max = math.pi * d_min / MIN_BOUNDARY_ELEMENTS
@@ -88,7 +89,16 @@ def _check_particles(sections) -> None:
         raise Inconsistent(
             f"[mesh] element_size = {h!r}: must be <= {h_max:.4g} m (at least"
             f" {MIN_BOUNDARY_ELEMENTS} elements around the smallest particle,"
-            f" species {smallest['name']}, D = {d_min:g} m)")
+            f" species {smallest['name']}, D = {d_min:g} m from [species.{k}]"
+            f" {species_sizes.size_bound_keys(smallest, 'min')})")
+
+
+def _extreme(species, end) -> int:
+    """The index of the present species with the smallest (``end`` 0) or
+    largest (1) diameter bound."""
+    used = [k for k, s in enumerate(species) if int(s["count"]) > 0]
+    pick = min if end == 0 else max
+    return pick(used, key=lambda k: species_sizes.size_bounds(species[k])[end])
 
 
 def _check_box(sections) -> None:
@@ -105,15 +115,15 @@ def _check_box(sections) -> None:
                 "[[species]] count: without a box the scene holds one"
                 " particle, at the origin (the random packing needs a box)")
         return
-    used = present(sections["species"])
-    largest = max(used, key=lambda s: species_sizes.size_bounds(s)[1])
+    k = _extreme(sections["species"], 1)
+    largest = sections["species"][k]
     d_max = species_sizes.size_bounds(largest)[1]
     room = min(box["length"], box["width"]) - 2 * sections["packing"]["gap"]
     if d_max >= room:
         raise Inconsistent(
-            f"[[species]] diameter = {d_max!r} (species"
-            f" {largest['name']}): must be < {room:g} m (the box's shorter"
-            " side minus twice [packing] gap)")
+            f"[species.{k}] (species {largest['name']!r})"
+            f" {species_sizes.size_bound_keys(largest, 'max')}: must be <"
+            f" {room:g} m (the box's shorter side minus twice [packing] gap)")
     phi0 = initial_packing_fraction(sections)
     limit = min(target, HEXAGONAL_FRACTION) if target > 0 \
         else HEXAGONAL_FRACTION

@@ -95,6 +95,29 @@ def bounds(spec) -> tuple[float, float]:
     return spec["diameter"], spec["diameter"]
 
 
+def bound_keys(spec, end) -> str:
+    """The keys behind :func:`bounds`' ``end`` ("min" or "max") as a
+    message names them, with their values: the key the user wrote
+    (``diameter_max = 0.03``), not the diameter it bounds.
+    """
+    kind, low_end = spec["distribution"], end == "min"
+    key = f"diameter_{end}"
+    if kind == "uniform" or (kind == "lognormal" and spec[key]):
+        return f"{key} = {spec[key]!r}"
+    if kind == "list" and spec["diameters"]:
+        pick = min if low_end else max
+        return (f"diameters = {spec['diameters']!r} (the"
+                f" {'smallest' if low_end else 'largest'},"
+                f" {pick(spec['diameters'])!r})")
+    if kind == "lognormal":  # the quantile of bounds()
+        value = bounds(spec)[0 if low_end else 1]
+        return (f"diameter = {spec['diameter']!r}, sigma ="
+                f" {spec['sigma']!r} (lognormal without {key}: its"
+                f" {'1e-4' if low_end else '1 - 1e-4'} quantile, {value:.4g}"
+                " m)")
+    return f"diameter = {spec['diameter']!r}"
+
+
 def mean_square(spec) -> float:
     """The expected D^2 of one particle (m^2): area = pi/4 of it."""
     kind = spec["distribution"]

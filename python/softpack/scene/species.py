@@ -85,6 +85,12 @@ def size_bounds(spec) -> tuple[float, float]:
     return distributions.bounds(_sized(spec))
 
 
+def size_bound_keys(spec, end) -> str:
+    """The keys behind :func:`size_bounds` (``end`` "min" or "max"), for
+    messages (:func:`.distributions.bound_keys`)."""
+    return distributions.bound_keys(_sized(spec), end)
+
+
 def total_area(species) -> float:
     """Area of all the particles (m^2): every shape's area is pi D^2 / 4
     of its equal-area diameter; the expected area for a random
