@@ -60,6 +60,28 @@ def test_the_walls_mass_is_the_particles_mass():
     assert again["walls"] == c["walls"]
 
 
+def test_the_walls_mass_counts_each_species_density():
+    """Two species of equal size, one of a material four times denser: the
+    servo wall's mass is 1 x + 4 x their area, not [material]'s density
+    times all of it."""
+    c = cfg.validate({
+        "walls": {"top": {"control": "force", "force": 10.0}},
+        "stop": {"max_time": 0.1},
+        "material": {"density": 1000.0},
+        "materials": {"heavy": {"density": 4000.0}},
+        "species": [{"name": "light", "diameter": 0.02, "count": 10},
+                    {"name": "dense", "diameter": 0.02, "count": 10,
+                     "material": "heavy"}]}, "a.toml")
+    half = 10 * np.pi * 0.02**2 / 4  # each species' area (m^2)
+    assert c["walls"]["top"]["mass"] == pytest.approx(5000.0 * half)
+    assert c["walls"]["top"]["mass"] != pytest.approx(2000.0 * half)
+    # a mass the file gives is kept
+    c = cfg.validate({"walls": {"top": {"control": "force", "force": 1.0,
+                                        "mass": 0.5}},
+                      "stop": {"max_time": 0.1}}, "a.toml")
+    assert c["walls"]["top"]["mass"] == 0.5
+
+
 @pytest.fixture(scope="module")
 def servo_run(tmp_path_factory):
     try:

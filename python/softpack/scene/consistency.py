@@ -15,7 +15,7 @@ import math
 from softpack.scene.mesh import MIN_BOUNDARY_ELEMENTS
 from softpack.scene.packing import HEXAGONAL_FRACTION
 from softpack.scene import species as species_sizes
-from softpack.scene.species import present, total_area
+from softpack.scene.species import present, total_area, total_mass
 from softpack.scene.walls import (scene_walls, fastest, check_controls,
                                   derive_masses)
 #: The Newton tolerance over the contact solver's: at least this.
@@ -38,8 +38,7 @@ def derive(sections) -> None:
     contact = sections["contact"]
     if contact["delassus_drop_tolerance"] is None:
         contact["delassus_drop_tolerance"] = 1e-3 * contact["nlgs_tolerance"]
-    derive_masses(sections["walls"], sections["material"]["density"]
-                  * total_area(sections["species"]))
+    derive_masses(sections["walls"], total_mass(sections))
     stop = sections["stop"]
     if stop["max_time"] is None:
         wall = fastest(scene_walls(sections))

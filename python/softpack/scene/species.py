@@ -99,6 +99,22 @@ def total_area(species) -> float:
                * distributions.mean_square(_sized(s)) for s in species)
 
 
+def total_mass(sections) -> float:
+    """The particles' mass per unit length (kg/m): each species' area
+    (:func:`total_area`) times the density of its material, the
+    ``[materials.NAME]`` it names or else ``[material]``."""
+    return sum(material_of(s, sections)["density"] * total_area([s])
+               for s in sections["species"])
+
+
+def material_of(spec, sections) -> dict:
+    """A species' material table: ``[materials.NAME]`` for ``material =
+    "NAME"``, ``[material]`` when it names none (checked by
+    :func:`check_materials`)."""
+    name = spec.get("material", "")
+    return sections["materials"][name] if name else sections["material"]
+
+
 def present(species) -> list:
     """The species with at least one particle."""
     return [s for s in species if int(s["count"]) > 0]
