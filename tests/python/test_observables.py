@@ -1,5 +1,6 @@
 """The paper's observables on small hand-built raw outputs (no C++ needed)."""
 
+import json
 import math
 
 import numpy as np
@@ -310,3 +311,37 @@ def test_seed_csvs_regenerate_the_paper_tables(tmp_path):
             "fig6_energy.png"} <= names
     table = (tmp_path / "out" / "exclusion_table.md").read_text()
     assert table.count("| piston_force |") == 2
+
+
+def test_seed_groups_separate_element_sizes_and_read_old_indexes(tmp_path):
+    """A mesh study (same Phi0, two element sizes) gives two groups; an
+    index written before element_size was a column reads as the paper's
+    mesh, and exporting into it fills the column in."""
+    from softpack.plots import paper_seeds
+
+    default = paper_seeds.default_element_size()
+    runs = []
+    for name, h in (("coarse", default), ("fine", default / np.sqrt(2))):
+        run = tmp_path / name
+        run.mkdir()
+        write_fake_run(run, n_steps=3)
+        doc = json.loads((run / "raw" / "setup.json").read_text())
+        doc["scene"]["mesh"]["element_size"] = h
+        (run / "raw" / "setup.json").write_text(json.dumps(doc))
+        obs.process_run(run)
+        runs.append(run)
+    seeds = tmp_path / "seeds"
+    paper_seeds.export_seeds(runs, seeds)
+    labels = sorted(paper_seeds.load_seeds(seeds))
+    phi0 = labels[0]
+    assert labels == [phi0, f"{phi0}, h = {default / np.sqrt(2) * 1e3:.3g} mm"]
+    index = seeds / "runs.csv"
+    lines = index.read_text().splitlines()
+    old = [",".join(line.split(",")[:-1]) for line in lines]
+    index.write_text("\n".join(old) + "\n")  # the 8-column layout
+    assert {s.element_size for g in paper_seeds.load_seeds(seeds).values()
+            for s in g} == {default}
+    paper_seeds.export_seeds(runs[1:], seeds)
+    assert all(len(line.split(",")) == len(paper_seeds.RUN_COLUMNS)
+               for line in index.read_text().splitlines())
+    assert len(paper_seeds.load_seeds(seeds)) == 2

@@ -68,6 +68,8 @@ class RunSetup:
         Each body's reference area (m^2).
     diameters : ndarray, shape (n,)
         Each body's species diameter (m).
+    element_size : float
+        ``[mesh] element_size`` of the run (m).
     notes : tuple of str
         What could not be read and why.
     """
@@ -85,6 +87,7 @@ class RunSetup:
     body_species: np.ndarray
     reference_area: np.ndarray
     diameters: np.ndarray
+    element_size: float = math.nan
     notes: tuple = field(default=())
 
     @property
@@ -205,7 +208,10 @@ def _from_document(path, doc) -> RunSetup:
         friction=float(doc["parameters"]["contact"]["friction"]),
         seed=int(scene["packing"]["seed"]), species=species,
         body_species=species_of, reference_area=reference_area,
-        diameters=diameters, notes=tuple(notes))
+        diameters=diameters,
+        element_size=float(scene.get("mesh", {}).get("element_size",
+                                                      math.nan)),
+        notes=tuple(notes))
 
 
 def read_rules(run_dir) -> Rules:

@@ -49,7 +49,7 @@ PAPER_LENGTH = 0.286
 #: Packing fractions of the summary table.
 SUMMARY_PHIS = (0.80, 0.84, 0.88)
 RUN_COLUMNS = ("name", "seed", "phi0", "length", "width", "thickness",
-               "shear_modulus", "friction")
+               "shear_modulus", "friction", "element_size")
 
 
 def reading_column(reference, excluded, threshold) -> str:
@@ -104,7 +104,9 @@ def export_seeds(run_dirs, seed_dir) -> list[Path]:
     seed_dir = Path(seed_dir)
     seed_dir.mkdir(parents=True, exist_ok=True)
     index = seed_dir / "runs.csv"
-    rows = _read_index(index)
+    rows = {name: values + [default_element_size()] * (len(RUN_COLUMNS) - 1
+                                                       - len(values))
+            for name, values in _read_index(index).items()}
     written = []
     for run_dir in map(Path, run_dirs):
         columns, setup = seed_columns(run_dir)
@@ -116,7 +118,8 @@ def export_seeds(run_dirs, seed_dir) -> list[Path]:
                      / (setup.length * setup.width))
         rows[run_dir.name] = [setup.seed, phi0,
                               setup.length, setup.width, setup.thickness,
-                              setup.shear_modulus, setup.friction]
+                              setup.shear_modulus, setup.friction,
+                              setup.element_size]
     lines = [",".join(RUN_COLUMNS)] + [
         ",".join([name, *(repr(v) for v in values)])
         for name, values in sorted(rows.items())]
@@ -150,6 +153,7 @@ class Seed:
     thickness: float
     shear_modulus: float
     series: dict
+    element_size: float = float("nan")
 
     def at(self, column, phi) -> float:
         """``column`` where Phi first reaches ``phi`` (linear between rows);
@@ -164,16 +168,37 @@ class Seed:
 
 
 def load_seeds(seed_dir) -> dict:
-    """``{phi0 label: [Seed, ...]}`` from ``SEEDDIR/runs.csv``."""
+    """``{group label: [Seed, ...]}`` from ``SEEDDIR/runs.csv``: runs are
+    grouped by Phi0 and element size (:func:`group_label`); an index
+    written before ``element_size`` was a column holds runs at the schema's
+    default size."""
     seed_dir = Path(seed_dir)
     groups = {}
     for name, values in _read_index(seed_dir / "runs.csv").items():
-        seed, phi0, length, width, thickness, mu, _ = values
+        seed, phi0, length, width, thickness, mu, _ = values[:7]
+        h = values[7] if len(values) > 7 else default_element_size()
         series = read_table(seed_dir / f"{name}.csv")
-        s = Seed(name, int(seed), phi0, length, width, thickness, mu, series)
-        groups.setdefault(f"{phi0:.3f}", []).append(s)
+        s = Seed(name, int(seed), phi0, length, width, thickness, mu, series,
+                 h)
+        groups.setdefault(group_label(phi0, h), []).append(s)
     return {k: sorted(v, key=lambda s: s.seed)
             for k, v in sorted(groups.items())}
+
+
+def default_element_size() -> float:
+    """``[mesh] element_size``'s default: the paper's mesh (m)."""
+    from softpack.scene.schema import load_schema
+
+    return float(load_schema()["mesh"].parameters["element_size"].default)
+
+
+def group_label(phi0, element_size) -> str:
+    """``0.748``, or ``0.748, h = 0.753 mm`` off the paper's mesh (an
+    unknown size, NaN, is not marked)."""
+    if not np.isfinite(element_size) or np.isclose(
+            element_size, default_element_size(), rtol=1e-6):
+        return f"{phi0:.3f}"
+    return f"{phi0:.3f}, h = {element_size * 1e3:.3g} mm"
 
 
 def energy(seed, phi) -> float:
