@@ -72,7 +72,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import curve_fit
 
-from softpack.analysis.fits import _block_weights
+from softpack.analysis.fits import FitOutcome, _block_weights
 
 #: Upper bound of Phi_max in the optimiser (a fit there is refused).
 _PHI_MAX_BOUND = 1.5
@@ -111,7 +111,7 @@ class CompactionSettings:
 
 
 @dataclass(frozen=True)
-class CompactionFit:
+class CompactionFit(FitOutcome):
     """The law's parameters with their uncertainties, or why there are none.
 
     Attributes
@@ -138,15 +138,10 @@ class CompactionFit:
     pressure_max: float
     runs: tuple = field(default=())
 
-    @property
-    def ok(self) -> bool:
-        """Whether the parameters are reported."""
-        return not self.reason
+    SUBJECT = "compaction law"
 
-    def summary(self) -> str:
-        """One line with the values and errors, or why there is no fit."""
-        if not self.ok:
-            return f"no compaction law: {self.reason}"
+    def _reported(self) -> str:
+        """The three parameters with their errors, and how."""
         v, e = self.values, self.errors
         return (f"Phi_max = {v['phi_max']:.4f} +- {e['phi_max']:.4f}, "
                 f"Phi_0 = {v['phi_0']:.4f} +- {e['phi_0']:.4f}, "

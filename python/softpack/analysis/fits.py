@@ -65,8 +65,34 @@ class FitSettings:
     seed: int = 0
 
 
+class FitOutcome:
+    """What every fit's result shares: ``reason`` (empty when the fit is
+    reported), :attr:`ok`, and a :meth:`summary` that says why not.
+
+    A subclass (a frozen dataclass) sets ``SUBJECT``, what is fitted, and
+    ``_reported``, the one line of the values it reports.
+    """
+
+    SUBJECT = "fit"
+    reason: str
+
+    @property
+    def ok(self) -> bool:
+        """Whether the fit is reported."""
+        return not self.reason
+
+    def summary(self) -> str:
+        """One line with the values and errors, or why there is no fit."""
+        if not self.ok:
+            return f"no {self.SUBJECT}: {self.reason}"
+        return self._reported()
+
+    def _reported(self) -> str:
+        raise NotImplementedError
+
+
 @dataclass(frozen=True)
-class TransitionFit:
+class TransitionFit(FitOutcome):
     """Phi_T of Eq. 14 with its uncertainty, or why there is none.
 
     Attributes
@@ -92,15 +118,10 @@ class TransitionFit:
     points_above: int
     runs: tuple = field(default=())
 
-    @property
-    def ok(self) -> bool:
-        """Whether Phi_T is reported."""
-        return not self.reason
+    SUBJECT = "Phi_T"
 
-    def summary(self) -> str:
-        """One line: ``Phi_T = 0.7912 +- 0.0031 (how)`` or why no fit."""
-        if not self.ok:
-            return f"no Phi_T: {self.reason}"
+    def _reported(self) -> str:
+        """``Phi_T = 0.7912 +- 0.0031 (how)``."""
         return (f"Phi_T = {self.phi_t:.4f} +- {self.error:.4f}"
                 f" ({self.method})")
 
