@@ -32,6 +32,7 @@ from softpack.analysis import dic
 from softpack.analysis import fields as fields_io
 from softpack.analysis.setup import read_setup
 from softpack.analysis.tables import write_table
+from softpack.plots import write_figure
 
 #: Packing fractions at which the summary states E_DIC / E_FE.
 SUMMARY_PHI = (0.80, 0.84, 0.88)
@@ -99,9 +100,7 @@ def plot_energy(series, path) -> None:
     bx.axhline(1.0, color="0.5", lw=0.8)
     bx.set_xlabel("$\\Phi$")
     bx.set_ylabel("$\\mathcal{E}_{DIC}/\\mathcal{E}_{FE}$")
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    write_figure(fig, path)
 
 
 def plot_i1_pdf(run_dir, picks, path) -> list[str]:
@@ -135,9 +134,7 @@ def plot_i1_pdf(run_dir, picks, path) -> list[str]:
     ax.set_xlabel("$I_1$ (Eq. 13)")
     ax.set_ylabel("$P(I_1)$")
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    write_figure(fig, path)
     return lines
 
 

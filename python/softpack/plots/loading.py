@@ -37,6 +37,7 @@ from softpack.analysis import compaction_law
 from softpack.analysis.stress import NAME as STRESS_NAME
 from softpack.analysis.tables import read_table
 from softpack.cli import positive_float
+from softpack.plots import write_figure
 
 ESTIMATES = ("wall", "contact", "fe")
 LABELS = {"wall": "walls", "contact": "Love-Weber (contacts)",
@@ -62,10 +63,7 @@ def _save(fig, ax, xlabel, ylabel, path) -> str:
     ax.set_ylabel(ylabel)
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    import matplotlib.pyplot as plt
-    plt.close(fig)
+    write_figure(fig, path)
     return str(path)
 
 

@@ -44,6 +44,7 @@ from softpack.analysis import fits
 from softpack.analysis.fields import read_snapshot
 from softpack.analysis.setup import SetupError, read_setup
 from softpack.analysis.tables import read_table
+from softpack.plots import write_figure
 
 #: Packing fractions of the paper's snapshots (Fig. 7).
 SNAPSHOT_PHIS = (0.78, 0.83, 0.88)
@@ -175,15 +176,11 @@ def plot_curves(groups, x_name, y_name, xlabel, ylabel, path, extra=None):
 
 def _save(fig, ax, xlabel, ylabel, path, legend_size):
     """Label, grid and legend one plot, write it as PNG and close it."""
-    import matplotlib.pyplot as plt
-
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=legend_size)
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    write_figure(fig, path)
     return path
 
 
@@ -280,8 +277,7 @@ def _draw_snapshots(run, picks, snaps, path) -> None:
     fig.colorbar(image, ax=axes[0].tolist(),
                  label="Psi / mu" if has_mu else "Psi (Pa)", shrink=0.8)
     fig.suptitle(f"mu_f = {run.friction:g}, seed {run.seed}", fontsize=9)
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    write_figure(fig, path, tight=False)
 
 
 def snapshot_run(groups) -> Run:

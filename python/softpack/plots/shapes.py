@@ -44,6 +44,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softpack.plots import write_figure
+
 #: Packing fractions of summary.csv.
 SUMMARY_PHIS = (0.70, 0.75, 0.80, 0.83, 0.85, 0.88)
 
@@ -94,9 +96,7 @@ def _curves(runs, x_name, y_name, xlabel, ylabel, path):
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    write_figure(fig, path)
 
 
 def shape_distributions(runs, path) -> list[str]:
@@ -147,9 +147,7 @@ def shape_distributions(runs, path) -> list[str]:
         for ax in axes[:, col]:
             ax.set_ylabel("particles")
             ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    write_figure(fig, path)
     return messages
 
 
@@ -206,9 +204,7 @@ def plates_figures(directories, out) -> None:
         axes[1, col].axhline(0, color="k", lw=0.5)
         axes[1, col].set_ylabel("softpack / dolfinx - 1 (%)")
         axes[1, col].set_xlabel("eps = -ln(1 - delta / H0)")
-    fig.tight_layout()
-    fig.savefig(Path(out) / "plates_force.png", dpi=150)
-    plt.close(fig)
+    write_figure(fig, Path(out) / "plates_force.png")
     rows = refinement(directories)
     lines = [",".join(rows[0])]
     for row in rows:

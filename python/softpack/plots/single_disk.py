@@ -17,6 +17,7 @@ import sys
 import numpy as np
 
 from softpack.analysis.tables import read_table
+from softpack.plots import write_figure
 
 FORCE_FILES = (  # file, label, style (2D: markers, 3D: lines)
     ("force_2d.csv", "2D plane strain, nu = 1/3", dict(ls="none", marker="^", mfc="none")),
@@ -47,13 +48,9 @@ def _load(directory, files, used, missing):
 
 def _save(fig, ax, title, out):
     """Legend and title, then write the PNG and close the figure."""
-    import matplotlib.pyplot as plt
-
     ax.legend(fontsize=7, loc="upper left")
     ax.set_title(title, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=150)
-    plt.close(fig)
+    write_figure(fig, out)
 
 
 def plot_force(curves, out):
