@@ -34,7 +34,7 @@ def fake_run(directory, friction, seed, phi_t=0.79, fields=False, top=0.17):
     write_table(directory / "series.csv", series, SERIES_COLUMNS)
     if fields:
         pytest.importorskip("h5py")
-        write_fields(directory / "fields.h5", times=eps[::10])
+        write_fields(directory / "fields.h5", times=eps)
     return directory
 
 
@@ -93,6 +93,17 @@ def test_missing_fields_skip_fig7(tmp_path, capsys):
     assert (out / "fig4_phi_eps.png").read_bytes().startswith(PNG)
     assert not (out / "fig7_snapshots.png").exists()
     assert "fields.h5 missing" in capsys.readouterr().out
+
+
+def test_fig7_refuses_a_frame_far_from_the_phi_asked(tmp_path, capsys):
+    """A fields.h5 that only holds the start (e.g. a resumed run without
+    its fields.part.h5) must not be drawn under the labels of later Phi."""
+    run = fake_run(tmp_path / "run", 0.3, 0)
+    write_fields(run / "fields.h5", times=[0.0])
+    assert plots.main([str(run)]) == 0
+    assert not (run / "figures" / "fig7_snapshots.png").exists()
+    assert "no frame within 0.01; no frame near Phi = 0.780" in \
+        capsys.readouterr().out
 
 
 def test_incomplete_runs_are_skipped(tmp_path, capsys):

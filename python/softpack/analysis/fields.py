@@ -16,11 +16,19 @@ module does not read it); in the HDF5 file:
     ``particle`` (the body id of each cell, ``(m, 1)``).
 
 Function names are matched without regard to case.
+
+A resumed run (``./softpack run --resume``, :mod:`softpack.simulation.resume`)
+keeps the frames of its killed part in ``fields.part.h5`` beside the
+resumed driver's ``fields.h5``; every reader here takes the path of
+``fields.h5`` and reads the frames of both (at a time stored in both, the
+resumed driver's).
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -81,6 +89,38 @@ def _function_group(f, name, path):
     return f["Function"][names[name.lower()]]
 
 
+def _sources(path) -> list[Path]:
+    """``[fields.part.h5, fields.h5]`` of a resumed run, else ``[path]``.
+
+    A killed part that HDF5 cannot open (written by a driver that did not
+    flush its frames) is left out with a warning: the resumed frames are
+    still read.
+    """
+    path = Path(path)
+    part = path.with_name(f"{path.stem}.part{path.suffix}")
+    if not (part.is_file() and path.is_file()):
+        return [path]
+    try:
+        _h5py().File(part, "r").close()
+    except OSError as err:
+        warnings.warn(f"{part}: unreadable ({err}); its frames (the killed"
+                      " part of a resumed run) are left out", stacklevel=3)
+        return [path]
+    return [part, path]
+
+
+def _source_of(path, name, time) -> tuple[Path, float]:
+    """The file holding function ``name`` at the stored time nearest
+    ``time`` over :func:`_sources`, and that time."""
+    best = None
+    for source in _sources(path):
+        with _h5py().File(source, "r") as f:
+            for t in _times(_function_group(f, name, source)):
+                if best is None or abs(t - time) <= abs(best[1] - time):
+                    best = (source, t)  # later files win a tie
+    return best
+
+
 def _times(group) -> dict:
     """``{stored time: key}`` of a function group."""
     return {float(key.replace("_", ".")): key for key in group}
@@ -96,8 +136,11 @@ def read_mesh(path):
 
 def stored_times(path, name=DISPLACEMENT) -> np.ndarray:
     """The times at which function ``name`` is stored, ascending."""
-    with _h5py().File(path, "r") as f:
-        return np.array(sorted(_times(_function_group(f, name, path))))
+    times = set()
+    for source in _sources(path):
+        with _h5py().File(source, "r") as f:
+            times.update(_times(_function_group(f, name, source)))
+    return np.array(sorted(times))
 
 
 def read_function(path, name, time):
@@ -109,8 +152,9 @@ def read_function(path, name, time):
         The values (``(n, 2)`` for a vector function, its in-plane part;
         ``(m,)`` for a cell function) and the stored time read.
     """
-    with _h5py().File(path, "r") as f:
-        return _read_at(_function_group(f, name, path), time)
+    source, stored = _source_of(path, name, time)
+    with _h5py().File(source, "r") as f:
+        return _read_at(_function_group(f, name, source), stored)
 
 
 def _read_at(group, time):
@@ -130,6 +174,7 @@ def read_snapshot(path, time) -> Snapshot:
     KeyError
         When the file has no mesh or no displacement.
     """
+    path, time = _source_of(path, DISPLACEMENT, time)
     with _h5py().File(path, "r") as f:
         mesh = _mesh_group(f, path)
         u, stored = _read_at(_function_group(f, DISPLACEMENT, path), time)
@@ -156,7 +201,10 @@ def read_displacements(path):
     list of (float, ndarray)
         ``(time, u (n, 2))`` in ascending time.
     """
-    with _h5py().File(path, "r") as f:
-        group = _function_group(f, DISPLACEMENT, path)
-        return [(t, np.asarray(group[key])[:, :2])
-                for t, key in sorted(_times(group).items())]
+    frames = {}
+    for source in _sources(path):  # the resumed driver's frames last
+        with _h5py().File(source, "r") as f:
+            group = _function_group(f, DISPLACEMENT, source)
+            frames.update((t, np.asarray(group[key])[:, :2])
+                          for t, key in _times(group).items())
+    return sorted(frames.items(), key=lambda item: item[0])

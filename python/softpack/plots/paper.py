@@ -229,11 +229,12 @@ def plot_snapshots(run: Run, path) -> str:
         return f"fig7: {h5} missing (run with [output] fields = true); skipped"
     phi, time = run.series["phi"], run.series["time"]
     delta = run.series["piston_displacement"]
-    picks = []
+    picks, targets = [], []
     for target in SNAPSHOT_PHIS:
         k = int(np.nanargmin(np.abs(phi - target)))
         if abs(phi[k] - target) <= SNAPSHOT_TOLERANCE:
             picks.append((phi[k], time[k], run.length - delta[k]))
+            targets.append(target)
     if not picks:
         return (f"fig7: {run.path} never came within {SNAPSHOT_TOLERANCE}"
                 f" of Phi = {SNAPSHOT_PHIS}; skipped")
@@ -243,9 +244,23 @@ def plot_snapshots(run: Run, path) -> str:
         return f"fig7: cannot read {h5}: {err}; skipped"
     if any(snap.psi is None for snap in snaps):
         return f"fig7: {h5} has no Psi; skipped"
-    _draw_snapshots(run, picks, snaps, path)
+    # The frame drawn is the stored one nearest each pick: label it with
+    # its own Phi, and leave out a frame too far from the Phi asked for.
+    framed = [(float(np.interp(snap.time, time, phi)), snap.time,
+               run.length - float(np.interp(snap.time, time, delta)))
+              for snap in snaps]
+    near = [abs(p - target) <= SNAPSHOT_TOLERANCE
+            for (p, _, _), target in zip(framed, targets)]
+    far = "".join(f"; no frame near Phi = {target:.3f} (nearest {p:.3f})"
+                  for (p, _, _), target, ok in zip(framed, targets, near)
+                  if not ok)
+    if not any(near):
+        return f"fig7: {h5}: no frame within {SNAPSHOT_TOLERANCE}{far}; skipped"
+    picks = [f for f, ok in zip(framed, near) if ok]
+    _draw_snapshots(run, picks, [s for s, ok in zip(snaps, near) if ok],
+                    path)
     return (f"fig7: {run.path}, Phi = "
-            + ", ".join(f"{p:.3f}" for p, _, _ in picks))
+            + ", ".join(f"{p:.3f}" for p, _, _ in picks) + far)
 
 
 def _draw_snapshots(run, picks, snaps, path) -> None:
