@@ -2,7 +2,10 @@
 
 #include <cstdio>
 #include <fstream>
+#include <hdf5.h>
 #include <sstream>
+#include <stdexcept>
+#include <vector>
 
 namespace softpack::io
 {
@@ -19,6 +22,23 @@ std::string time_key(double t)
     if (c == '.')
       c = '_';
   return key;
+}
+
+/// Write every open HDF5 file's buffers and metadata to disk. dolfinx's
+/// XDMFFile keeps fields.h5 open for the whole run, and a file killed before
+/// its close is unreadable (HDF5's metadata lives in a cache): flushed after
+/// each frame, a killed run keeps the frames its fields.xdmf lists.
+void flush_open_hdf5_files()
+{
+  const ssize_t n = H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_FILE);
+  if (n <= 0)
+    return;
+  std::vector<hid_t> ids(static_cast<std::size_t>(n));
+  const ssize_t found =
+      H5Fget_obj_ids(H5F_OBJ_ALL, H5F_OBJ_FILE, ids.size(), ids.data());
+  for (ssize_t k = 0; k < found; ++k)
+    if (H5Fflush(ids[k], H5F_SCOPE_GLOBAL) < 0)
+      throw std::runtime_error("cannot flush fields.h5 to disk");
 }
 
 std::string data_item(const std::string& dims, const std::string& dataset,
@@ -50,6 +70,7 @@ FieldOutput::FieldOutput(MPI_Comm comm, const std::filesystem::path& directory,
 
   _file = std::make_unique<dolfinx::io::XDMFFile>(comm, _xdmf, "w");
   _file->write_mesh(*bodies.mesh());
+  flush_open_hdf5_files();
 }
 
 FieldOutput::~FieldOutput()
@@ -79,6 +100,7 @@ void FieldOutput::write(const bodies::BodySet& bodies, double t)
   _file->write_function(*u, t);
   _file->write_function(*_psi, t);
   _file->write_function(*_particle, t);
+  flush_open_hdf5_files();
   _times.push_back(t);
   write_xml();
 }

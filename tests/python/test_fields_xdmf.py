@@ -72,3 +72,56 @@ def test_later_steps_include_the_first_steps_mesh(fields_run):
     assert len(grids) == 3
     for grid in grids:
         assert [c.tag for c in grid][:2] == ["Topology", "Geometry"]
+
+
+def _driver_pid(parent) -> int:
+    """The softpack-simulate child of the ``softpack run`` process."""
+    children = Path(f"/proc/{parent}/task/{parent}/children").read_text()
+    for pid in map(int, children.split()):
+        if b"softpack-simulate" in Path(f"/proc/{pid}/cmdline").read_bytes():
+            return pid
+    raise AssertionError(f"no softpack-simulate under {parent}: {children}")
+
+
+def test_a_killed_driver_leaves_readable_frames(tmp_path):
+    """SIGKILL mid-run (no close of fields.h5): every frame fields.xdmf
+    lists is in fields.h5 and readable, since the driver flushes the file
+    after each frame (an unflushed HDF5 file is unreadable after a kill)."""
+    import re
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    try:
+        driver_executable()
+    except RunError:
+        pytest.skip("softpack-simulate is not built (run ./softpack test)")
+    out = tmp_path / "run"
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "python"))
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "softpack.cli", "run",
+         str(ROOT / "examples" / "small.toml"), "--out", str(out),
+         "--set", "output.fields_every=1", "--set", "stop.steps=100000",
+         "--set", "stop.packing_fraction=0"], env=env,
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    xdmf, deadline = out / "fields.xdmf", time.time() + 120
+    try:
+        while not (xdmf.is_file()
+                   and xdmf.read_text().count("<Time ") >= 3):
+            assert proc.poll() is None, proc.stderr.read()
+            assert time.time() < deadline, "no third frame in 120 s"
+            time.sleep(0.05)
+        os.kill(_driver_pid(proc.pid), signal.SIGKILL)
+        proc.wait(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    listed = [float(t) for t in
+              re.findall(r'<Time Value="([^"]+)"', xdmf.read_text())]
+    assert len(listed) >= 3
+    stored = fields.stored_times(out / "fields.h5")
+    assert set(listed) <= set(stored)
+    snap = fields.read_snapshot(out / "fields.h5", listed[-1])
+    assert snap.time == listed[-1] and np.isfinite(snap.displacement).all()
+    assert not (out / "raw" / "done.json").exists()
