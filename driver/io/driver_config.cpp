@@ -318,6 +318,7 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
     r.fail("stop.packing_fraction",
            "> 0 needs a box (scene.box.enabled): Phi is measured inside it");
   read_stages(r, doc.at("stages"), c);
+  c.stage_program = doc.at("stages");
   if (!c.stages.empty() && c.parameters.stop.packing_fraction > 0)
     r.fail("stop.packing_fraction",
            "must be 0 with stages (each stage has its own)");

@@ -79,6 +79,9 @@ struct DriverConfig
   double velocity_scale = 0;
   /// The loading stages, in order (empty: one stage from walls and stop)
   std::vector<Stage> stages;
+  /// driver.json's stages as given, once read and checked
+  /// (raw/setup.json: a run with stages describes its program)
+  nlohmann::json stage_program;
 };
 
 /// Parse and check a driver.json file: every key required, unknown keys

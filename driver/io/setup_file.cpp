@@ -58,6 +58,7 @@ json setup_json(const DriverConfig& config, const bodies::BodySet& bodies)
           {"materials", config.materials},
           {"friction", config.friction_pairs},
           {"walls", walls_json(config)},
+          {"stages", config.stage_program},
           {"parameters",
            {{"stop", parameters::to_json(p.stop)},
             {"contact", parameters::to_json(p.contact)},

@@ -10,9 +10,11 @@ namespace softpack::io
 
 /// The run's description for every later stage, raw/setup.json
 /// (docs/contract.md section 5): schema_version, units, scene and material
-/// (as driver.json gave them), the walls at t = 0, the parameters of each
-/// driver section, initial_state, and per body its species, reference area
-/// (from the boundary polygon), node and triangle counts.
+/// (as driver.json gave them), the walls at t = 0, the loading stages (each
+/// its name, wall drives and stop keys, as driver.json gave them; empty
+/// without stages), the parameters of each driver section, initial_state,
+/// and per body its species, reference area (from the boundary polygon),
+/// node and triangle counts.
 nlohmann::json setup_json(const DriverConfig& config,
                           const bodies::BodySet& bodies);
 

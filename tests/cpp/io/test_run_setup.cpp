@@ -87,6 +87,7 @@ TEST(RunSetup, SetupDescribesTheRunAndStepsStopIt)
   EXPECT_EQ(setup.at("scene"), doc.at("scene"));
   EXPECT_EQ(setup.at("material"), doc.at("material"));
   EXPECT_EQ(setup.at("walls"), doc.at("walls"));
+  EXPECT_EQ(setup.at("stages"), json::array());
   EXPECT_TRUE(setup.at("initial_state").is_null());
   for (const char* s : {"stop", "contact", "time", "damping", "output"})
     EXPECT_EQ(setup.at("parameters").at(s), doc.at(s)) << s;
@@ -154,6 +155,52 @@ TEST(RunSetup, StepsCountFromTheInitialState)
     std::filesystem::remove_all(first);
     std::filesystem::remove_all(next);
   }
+}
+
+// A run with stages describes its loading program: each stage's name, wall
+// drives and stop keys, as driver.json gave them.
+TEST(RunSetup, SetupRecordsTheStages)
+{
+  const std::filesystem::path dir = test::fresh_directory("run-stages");
+  json doc = test::driver_json(dir, tiny_mesh(dir), 3, 0.08, 0.04, 0.01);
+  doc["stop"]["packing_fraction"] = 0.0;
+  doc["stop"]["steps"] = 1;
+  doc["output"]["fields"] = false;
+  const json stop = {{"packing_fraction", 0.0}, {"strain", 0.05},
+                     {"strain_wall", "right"},  {"pressure", 0.0},
+                     {"equilibrium", 0.0},      {"max_time", 0.5}};
+  json press = {{"name", "press"},
+                {"walls",
+                 {{"right",
+                   {{"control", "velocity"},
+                    {"velocity", {-0.02, 0.0}},
+                    {"pressure", 0.0},
+                    {"force", 0.0}}}}},
+                {"stop", stop}};
+  json hold = press;
+  hold["name"] = "hold";
+  hold["walls"]["right"]["control"] = "force";
+  hold["walls"]["right"]["velocity"] = {0.0, 0.0};
+  hold["walls"]["right"]["force"] = 10.0;
+  hold["stop"]["strain"] = 0.0;
+  hold["stop"]["strain_wall"] = "";
+  hold["stop"]["equilibrium"] = 1e-3;
+  doc["stages"] = json::array({press, hold});
+  test::write_json(doc, dir / "driver.json");
+  simulation::run_simulation(
+      MPI_COMM_WORLD, softpack::io::read_driver_config(dir / "driver.json"),
+      true);
+  const json stages = read_json(dir / "raw" / "setup.json").at("stages");
+  ASSERT_EQ(stages.size(), 2u);
+  EXPECT_EQ(stages[0].at("name"), "press");
+  EXPECT_EQ(stages[0].at("walls").at("right").at("velocity"),
+            json({-0.02, 0.0}));
+  EXPECT_EQ(stages[0].at("stop").at("strain_wall"), "right");
+  EXPECT_EQ(stages[1].at("walls").at("right").at("control"), "force");
+  EXPECT_EQ(stages[1].at("stop").at("equilibrium"), 1e-3);
+  EXPECT_EQ(stages, doc.at("stages"));
+  if (!HasFailure())
+    std::filesystem::remove_all(dir);
 }
 
 TEST(RunSetup, MaterialErrorsNameTheFileAndTheKey)
