@@ -1,4 +1,5 @@
 #include "material_parameters.h"
+#include <material_defaults.h>
 #include <stdexcept>
 
 namespace softpack::bodies
@@ -10,12 +11,16 @@ plane_strain_parameters(double shear_modulus, std::optional<double> lame_lambda)
   const double mu = shear_modulus;
   if (!(mu > 0))
     throw std::invalid_argument("shear_modulus must be positive");
-  const double lambda = lame_lambda.value_or(2 * mu);
+  forms::ParameterValues given = {{"shear_modulus", mu}};
+  if (lame_lambda)
+    given["lame_lambda"] = *lame_lambda;
+  // lame_lambda's default is the one forms/materials/neo_hookean.py declares
+  std::map<std::string, double> p = forms::with_defaults("neo_hookean", given);
   // In 2D the bulk modulus is lambda + mu; it must stay positive.
-  if (!(lambda > -mu))
+  if (!(p.at("lame_lambda") > -mu))
     throw std::invalid_argument("lame_lambda must exceed -shear_modulus "
                                 "(positive 2D bulk modulus)");
-  return {{"shear_modulus", mu}, {"lame_lambda", lambda}};
+  return p;
 }
 
 double poisson_ratio(double shear_modulus, double lame_lambda)
