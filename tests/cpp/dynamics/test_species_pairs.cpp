@@ -62,6 +62,24 @@ dynamics::MoreauJeanOptions options()
 
 const std::vector<dynamics::Wall> floor_wall = {
     {"floor", {0, 0}, {0, 1}, {0, 0}}};
+
+/// Two neo-Hookean blocks, bodies 0 and 1 (species 0 and 1), on the floor.
+bodies::BodySet two_blocks(const test::Triangulation& block0,
+                           const test::Triangulation& block1)
+{
+  return bodies::BodySet(test::bodies_mesh({block0, block1}),
+                         forms::find_material("neo_hookean"),
+                         bodies::plane_strain_parameters(0.15e6), rho);
+}
+
+/// options() with a friction table of the two species and the floor: the
+/// default 0.3 for every pair until set.
+dynamics::MoreauJeanOptions options_with_pairs()
+{
+  dynamics::MoreauJeanOptions o = options();
+  o.friction = dynamics::FrictionTable(0.3, {0, 1}, 2, 1);
+  return o;
+}
 } // namespace
 
 TEST(BodyMaterials, TwoMaterialsEqualEachAlone)
@@ -153,13 +171,10 @@ TEST(FrictionPairs, EachBlockSlidesWithItsSpeciesWallCoefficient)
   // Two blocks of species 0 and 1 on one floor, pushed by the same T per
   // unit weight: mu(0, floor) = 0.6 holds block 0, mu(1, floor) = 0.1 lets
   // block 1 slide at a = T/m - 0.1 g. The default (0.3) would hold both.
-  bodies::BodySet set(
-      test::bodies_mesh({test::rectangle(0, 0, width, height, 16, 4),
-                         test::rectangle(0.05, 0, width, height, 16, 4)}),
-      forms::find_material("neo_hookean"),
-      bodies::plane_strain_parameters(0.15e6), rho);
-  dynamics::MoreauJeanOptions o = options();
-  o.friction = dynamics::FrictionTable(0.3, {0, 1}, 2, 1);
+  bodies::BodySet set =
+      two_blocks(test::rectangle(0, 0, width, height, 16, 4),
+                 test::rectangle(0.05, 0, width, height, 16, 4));
+  dynamics::MoreauJeanOptions o = options_with_pairs();
   o.friction.set(o.friction.species_party(0), o.friction.wall_party(0), 0.6);
   o.friction.set(o.friction.species_party(1), o.friction.wall_party(0), 0.1);
   const double g = 50, push = 0.2 * g;
@@ -183,14 +198,10 @@ TEST(FrictionPairs, BlockOnBlockSlidesWithTheSpeciesPairCoefficient)
   // Every contact between the two blocks transmits |R_t| = mu(0, 1) R_n
   // with the pair's 0.1 (the default is 0.3); every floor contact at most
   // mu(0, floor) R_n = 1.0 R_n.
-  bodies::BodySet set(
-      test::bodies_mesh(
-          {test::rectangle(0, 0, 2 * width, height, 24, 3),
-           test::rectangle(0.5 * width, height, width, height, 12, 3)}),
-      forms::find_material("neo_hookean"),
-      bodies::plane_strain_parameters(0.15e6), rho);
-  dynamics::MoreauJeanOptions o = options();
-  o.friction = dynamics::FrictionTable(0.3, {0, 1}, 2, 1);
+  bodies::BodySet set =
+      two_blocks(test::rectangle(0, 0, 2 * width, height, 24, 3),
+                 test::rectangle(0.5 * width, height, width, height, 12, 3));
+  dynamics::MoreauJeanOptions o = options_with_pairs();
   o.friction.set(o.friction.species_party(0), o.friction.wall_party(0), 1.0);
   o.friction.set(o.friction.species_party(0), o.friction.species_party(1), 0.1);
   const double g = 50;

@@ -1,6 +1,6 @@
 // driver.json (docs/contract.md section 4): every key required, unknown keys
 // refused at every level the driver owns, the sections read back unchanged.
-#include "driver_json.h"
+#include "read_driver_json.h"
 #include <gtest/gtest.h>
 #include <io/driver_config.h>
 #include <stdexcept>
@@ -17,28 +17,13 @@ json paper()
 
 io::DriverConfig read(const json& doc)
 {
-  const std::filesystem::path dir = test::fresh_directory("driver-config");
-  test::write_json(doc, dir / "driver.json");
-  struct Cleanup
-  {
-    std::filesystem::path dir;
-    ~Cleanup() { std::filesystem::remove_all(dir); }
-  } cleanup{dir};
-  return io::read_driver_config(dir / "driver.json");
+  return test::read_driver_json(doc, "driver-config");
 }
 
 /// The message of the error reading `doc`, "" if it is accepted.
 std::string error_of(const json& doc)
 {
-  try
-  {
-    read(doc);
-  }
-  catch (const std::runtime_error& e)
-  {
-    return e.what();
-  }
-  return "";
+  return test::driver_json_error(doc, "driver-config");
 }
 
 void expect_refused(const json& doc, const std::string& key)

@@ -1,7 +1,7 @@
 // Loading stages in driver.json (docs/loading.md): read with every key,
 // bad drives and stop keys refused naming the key path; the box's wall
 // pressure and a wall's facing distance against values by hand.
-#include "driver_json.h"
+#include "read_driver_json.h"
 #include <gtest/gtest.h>
 #include <io/driver_config.h>
 #include <simulation/stages.h>
@@ -45,29 +45,12 @@ json two_stages()
 
 std::string error_of(const json& doc)
 {
-  const std::filesystem::path dir = test::fresh_directory("stages-config");
-  test::write_json(doc, dir / "driver.json");
-  std::string error;
-  try
-  {
-    softpack::io::read_driver_config(dir / "driver.json");
-  }
-  catch (const std::runtime_error& e)
-  {
-    error = e.what();
-  }
-  std::filesystem::remove_all(dir);
-  return error;
+  return test::driver_json_error(doc, "stages-config");
 }
 
 softpack::io::DriverConfig read(const json& doc)
 {
-  const std::filesystem::path dir = test::fresh_directory("stages-config");
-  test::write_json(doc, dir / "driver.json");
-  softpack::io::DriverConfig c =
-      softpack::io::read_driver_config(dir / "driver.json");
-  std::filesystem::remove_all(dir);
-  return c;
+  return test::read_driver_json(doc, "stages-config");
 }
 } // namespace
 
