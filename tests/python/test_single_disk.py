@@ -97,6 +97,33 @@ def test_the_schema_refuses_a_plate_faster_than_the_alert_distance(
         sd.single_disk_config(sd.Params(speed=10.0))
 
 
+@pytest.mark.parametrize("argv, message", [
+    (["--max-strain", "1.5"], "--max-strain must be in (0, 1)"),
+    (["--speed", "10"], "alert_distance"),
+    (["--shape", "square", "--speed", "10"], "alert_distance"),
+    (["--shape", "pentagon", "--max-strain", "2"],
+     "--max-strain must be in (0, 1)"),
+])
+def test_disk_and_polygons_refuse_bad_input_before_meshing(
+        registry, tmp_path, capsys, argv, message):
+    """Both commands (disk, and polygon through plates.main) check
+    --max-strain, the schema and the output directory alike, exit 2 and
+    write nothing."""
+    out = tmp_path / "out"
+    assert sd.main(argv + ["--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("softpack single-disk: ") and message in err, err
+    assert not out.exists()
+
+
+def test_an_unusable_out_directory_is_refused(registry, tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a directory\n")
+    for shape in ("disk", "square"):
+        assert sd.main(["--shape", shape, "--out", str(blocker)]) == 2
+        assert "softpack single-disk: " in capsys.readouterr().err
+
+
 def test_line_interpolation_is_exact_for_a_linear_field():
     x = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
     cells = np.array([[0, 1, 2], [1, 3, 2]])

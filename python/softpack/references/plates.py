@@ -69,7 +69,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from softpack.references import single_disk as sd
-from softpack.scene.config import ConfigError, to_toml, validate
+from softpack.scene.config import to_toml, validate
 
 #: shape name -> (sides, angle): the orientation of the polygon between the
 #: plates (at angle 0 a vertex points along +y, docs/parameters.md).
@@ -555,20 +555,7 @@ def _parser():
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     params = Params(**{k: v for k, v in vars(args).items() if k != "out"})
-    if not 0 < params.max_strain < 1:
-        print("softpack single-disk: --max-strain must be in (0, 1)",
-              file=sys.stderr)
-        return 2
-    try:
-        plates_config(params)
-    except ConfigError as err:
-        print(f"softpack single-disk: {err}", file=sys.stderr)
-        return 2
-    from softpack.simulation.run import UsageError, check_out_directory
-    try:
-        check_out_directory(args.out)
-    except UsageError as err:
-        print(f"softpack single-disk: {err}", file=sys.stderr)
+    if sd.refused(params, plates_config, args.out):
         return 2
     print(f"softpack single-disk: {params.shape}, D = {params.diameter:g} m,"
           f" corner radius {params.corner_radius:g} m, h ="

@@ -425,6 +425,26 @@ def value_at(curve, eps) -> np.ndarray:
     return np.interp(eps, curve["eps"], curve["f_norm"])
 
 
+def refused(params, config_of, out) -> bool:
+    """Whether ``softpack single-disk`` refuses to start (exit status 2),
+    having printed why: ``--max-strain`` outside (0, 1), what the schema
+    refuses in ``config_of(params)``, an unusable ``out`` (made, writable).
+    Nothing is meshed before; shared with :mod:`.plates`."""
+    from softpack.simulation.run import UsageError, check_out_directory
+
+    if not 0 < params.max_strain < 1:
+        print("softpack single-disk: --max-strain must be in (0, 1)",
+              file=sys.stderr)
+        return True
+    try:
+        config_of(params)
+        check_out_directory(out)
+    except (ConfigError, UsageError) as err:
+        print(f"softpack single-disk: {err}", file=sys.stderr)
+        return True
+    return False
+
+
 def _parser():
     from softpack import cli
 
@@ -483,23 +503,10 @@ def main(argv=None) -> int:
                     time_step=args.time_step, alpha=args.alpha,
                     friction=args.friction,
                     every=args.every, orientation=args.orientation)
-    if not 0 < params.max_strain < 1:
-        print("softpack single-disk: --max-strain must be in (0, 1)",
-              file=sys.stderr)
-        return 2
     if params.max_strain < max(PROFILE_STRAINS):
         print("softpack single-disk: note: --max-strain < 0.2: the"
               " profiles beyond it are not written", flush=True)
-    try:  # refuse what the schema refuses before meshing anything
-        single_disk_config(params)
-    except ConfigError as err:
-        print(f"softpack single-disk: {err}", file=sys.stderr)
-        return 2
-    from softpack.simulation.run import UsageError, check_out_directory
-    try:
-        check_out_directory(args.out)  # made, writable
-    except UsageError as err:
-        print(f"softpack single-disk: {err}", file=sys.stderr)
+    if refused(params, single_disk_config, args.out):
         return 2
     print(f"softpack single-disk: D = {params.diameter:g} m, h ="
           f" {params.element_size:g} m, up to eps = {params.max_strain:g}"
