@@ -77,6 +77,20 @@ def test_shear_series_ratio_and_strains():
     np.testing.assert_array_equal(s["eps_v"], stress["eps_v"])
 
 
+def test_a_stages_shear_counts_its_strains_from_the_stage_start():
+    """A biaxial test's q/P and strains start at its consolidated state."""
+    from softpack.plots import loading
+
+    stress = {"fe_P": np.array([1.0, 2.0, 4.0, 5.0]),
+              "fe_q": np.array([0.5, 0.0, 1.0, 2.0]),
+              "eps_q": np.array([0.0, 0.1, 0.15, 0.3]),
+              "eps_v": np.array([0.0, 0.2, 0.25, 0.2])}
+    s = loading.stage_shear(stress, "fe", np.array([False, True, True, True]))
+    np.testing.assert_allclose(s["eps_q"], [0.0, 0.05, 0.2])
+    np.testing.assert_allclose(s["eps_v"], [0.0, 0.05, 0.0])
+    np.testing.assert_allclose(s["q_over_p"], [0.0, 0.25, 0.4])
+
+
 def test_plot_loading_writes_the_figures_and_the_fit(tmp_path):
     pytest.importorskip("matplotlib")
     from softpack.analysis import stress as stress_module
@@ -109,6 +123,11 @@ def test_plot_loading_writes_the_figures_and_the_fit(tmp_path):
     assert fit["reason"] == ""
     assert abs(fit["values"]["phi_max"] - TRUE["phi_max"]) < \
         3 * fit["errors"]["phi_max"]
+    assert summary["shear"]["stage"] == 0  # no stage column: one stage
+    assert summary["shear"]["eps_q_end"] == pytest.approx(0.1)
+    with pytest.raises(SystemExit, match="no stage 3"):
+        loading.main([str(run), "--out", str(tmp_path / "fig"),
+                      "--stage", "3"])
 
 
 def staged(stages, rows=6, noise=1e-3, seed=2):

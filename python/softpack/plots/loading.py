@@ -123,10 +123,12 @@ def plot_differences(stress, path) -> str:
     return _save(fig, ax, "step", "relative difference |a - b| / |a|", path)
 
 
-def plot_shear(shear, path) -> str:
-    """q/P and eps_v against eps_q (two panels)."""
+def plot_shear(shear, path, stage=0) -> str:
+    """q/P and eps_v against eps_q (two panels), strains from the stage's
+    start."""
     import matplotlib.pyplot as plt
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(5.5, 6), sharex=True)
+    top.set_title(f"stage {stage}, strains from its start", fontsize=9)
     top.plot(shear["eps_q"], shear["q_over_p"], "-", lw=1)
     top.set_ylabel("q / P")
     bottom.plot(shear["eps_q"], shear["eps_v"], "-", lw=1)
@@ -143,8 +145,23 @@ def choose_estimate(stress: dict) -> str:
     return "wall"
 
 
-def write_figures(run_dir, out, estimate=None, rest=None) -> dict:
-    """Write the figures and ``loading.json``; return the summary dict."""
+def stage_shear(stress: dict, estimate: str, rows) -> dict:
+    """The shear series of one stage's rows, its strains counted from the
+    stage's first row (a biaxial test's strains start at its consolidated
+    state, not at the box of the approach)."""
+    shear = compaction_law.shear_series(
+        {k: np.asarray(v)[rows] for k, v in stress.items()}, estimate)
+    for name in ("eps_q", "eps_v"):
+        shear[name] = shear[name] - shear[name][0]
+    return shear
+
+
+def write_figures(run_dir, out, estimate=None, rest=None,
+                  shear_stage=None) -> dict:
+    """Write the figures and ``loading.json``; return the summary dict.
+
+    ``shear_stage``: the stage (index) whose q/P and strains ``shear.png``
+    draws; default the last stage (the whole run without stages)."""
     import matplotlib
     matplotlib.use("Agg")
     out = Path(out)
@@ -162,12 +179,17 @@ def write_figures(run_dir, out, estimate=None, rest=None) -> dict:
     groups = stage[at_rest] if len(np.unique(stage[at_rest])) > 1 else None
     fit = compaction_law.fit_compaction(phi[at_rest], p[at_rest],
                                         groups=groups)
-    shear = compaction_law.shear_series(stress, estimate)
+    shear_stage = int(stage.max()) if shear_stage is None else shear_stage
+    if shear_stage not in set(stage.astype(int)):
+        raise SystemExit(f"softpack plot-loading: {run_dir}: no stage"
+                         f" {shear_stage} (the run has stages"
+                         f" {sorted(set(stage.astype(int)))})")
+    shear = stage_shear(stress, estimate, stage == shear_stage)
     files = [plot_pressure(phi, stress, fit, estimate, at_rest,
                            out / "pressure_phi.png"),
              plot_connectivity(series, out / "z_phi.png"),
              plot_differences(stress, out / "stress_estimates.png"),
-             plot_shear(shear, out / "shear.png")]
+             plot_shear(shear, out / "shear.png", shear_stage)]
     last = {c: float(stress[c][-1]) for c in stress
             if c.startswith(tuple(f"{e}_" for e in ESTIMATES))
             and c.endswith(("_P", "_q")) or c.startswith("difference")}
@@ -179,7 +201,13 @@ def write_figures(run_dir, out, estimate=None, rest=None) -> dict:
                        "method": fit.method, "reason": fit.reason,
                        "points": fit.points,
                        "pressure_max": fit.pressure_max},
-               "last_row": last, "figures": files}
+               "last_row": last,
+               "shear": {"stage": shear_stage, "estimate": estimate,
+                         **{f"{k}_end": float(v[-1]) for k, v in
+                            shear.items()},
+                         "q_over_p_max": float(np.nanmax(shear["q_over_p"]))
+                         if np.isfinite(shear["q_over_p"]).any() else None},
+               "figures": files}
     (out / "loading.json").write_text(json.dumps(summary, indent=2) + "\n")
     return summary
 
@@ -199,12 +227,15 @@ def main(argv=None) -> int:
                         help="fit the rows at rest only: kinetic energy <="
                         " REST x strain energy (default: 1e-3 with loading"
                         " stages, every row without)")
+    parser.add_argument("--stage", type=int, metavar="K",
+                        help="the stage (index, as raw/steps.csv's stage"
+                        " column) of the shear figure (default: the last)")
     args = parser.parse_args(argv)
     run = Path(args.run)
     if not (run / "raw" / "steps.csv").is_file():
         parser.error(f"{run}: no raw/steps.csv (not a run directory)")
     out = Path(args.out) if args.out else run / "figures" / "loading"
-    summary = write_figures(run, out, args.estimate, args.rest)
+    summary = write_figures(run, out, args.estimate, args.rest, args.stage)
     fit = summary["fit"]
     line = (compaction_law.CompactionFit(
         fit["values"], fit["errors"], fit["reason"], fit["method"],
