@@ -266,6 +266,19 @@ def test_why_z_is_undefined_is_written(tmp_path):
     assert obs.z_report({"z": [2.0], "z_undefined": [0]}) == ""
 
 
+def test_a_z_over_a_few_retained_particles_is_flagged():
+    """The biaxial run's axial stage (mass damping 300 1/s): 79 of 100
+    particles unbalanced, Z over 21; the summary must say so."""
+    row = {"step": [8370], "retained": [21.0], "unbalanced": [79.0],
+           "rattlers": [0.0]}
+    assert "counts 21 of 100 particles: 79 are unbalanced" in \
+        obs.retained_report(row)
+    for retained, unbalanced, rattlers in ((60, 40, 0), (30, 10, 60)):
+        assert obs.retained_report(
+            {"step": [1], "retained": [retained], "unbalanced": [unbalanced],
+             "rattlers": [rattlers]}) == ""
+
+
 def test_no_box_leaves_box_columns_nan(tmp_path):
     """A scene without left/right walls: eps, Phi of the box, piston NaN."""
     write_fake_run(tmp_path, n_steps=2)

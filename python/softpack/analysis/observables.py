@@ -230,6 +230,28 @@ def z_report(series: dict) -> str:
             f" output steps: {'; '.join(reasons)} (series.csv z_undefined)")
 
 
+def retained_report(series: dict) -> str:
+    """A warning when Z of the last row counts fewer than half of the
+    particles because most are unbalanced ("" otherwise): the exclusion
+    rule is the paper's for a quasi-static compaction, and an assembly
+    that is not at rest (fast loading, heavy mass damping) leaves Z over a
+    few particles, a number that is not the assembly's."""
+    if not len(series.get("step", ())):
+        return ""
+    retained = float(series["retained"][-1])
+    unbalanced = float(series["unbalanced"][-1])
+    count = retained + unbalanced + float(series["rattlers"][-1])
+    if not count or retained >= 0.5 * count or unbalanced <= retained:
+        return ""
+    return (f"WARNING: Z of the last row counts {retained:.0f} of"
+            f" {count:.0f} particles: {unbalanced:.0f} are unbalanced (net"
+            " contact force above [observables] unbalanced_threshold x the"
+            " reference force; the assembly is not at rest). Read Z(Phi)"
+            " with care; a larger unbalanced_threshold (./softpack run"
+            " --observables-only --set observables.unbalanced_threshold=...)"
+            " counts them (series.csv retained, unbalanced)")
+
+
 def _per_particle(particles, step, n):
     """Reference area, area and strain energy of each particle at a step."""
     mine = particles["step"] == step

@@ -447,7 +447,8 @@ def _tail(path: Path, lines=20) -> str:
 
 def _postprocess(out: Path, say) -> int:
     """Check the driver finished, write the observables, print a summary."""
-    from softpack.analysis.observables import process_run, z_report
+    from softpack.analysis.observables import (process_run, retained_report,
+                                               z_report)
     from softpack.analysis.tables import read_table
 
     done = out / "raw" / "done.json"
@@ -467,8 +468,9 @@ def _postprocess(out: Path, say) -> int:
     say(f"stopped by {finish.get('reason', '?')} after"
         f" {finish.get('steps', '?')} steps; Phi = {last.get('phi', 0):.4f},"
         f" eps = {last.get('eps', 0):.4f}, Z = {last.get('z', 0):.3f}")
-    if z_report(s):  # a NaN Z says why
-        say(z_report(s))
+    for report in (z_report(s), retained_report(s)):  # Z says what it is
+        if report:
+            say(report)
     _say_checks(finish, say)
     say(f"wrote {series_csv} and {particles_csv}")
     return 0
