@@ -46,11 +46,11 @@ struct Balance
   /// wall work done since the stage's start (inf when that work is 0 and
   /// K > 0)
   double kinetic = 0;
-  /// max_p |f_p| / <|f_c|>: the largest resultant contact force on a
-  /// particle, or unbalanced force on a servo wall (its imposed force minus
-  /// the normal contact force it received), over the mean magnitude of the
-  /// nonzero pair contact forces (each pair's nodal forces summed); 0
-  /// without contact forces
+  /// The larger of max_p |f_p| / <|f_c|> (the largest resultant contact
+  /// force on a particle over the mean magnitude of the nonzero pair contact
+  /// forces, each pair's nodal forces summed; 0 without contact forces) and,
+  /// for each servo wall, |F_imposed - F_received| / |F_imposed| (its
+  /// imposed force against the normal contact force it received)
   double force = 0;
 };
 
