@@ -107,3 +107,27 @@ def test_a_failing_rank_stops_all_and_nothing_looks_complete(runs, tmp_path):
     assert "failed" in p.stderr
     assert not (out / "raw" / "done.json").exists()
     assert not (out / "series.csv").exists()
+
+
+def test_a_state_restarts_on_another_number_of_ranks(runs, tmp_path):
+    """The 1-rank run's last state continued on 2 ranks is the same run as
+    continued on 1 rank: the state file is global."""
+    state = tmp_path / "state.bin"
+    state.write_bytes((runs[1] / "raw" / "state.bin").read_bytes())
+    more = cfg.load_config(SMALL, {"output.fields": False, "stop.steps": 20,
+                                   "stop.packing_fraction": 0.9,
+                                   "output.every_steps": 10})
+    rows = {}
+    for ranks in (1, 2):
+        out = tmp_path / f"continued{ranks}"
+        assert run(more, out, initial_state=state, verbose=False,
+                   ranks=ranks) == 0
+        rows[ranks] = read_table(out / "raw" / "steps.csv")
+    assert rows[1]["step"][0] == read_table(
+        runs[1] / "raw" / "steps.csv")["step"][-1]
+    assert rows[1]["step"][-1] == rows[1]["step"][0] + 20
+    np.testing.assert_array_equal(rows[2]["step"], rows[1]["step"])
+    np.testing.assert_allclose(rows[2]["phi"], rows[1]["phi"], rtol=0,
+                               atol=1e-6)
+    np.testing.assert_allclose(rows[2]["strain_energy"],
+                               rows[1]["strain_energy"], rtol=1e-4)

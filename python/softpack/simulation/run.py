@@ -151,7 +151,6 @@ def main(argv=None) -> int:
     try:
         overrides.update(_parse_settings(args.settings))
         config = load_config(path, overrides)
-        driver.check_ranks(args.ranks, config)
     except ConfigError as err:
         print(f"softpack run: {err}", file=sys.stderr)
         return 2
@@ -325,6 +324,7 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
     """
     out = Path(os.path.abspath(out))
     driver_executable()
+    _check_ranks(ranks, config)
     if initial_state is not None:
         initial_state = Path(initial_state).resolve()
         if not initial_state.is_file():
@@ -361,6 +361,7 @@ def resume(config, out: Path, verbose=True, ranks=1) -> int:
     if not is_run_directory(out):
         raise UsageError(f"--resume {out}: not a softpack run directory")
     driver_executable()
+    _check_ranks(ranks, config)
     step = prepare_resume(out, config, RunError)
     with open(out / "run.log", "a", buffering=1) as log:
         say = _reporter(log, verbose)
@@ -375,6 +376,14 @@ def resume(config, out: Path, verbose=True, ranks=1) -> int:
                       f" ({why(err)}): the driver was stopped; no"
                       " series.csv (resume again)\n")
             raise
+
+
+def _check_ranks(ranks, config) -> None:
+    """UsageError unless 1 <= ranks <= bodies (before anything is written)."""
+    try:
+        driver.check_ranks(ranks, config)
+    except ConfigError as err:
+        raise UsageError(str(err)) from None
 
 
 def _drive(config, out, log, say) -> None:
