@@ -310,7 +310,7 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
         _v_contact[2 * body.nodes[node] + c] = v_free[c];
     }
   }
-  _own.share(_v_contact);
+  share_contact_nodes(sc.contact_nodes, _v_contact);
   const std::vector<double> U_free =
       sc.H.relative_velocity(_bodies, _v_contact);
   report.seconds.solves += seconds_since(t0);

@@ -207,6 +207,11 @@ private:
   /// compliances), the same on every rank
   contact::DelassusMatrix delassus(const ContactOperator& H,
                                    std::span<const WallCoupling> walls) const;
+  /// The entries of the contact nodes (local nodes per body) of a global
+  /// vector filled by their owners, made whole on every rank
+  void share_contact_nodes(
+      const std::vector<std::vector<std::int32_t>>& contact_nodes,
+      std::span<double> global) const;
   /// add_body_terms over the owned bodies, summed over the ranks
   void add_owned_body_terms(const BodyStep& step);
   /// Assemble K at the bodies' current displacement, factorize Kbar and

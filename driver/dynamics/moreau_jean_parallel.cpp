@@ -53,6 +53,20 @@ MoreauJean::delassus(const ContactOperator& H,
   return assemble_delassus(H.size(), blocks, walls);
 }
 
+void MoreauJean::share_contact_nodes(
+    const std::vector<std::vector<std::int32_t>>& contact_nodes,
+    std::span<double> global) const
+{
+  if (!_own.distributed())
+    return;
+  // Only the contact nodes' entries: every rank knows which they are.
+  std::vector<std::int32_t> nodes;
+  for (std::size_t b = 0; b < contact_nodes.size(); ++b)
+    for (const std::int32_t node : contact_nodes[b])
+      nodes.push_back(_bodies.body(static_cast<int>(b)).nodes[node]);
+  _own.share_nodes(global, nodes);
+}
+
 void MoreauJean::add_owned_body_terms(const BodyStep& step)
 {
   const double h = _options.time.time_step, th = _options.time.theta;

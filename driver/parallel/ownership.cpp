@@ -51,6 +51,21 @@ void Ownership::share(std::span<double> global) const
   sum(global);
 }
 
+void Ownership::share_nodes(std::span<double> global,
+                            std::span<const std::int32_t> nodes) const
+{
+  if (_size == 1)
+    return;
+  std::vector<double> packed(2 * nodes.size());
+  for (std::size_t k = 0; k < nodes.size(); ++k)
+    for (int c = 0; c < 2; ++c)
+      packed[2 * k + c] = global[2 * nodes[k] + c];
+  sum(packed);
+  for (std::size_t k = 0; k < nodes.size(); ++k)
+    for (int c = 0; c < 2; ++c)
+      global[2 * nodes[k] + c] = packed[2 * k + c];
+}
+
 void Ownership::sum(std::span<double> values) const
 {
   if (_size == 1)

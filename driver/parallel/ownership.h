@@ -48,6 +48,11 @@ public:
   /// Make a global nodal vector whole on every rank: the entries of each
   /// body's nodes become those its owner holds (others' are dropped).
   void share(std::span<double> global) const;
+  /// share() restricted to the given global nodes, whose entries must be
+  /// zero on the ranks that do not own them (a vector filled by owners
+  /// only): the message is as small as the list.
+  void share_nodes(std::span<double> global,
+                   std::span<const std::int32_t> nodes) const;
   /// Sum over ranks, in place.
   void sum(std::span<double> values) const;
   /// All ranks' vectors concatenated in rank order, on every rank.
