@@ -75,7 +75,11 @@ def command(driver_json, quiet=False, ranks=1, threads=None) -> list[str]:
         cmd += ["--threads", str(threads)]
     if ranks == 1:
         return cmd
-    launcher = ["mpirun", "--oversubscribe", "-np", str(ranks)]
+    # Open MPI's (Debian's, dolfinx's): unaggregated help text, or an
+    # MPI_Abort is reported as "ORTE_ERROR_LOG: Data unpack would read
+    # past end of buffer" instead of its own message
+    launcher = ["mpirun", "--oversubscribe", "--mca",
+                "orte_base_help_aggregate", "0", "-np", str(ranks)]
     if hasattr(os, "geteuid") and os.geteuid() == 0:
         launcher.insert(1, "--allow-run-as-root")
     return launcher + cmd
