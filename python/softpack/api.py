@@ -83,7 +83,7 @@ def run(config, out, force=False, initial_state=None, verbose=False,
     """
     from softpack.simulation import run as runner
 
-    if not hasattr(config, "stem"):
+    if isinstance(config, (str, os.PathLike)):  # a Path has a stem too
         config = load_config(config)
     out = Path(os.path.abspath(out))
     runner.run(config, out, force=force, initial_state=initial_state,

@@ -49,6 +49,8 @@ def check_ranks(ranks: int, config) -> None:
     """
     from softpack.scene.config import ConfigError
 
+    if ranks == 1:  # a valid config has a body
+        return
     bodies = sum(int(s["count"]) for s in config["species"])
     if not 1 <= ranks <= bodies:
         raise ConfigError(
