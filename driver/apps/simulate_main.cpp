@@ -4,6 +4,7 @@
 #include "threads.h"
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <dolfinx/common/log.h>
 #include <exception>
 #include <io/driver_config.h>
@@ -14,18 +15,26 @@
 
 namespace
 {
-/// The run's communicator. Bodies are not distributed yet (a later issue):
-/// until they are, a run on several ranks would only repeat the same work.
-MPI_Comm run_communicator()
+/// A failure on one rank of several: its message, then every rank stops
+/// (the others may wait in a collective forever otherwise); rank 0 never
+/// reaches raw/done.json, so the run does not look complete.
+[[noreturn]] void abort_all(const char* what)
+{
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  std::fprintf(stderr, "softpack-simulate: rank %d of %d: %s\n", rank, size,
+               what);
+  std::fflush(stderr);
+  MPI_Abort(MPI_COMM_WORLD, 1);
+  std::exit(1); // MPI_Abort does not return
+}
+
+int world_size()
 {
   int size = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &size);
-  if (size > 1)
-    throw std::runtime_error(
-        "runs on " + std::to_string(size) +
-        " MPI ranks are not supported yet (bodies are not distributed): "
-        "run on one rank, OpenMP uses the cores");
-  return MPI_COMM_WORLD;
+  return size;
 }
 /// `--state-info FILE`: {"step": ..., "time": ..., "dofs": ...} on stdout.
 int print_state_info(const std::string& path)
@@ -83,16 +92,20 @@ int main(int argc, char** argv)
   try
   {
     softpack::apps::set_thread_count(threads);
-    const MPI_Comm comm = run_communicator();
     const softpack::io::DriverConfig config =
         softpack::io::read_driver_config(config_path);
     const auto summary =
-        softpack::simulation::run_simulation(comm, config, quiet);
-    std::printf("done: %ld steps in %.1f s (%s)\n", summary.steps,
-                summary.seconds, summary.reason.c_str());
+        softpack::simulation::run_simulation(MPI_COMM_WORLD, config, quiet);
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    if (rank == 0)
+      std::printf("done: %ld steps in %.1f s (%s)\n", summary.steps,
+                  summary.seconds, summary.reason.c_str());
   }
   catch (const std::exception& e)
   {
+    if (world_size() > 1)
+      abort_all(e.what());
     std::fprintf(stderr, "softpack-simulate: %s\n", e.what());
     status = 1;
   }

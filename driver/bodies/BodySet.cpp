@@ -309,6 +309,40 @@ void BodySet::internal_force(std::span<double> f) const
       fem::assemble_vector(f, *form.residual);
 }
 
+void BodySet::owned_internal_force(std::span<double> f) const
+{
+  if (_owned.empty() || !_parallel_residual->supported())
+  {
+    internal_force(f); // serial, or dolfinx's assembler: every body
+    return;
+  }
+  if (f.size() != num_dofs())
+    throw std::invalid_argument("internal_force: wrong vector size");
+  std::fill(f.begin(), f.end(), 0.0);
+  _parallel_residual->assemble(f, _bodies, _owned);
+}
+
+void BodySet::set_owned(std::vector<char> owned)
+{
+  if (owned.size() != _bodies.size())
+    throw std::invalid_argument(
+        "BodySet::set_owned: " + std::to_string(owned.size()) + " flags for " +
+        std::to_string(_bodies.size()) + " bodies");
+  // The tangent is the expensive assembly: its forms run over the owned
+  // bodies' cells only (each material's over its own owned bodies).
+  for (MaterialForms& f : _forms)
+  {
+    std::vector<std::int32_t> cells;
+    for (std::size_t b = 0; b < _bodies.size(); ++b)
+      if (owned[b] && (_forms.size() == 1 || _body_material[b] == f.material))
+        cells.insert(cells.end(), _bodies[b].cells.begin(),
+                     _bodies[b].cells.end());
+    std::sort(cells.begin(), cells.end());
+    f.tangent = restrict_to_cells(*f.tangent, cells);
+  }
+  _owned = std::move(owned);
+}
+
 bool BodySet::parallel_residual() const
 {
   return _parallel_residual->supported();

@@ -100,6 +100,10 @@ public:
   /// written (not added) into the global vector f
   void internal_force(std::span<double> f) const;
 
+  /// internal_force of the owned bodies only (set_owned; all when unset):
+  /// the others' entries are zero
+  void owned_internal_force(std::span<double> f) const;
+
   /// Tangent stiffness \f$K(u)\f$ of each body, assembled in place into
   /// matrices holding the body's sparsity pattern (see create_matrices)
   void tangent(std::vector<BodyMatrix>& K) const;
@@ -161,6 +165,13 @@ public:
     return *_forms.front().residual;
   }
 
+  /// Restrict the per-body work of owned_internal_force and tangent to the
+  /// bodies whose entry is nonzero (the bodies a rank of a distributed run
+  /// owns, parallel::Ownership); the others' entries are left zero.
+  /// internal_force, energies, areas and outputs still cover every body.
+  /// @throws std::invalid_argument if the size is not the number of bodies
+  void set_owned(std::vector<char> owned);
+
   /// Whether internal_force runs body by body on all cores
   /// (ParallelResidual) rather than through dolfinx's serial assembler
   bool parallel_residual() const;
@@ -197,6 +208,8 @@ private:
   std::vector<BodyMatrix> _mass;
   std::vector<Eigen::VectorXd> _lumped_mass;
   std::unique_ptr<ParallelResidual> _parallel_residual;
+  /// The bodies whose forces and tangents are computed (empty: all)
+  std::vector<char> _owned;
 };
 
 } // namespace softpack::bodies

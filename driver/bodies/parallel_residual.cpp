@@ -47,7 +47,8 @@ ParallelResidual::ParallelResidual(
 }
 
 void ParallelResidual::assemble(std::span<double> b,
-                                const std::vector<Body>& bodies) const
+                                const std::vector<Body>& bodies,
+                                std::span<const char> owned) const
 {
   std::vector<std::vector<double>> constants;
   for (const fem::Form<double>* form : _L)
@@ -63,6 +64,8 @@ void ParallelResidual::assemble(std::span<double> b,
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int body = 0; body < nb; ++body)
   {
+    if (!owned.empty() && !owned[body])
+      continue;
     const fem::Form<double>& L = *_L[_body_form[body]];
     const auto& kernel = L.kernel(fem::IntegralType::cell, cell_integral_id(L));
     const double* c = constants[_body_form[body]].data();

@@ -39,7 +39,9 @@ public:
 
   /// b += L (b holds every DOF of the mesh)
   /// @param[in] bodies The same cells per body as at construction
-  void assemble(std::span<double> b, const std::vector<Body>& bodies) const;
+  /// @param[in] owned Assemble only the bodies flagged 1 (empty: all)
+  void assemble(std::span<double> b, const std::vector<Body>& bodies,
+                std::span<const char> owned = {}) const;
 
 private:
   std::vector<const dolfinx::fem::Form<double>*> _L;

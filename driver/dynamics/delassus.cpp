@@ -16,11 +16,12 @@ struct BodyShare
 };
 } // namespace
 
-contact::DelassusMatrix
-build_delassus(const bodies::BodySet& bodies, const ContactOperator& H,
-               const EffectiveStiffness& Kbar, double drop_tolerance,
-               std::span<const WallCoupling> walls, const RigidBodies* rigid)
+std::vector<DelassusBlock>
+delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
+                const EffectiveStiffness& Kbar, double drop_tolerance,
+                const RigidBodies* rigid, std::span<const char> owned)
 {
+  auto mine = [&](int b) { return owned.empty() || owned[b]; };
   auto is_rigid = [&](int b) { return rigid && rigid->rigid(b); };
   std::vector<std::vector<BodyShare>> shares(bodies.num_bodies());
   for (std::size_t a = 0; a < H.size(); ++a)
@@ -40,7 +41,7 @@ build_delassus(const bodies::BodySet& bodies, const ContactOperator& H,
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
   {
-    if (shares[b].empty() || is_rigid(b))
+    if (shares[b].empty() || is_rigid(b) || !mine(b))
       continue;
     std::vector<int> slots;
     for (const BodyShare& share : shares[b])
@@ -49,7 +50,11 @@ build_delassus(const bodies::BodySet& bodies, const ContactOperator& H,
     Kbar.boundary_compliance(b, slots);
   }
 
-  contact::DelassusMatrix W(H.size());
+  std::vector<DelassusBlock> W;
+  auto add = [&](int b, std::int32_t i, std::int32_t j,
+                 const Eigen::Matrix2d& block) {
+    W.push_back({b, i, j, block});
+  };
   auto body_block =
       [&](const Eigen::MatrixXd& G, const BodyShare& sa, const BodyShare& sb)
   {
@@ -71,15 +76,15 @@ build_delassus(const bodies::BodySet& bodies, const ContactOperator& H,
   };
   for (int b = 0; b < nb; ++b)
   {
-    if (shares[b].empty())
+    if (shares[b].empty() || !mine(b))
       continue;
     if (is_rigid(b))
     {
       for (const BodyShare& sa : shares[b])
         for (const BodyShare& sb : shares[b])
-          W.add_block(sa.contact, sb.contact,
-                      H.frame(sa.contact).transpose() * rigid_block(b, sa, sb) *
-                          H.frame(sb.contact));
+          add(b, sa.contact, sb.contact,
+              H.frame(sa.contact).transpose() * rigid_block(b, sa, sb) *
+                  H.frame(sb.contact));
       continue;
     }
     const Eigen::MatrixXd& G = Kbar.boundary_compliance(b, {});
@@ -95,11 +100,20 @@ build_delassus(const bodies::BodySet& bodies, const ContactOperator& H,
         if (sa.contact != sb.contact && drop_tolerance > 0 &&
             block.norm() < drop_tolerance * std::sqrt(own[ka] * own[kb]))
           continue;
-        W.add_block(sa.contact, sb.contact,
-                    H.frame(sa.contact).transpose() * block *
-                        H.frame(sb.contact));
+        add(b, sa.contact, sb.contact,
+            H.frame(sa.contact).transpose() * block * H.frame(sb.contact));
       }
   }
+  return W;
+}
+
+contact::DelassusMatrix assemble_delassus(std::size_t num_contacts,
+                                          std::span<const DelassusBlock> blocks,
+                                          std::span<const WallCoupling> walls)
+{
+  contact::DelassusMatrix W(num_contacts);
+  for (const DelassusBlock& k : blocks)
+    W.add_block(k.a, k.b, k.block);
   for (const WallCoupling& wall : walls)
     for (std::size_t i = 0; i < wall.contacts.size(); ++i)
       for (std::size_t j = 0; j < wall.contacts.size(); ++j)
@@ -107,6 +121,15 @@ build_delassus(const bodies::BodySet& bodies, const ContactOperator& H,
                     wall.inverse_mass * wall.g[i] * wall.g[j].transpose());
   W.finalize();
   return W;
+}
+
+contact::DelassusMatrix
+build_delassus(const bodies::BodySet& bodies, const ContactOperator& H,
+               const EffectiveStiffness& Kbar, double drop_tolerance,
+               std::span<const WallCoupling> walls, const RigidBodies* rigid)
+{
+  return assemble_delassus(
+      H.size(), delassus_blocks(bodies, H, Kbar, drop_tolerance, rigid), walls);
 }
 
 } // namespace softpack::dynamics

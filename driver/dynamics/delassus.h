@@ -48,6 +48,29 @@ struct WallCoupling
 /// P_j^T\f$ (RigidBodies::compliance) in place of the FE one; it does not
 /// decay with distance and none of its blocks is dropped (null: none)
 /// @return The finalized block-sparse W
+/// One body's contribution to a block of W (in the order build_delassus
+/// adds them).
+struct DelassusBlock
+{
+  std::int32_t body, a, b;
+  Eigen::Matrix2d block;
+};
+
+/// The bodies' contributions to W (build_delassus's body loop), in body
+/// order, for the bodies flagged in `owned` (empty: every body): what a
+/// rank of a distributed run computes from the compliance of its own
+/// bodies. The arguments are build_delassus's.
+std::vector<DelassusBlock>
+delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
+                const EffectiveStiffness& Kbar, double drop_tolerance,
+                const RigidBodies* rigid, std::span<const char> owned = {});
+
+/// W from the bodies' contributions (in body order: the sums are then
+/// those of the serial build, bit for bit) and the servo walls' couplings.
+contact::DelassusMatrix assemble_delassus(std::size_t num_contacts,
+                                          std::span<const DelassusBlock> blocks,
+                                          std::span<const WallCoupling> walls);
+
 contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
                                        const ContactOperator& H,
                                        const EffectiveStiffness& Kbar,

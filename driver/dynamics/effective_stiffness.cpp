@@ -6,9 +6,10 @@ namespace softpack::dynamics
 {
 
 EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
-                                       bool lumped_mass)
+                                       bool lumped_mass,
+                                       std::span<const char> owned)
     : _mass(bodies.create_matrices()), _kbar(bodies.create_matrices()),
-      _factors(bodies.num_bodies())
+      _factors(bodies.num_bodies()), _owned(owned.begin(), owned.end())
 {
   // Copy each mass onto the stiffness pattern (a superset of both mass
   // patterns), so that a M + c K is a plain combination of value arrays.
@@ -22,7 +23,8 @@ EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
                 ? (it.row() == it.col() ? bodies.lumped_mass()[b][it.row()]
                                         : 0.0)
                 : bodies.consistent_mass()[b].coeff(it.row(), it.col());
-    _factors[b].analyzePattern(_kbar[b]);
+    if (_owned.empty() || _owned[b])
+      _factors[b].analyzePattern(_kbar[b]);
     const bodies::Body& body = bodies.body(b);
     _boundary.push_back(body.boundary_nodes);
     _slot.emplace_back(body.nodes.size(), -1);
@@ -76,6 +78,8 @@ void EffectiveStiffness::factorize(const std::vector<bodies::BodyMatrix>& K,
 #pragma omp parallel for schedule(dynamic) reduction(&& : ok) if (_kbar.size() >= 16)
   for (std::size_t b = 0; b < _kbar.size(); ++b)
   {
+    if (!_owned.empty() && !_owned[b])
+      continue;
     const double* m = _mass[b].valuePtr();
     const double* k = K[b].valuePtr();
     double* a = _kbar[b].valuePtr();

@@ -23,7 +23,10 @@ public:
   /// @param[in] bodies Bodies (masses and sparsity patterns)
   /// @param[in] lumped_mass Use the lumped (diagonal) mass instead of the
   /// consistent one
-  EffectiveStiffness(const bodies::BodySet& bodies, bool lumped_mass);
+  /// @param[in] owned The bodies this rank factorizes (1; empty: all): a
+  /// distributed run's other bodies keep their masses only
+  EffectiveStiffness(const bodies::BodySet& bodies, bool lumped_mass,
+                     std::span<const char> owned = {});
 
   /// Build and factorize \f$\bar K = a M + c K\f$ for every body.
   /// @param[in] K Tangent stiffness of every body (BodySet::tangent)
@@ -85,6 +88,7 @@ private:
   mutable std::vector<std::vector<Eigen::VectorXd>> _columns;
   mutable std::vector<std::vector<char>> _column_ready;
   int _count = 0;
+  std::vector<char> _owned;
 };
 
 } // namespace softpack::dynamics

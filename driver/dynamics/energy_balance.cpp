@@ -26,11 +26,13 @@ void add_stiffness_dissipation(EnergyBalance& energy, double theta,
 }
 
 void add_body_terms(EnergyBalance& energy, double h, double theta,
-                    const BodyStep& s)
+                    const BodyStep& s, std::span<const char> owned)
 {
   const double th = theta;
   for (std::size_t b = 0; b < s.v_new.size(); ++b)
   {
+    if (!owned.empty() && !owned[b])
+      continue;
     energy.damping +=
         h * s.v_mid[b].dot(th * s.Cv_new[b] + (1 - th) * s.Cv_old[b]);
     energy.numerical +=

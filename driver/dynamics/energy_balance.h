@@ -81,8 +81,10 @@ struct BodyStep
 /// @param[in] h Time step
 /// @param[in] theta theta of the scheme
 /// @param[in] step The step's vectors
+/// @param[in] owned The bodies to count (1; empty: all): a rank of a
+/// distributed run counts its own, whose C v and M v it alone has
 void add_body_terms(EnergyBalance& energy, double h, double theta,
-                    const BodyStep& step);
+                    const BodyStep& step, std::span<const char> owned = {});
 
 /// Add the contact terms of one step: the friction and normal dissipation
 /// -R . U_th and the work of the velocity-controlled walls R . U_wall

@@ -66,18 +66,21 @@ const MoreauJeanOptions& checked(const MoreauJeanOptions& o)
 } // namespace
 
 MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
-                       MoreauJeanOptions options)
-    : _bodies(bodies), _walls(std::move(walls)), _options(checked(options)),
+                       MoreauJeanOptions options, parallel::Ownership ownership)
+    : _bodies(bodies), _own(std::move(ownership)), _walls(std::move(walls)),
+      _options(checked(options)),
       _detection(detection_options(options.contact)),
       _nlgs(nlgs_options(options.contact)), _damping{options.damping.alpha,
                                                      options.damping.beta},
-      _kbar(bodies, options.time.mass == "lumped"), _rigid(bodies, _kbar),
-      _K(bodies.create_matrices()), _A(bodies.create_matrices()),
-      _v(bodies.num_dofs(), 0.0), _f_ext(bodies.num_dofs(), 0.0),
-      _f_int(bodies.num_dofs(), 0.0), _v_contact(bodies.num_dofs(), 0.0)
+      _kbar(bodies, options.time.mass == "lumped", _own.owned()),
+      _rigid(bodies, _kbar), _K(bodies.create_matrices()),
+      _A(bodies.create_matrices()), _v(bodies.num_dofs(), 0.0),
+      _f_ext(bodies.num_dofs(), 0.0), _f_int(bodies.num_dofs(), 0.0),
+      _v_contact(bodies.num_dofs(), 0.0)
 {
-  _bodies.internal_force(_f_int);
+  _bodies.owned_internal_force(_f_int);
   _rigid.zero(_f_int);
+  _own.share(_f_int);
   _energy.strain0 = _bodies.strain_energy();
   link_walls(_walls);
 }
@@ -109,6 +112,8 @@ void MoreauJean::scatter(const Vectors& per_body,
   for (int b = 0; b < _bodies.num_bodies(); ++b)
   {
     const bodies::Body& body = _bodies.body(b);
+    if (per_body[b].size() == 0) // another rank's body
+      continue;
     for (std::size_t k = 0; k < body.nodes.size(); ++k)
       for (int c = 0; c < 2; ++c)
         global[2 * body.nodes[k] + c] = per_body[b][2 * k + c];
@@ -182,9 +187,7 @@ MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
   else if (sc.size() > 0)
   {
     const auto t0 = clock::now();
-    problem.W = build_delassus(_bodies, sc.H, _kbar,
-                               _options.contact.delassus_drop_tolerance,
-                               sc.servo.couplings, &_rigid);
+    problem.W = delassus(sc.H, sc.servo.couplings);
     report.seconds.delassus += seconds_since(t0);
   }
   return problem;
@@ -212,7 +215,8 @@ void MoreauJean::factorize_tangent(StepReport* report)
   const RayleighDamping::Combination A = _damping.mass_plus(h * th);
   _kbar.factorize(_K, A.mass, A.stiffness + h * h * th * th);
   for (std::size_t b = 0; b < _A.size(); ++b)
-    combine(A, _kbar.mass(static_cast<int>(b)), _K[b], _A[b]);
+    if (_own.owns(static_cast<int>(b)))
+      combine(A, _kbar.mass(static_cast<int>(b)), _K[b], _A[b]);
   _products_valid = false;
   if (report)
     report->seconds.factorization += seconds_since(t0);
@@ -228,9 +232,7 @@ void MoreauJean::refactorize(const StepContacts& sc,
   if (sc.size() > 0)
   {
     const auto t0 = clock::now();
-    problem.W = build_delassus(_bodies, sc.H, _kbar,
-                               _options.contact.delassus_drop_tolerance,
-                               sc.servo.couplings, &_rigid);
+    problem.W = delassus(sc.H, sc.servo.couplings);
     report.seconds.delassus += seconds_since(t0);
   }
 }
@@ -250,6 +252,8 @@ MoreauJean::StepStart MoreauJean::start_step(std::vector<double> u_old,
   s.known.resize(nb);
   for (int b = 0; b < nb; ++b)
   {
+    if (!_own.owns(b))
+      continue;
     // No damping acts on a rigid body.
     s.Cv_old[b] = _rigid.rigid(b)
                       ? Eigen::VectorXd(Eigen::VectorXd::Zero(_Mv[b].size()))
@@ -271,7 +275,8 @@ MoreauJean::Vectors MoreauJean::residual(const Vectors& vk,
   Vectors r(nb);
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
-    r[b] = _A[b] * vk[b] + h * th * (f_int[b] - f_ext[b]) - known[b];
+    if (_own.owns(b))
+      r[b] = _A[b] * vk[b] + h * th * (f_int[b] - f_ext[b]) - known[b];
   return r;
 }
 
@@ -290,6 +295,8 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
   {
+    if (!_own.owns(b))
+      continue;
     const bodies::Body& body = _bodies.body(b);
     for (const std::int32_t node : sc.contact_nodes[b])
     {
@@ -303,6 +310,7 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
         _v_contact[2 * body.nodes[node] + c] = v_free[c];
     }
   }
+  share_contact_nodes(sc.contact_nodes, _v_contact);
   const std::vector<double> U_free =
       sc.H.relative_velocity(_bodies, _v_contact);
   report.seconds.solves += seconds_since(t0);
@@ -330,12 +338,14 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
   Vectors impulse(nb);
   for (int b = 0; b < nb; ++b)
     impulse[b] = Eigen::VectorXd::Zero(
-        sc.contact_nodes[b].empty() ? 0 : residual[b].size());
+        sc.contact_nodes[b].empty() ? 0 : _bodies.body(b).num_dofs());
   sc.H.add_impulses(_R, impulse);
+  // Every rank moves every rigid body (three numbers each): they stay
+  // replicated.
   for (int b = 0; b < nb; ++b)
     if (!sc.contact_nodes[b].empty() && _rigid.rigid(b))
       _rigid.add_impulse(b, impulse[b]);
-    else if (!sc.contact_nodes[b].empty())
+    else if (!sc.contact_nodes[b].empty() && _own.owns(b))
       residual[b] -= impulse[b];
   report.seconds.solves += seconds_since(t0);
 }
@@ -362,7 +372,7 @@ double MoreauJean::newton_iteration(int k, const StepContacts& sc,
   auto t0 = clock::now();
   set_displacement(start.u_old, start.v_old, vk);
   std::vector<double> f_int(vk.size());
-  _bodies.internal_force(f_int);
+  _bodies.owned_internal_force(f_int);
   _rigid.zero(f_int);
   report.seconds.assembly += seconds_since(t0);
   if (k > 0 && _options.time.full_newton)
@@ -380,13 +390,15 @@ double MoreauJean::newton_iteration(int k, const StepContacts& sc,
   Vectors v_new(nb);
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
-    v_new[b] = _rigid.rigid(b)
-                   ? _rigid.velocity_field(b)
-                   : Eigen::VectorXd(vk_b[b] - _kbar.solve(b, r[b]));
-  report.seconds.solves += seconds_since(t0);
-
+    if (_own.owns(b))
+      v_new[b] = _rigid.rigid(b)
+                     ? _rigid.velocity_field(b)
+                     : Eigen::VectorXd(vk_b[b] - _kbar.solve(b, r[b]));
   std::vector<double> v_next(vk.size());
   scatter(v_new, v_next);
+  _own.share(v_next);
+  report.seconds.solves += seconds_since(t0);
+
   double change = 0;
   for (std::size_t i = 0; i < vk.size(); ++i)
     change = std::max(change, std::abs(v_next[i] - vk[i]));
@@ -457,8 +469,9 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
   auto t0 = clock::now();
   set_displacement(start.u_old, start.v_old, _v);
   const std::vector<double> f_int_before = _f_int;
-  _bodies.internal_force(_f_int);
+  _bodies.owned_internal_force(_f_int);
   _rigid.zero(_f_int);
+  _own.share(_f_int);
   report.seconds.assembly += seconds_since(t0);
   add_stiffness_dissipation(_energy, _options.time.theta, start.u_old,
                             _bodies.displacement(), f_int_before, _f_int);
@@ -495,19 +508,19 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
   for (std::size_t b = 0; b < nb; ++b)
   {
     v_mid_b[b] = th * v_new_b[b] + (1 - th) * start.v_old_b[b];
-    Cv_new[b] = _rigid.rigid(b)
-                    ? Eigen::VectorXd(Eigen::VectorXd::Zero(_Mv[b].size()))
-                    : _damping.force(_Mv[b], _Kv[b]);
+    if (_own.owns(static_cast<int>(b)))
+      Cv_new[b] = _rigid.rigid(b)
+                      ? Eigen::VectorXd(Eigen::VectorXd::Zero(_Mv[b].size()))
+                      : _damping.force(_Mv[b], _Kv[b]);
   }
-  add_body_terms(_energy, h, th,
-                 {.v_old = start.v_old_b,
-                  .v_new = v_new_b,
-                  .v_mid = v_mid_b,
-                  .Mv_old = start.Mv_old,
-                  .Mv_new = _Mv,
-                  .Cv_old = start.Cv_old,
-                  .Cv_new = Cv_new,
-                  .f_ext = start.f_ext_b});
+  add_owned_body_terms({.v_old = start.v_old_b,
+                        .v_new = v_new_b,
+                        .v_mid = v_mid_b,
+                        .Mv_old = start.Mv_old,
+                        .Mv_new = _Mv,
+                        .Cv_old = start.Cv_old,
+                        .Cv_new = Cv_new,
+                        .f_ext = start.f_ext_b});
   account_servo_walls(sc.servo, _walls, sc.H, _energy, h, th);
   std::vector<double> v_mid(_v.size());
   scatter(v_mid_b, v_mid);
@@ -534,6 +547,8 @@ void MoreauJean::update_products(const Vectors& v)
 #pragma omp parallel for schedule(static) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
   {
+    if (!_own.owns(b))
+      continue;
     _Mv[b] = _kbar.mass(b) * v[b];
     _Kv[b] = _K[b] * v[b];
   }

@@ -3,6 +3,7 @@
 #include "contact_history.h"
 #include "contact_operator.h"
 #include "damping.h"
+#include "delassus.h"
 #include "detection.h"
 #include "effective_stiffness.h"
 #include "energy_balance.h"
@@ -13,6 +14,7 @@
 #include <contact/nlgs.h>
 #include <contact/problem.h>
 #include <memory>
+#include <parallel/ownership.h>
 #include <softpack/parameters.h>
 #include <vector>
 
@@ -145,8 +147,11 @@ public:
   /// @throws std::invalid_argument if velocity_scale is not positive, a
   /// servo wall has no positive mass or a pressure-controlled wall no pair
   /// of facing walls to measure its length (link_walls)
+  /// @param[in] ownership The bodies this rank computes (default: serial,
+  /// all of them); each step is then the same on every rank
+  /// (docs/mpi_design.md)
   MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
-             MoreauJeanOptions options);
+             MoreauJeanOptions options, parallel::Ownership ownership = {});
 
   /// Advance one time step.
   StepReport step();
@@ -183,6 +188,8 @@ public:
   long steps() const { return _steps; }
   /// Factorizations of the iteration matrix so far
   int factorizations() const { return _kbar.factorizations(); }
+  /// Which rank owns which body, and the collectives' volume so far
+  const parallel::Ownership& ownership() const { return _own; }
 
 private:
   using Vectors = BodyVectors;
@@ -196,6 +203,17 @@ private:
   contact::FrictionContactProblem2D prepare_problem(const StepContacts& sc,
                                                     StepReport& report);
   bool needs_refactorization() const;
+  /// W from this rank's bodies' blocks and the other ranks' (their
+  /// compliances), the same on every rank
+  contact::DelassusMatrix delassus(const ContactOperator& H,
+                                   std::span<const WallCoupling> walls) const;
+  /// The entries of the contact nodes (local nodes per body) of a global
+  /// vector filled by their owners, made whole on every rank
+  void share_contact_nodes(
+      const std::vector<std::vector<std::int32_t>>& contact_nodes,
+      std::span<double> global) const;
+  /// add_body_terms over the owned bodies, summed over the ranks
+  void add_owned_body_terms(const BodyStep& step);
   /// Assemble K at the bodies' current displacement, factorize Kbar and
   /// form A (the arithmetic of every refactorization, and of a restore);
   /// adds its times to `report` when given
@@ -238,6 +256,7 @@ private:
   void scatter(const Vectors& per_body, std::span<double> global) const;
 
   bodies::BodySet& _bodies;
+  parallel::Ownership _own;
   std::vector<Wall> _walls;
   MoreauJeanOptions _options;
   DetectionOptions _detection;

@@ -80,8 +80,9 @@ void MoreauJean::restore(const SchemeState& s)
   _history.restore(s.reactions);
   _time = s.time;
   _steps = s.steps;
-  _bodies.internal_force(_f_int);
+  _bodies.owned_internal_force(_f_int);
   _rigid.zero(_f_int);
+  _own.share(_f_int);
   _energy = s.energy;
   _energy_stale = true;
   _started = true;

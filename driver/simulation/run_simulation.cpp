@@ -1,10 +1,12 @@
 #include "run_simulation.h"
 
+#include <algorithm>
 #include <bodies/BodySet.h>
 #include <bodies/body_mesh.h>
 #include <chrono>
 #include <contact/fclib_io.h>
 #include <cstdio>
+#include <cstdlib>
 #include <io/field_output.h>
 #include <io/raw_output.h>
 #include <io/setup_file.h>
@@ -13,6 +15,7 @@
 #include <numeric>
 #include <simulation/overlap_check.h>
 #include <simulation/stages.h>
+#include <sys/resource.h>
 
 namespace softpack::simulation
 {
@@ -108,6 +111,40 @@ bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
   }
 }
 
+int rank_of(MPI_Comm comm)
+{
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  return rank;
+}
+
+/// Per rank (a collective: every rank calls it): its bodies, the bytes it
+/// handed to collectives (before this call), their count and its peak
+/// resident memory, as done.json's "mpi" entry.
+nlohmann::json rank_report(const parallel::Ownership& own)
+{
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const std::vector<int>& body_rank = own.body_rank();
+  const double mine[4] = {
+      double(std::count(body_rank.begin(), body_rank.end(), own.rank())),
+      double(own.bytes_sent()), double(own.messages()),
+      usage.ru_maxrss / 1024.0};
+  const std::vector<double> all = own.gather(mine);
+  nlohmann::json report = {{"bodies", {}},
+                           {"bytes_sent", {}},
+                           {"collectives", {}},
+                           {"peak_rss_mb", {}}};
+  for (std::size_t r = 0; r < all.size() / 4; ++r)
+  {
+    report["bodies"].push_back(long(all[4 * r]));
+    report["bytes_sent"].push_back(all[4 * r + 1]);
+    report["collectives"].push_back(long(all[4 * r + 2]));
+    report["peak_rss_mb"].push_back(all[4 * r + 3]);
+  }
+  return report;
+}
+
 /// The stop criterion met after `step` (counted from `first`), or "".
 std::string stop_reason(const io::DriverConfig& config,
                         const dynamics::MoreauJean& scheme, long first,
@@ -126,14 +163,19 @@ std::string stop_reason(const io::DriverConfig& config,
 class Run
 {
 public:
+  /// Every rank holds every body's mesh (on its own MPI_COMM_SELF) and
+  /// computes its own bodies (parallel::Ownership); rank 0 alone writes.
   Run(MPI_Comm comm, const io::DriverConfig& config, bool quiet)
       : _config(config), _p(config.parameters),
-        _raw_dir(config.directory / "raw"), _quiet(quiet),
-        _bodies(make_bodies(comm, config)),
-        _scheme(_bodies, config.walls,
-                {_p.time, _p.contact, _p.damping, config.velocity_scale,
-                  config.friction}),
-        _raw(config.directory, config.walls),
+        _raw_dir(config.directory / "raw"), _root(rank_of(comm) == 0),
+        _quiet(quiet || !_root), _bodies(make_bodies(MPI_COMM_SELF, config)),
+        _own(comm, _bodies), _scheme(_bodies, config.walls,
+                                     {_p.time, _p.contact, _p.damping,
+                                      config.velocity_scale, config.friction},
+                                     _own),
+        _raw(_root ? std::make_unique<io::RawOutput>(config.directory,
+                                                     config.walls)
+                   : nullptr),
         _identity(io::state_identity(_bodies, config.walls)), _program(config)
   {
     if (config.initial_state)
@@ -149,12 +191,14 @@ public:
     }
     else if (!_program.empty())
       _program.begin(0, _scheme, phi());
-    io::write_setup(_raw_dir, io::setup_json(config, _bodies));
-    if (_p.output.fields)
-      _fields =
-          std::make_unique<io::FieldOutput>(comm, config.directory, _bodies);
     _first = _scheme.steps();
     _phi0 = phi();
+    if (!_root)
+      return;
+    io::write_setup(_raw_dir, io::setup_json(config, _bodies));
+    if (_p.output.fields)
+      _fields = std::make_unique<io::FieldOutput>(MPI_COMM_SELF,
+                                                  config.directory, _bodies);
   }
 
   /// Step until a stop criterion holds; the step that meets it is an
@@ -163,6 +207,7 @@ public:
   {
     output(_first, dynamics::StepReport{}, _phi0,
            _program.empty() ? 0 : _program.start().index);
+    fail_if_asked();
     for (long step = _first + 1;; ++step)
     {
       const dynamics::StepReport r = _scheme.step();
@@ -188,12 +233,28 @@ public:
   }
 
 private:
+  /// The failure test of a distributed run (tests/python/test_mpi.py):
+  /// SOFTPACK_TEST_FAIL_RANK=R makes rank R throw after the first output,
+  /// when the others are about to wait in the first step's collectives.
+  void fail_if_asked() const
+  {
+    const char* rank = std::getenv("SOFTPACK_TEST_FAIL_RANK");
+    if (rank && std::atoi(rank) == _own.rank())
+      throw std::runtime_error("SOFTPACK_TEST_FAIL_RANK=" + std::string(rank) +
+                               ": this rank fails on purpose (a test)");
+  }
+
   RunSummary finish(long step, const std::string& reason,
                     const nlohmann::json& extra = nullptr)
   {
     const RunSummary summary{step, elapsed(), reason};
-    _raw.finish(summary.steps, summary.seconds, summary.reason, _spent,
-                _scheme.factorizations(), _checks, extra);
+    nlohmann::json done = extra.is_object() ? extra : nlohmann::json::object();
+    done["mpi_ranks"] = _scheme.ownership().size();
+    if (_scheme.ownership().distributed())
+      done["mpi"] = rank_report(_scheme.ownership());
+    if (_raw)
+      _raw->finish(summary.steps, summary.seconds, summary.reason, _spent,
+                   _scheme.factorizations(), _checks, done);
     return summary;
   }
 
@@ -216,8 +277,9 @@ private:
     if (check.timed_out)
     {
       const std::string why = _program.missed(_scheme, _bodies, now);
-      std::fprintf(stderr, "softpack-simulate: %s: the run ends incomplete\n",
-                   why.c_str());
+      if (_root)
+        std::fprintf(stderr, "softpack-simulate: %s: the run ends incomplete\n",
+                     why.c_str());
       output(step, r, now, label);
       extra["complete"] = false;
       return finish(step, why, extra);
@@ -254,13 +316,14 @@ private:
     const io::ConvergenceCounts before = total;
     _interval.add(r);
     total.add(r);
-    if (total.newton_unconverged_steps > before.newton_unconverged_steps &&
+    if (_root &&
+        total.newton_unconverged_steps > before.newton_unconverged_steps &&
         warn_now(total.newton_unconverged_steps))
       std::fprintf(stderr,
                    "softpack-simulate: warning: step %ld: Newton did not "
                    "converge in %d iterations (%ld such steps so far)\n",
                    step, r.newton_iterations, total.newton_unconverged_steps);
-    if (total.nlgs_unconverged_steps > before.nlgs_unconverged_steps &&
+    if (_root && total.nlgs_unconverged_steps > before.nlgs_unconverged_steps &&
         warn_now(total.nlgs_unconverged_steps))
       std::fprintf(stderr,
                    "softpack-simulate: warning: step %ld: a contact solve "
@@ -270,7 +333,8 @@ private:
       return;
     if (_checks.problems_written < max_problem_dumps)
     {
-      write_unsolved_problem(_raw_dir, step, r);
+      if (_root)
+        write_unsolved_problem(_raw_dir, step, r);
       ++_checks.problems_written;
     }
     else
@@ -289,7 +353,7 @@ private:
     if (depth > _p.contact.alert_distance && !counted)
     {
       ++_checks.overlap_steps;
-      if (warn_now(_checks.overlap_steps))
+      if (_root && warn_now(_checks.overlap_steps))
         std::fprintf(stderr,
                      "softpack-simulate: warning: step %ld: bodies overlap "
                      "by %.3g m, more than contact.alert_distance = %.3g m "
@@ -329,12 +393,16 @@ private:
   void output(long step, const dynamics::StepReport& r,
               std::optional<double> now, int stage = 0)
   {
-    _raw.set_stage(stage);
-    _raw.write(step, _scheme, r, now, elapsed(), _bodies, _spent, _average,
-               _interval, check_overlap(step));
+    const double depth = check_overlap(step);
+    if (_raw)
+    {
+      _raw->set_stage(stage);
+      _raw->write(step, _scheme, r, now, elapsed(), _bodies, _spent, _average,
+                  _interval, depth);
+    }
     _average.reset();
     _interval = {};
-    if (_p.output.state)
+    if (_root && _p.output.state)
     {
       io::write_state(_raw_dir / "state.bin", _scheme.state(), _identity,
                       _checks);
@@ -353,11 +421,14 @@ private:
   const io::DriverConfig& _config;
   const parameters::Parameters& _p;
   const std::filesystem::path _raw_dir;
+  const bool _root;
   const bool _quiet;
   const clock::time_point _start = clock::now();
   bodies::BodySet _bodies;
+  parallel::Ownership _own;
   dynamics::MoreauJean _scheme;
-  io::RawOutput _raw;
+  /// Rank 0's: the other ranks write nothing
+  std::unique_ptr<io::RawOutput> _raw;
   const io::StateIdentity _identity;
   StageProgram _program;
   std::unique_ptr<io::FieldOutput> _fields;

@@ -51,7 +51,8 @@ def load_config(path, overrides=None):
     return load(path, overrides)
 
 
-def run(config, out, force=False, initial_state=None, verbose=False):
+def run(config, out, force=False, initial_state=None, verbose=False,
+        ranks=1):
     """Run one compaction into ``out`` and return its series.
 
     Parameters
@@ -67,6 +68,8 @@ def run(config, out, force=False, initial_state=None, verbose=False):
         A ``raw/state.bin`` of a run on the same packing to start from.
     verbose : bool
         Print progress as ``./softpack run`` does (run.log has it always).
+    ranks : int
+        MPI ranks of the driver (1 to the number of bodies).
 
     Returns
     -------
@@ -80,11 +83,11 @@ def run(config, out, force=False, initial_state=None, verbose=False):
     """
     from softpack.simulation import run as runner
 
-    if not hasattr(config, "stem"):
+    if isinstance(config, (str, os.PathLike)):  # a Path has a stem too
         config = load_config(config)
     out = Path(os.path.abspath(out))
     runner.run(config, out, force=force, initial_state=initial_state,
-               verbose=verbose)
+               verbose=verbose, ranks=ranks)
     return read_run(out)
 
 

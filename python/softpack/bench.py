@@ -326,6 +326,9 @@ def main(argv=None) -> int:
     parser.add_argument("--sharing", action="store_true",
                         help="only time the driver alone, beside a busy"
                         " process and beside another run (issue 18)")
+    parser.add_argument("--mpi", action="store_true",
+                        help="only time --steps steps of the paper case on 1,"
+                        " 2 and 4 MPI ranks (from --from-state if given)")
     parser.add_argument("--to-phi", type=float, default=0.84,
                         help="packing fraction that ends --invariance-from")
     args = parser.parse_args(argv)
@@ -334,6 +337,11 @@ def main(argv=None) -> int:
         from softpack.bench_sharing import bench_sharing
         return _save(bench_sharing(WORK),
                      "sharing-" + _now().replace(":", "") + ".json")
+    if args.mpi:
+        from softpack.bench_mpi import bench_mpi, table
+        report = bench_mpi(WORK, args.steps, args.from_state)
+        print(table(report))
+        return _save(report, "mpi-" + _now().replace(":", "") + ".json")
     if args.invariance or args.invariance_from:
         if args.invariance_from:
             result = bench_invariance(state=args.invariance_from,

@@ -39,7 +39,55 @@ def executable() -> Path:
         raise DriverError(str(err)) from None
 
 
-def start(driver_json, log, quiet=False) -> subprocess.Popen:
+def check_ranks(ranks: int, config) -> None:
+    """Refuse a number of MPI ranks outside 1..number of bodies.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``--ranks``, the value and the allowed range.
+    """
+    from softpack.scene.config import ConfigError
+
+    if ranks == 1:  # a valid config has a body
+        return
+    bodies = sum(int(s["count"]) for s in config["species"])
+    if not 1 <= ranks <= bodies:
+        raise ConfigError(
+            f"--ranks {ranks}: must be between 1 and the number of bodies"
+            f" ({bodies} in {config.source}): each rank owns at least one"
+            " body")
+
+
+def command(driver_json, quiet=False, ranks=1, threads=None) -> list[str]:
+    """The command line that runs the driver on ``ranks`` MPI ranks.
+
+    One rank: the executable itself (OpenMP uses the cores). Several:
+    ``mpirun -np RANKS`` (``--oversubscribe``: more ranks than cores is
+    allowed, e.g. to test; ``--allow-run-as-root`` when run as root), each
+    rank with its share of the cores as OpenMP threads. ``threads``: that
+    many OpenMP threads per rank instead.
+    """
+    cmd = [str(executable()), str(driver_json)]
+    if quiet:
+        cmd.append("--quiet")
+    if threads is None and ranks > 1:
+        threads = max(1, len(os.sched_getaffinity(0)) // ranks)
+    if threads is not None:
+        cmd += ["--threads", str(threads)]
+    if ranks == 1:
+        return cmd
+    # Open MPI's (Debian's, dolfinx's): unaggregated help text, or an
+    # MPI_Abort is reported as "ORTE_ERROR_LOG: Data unpack would read
+    # past end of buffer" instead of its own message
+    launcher = ["mpirun", "--oversubscribe", "--mca",
+                "orte_base_help_aggregate", "0", "-np", str(ranks)]
+    if hasattr(os, "geteuid") and os.geteuid() == 0:
+        launcher.insert(1, "--allow-run-as-root")
+    return launcher + cmd
+
+
+def start(driver_json, log, quiet=False, ranks=1) -> subprocess.Popen:
     """Start the driver on ``driver_json``; its output goes to ``log``.
 
     Parameters
@@ -50,13 +98,13 @@ def start(driver_json, log, quiet=False) -> subprocess.Popen:
         Receives stdout and stderr (None: discarded).
     quiet : bool
         Pass ``--quiet`` (no per-step lines).
+    ranks : int
+        MPI ranks (:func:`command`); the caller checked the range.
     """
     driver_json = Path(driver_json).resolve()
-    command = [str(executable()), str(driver_json)]
-    if quiet:
-        command.append("--quiet")
     return subprocess.Popen(
-        command, cwd=driver_json.parent, stdin=subprocess.DEVNULL,
+        command(driver_json, quiet, ranks), cwd=driver_json.parent,
+        stdin=subprocess.DEVNULL,
         stdout=log if log is not None else subprocess.DEVNULL,
         stderr=subprocess.STDOUT, process_group=0,
         preexec_fn=_die_with_parent(os.getpid()))
@@ -121,10 +169,15 @@ def _signal_group(proc: subprocess.Popen, sig) -> None:
         proc.send_signal(sig)
 
 
-def simulate(driver_json, log_path, quiet=False) -> tuple[int, float]:
-    """Run the driver to the end; exit status and peak memory (MB)."""
+def simulate(driver_json, log_path, quiet=False,
+             ranks=1) -> tuple[int, float]:
+    """Run the driver to the end; exit status and peak memory (MB).
+
+    With several ranks the memory is the largest of mpirun's children's
+    (``os.wait4`` reports the peak of the largest descendant waited for).
+    """
     with open(log_path, "a") as log:
-        proc = start(driver_json, log, quiet)
+        proc = start(driver_json, log, quiet, ranks)
         try:
             return wait(proc)
         except BaseException:

@@ -118,6 +118,10 @@ def _parser() -> argparse.ArgumentParser:
                    " (DIR/raw/state.bin, written at every output step)"
                    " with DIR's own config.toml; the series is the one an"
                    " uninterrupted run would have written")
+    p.add_argument("--ranks", type=int, default=1, metavar="N",
+                   help="MPI ranks (mpirun -np N): the bodies split by"
+                   " space, each rank computing its own (1 to the number"
+                   " of bodies; default 1)")
     p.add_argument("--observables-only", action="store_true",
                    help="only recompute series.csv and particles.csv from"
                    " DIR's raw output and DIR/config.toml")
@@ -158,9 +162,9 @@ def main(argv=None) -> int:
         if args.observables_only:
             return _postprocess(out, None)
         if args.resume is not None:
-            return resume(config, out)
+            return resume(config, out, ranks=args.ranks)
         return run(config, out, force=args.force,
-                   initial_state=args.from_state)
+                   initial_state=args.from_state, ranks=args.ranks)
     except UsageError as err:
         print(f"softpack run: {err}", file=sys.stderr)
         return 2
@@ -292,7 +296,7 @@ def prepare_directory(out: Path, force: bool) -> None:
 
 
 def run(config, out: Path, force=False, initial_state: Path | None = None,
-        verbose=True) -> int:
+        verbose=True, ranks=1) -> int:
     """Packing, mesh, driver, observables into ``out``; returns 0.
 
     Parameters
@@ -308,6 +312,8 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
         start from instead of rest.
     verbose : bool
         Print the log lines and the progress (always written to run.log).
+    ranks : int
+        MPI ranks of the driver (:func:`driver.check_ranks`).
 
     Raises
     ------
@@ -318,6 +324,7 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
     """
     out = Path(os.path.abspath(out))
     driver_executable()
+    _check_ranks(ranks, config)
     if initial_state is not None:
         initial_state = Path(initial_state).resolve()
         if not initial_state.is_file():
@@ -331,6 +338,7 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
     with open(out / "run.log", "a", buffering=1) as log:
         say = _reporter(log, verbose)
         try:
+            say.ranks = ranks
             return _run_logged(config, out, initial_state, log, say)
         except (KeyboardInterrupt, Stopped) as err:
             log.write(f"[softpack run {time.strftime('%H:%M:%S')}] stopped"
@@ -339,7 +347,7 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
             raise
 
 
-def resume(config, out: Path, verbose=True) -> int:
+def resume(config, out: Path, verbose=True, ranks=1) -> int:
     """Finish the killed run in ``out`` (:mod:`softpack.simulation.resume`).
 
     Raises
@@ -353,10 +361,12 @@ def resume(config, out: Path, verbose=True) -> int:
     if not is_run_directory(out):
         raise UsageError(f"--resume {out}: not a softpack run directory")
     driver_executable()
+    _check_ranks(ranks, config)
     step = prepare_resume(out, config, RunError)
     with open(out / "run.log", "a", buffering=1) as log:
         say = _reporter(log, verbose)
         try:
+            say.ranks = ranks
             say(f"resuming {out} from its state at step {step}")
             _drive(config, out, log, say)
             finish_resume(out)
@@ -368,11 +378,21 @@ def resume(config, out: Path, verbose=True) -> int:
             raise
 
 
+def _check_ranks(ranks, config) -> None:
+    """UsageError unless 1 <= ranks <= bodies (before anything is written)."""
+    try:
+        driver.check_ranks(ranks, config)
+    except ConfigError as err:
+        raise UsageError(str(err)) from None
+
+
 def _drive(config, out, log, say) -> None:
     """Run the driver on ``out/driver.json``; RunError if it fails."""
-    say(f"{DRIVER} {out / 'driver.json'}")
+    ranks = getattr(say, "ranks", 1)
+    say(f"{DRIVER} {out / 'driver.json'}"
+        + (f" on {ranks} MPI ranks" if ranks > 1 else ""))
     started = time.time()
-    status = _simulate(out, config, log, echo if say.verbose else None)
+    status = _simulate(out, config, log, echo if say.verbose else None, ranks)
     if status != 0:
         say(f"{DRIVER} failed with exit status {status}")
         raise RunError(f"{DRIVER} failed (exit status {status});"
@@ -416,7 +436,7 @@ def _reporter(log, verbose=True):
     return say
 
 
-def _simulate(out, config, log, show) -> int:
+def _simulate(out, config, log, show, ranks=1) -> int:
     """Run the driver, its output to the log; show progress; exit status.
 
     Whatever interrupts the wait (Ctrl-C, a signal, a closed output, an
@@ -424,7 +444,7 @@ def _simulate(out, config, log, show) -> int:
     """
     progress = Progress(config, out / "raw" / "steps.csv", show)
     log.flush()
-    proc = driver.start(out / "driver.json", log)
+    proc = driver.start(out / "driver.json", log, ranks=ranks)
     try:
         while proc.poll() is None:
             time.sleep(POLL_SECONDS)

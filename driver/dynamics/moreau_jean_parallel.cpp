@@ -1,0 +1,87 @@
+// The parts of a Moreau–Jean step that differ when the bodies are spread
+// over MPI ranks (docs/mpi_design.md): W from every rank's blocks, and
+// the body terms of the energy accounts summed over the ranks.
+#include "delassus.h"
+#include "moreau_jean.h"
+
+#include <algorithm>
+
+namespace softpack::dynamics
+{
+namespace
+{
+/// Doubles per block on the wire: body, a, b and the 2x2 block.
+constexpr int block_size = 7;
+
+/// Every rank's blocks, on every rank, in the body order of the serial
+/// build (each body's blocks come from its one owner, in its order).
+std::vector<DelassusBlock> share_blocks(const parallel::Ownership& own,
+                                        const std::vector<DelassusBlock>& mine)
+{
+  std::vector<double> packed;
+  packed.reserve(block_size * mine.size());
+  for (const DelassusBlock& k : mine)
+    packed.insert(packed.end(),
+                  {double(k.body), double(k.a), double(k.b), k.block(0, 0),
+                   k.block(1, 0), k.block(0, 1), k.block(1, 1)});
+  const std::vector<double> all = own.gather(packed);
+  std::vector<DelassusBlock> blocks(all.size() / block_size);
+  for (std::size_t i = 0; i < blocks.size(); ++i)
+  {
+    const double* p = &all[block_size * i];
+    blocks[i].body = static_cast<std::int32_t>(p[0]);
+    blocks[i].a = static_cast<std::int32_t>(p[1]);
+    blocks[i].b = static_cast<std::int32_t>(p[2]);
+    blocks[i].block << p[3], p[5], p[4], p[6];
+  }
+  std::stable_sort(blocks.begin(), blocks.end(),
+                   [](const DelassusBlock& x, const DelassusBlock& y)
+                   { return x.body < y.body; });
+  return blocks;
+}
+} // namespace
+
+contact::DelassusMatrix
+MoreauJean::delassus(const ContactOperator& H,
+                     std::span<const WallCoupling> walls) const
+{
+  std::vector<DelassusBlock> blocks = delassus_blocks(
+      _bodies, H, _kbar, _options.contact.delassus_drop_tolerance, &_rigid,
+      _own.owned());
+  if (_own.distributed())
+    blocks = share_blocks(_own, blocks);
+  return assemble_delassus(H.size(), blocks, walls);
+}
+
+void MoreauJean::share_contact_nodes(
+    const std::vector<std::vector<std::int32_t>>& contact_nodes,
+    std::span<double> global) const
+{
+  if (!_own.distributed())
+    return;
+  // Only the contact nodes' entries: every rank knows which they are.
+  std::vector<std::int32_t> nodes;
+  for (std::size_t b = 0; b < contact_nodes.size(); ++b)
+    for (const std::int32_t node : contact_nodes[b])
+      nodes.push_back(_bodies.body(static_cast<int>(b)).nodes[node]);
+  _own.share_nodes(global, nodes);
+}
+
+void MoreauJean::add_owned_body_terms(const BodyStep& step)
+{
+  const double h = _options.time.time_step, th = _options.time.theta;
+  if (!_own.distributed())
+  {
+    add_body_terms(_energy, h, th, step);
+    return;
+  }
+  EnergyBalance mine;
+  add_body_terms(mine, h, th, step, _own.owned());
+  double sums[3] = {mine.damping, mine.numerical, mine.external_work};
+  _own.sum(sums);
+  _energy.damping += sums[0];
+  _energy.numerical += sums[1];
+  _energy.external_work += sums[2];
+}
+
+} // namespace softpack::dynamics

@@ -1,0 +1,96 @@
+#include "ownership.h"
+
+#include "partition.h"
+#include <stdexcept>
+#include <string>
+
+namespace softpack::parallel
+{
+
+Ownership::Ownership(MPI_Comm comm, bodies::BodySet& bodies) : _comm(comm)
+{
+  MPI_Comm_rank(comm, &_rank);
+  MPI_Comm_size(comm, &_size);
+  if (_size == 1)
+    return;
+  const int nb = bodies.num_bodies();
+  if (_size > nb)
+    throw std::invalid_argument(
+        std::to_string(_size) + " MPI ranks for " + std::to_string(nb) +
+        " bodies: --ranks must be between 1 and the number of bodies");
+  // Centres of the reference configuration: the bodies move little over a
+  // compaction, and every rank computes the same split without messages.
+  const std::span<const double> x = bodies.reference_coordinates();
+  std::vector<double> centres(2 * nb, 0.0), weights(nb);
+  for (int b = 0; b < nb; ++b)
+  {
+    const bodies::Body& body = bodies.body(b);
+    for (std::int32_t node : body.nodes)
+      for (int c = 0; c < 2; ++c)
+        centres[2 * b + c] += x[2 * node + c] / body.nodes.size();
+    weights[b] = body.num_dofs();
+  }
+  _body_rank = partition_bodies(centres, weights, _size);
+  _owned.assign(nb, 0);
+  for (int b = 0; b < nb; ++b)
+  {
+    _owned[b] = _body_rank[b] == _rank;
+    if (!_owned[b])
+      _foreign_nodes.insert(_foreign_nodes.end(), bodies.body(b).nodes.begin(),
+                            bodies.body(b).nodes.end());
+  }
+  bodies.set_owned(_owned);
+}
+
+void Ownership::share(std::span<double> global) const
+{
+  if (_size == 1)
+    return;
+  for (std::int32_t node : _foreign_nodes)
+    global[2 * node] = global[2 * node + 1] = 0;
+  sum(global);
+}
+
+void Ownership::share_nodes(std::span<double> global,
+                            std::span<const std::int32_t> nodes) const
+{
+  if (_size == 1)
+    return;
+  std::vector<double> packed(2 * nodes.size());
+  for (std::size_t k = 0; k < nodes.size(); ++k)
+    for (int c = 0; c < 2; ++c)
+      packed[2 * k + c] = global[2 * nodes[k] + c];
+  sum(packed);
+  for (std::size_t k = 0; k < nodes.size(); ++k)
+    for (int c = 0; c < 2; ++c)
+      global[2 * nodes[k] + c] = packed[2 * k + c];
+}
+
+void Ownership::sum(std::span<double> values) const
+{
+  if (_size == 1)
+    return;
+  MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()),
+                MPI_DOUBLE, MPI_SUM, _comm);
+  _bytes += values.size() * sizeof(double);
+  ++_calls;
+}
+
+std::vector<double> Ownership::gather(std::span<const double> local) const
+{
+  if (_size == 1)
+    return {local.begin(), local.end()};
+  int n = static_cast<int>(local.size());
+  std::vector<int> counts(_size), offsets(_size, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, _comm);
+  for (int r = 1; r < _size; ++r)
+    offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<double> all(offsets.back() + counts.back());
+  MPI_Allgatherv(local.data(), n, MPI_DOUBLE, all.data(), counts.data(),
+                 offsets.data(), MPI_DOUBLE, _comm);
+  _bytes += sizeof(int) + local.size() * sizeof(double);
+  _calls += 2;
+  return all;
+}
+
+} // namespace softpack::parallel

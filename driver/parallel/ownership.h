@@ -1,0 +1,77 @@
+#pragma once
+
+#include <bodies/BodySet.h>
+#include <cstddef>
+#include <mpi.h>
+#include <span>
+#include <vector>
+
+namespace softpack::parallel
+{
+
+/// Which MPI rank owns each body, and the collectives that make the owners'
+/// per-body results known to every rank (docs/mpi_design.md).
+///
+/// Every rank holds the whole mesh and the global displacement and velocity
+/// (replicated); a rank assembles, factorizes and computes the compliance
+/// of its own bodies only, and the per-body results that the rest of the
+/// step needs everywhere (velocities, internal forces at step ends, free
+/// velocities at contact nodes, Delassus blocks) are exchanged through the
+/// calls below. Each exchanged entry has exactly one nonzero contributor,
+/// so a sum over ranks reproduces the serial value bit for bit.
+///
+/// The default object is serial: one rank owning every body, and every
+/// call a no-op (no MPI call at all).
+class Ownership
+{
+public:
+  /// One rank, every body owned.
+  Ownership() = default;
+  /// The bodies split over the ranks of `comm` by recursive coordinate
+  /// bisection of their reference centres, weighted by their DOFs
+  /// (partition_bodies); restricts `bodies` to its owned ones
+  /// (BodySet::set_owned).
+  /// @throws std::invalid_argument if comm has more ranks than bodies
+  Ownership(MPI_Comm comm, bodies::BodySet& bodies);
+
+  /// Whether there is more than one rank
+  bool distributed() const { return _size > 1; }
+  int rank() const { return _rank; }
+  int size() const { return _size; }
+  /// Whether this rank owns body b
+  bool owns(int b) const { return _size == 1 || _body_rank[b] == _rank; }
+  /// 1 for each owned body (empty when serial: all)
+  const std::vector<char>& owned() const { return _owned; }
+  /// The rank of each body (empty when serial)
+  const std::vector<int>& body_rank() const { return _body_rank; }
+
+  /// Make a global nodal vector whole on every rank: the entries of each
+  /// body's nodes become those its owner holds (others' are dropped).
+  void share(std::span<double> global) const;
+  /// share() restricted to the given global nodes, whose entries must be
+  /// zero on the ranks that do not own them (a vector filled by owners
+  /// only): the message is as small as the list.
+  void share_nodes(std::span<double> global,
+                   std::span<const std::int32_t> nodes) const;
+  /// Sum over ranks, in place.
+  void sum(std::span<double> values) const;
+  /// All ranks' vectors concatenated in rank order, on every rank.
+  std::vector<double> gather(std::span<const double> local) const;
+
+  /// Bytes this rank has handed to collectives so far (its send volume;
+  /// what the network carries is of the same order per rank)
+  std::size_t bytes_sent() const { return _bytes; }
+  /// Collective calls so far
+  std::size_t messages() const { return _calls; }
+
+private:
+  MPI_Comm _comm = MPI_COMM_SELF;
+  int _rank = 0, _size = 1;
+  std::vector<int> _body_rank;
+  std::vector<char> _owned;
+  /// Global nodes of the bodies this rank does not own
+  std::vector<std::int32_t> _foreign_nodes;
+  mutable std::size_t _bytes = 0, _calls = 0;
+};
+
+} // namespace softpack::parallel

@@ -1,0 +1,107 @@
+"""``./softpack bench --mpi``: the driver on 1, 2 and 4 MPI ranks (issue 14).
+
+The paper case (100 disks at the paper's mesh, the default settings) for
+``--steps`` time steps, from a state a run wrote (``--from-state``: the
+crowded end of a compaction) or from the initial packing, on 1, 2 and 4
+ranks with one OpenMP thread each (so that the ranks, not the threads, are
+measured; 4 ranks are oversubscribed on a 2-core machine and reported as
+such). For each: the wall time of the stepping and its split by part
+(raw/done.json), the peak memory of each rank and the bytes each rank handed
+to collectives, per step (done.json's "mpi"), and whether the run is the
+1-rank run (Phi and strain energy of the last step).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+from pathlib import Path
+
+from softpack.analysis.tables import read_table
+from softpack.simulation import driver
+from softpack.simulation.driver_input import write_driver_json
+
+PARTS = ("assembly", "factorization", "solves", "delassus", "detection",
+         "nlgs")
+
+
+def run_ranks(config, scene: dict, out: Path, ranks: int,
+              initial_state: Path | None) -> dict:
+    """One driver run on ``ranks`` ranks; its cost, memory and traffic."""
+    out.mkdir(parents=True, exist_ok=True)
+    write_driver_json(config, scene, out, initial_state)
+    with open(out / "driver.log", "w") as log:
+        proc = subprocess.Popen(
+            driver.command(out / "driver.json", True, ranks, threads=1),
+            cwd=out, stdout=log, stderr=subprocess.STDOUT,
+            preexec_fn=driver._die_with_parent(os.getpid()))
+        # One rank: its own peak memory (os.wait4); several: done.json's.
+        status, peak_mb = driver.wait(proc)
+    if status != 0:
+        raise RuntimeError(f"softpack-simulate on {ranks} ranks failed:"
+                           f" {out / 'driver.log'}")
+    done = json.loads((out / "raw" / "done.json").read_text())
+    rows = read_table(out / "raw" / "steps.csv")
+    steps = done["steps"] - int(rows["step"][0])
+    stepping = float(rows["seconds"][-1] - rows["seconds"][0])
+    mpi = done.get("mpi", {})
+    result = {"ranks": ranks, "cores": len(os.sched_getaffinity(0)),
+              "oversubscribed": ranks > len(os.sched_getaffinity(0)),
+              "steps": steps, "seconds": stepping,
+              "ms_per_step": 1e3 * stepping / steps,
+              "phi": float(rows["phi"][-1]),
+              "strain_energy": float(rows["strain_energy"][-1]),
+              "contacts": int(rows["contacts"][-1]),
+              "nlgs_sweeps": int(rows["nlgs_iterations"][-1]),
+              "bodies_per_rank": mpi.get(
+                  "bodies", [sum(s["count"] for s in config["species"])]),
+              "peak_rss_mb_per_rank": mpi.get("peak_rss_mb", [peak_mb]),
+              "kb_sent_per_step_per_rank":
+                  [b / 1e3 / steps for b in mpi.get("bytes_sent", [])],
+              "collectives_per_step":
+                  [c / steps for c in mpi.get("collectives", [])]}
+    for part in PARTS:
+        result[f"ms_{part}"] = 1e3 * done["seconds_by_part"][part] / steps
+    return result
+
+
+def bench_mpi(work: Path, steps: int, state: Path | None,
+              ranks=(1, 2, 4)) -> dict:
+    """The paper case on each number of ranks (see the module)."""
+    from softpack.bench import FAST, _scene_for, scaled_config
+
+    # Steps, not Phi, end these runs (a state may be past the target).
+    config = scaled_config(1, {**FAST, "stop.steps": steps,
+                               "stop.packing_fraction": 0,
+                               "output.every_steps": steps})
+    scene = _scene_for(config, "n100")
+    runs = [run_ranks(config, scene, work / f"mpi-{n}", n, state)
+            for n in ranks]
+    serial = runs[0]
+    for r in runs:
+        r["phi_minus_serial"] = r["phi"] - serial["phi"]
+        r["strain_energy_rel_diff"] = (
+            r["strain_energy"] / serial["strain_energy"] - 1)
+        r["speedup"] = serial["seconds"] / r["seconds"]
+        replicated = sum(r[f"ms_{p}"] for p in ("detection", "nlgs"))
+        r["replicated_fraction"] = replicated / r["ms_per_step"]
+    return {"case": "paper (100 disks), defaults", "steps": steps,
+            "from_state": str(state) if state else None, "runs": runs}
+
+
+def table(report: dict) -> str:
+    """The report as text lines."""
+    lines = [f"{report['case']}, {report['steps']} steps"
+             + (f" from {report['from_state']}" if report["from_state"]
+                else "")]
+    for r in report["runs"]:
+        lines.append(
+            f"{r['ranks']} rank(s){' (oversubscribed)' if r['oversubscribed'] else ''}:"
+            f" {r['ms_per_step']:.0f} ms/step (speed-up {r['speedup']:.2f}),"
+            f" replicated detection+NLGS {100 * r['replicated_fraction']:.0f} %,"
+            f" peak memory per rank {r['peak_rss_mb_per_rank']} MB,"
+            f" sent {[round(k, 1) for k in r['kb_sent_per_step_per_rank']]}"
+            f" kB/step/rank, dPhi {r['phi_minus_serial']:.1e},"
+            f" dE/E {r['strain_energy_rel_diff']:.1e}")
+    return "\n".join(lines)
