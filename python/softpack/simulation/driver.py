@@ -104,10 +104,27 @@ def start(driver_json, log, quiet=False, ranks=1) -> subprocess.Popen:
     driver_json = Path(driver_json).resolve()
     return subprocess.Popen(
         command(driver_json, quiet, ranks), cwd=driver_json.parent,
-        stdin=subprocess.DEVNULL,
+        env=_launch_environment(), stdin=subprocess.DEVNULL,
         stdout=log if log is not None else subprocess.DEVNULL,
         stderr=subprocess.STDOUT, process_group=0,
         preexec_fn=_die_with_parent(os.getpid()))
+
+
+#: Prefixes of the variables Open MPI's runtime sets in a process.
+_MPI_RUNTIME = ("OMPI_", "PMIX_", "OPAL_", "ORTE_", "PRTE_")
+
+
+def _launch_environment() -> dict:
+    """This process's environment without Open MPI's runtime variables.
+
+    A Python process that imported dolfinx (gmsh, mpi4py) is an MPI
+    singleton: Open MPI set its own variables in the C environment, which a
+    child inherits by default, and an ``mpirun`` started with them exits 1
+    at once without a word. ``os.environ`` (read at start-up) is passed
+    instead, without those variables.
+    """
+    return {k: v for k, v in os.environ.items()
+            if not k.startswith(_MPI_RUNTIME)}
 
 
 #: ``PR_SET_PDEATHSIG`` of <linux/prctl.h>.
