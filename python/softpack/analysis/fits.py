@@ -32,6 +32,8 @@ When the data do not constrain Phi_T (no fit is reported: ``phi_t`` NaN and
 
 from __future__ import annotations
 
+import abc
+
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -65,7 +67,7 @@ class FitSettings:
     seed: int = 0
 
 
-class FitOutcome:
+class FitOutcome(abc.ABC):
     """What every fit's result shares: ``reason`` (empty when the fit is
     reported), :attr:`ok`, and a :meth:`summary` that says why not.
 
@@ -87,8 +89,9 @@ class FitOutcome:
             return f"no {self.SUBJECT}: {self.reason}"
         return self._reported()
 
+    @abc.abstractmethod
     def _reported(self) -> str:
-        raise NotImplementedError
+        """The one line of the values a subclass reports."""
 
 
 @dataclass(frozen=True)
