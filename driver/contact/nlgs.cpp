@@ -2,10 +2,12 @@
 
 #include "error.h"
 #include "local_solver.h"
+#include "sweep_split.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <omp.h>
 #include <stdexcept>
 
 using namespace softpack::contact;
@@ -31,16 +33,25 @@ void check_arguments(const FrictionContactProblem2D& problem,
     throw std::invalid_argument("solve_nlgs: negative tolerance or sweeps");
 }
 //-----------------------------------------------------------------------------
-/// One Gauss–Seidel sweep; returns the squared change of r and the squared
-/// norm of the new r.
-std::pair<double, double> sweep(const FrictionContactProblem2D& problem,
-                                double* r, double omega)
+/// Squared change of the reactions and squared norm of the new ones over
+/// (part of) a sweep.
+struct SweepSums
+{
+  double change = 0, norm = 0;
+};
+//-----------------------------------------------------------------------------
+/// Gauss–Seidel over the given contacts, in their order (all contacts in
+/// order when `contacts` is empty and `all` is set).
+SweepSums sweep(const FrictionContactProblem2D& problem, double* r,
+                double omega, std::span<const std::int32_t> contacts,
+                bool all = false)
 {
   const DelassusMatrix& W = problem.W;
-  const std::size_t nc = problem.num_contacts();
-  double change = 0, norm = 0;
-  for (std::size_t a = 0; a < nc; ++a)
+  const std::size_t count = all ? problem.num_contacts() : contacts.size();
+  SweepSums sums;
+  for (std::size_t i = 0; i < count; ++i)
   {
+    const std::size_t a = all ? i : static_cast<std::size_t>(contacts[i]);
     const Eigen::Vector2d qa =
         Eigen::Vector2d(problem.q[2 * a], problem.q[2 * a + 1]) +
         W.offdiagonal_product(a, r);
@@ -53,12 +64,114 @@ std::pair<double, double> sweep(const FrictionContactProblem2D& problem,
       if (omega > 1.0)
         ra = project_on_cone(ra, mu);
     }
-    change += (ra - old).squaredNorm();
-    norm += ra.squaredNorm();
+    sums.change += (ra - old).squaredNorm();
+    sums.norm += ra.squaredNorm();
     r[2 * a] = ra[0];
     r[2 * a + 1] = ra[1];
   }
-  return {change, norm};
+  return sums;
+}
+//-----------------------------------------------------------------------------
+/// The sums of a split sweep, added in one fixed order: the same bits
+/// whether the two parts ran on one thread or two.
+SweepSums combine(const SweepSums& p0, const SweepSums& p1, const SweepSums& s)
+{
+  return {(p0.change + p1.change) + s.change, (p0.norm + p1.norm) + s.norm};
+}
+//-----------------------------------------------------------------------------
+/// The stopping test and the relaxation fallback, applied after each sweep
+/// (Siconos' "light with full final" test, see solve_nlgs()).
+class Monitor
+{
+public:
+  Monitor(const FrictionContactProblem2D& problem, std::span<double> r,
+          std::span<double> u, const NlgsOptions& options, NlgsResult& result)
+      : omega(options.relaxation), _problem(problem), _r(r), _u(u),
+        _options(options), _result(result),
+        _working_tolerance(options.tolerance)
+  {
+  }
+  /// Account for a finished sweep; false when the solve should stop.
+  bool after_sweep(const SweepSums& sums);
+  /// The full error at the end (computed unless the last test did)
+  void finish();
+  /// Relaxation of the next sweep
+  double omega;
+
+private:
+  const FrictionContactProblem2D& _problem;
+  std::span<double> _r, _u;
+  const NlgsOptions& _options;
+  NlgsResult& _result;
+  double _working_tolerance;
+  double _window_start_error = std::numeric_limits<double>::infinity();
+  bool _full_error_current = false;
+  NaturalMapError _full;
+};
+//-----------------------------------------------------------------------------
+bool Monitor::after_sweep(const SweepSums& sums)
+{
+  ++_result.iterations;
+  const double scale = std::sqrt(sums.norm);
+  _result.cheap_error = std::sqrt(sums.change);
+  if (scale > std::numeric_limits<double>::epsilon())
+    _result.cheap_error /= scale;
+  _full_error_current = false;
+  if (!std::isfinite(_result.cheap_error))
+    return false;
+  if (omega != 1.0 and _options.relaxation_window > 0 and
+      _result.iterations % _options.relaxation_window == 0)
+  {
+    if (_result.cheap_error > 0.9 * _window_start_error)
+    {
+      omega = 1.0;
+      _result.relaxation_dropped = true;
+    }
+    _window_start_error = _result.cheap_error;
+  }
+  const bool more = _result.iterations < _options.max_sweeps;
+  if (_result.cheap_error > _working_tolerance)
+    return more;
+  _full = compute_error(_problem, _r, _u, _options.q_zero_tolerance);
+  _full_error_current = true;
+  if (_full.value <= _options.tolerance)
+    return false;
+  if (_full.value > 0)
+    _working_tolerance = _result.cheap_error / _full.value * _options.tolerance;
+  return more;
+}
+//-----------------------------------------------------------------------------
+void Monitor::finish()
+{
+  if (!_full_error_current)
+    _full = compute_error(_problem, _r, _u, _options.q_zero_tolerance);
+  _result.error = _full.value;
+  _result.converged = _full.value <= _options.tolerance;
+}
+//-----------------------------------------------------------------------------
+/// Sweeps in the split order, the two parts on two threads when there are
+/// two (the separator on one, between two barriers).
+void split_sweeps(const FrictionContactProblem2D& problem, double* r,
+                  const SweepSplit& split, int threads, Monitor& monitor)
+{
+  SweepSums partial[2];
+  bool more = true;
+#pragma omp parallel num_threads(2) if (threads > 1)
+  {
+    const int t = omp_get_thread_num();
+    const int parts_here = omp_get_num_threads() > 1 ? 1 : 2;
+    while (more)
+    {
+      for (int k = 0; k < parts_here; ++k)
+        partial[t + k] = sweep(problem, r, monitor.omega, split.part[t + k]);
+#pragma omp barrier
+#pragma omp single
+      {
+        const SweepSums s = sweep(problem, r, monitor.omega, split.separator);
+        more = monitor.after_sweep(combine(partial[0], partial[1], s));
+      } // the implicit barrier: `more` and `omega` are read after it
+    }
+  }
 }
 } // namespace
 
@@ -77,46 +190,20 @@ softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
   if (result.q_zero)
     std::fill(r.begin(), r.end(), 0.0);
 
-  double working_tolerance = options.tolerance;
-  bool full_error_current = false;
-  NaturalMapError full;
-  double omega = options.relaxation;
-  double window_start_error = std::numeric_limits<double>::infinity();
-  while (!result.q_zero and result.iterations < options.max_sweeps)
+  Monitor monitor(problem, r, u, options, result);
+  const bool split = options.split_min_contacts > 0 and
+                     problem.num_contacts() >= options.split_min_contacts;
+  if (!result.q_zero and options.max_sweeps > 0)
   {
-    const auto [change, norm] = sweep(problem, r.data(), omega);
-    ++result.iterations;
-    const double scale = std::sqrt(norm);
-    result.cheap_error = std::sqrt(change);
-    if (scale > std::numeric_limits<double>::epsilon())
-      result.cheap_error /= scale;
-    full_error_current = false;
-    if (!std::isfinite(result.cheap_error))
-      break;
-    if (omega != 1.0 and options.relaxation_window > 0 and
-        result.iterations % options.relaxation_window == 0)
-    {
-      if (result.cheap_error > 0.9 * window_start_error)
-      {
-        omega = 1.0;
-        result.relaxation_dropped = true;
-      }
-      window_start_error = result.cheap_error;
-    }
-    if (result.cheap_error > working_tolerance)
-      continue;
-    full = compute_error(problem, r, u, options.q_zero_tolerance);
-    full_error_current = true;
-    if (full.value <= options.tolerance)
-      break;
-    working_tolerance =
-        full.value > 0 ? result.cheap_error / full.value * options.tolerance
-                       : working_tolerance;
+    if (split)
+      split_sweeps(problem, r.data(), split_for_two_threads(problem.W),
+                   options.threads, monitor);
+    else
+      while (monitor.after_sweep(
+          sweep(problem, r.data(), monitor.omega, {}, true)))
+        ;
   }
-  if (!full_error_current)
-    full = compute_error(problem, r, u, options.q_zero_tolerance);
-  result.error = full.value;
-  result.converged = full.value <= options.tolerance;
+  monitor.finish();
   return result;
 }
 //-----------------------------------------------------------------------------

@@ -31,6 +31,16 @@ struct NlgsOptions
   /// Start from the reactions passed in (else from r = 0)
   bool warm_start = true;
 
+  /// Problems with at least this many contacts are swept in the order of
+  /// split_for_two_threads() (sweep_split.h): its two independent parts,
+  /// then its separator, whatever `threads` is, so that the answer does
+  /// not depend on the thread count (0: never; the plain contact order)
+  std::size_t split_min_contacts = 0;
+
+  /// Threads that sweep the two parts of a split problem (1 or 2; more
+  /// count as 2)
+  int threads = 1;
+
   /// \f$\|q\|_\infty\f$ at or below this (absolute, velocity units) means
   /// q = 0: the solution is r = 0 without a sweep and the error is absolute
   double q_zero_tolerance = 1e-12;

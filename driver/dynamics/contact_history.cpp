@@ -68,7 +68,7 @@ void ContactForceAverage::add_step(const MoreauJean& scheme)
       _wall_impulse[c.wall][1] -= impulse[1];
     }
   }
-  _duration += scheme.options().time.time_step;
+  _duration += scheme.time_step();
 }
 
 std::vector<AveragedContactForce> ContactForceAverage::contact_forces() const

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <omp.h>
 #include <stdexcept>
 
 namespace softpack::dynamics
@@ -22,6 +23,9 @@ double max_abs(const std::vector<double>& v)
     m = std::max(m, std::abs(x));
   return m;
 }
+
+/// Contact problems from this size on are swept in split order (nlgs.h).
+constexpr std::size_t split_sweep_min_contacts = 256;
 
 double seconds_since(clock::time_point t0)
 {
@@ -41,6 +45,13 @@ contact::NlgsOptions nlgs_options(const parameters::Contact& contact)
   o.tolerance = contact.nlgs_tolerance;
   o.max_sweeps = contact.nlgs_max_sweeps;
   o.relaxation = contact.nlgs_relaxation;
+  // Large problems are swept in split order, on two threads when the
+  // driver has them; the order depends on the problem's size only, so a
+  // run gives the same answers on any number of threads or ranks. Below a
+  // few hundred contacts a sweep is too short to pay for its two
+  // synchronizations.
+  o.split_min_contacts = split_sweep_min_contacts;
+  o.threads = std::min(omp_get_max_threads(), 2);
   return o;
 }
 
@@ -76,7 +87,11 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
       _rigid(bodies, _kbar), _K(bodies.create_matrices()),
       _A(bodies.create_matrices()), _v(bodies.num_dofs(), 0.0),
       _f_ext(bodies.num_dofs(), 0.0), _f_int(bodies.num_dofs(), 0.0),
-      _v_contact(bodies.num_dofs(), 0.0)
+      _v_contact(bodies.num_dofs(), 0.0),
+      _step_size(options.time.time_step,
+                 std::max(options.time.time_step, options.time.max_time_step),
+                 options.time.refactor_above_iterations),
+      _h(options.time.time_step)
 {
   _bodies.owned_internal_force(_f_int);
   _rigid.zero(_f_int);
@@ -144,7 +159,7 @@ MoreauJean::StepContacts
 MoreauJean::prepare_contacts(const std::vector<double>& u_old,
                              const std::vector<double>& v_old)
 {
-  const double h = _options.time.time_step, th = _options.time.theta;
+  const double h = _h, th = _options.time.theta;
   std::vector<double> x(_bodies.reference_coordinates().begin(),
                         _bodies.reference_coordinates().end());
   for (std::size_t i = 0; i < x.size(); ++i)
@@ -202,7 +217,7 @@ bool MoreauJean::needs_refactorization() const
 
 void MoreauJean::factorize_tangent(StepReport* report)
 {
-  const double h = _options.time.time_step, th = _options.time.theta;
+  const double h = _h, th = _options.time.theta;
   auto t0 = clock::now();
   _bodies.tangent(_K);
   const std::span<const double> u = _bodies.displacement();
@@ -240,7 +255,7 @@ void MoreauJean::refactorize(const StepContacts& sc,
 MoreauJean::StepStart MoreauJean::start_step(std::vector<double> u_old,
                                              std::vector<double> v_old)
 {
-  const double h = _options.time.time_step, th = _options.time.theta;
+  const double h = _h, th = _options.time.theta;
   const int nb = _bodies.num_bodies();
   StepStart s{std::move(u_old), std::move(v_old)};
   s.v_old_b = gather(s.v_old);
@@ -270,7 +285,7 @@ MoreauJean::Vectors MoreauJean::residual(const Vectors& vk,
                                          const Vectors& known) const
 {
   // r = (M + h th C) v_k + h th (F_int(q_k) - F_ext) - b
-  const double h = _options.time.time_step, th = _options.time.theta;
+  const double h = _h, th = _options.time.theta;
   const int nb = _bodies.num_bodies();
   Vectors r(nb);
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
@@ -354,7 +369,7 @@ void MoreauJean::set_displacement(const std::vector<double>& u_old,
                                   const std::vector<double>& v_old,
                                   const std::vector<double>& v)
 {
-  const double h = _options.time.time_step, th = _options.time.theta;
+  const double h = _h, th = _options.time.theta;
   std::span<double> u = _bodies.displacement();
   for (std::size_t i = 0; i < u.size(); ++i)
     u[i] = u_old[i] + h * (th * v[i] + (1 - th) * v_old[i]);
@@ -444,10 +459,11 @@ StepReport MoreauJean::step()
     _started = true;
   }
   StepReport report;
+  _h = _step_size.current();
   auto t0 = clock::now();
   const std::span<const double> u = _bodies.displacement();
   // Rigid bodies: V- from the node velocities, which become exactly rigid.
-  _rigid.start_step(u, _v, _f_ext, _options.time.time_step);
+  _rigid.start_step(u, _v, _f_ext, _h);
   std::vector<double> u_old(u.begin(), u.end()), v_old = _v;
   StepContacts sc = prepare_contacts(u_old, v_old);
   report.contacts = static_cast<int>(sc.size());
@@ -459,13 +475,17 @@ StepReport MoreauJean::step()
   report.seconds.solves += seconds_since(t0);
   newton(sc, start, problem, report);
   finish_step(sc, start, report);
+  report.time_step = _h;
+  // A new step size changes the iteration matrix: the next step refactors.
+  if (_step_size.update(report))
+    _matrix_age = -1;
   return report;
 }
 
 void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
                              StepReport& report)
 {
-  const double h = _options.time.time_step;
+  const double h = _h;
   auto t0 = clock::now();
   set_displacement(start.u_old, start.v_old, _v);
   const std::vector<double> f_int_before = _f_int;
@@ -499,7 +519,7 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
 void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
                               StepReport& report)
 {
-  const double h = _options.time.time_step, th = _options.time.theta;
+  const double h = _h, th = _options.time.theta;
   const Vectors v_new_b = gather(_v);
   _products_valid = false;
   update_products(v_new_b);

@@ -9,6 +9,7 @@
 #include "energy_balance.h"
 #include "friction_table.h"
 #include "rigid_bodies.h"
+#include "step_size.h"
 #include "walls.h"
 #include <bodies/BodySet.h>
 #include <contact/nlgs.h>
@@ -65,6 +66,8 @@ struct StepTimings
 struct StepReport
 {
   StepTimings seconds;
+  /// The step's size (s)
+  double time_step = 0;
   /// The iteration matrix was refactorized in this step
   bool refactorized = false;
   int newton_iterations = 0;
@@ -116,6 +119,8 @@ struct SchemeState
   /// Global displacement at which the kept tangent was assembled (empty
   /// when matrix_age < 0)
   std::vector<double> u_tangent;
+  /// The adaptive time step (h = 0: a state without one; the base step)
+  StepSize::State step_size;
 };
 
 /// The Moreau–Jean theta-method with Newton iterations on finite-strain
@@ -158,6 +163,8 @@ public:
 
   /// Current time
   double time() const { return _time; }
+  /// The size of the last step taken (before the first: of the first)
+  double time_step() const { return _h; }
   /// Global velocity vector (writable before the first step: initial
   /// conditions)
   std::span<double> velocity() { return _v; }
@@ -287,6 +294,10 @@ private:
   int _last_iterations = 0;
   /// Displacement at which _K was assembled (saved in the state)
   std::vector<double> _u_tangent;
+  /// time.time_step, or adapted up to time.max_time_step
+  StepSize _step_size;
+  /// The size of the current (or last) step
+  double _h;
 };
 
 } // namespace softpack::dynamics

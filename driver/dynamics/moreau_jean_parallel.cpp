@@ -69,7 +69,7 @@ void MoreauJean::share_contact_nodes(
 
 void MoreauJean::add_owned_body_terms(const BodyStep& step)
 {
-  const double h = _options.time.time_step, th = _options.time.theta;
+  const double h = _h, th = _options.time.theta;
   if (!_own.distributed())
   {
     add_body_terms(_energy, h, th, step);

@@ -42,6 +42,7 @@ SchemeState MoreauJean::state() const
   s.last_iterations = _last_iterations;
   if (_matrix_age >= 0)
     s.u_tangent = _u_tangent;
+  s.step_size = _step_size.state();
   return s;
 }
 
@@ -60,6 +61,9 @@ void MoreauJean::restore(const SchemeState& s)
     throw std::invalid_argument(
         "state: a kept tangent of " + std::to_string(s.u_tangent.size()) +
         " DOFs, the bodies have " + std::to_string(u.size()));
+  // The step first: the kept matrix is rebuilt with the h it was built for.
+  _step_size.restore(s.step_size);
+  _h = _step_size.current();
   if (s.matrix_age >= 0)
   {
     // The kept iteration matrix, rebuilt where it was assembled: the same
@@ -95,7 +99,7 @@ void MoreauJean::restore(const SchemeState& s)
 std::vector<std::array<double, 2>> MoreauJean::wall_forces() const
 {
   std::vector<std::array<double, 2>> force(_walls.size(), {0, 0});
-  const double h = _options.time.time_step;
+  const double h = _h;
   for (std::size_t a = 0; a < _contacts.size(); ++a)
   {
     const Contact& c = _contacts[a];

@@ -20,7 +20,8 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
     throw std::runtime_error("cannot write in " + _raw.string());
   _steps << std::setprecision(12);
   _particles << std::setprecision(12);
-  _steps << "step,time,stage,newton_iterations,nlgs_iterations,nlgs_error,"
+  _steps << "step,time,time_step,stage,newton_iterations,nlgs_iterations,nlgs_"
+            "error,"
             "nlgs_converged,contacts,active_contacts,max_penetration";
   for (const dynamics::Wall& w : walls)
     _steps << ',' << w.name << "_x," << w.name << "_y," << w.name << "_fx,"
@@ -42,8 +43,8 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
                       const dynamics::ContactForceAverage& average,
                       const ConvergenceCounts& interval, double overlap_depth)
 {
-  _steps << step << ',' << scheme.time() << ',' << _stage << ','
-         << r.newton_iterations << ',' << r.nlgs_iterations << ','
+  _steps << step << ',' << scheme.time() << ',' << r.time_step << ',' << _stage
+         << ',' << r.newton_iterations << ',' << r.nlgs_iterations << ','
          << r.nlgs_error << ',' << (r.nlgs_converged ? 1 : 0) << ','
          << r.contacts << ',' << r.active_contacts << ',' << r.max_penetration;
   std::vector<std::array<double, 2>> forces = average.wall_forces();

@@ -10,7 +10,11 @@ namespace softpack::io
 {
 namespace
 {
-constexpr std::string_view magic = "softpack-state-3";
+constexpr std::string_view magic = "softpack-state-5";
+/// Layout 3 is layout 5 without the adaptive time step (read: the base step)
+constexpr std::string_view magic_v3 = "softpack-state-3";
+/// Layout 4 was written by a lever that was reverted (one more double)
+constexpr std::string_view magic_v4 = "softpack-state-4";
 constexpr std::string_view magic_v1 = "softpack-state-1";
 constexpr std::string_view magic_v2 = "softpack-state-2";
 
@@ -106,6 +110,10 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
   put(out, static_cast<std::int64_t>(tangent ? s.u_tangent.size() : 0));
   if (tangent)
     put(out, s.u_tangent);
+  // The adaptive time step (layout 5).
+  put(out, s.step_size.h);
+  put(out, static_cast<std::int64_t>(s.step_size.calm_steps));
+  put(out, static_cast<std::int64_t>(s.step_size.window_iterations));
   return out;
 }
 
@@ -124,7 +132,12 @@ void check_layout(const std::string& bytes, const std::filesystem::path& path)
         path.string() + ": state layout softpack-state-2 (without the kept "
                         "iteration matrix, so not resumable exactly) is no "
                         "longer read: rerun the run that wrote it");
-  if (head != magic)
+  if (head == magic_v4)
+    throw std::runtime_error(
+        path.string() + ": state layout softpack-state-4 (written by a "
+                        "driver of 2026-11-30 whose lever was reverted) is "
+                        "not read: rerun the run that wrote it");
+  if (head != magic && head != magic_v3)
     throw std::runtime_error(path.string() + ": not a softpack state file");
   if (bytes.size() < magic.size() + sizeof(std::uint64_t))
     throw std::runtime_error(path.string() + ": state file is truncated");
@@ -244,6 +257,12 @@ StateFile read_state_file(const std::filesystem::path& path,
     throw std::runtime_error(path.string() + ": state file has bad sizes");
   s.u_tangent.resize(nt);
   r.get(s.u_tangent.data(), sizeof(double) * nt);
+  if (std::string_view(bytes.data(), magic.size()) == magic)
+  {
+    s.step_size.h = r.get<double>();
+    s.step_size.calm_steps = static_cast<int>(r.get<std::int64_t>());
+    s.step_size.window_iterations = static_cast<int>(r.get<std::int64_t>());
+  }
   if (r.at + sizeof(std::uint64_t) != bytes.size())
     throw std::runtime_error(path.string() + ": state file has bad sizes");
   if (expected)

@@ -114,7 +114,7 @@ def test_small_example_is_ci_sized():
 
 @pytest.mark.parametrize("text, expected", [
     ("[time]\nstepp = 1\n",
-     "unknown key [time] stepp (allowed: time_step, theta, mass,"),
+     "unknown key [time] stepp (allowed: time_step, max_time_step,"),
     ("[timing]\ntime_step = 1e-5\n", "unknown section [timing] (allowed"
      " sections: model, box, packing, species, mesh, material, materials,"
      " walls,"),

@@ -133,6 +133,25 @@ def _check_box(sections) -> None:
             f" {HEXAGONAL_FRACTION:.4f} (hexagonal packing)")
 
 
+def largest_time_step(sections) -> tuple[float, str]:
+    """The largest step the driver may take and the key that sets it:
+    ``[time] max_time_step`` when the step adapts, else ``time_step``."""
+    time = sections["time"]
+    if time["max_time_step"] > time["time_step"]:
+        return time["max_time_step"], "[time] max_time_step"
+    return time["time_step"], "[time] time_step"
+
+
+def _check_time_steps(sections) -> None:
+    """max_time_step is 0 (fixed steps) or at least time_step."""
+    time = sections["time"]
+    if 0 < time["max_time_step"] < time["time_step"]:
+        raise Inconsistent(
+            f"[time] max_time_step = {time['max_time_step']!r}: must be 0"
+            f" (every step is time_step) or >= [time] time_step ="
+            f" {time['time_step']!r}")
+
+
 def _check_solvers(sections) -> None:
     """NLGS below Newton; no wall moves past the alert distance per step."""
     newton = sections["time"]["newton_tolerance"]
@@ -143,12 +162,13 @@ def _check_solvers(sections) -> None:
             f" {newton / NEWTON_OVER_NLGS:.3g} (a tenth of [time]"
             " newton_tolerance: the Newton iterations cannot converge below"
             " the noise of the contact solve)")
+    _check_time_steps(sections)
     wall = fastest(scene_walls(sections))
-    step = sections["time"]["time_step"]
+    step, key = largest_time_step(sections)
     alert = sections["contact"]["alert_distance"]
     if wall is not None and wall.speed * step > alert:
         raise Inconsistent(
-            f"[time] time_step = {step!r}: must be <= {alert / wall.speed:.4g}"
+            f"{key} = {step!r}: must be <= {alert / wall.speed:.4g}"
             f" s ([contact] alert_distance / the speed of [walls.{wall.name}]"
             ": no wall may move more than the alert distance in one step)")
     _check_max_penetration(sections, wall)
@@ -168,10 +188,11 @@ def _check_max_penetration(sections, wall) -> None:
     why = (f"{MIN_PENETRATION_OVER_ELEMENT:g} x [mesh] element_size ="
            f" {h:g} m")
     if wall is not None:
-        travel = wall.speed * sections["time"]["time_step"]
+        step, key = largest_time_step(sections)
+        travel = wall.speed * step
         if travel > least:
             least, why = travel, (f"the travel of [walls.{wall.name}] in one"
-                                  " [time] time_step")
+                                  f" step of {key}")
     if mp < least * (1 - 1e-12):  # h / 10 itself, despite rounding
         raise Inconsistent(
             f"[contact] max_penetration = {mp!r}: must be >= {least:.4g} m"

@@ -26,6 +26,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from softpack.scene.consistency import largest_time_step
 from softpack.scene.walls import BOX_WALLS
 
 #: The drives of a wall, each with its value key.
@@ -173,13 +174,13 @@ def _check_speed(where, drive, sections) -> None:
     """No wall may move more than the alert distance (or the largest
     penetration taken as real) in one time step."""
     speed = math.hypot(*drive["velocity"])
-    step = sections["time"]["time_step"]
+    step, key = largest_time_step(sections)
     contact = sections["contact"]
     limit = min(contact["alert_distance"], contact["max_penetration"])
     if speed * step > limit:
         raise StageError(
             f"{where}.velocity = {drive['velocity']!r}: moves"
-            f" {speed * step:.3g} m per [time] time_step, more than [contact]"
+            f" {speed * step:.3g} m per step of {key}, more than [contact]"
             f" alert_distance or max_penetration ({limit:g} m)")
 
 

@@ -32,8 +32,17 @@ std::vector<dynamics::Wall> plates()
           {"top", {0, 3 * R + 1e-5 + 1e-6}, {0, -1}, {0, -speed}}};
 }
 
-dynamics::MoreauJeanOptions options(bool full_newton)
+/// How the continued run steps.
+enum class Stepping
 {
+  full_newton,
+  modified_newton,
+  adaptive_step ///< modified Newton on steps from 1e-4 to 4e-4 s
+};
+
+dynamics::MoreauJeanOptions options(Stepping stepping)
+{
+  const bool full_newton = stepping == Stepping::full_newton;
   dynamics::MoreauJeanOptions o = test::exact_options(1e-4, speed);
   o.damping.alpha = 30;
   o.damping.beta = 1e-5;
@@ -47,6 +56,13 @@ dynamics::MoreauJeanOptions options(bool full_newton)
     // several steps, refactored early after a slow step.
     o.time.tangent_reuse_steps = 20;
     o.time.refactor_above_iterations = 5;
+  }
+  if (stepping == Stepping::adaptive_step)
+  {
+    // Tolerances at which the calm steps need two Newton iterations.
+    o.time.max_time_step = 4e-4;
+    o.time.newton_tolerance = 1e-5;
+    o.contact.nlgs_tolerance = 1e-7;
   }
   return o;
 }
@@ -65,17 +81,18 @@ std::vector<long> advance(dynamics::MoreauJean& scheme, int n)
 /// A run continued from a state file takes the same steps, bit for bit, as
 /// the run never interrupted: with full Newton, and with modified Newton,
 /// whose kept iteration matrix (assembled steps before the state) and
-/// refactor decisions are part of the state.
-class ContinuedRun : public testing::TestWithParam<bool>
+/// refactor decisions are part of the state; and with an adaptive step,
+/// whose size and window are.
+class ContinuedRun : public testing::TestWithParam<Stepping>
 {
 };
 
 TEST_P(ContinuedRun, EqualsUninterruptedRun)
 {
-  const bool full_newton = GetParam();
+  const Stepping stepping = GetParam();
   const int first = 30, second = 30;
   bodies::BodySet bodies_a = two_stacked_disks();
-  dynamics::MoreauJean a(bodies_a, plates(), options(full_newton));
+  dynamics::MoreauJean a(bodies_a, plates(), options(stepping));
   advance(a, first);
   const std::vector<long> refactored_a = advance(a, second);
 
@@ -83,21 +100,23 @@ TEST_P(ContinuedRun, EqualsUninterruptedRun)
   const std::filesystem::path path =
       std::filesystem::temp_directory_path() / "softpack_test_state.bin";
   {
-    dynamics::MoreauJean b(bodies_b, plates(), options(full_newton));
+    dynamics::MoreauJean b(bodies_b, plates(), options(stepping));
     advance(b, first);
     const dynamics::SchemeState saved = b.state();
-    if (!full_newton) // the cut falls while a matrix is kept
+    if (stepping != Stepping::full_newton) // a matrix is kept at the cut
       EXPECT_GT(saved.matrix_age, 0);
     softpack::io::write_state(path, saved);
   }
   bodies::BodySet bodies_c = two_stacked_disks();
-  dynamics::MoreauJean c(bodies_c, plates(), options(full_newton));
+  dynamics::MoreauJean c(bodies_c, plates(), options(stepping));
   c.restore(softpack::io::read_state(path));
   std::filesystem::remove(path);
   EXPECT_EQ(c.steps(), first);
   EXPECT_EQ(advance(c, second), refactored_a);
 
   EXPECT_EQ(c.time(), a.time());
+  if (stepping == Stepping::adaptive_step) // the step did adapt
+    EXPECT_GT(a.time(), (first + second) * 1.5e-4);
   EXPECT_EQ(c.walls()[1].point[1], a.walls()[1].point[1]);
   const std::span<double> ua = bodies_a.displacement(),
                           uc = bodies_c.displacement();
@@ -115,9 +134,18 @@ TEST_P(ContinuedRun, EqualsUninterruptedRun)
   EXPECT_EQ(c.energy().damping, a.energy().damping);
 }
 
-INSTANTIATE_TEST_SUITE_P(StateFile, ContinuedRun, testing::Bool(),
-                         [](const testing::TestParamInfo<bool>& p)
-                         { return p.param ? "FullNewton" : "ModifiedNewton"; });
+INSTANTIATE_TEST_SUITE_P(StateFile, ContinuedRun,
+                         testing::Values(Stepping::full_newton,
+                                         Stepping::modified_newton,
+                                         Stepping::adaptive_step),
+                         [](const testing::TestParamInfo<Stepping>& p)
+                         {
+                           return p.param == Stepping::full_newton
+                                      ? "FullNewton"
+                                  : p.param == Stepping::modified_newton
+                                      ? "ModifiedNewton"
+                                      : "AdaptiveStep";
+                         });
 
 TEST(StateFile, RefusesWhatIsNotAStateFileOrDoesNotFit)
 {
@@ -128,7 +156,8 @@ TEST(StateFile, RefusesWhatIsNotAStateFileOrDoesNotFit)
   std::filesystem::remove(path);
 
   bodies::BodySet bodies = two_stacked_disks();
-  dynamics::MoreauJean scheme(bodies, plates(), options(false));
+  dynamics::MoreauJean scheme(bodies, plates(),
+                              options(Stepping::modified_newton));
   dynamics::SchemeState s = scheme.state();
   s.u.pop_back();
   EXPECT_THROW(scheme.restore(s), std::invalid_argument);

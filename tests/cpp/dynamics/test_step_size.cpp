@@ -1,0 +1,93 @@
+// The adaptive time step's rule on reports made by hand: when it doubles,
+// when it halves, its bounds, and its state.
+#include <dynamics/moreau_jean.h>
+#include <dynamics/step_size.h>
+#include <gtest/gtest.h>
+
+using softpack::dynamics::StepReport;
+using softpack::dynamics::StepSize;
+
+namespace
+{
+StepReport step(int newton_iterations, bool converged = true)
+{
+  StepReport r;
+  r.newton_iterations = newton_iterations;
+  r.newton_converged = converged;
+  return r;
+}
+
+/// Feed `n` reports of `iterations` each; how many changed the step.
+int feed(StepSize& s, int n, int iterations)
+{
+  int changes = 0;
+  for (int k = 0; k < n; ++k)
+    changes += s.update(step(iterations));
+  return changes;
+}
+} // namespace
+
+TEST(StepSize, FixedWhenTheLargestIsTheBase)
+{
+  StepSize s(1e-4, 1e-4, 5);
+  EXPECT_EQ(feed(s, 100, 1), 0);
+  EXPECT_FALSE(s.update(step(50, false)));
+  EXPECT_EQ(s.current(), 1e-4);
+}
+
+TEST(StepSize, DoublesAfterACalmWindowUpToTheLargest)
+{
+  StepSize s(1e-4, 3e-4, 5);
+  EXPECT_EQ(feed(s, StepSize::window - 1, 2), 0);
+  EXPECT_TRUE(s.update(step(2)));
+  EXPECT_EQ(s.current(), 2e-4);
+  // The next window doubles again, capped at the largest step.
+  EXPECT_EQ(feed(s, StepSize::window, 2), 1);
+  EXPECT_EQ(s.current(), 3e-4);
+  EXPECT_EQ(feed(s, 3 * StepSize::window, 1), 0);
+  EXPECT_EQ(s.current(), 3e-4);
+}
+
+TEST(StepSize, AWindowAboveTheIterationThresholdKeepsTheStep)
+{
+  StepSize s(1e-4, 8e-4, 5);
+  // Mean 3 > 2.5: no doubling, window after window.
+  EXPECT_EQ(feed(s, 5 * StepSize::window, 3), 0);
+  EXPECT_EQ(s.current(), 1e-4);
+}
+
+TEST(StepSize, HalvesAfterAHardOrUnsolvedStepDownToTheBase)
+{
+  StepSize s(1e-4, 8e-4, 5);
+  feed(s, 3 * StepSize::window, 2);
+  ASSERT_EQ(s.current(), 8e-4);
+  EXPECT_FALSE(s.update(step(5))); // 5 is not above 5
+  EXPECT_TRUE(s.update(step(6)));
+  EXPECT_EQ(s.current(), 4e-4);
+  EXPECT_TRUE(s.update(step(2, false))); // Newton unconverged
+  EXPECT_EQ(s.current(), 2e-4);
+  StepReport unsolved = step(2);
+  unsolved.nlgs_converged = false;
+  EXPECT_TRUE(s.update(unsolved));
+  EXPECT_EQ(s.current(), 1e-4);
+  EXPECT_FALSE(s.update(step(9)));
+  EXPECT_EQ(s.current(), 1e-4);
+  // A hard step also restarts the window.
+  EXPECT_EQ(feed(s, StepSize::window - 1, 2), 0);
+}
+
+TEST(StepSize, StateRoundTripAndOldStates)
+{
+  StepSize a(1e-4, 8e-4, 5);
+  feed(a, StepSize::window + 7, 2);
+  StepSize b(1e-4, 8e-4, 5);
+  b.restore(a.state());
+  EXPECT_EQ(b.current(), a.current());
+  // Both take their next doubling at the same step.
+  for (int k = 0; k < 2 * StepSize::window; ++k)
+    EXPECT_EQ(a.update(step(2)), b.update(step(2))) << k;
+  // A state written before adaptive steps (h = 0) starts from the base.
+  b.restore({});
+  EXPECT_EQ(b.current(), 1e-4);
+  EXPECT_THROW(StepSize(1e-4, 5e-5, 5), std::invalid_argument);
+}
