@@ -155,6 +155,13 @@ struct MoreauJean::StepStart
   Vectors v_old_b, f_ext_b, Mv_old, Cv_old, known;
 };
 
+struct MoreauJean::Attempt
+{
+  StepReport report;
+  StepContacts sc;
+  StepStart start;
+};
+
 MoreauJean::StepContacts
 MoreauJean::prepare_contacts(const std::vector<double>& u_old,
                              const std::vector<double>& v_old)
@@ -458,8 +465,40 @@ StepReport MoreauJean::step()
         kinetic_energy(_kbar, gather(_v)) + walls_kinetic_energy(_walls);
     _started = true;
   }
+  const std::span<double> u = _bodies.displacement();
+  const std::vector<double> u_start(u.begin(), u.end()), v_start = _v;
+  StepTimings abandoned;
+  for (int retries = 0;; ++retries)
+  {
+    _h = _step_size.current();
+    Attempt a = attempt();
+    StepReport& report = a.report;
+    const bool solved =
+        report.newton_converged && report.unsolved_contact_solves == 0;
+    if (solved || !_step_size.retry())
+    {
+      finish_step(a.sc, a.start, report);
+      report.time_step = _h;
+      report.retries = retries;
+      report.seconds += abandoned;
+      // A new step size changes the iteration matrix: the next step
+      // refactors.
+      if (_step_size.update(report))
+        _matrix_age = -1;
+      return report;
+    }
+    // Not solved at h: the step starts again at h / 2 (the iteration
+    // matrix with it). Nothing of the attempt was kept but its time.
+    abandoned += report.seconds;
+    std::copy(u_start.begin(), u_start.end(), u.begin());
+    _v = v_start;
+    _matrix_age = -1;
+  }
+}
+
+MoreauJean::Attempt MoreauJean::attempt()
+{
   StepReport report;
-  _h = _step_size.current();
   auto t0 = clock::now();
   const std::span<const double> u = _bodies.displacement();
   // Rigid bodies: V- from the node velocities, which become exactly rigid.
@@ -471,15 +510,10 @@ StepReport MoreauJean::step()
   contact::FrictionContactProblem2D problem = prepare_problem(sc, report);
 
   t0 = clock::now();
-  const StepStart start = start_step(std::move(u_old), std::move(v_old));
+  StepStart start = start_step(std::move(u_old), std::move(v_old));
   report.seconds.solves += seconds_since(t0);
   newton(sc, start, problem, report);
-  finish_step(sc, start, report);
-  report.time_step = _h;
-  // A new step size changes the iteration matrix: the next step refactors.
-  if (_step_size.update(report))
-    _matrix_age = -1;
-  return report;
+  return {std::move(report), std::move(sc), std::move(start)};
 }
 
 void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,

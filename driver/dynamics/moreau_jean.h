@@ -60,6 +60,16 @@ struct StepTimings
   {
     return detection + assembly + factorization + delassus + nlgs + solves;
   }
+  StepTimings& operator+=(const StepTimings& o)
+  {
+    detection += o.detection;
+    assembly += o.assembly;
+    factorization += o.factorization;
+    delassus += o.delassus;
+    nlgs += o.nlgs;
+    solves += o.solves;
+    return *this;
+  }
 };
 
 /// What one step did.
@@ -68,6 +78,10 @@ struct StepReport
   StepTimings seconds;
   /// The step's size (s)
   double time_step = 0;
+  /// Attempts of this step abandoned (Newton or a contact solve failed) and
+  /// started again at half the size (StepSize::retry); their time is in
+  /// `seconds`
+  int retries = 0;
   /// The iteration matrix was refactorized in this step
   bool refactorized = false;
   int newton_iterations = 0;
@@ -231,6 +245,11 @@ private:
   /// The known part b = M v- + h (1 - th) (F_ext - F_int(q-) - C v-) of the
   /// momentum balance, and the start-of-step vectors the accounts need
   StepStart start_step(std::vector<double> u_old, std::vector<double> v_old);
+  /// One attempt at a step: its contacts, start and report
+  struct Attempt;
+  /// Detection, the contact problem and the Newton iterations of one
+  /// attempt at the step, from the current state at step size _h
+  Attempt attempt();
   /// Newton iterations on the velocity; leaves the converged one in _v
   void newton(const StepContacts& sc, const StepStart& start,
               contact::FrictionContactProblem2D& problem, StepReport& report);

@@ -45,6 +45,16 @@ bool StepSize::update(const StepReport& report)
   return true;
 }
 
+bool StepSize::retry()
+{
+  if (_h <= _base)
+    return false;
+  _h = std::max(_base, _h / 2);
+  _calm_steps = 0;
+  _window_iterations = 0;
+  return true;
+}
+
 void StepSize::restore(const State& s)
 {
   _h = s.h > 0 ? std::clamp(s.h, _base, _largest) : _base;

@@ -10,8 +10,9 @@ struct StepReport;
 /// are (issue 17): doubled, up to max_time_step, after `window` steps that
 /// all converged and needed on average at most `grow_below_iterations`
 /// Newton iterations; halved, down to time_step, after a step that needed
-/// more than time.refactor_above_iterations iterations or left its Newton
-/// iterations or a contact problem unsolved. A quiet assembly (few, settled
+/// more than time.refactor_above_iterations iterations. A step whose Newton
+/// iterations or contact solve fail is started again at half the size
+/// (retry()), down to time_step. A quiet assembly (few, settled
 /// contacts) then runs on long steps, a rearranging one on short ones; the
 /// answers' invariance to the step is measured, not assumed
 /// (docs/performance.md).
@@ -33,6 +34,12 @@ public:
 
   /// The step to take next (s)
   double current() const { return _h; }
+
+  /// A step could not be solved at the current size: halve it, down to the
+  /// base, for a new attempt from the step's start.
+  /// @return false at the base step (the step is then kept as it is, and
+  /// counted as unsolved)
+  bool retry();
 
   /// Account for a finished step.
   /// @return true if the step changed (the iteration matrix then no longer

@@ -30,7 +30,7 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
             "damping,friction,contact_normal,numerical,energy_residual,"
             "seconds,seconds_detection,seconds_assembly,seconds_factorization,"
             "seconds_delassus,seconds_nlgs,seconds_solves,refactorized,"
-            "newton_unconverged_steps,nlgs_unconverged_steps,"
+            "newton_unconverged_steps,nlgs_unconverged_steps,retried_steps,"
             "max_overlap_depth,cauchy_xx,cauchy_yy,cauchy_xy,cauchy_yx\n";
   _particles << "step,particle,area,strain_energy,reference_area,cauchy_xx,"
                 "cauchy_yy,cauchy_xy,cauchy_yx\n";
@@ -64,7 +64,8 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
          << spent.factorization << ',' << spent.delassus << ',' << spent.nlgs
          << ',' << spent.solves << ',' << (r.refactorized ? 1 : 0) << ','
          << interval.newton_unconverged_steps << ','
-         << interval.nlgs_unconverged_steps << ',' << overlap_depth;
+         << interval.nlgs_unconverged_steps << ',' << interval.retried_steps
+         << ',' << overlap_depth;
   // Each body's integral of its Cauchy stress (stress_average.h), summed
   // over the bodies: the finite elements' estimate of the mean stress times
   // the box area, for analysis/stress.py.
@@ -143,6 +144,7 @@ void RawOutput::finish(long steps, double seconds, const std::string& reason,
       {"converged", checks.total.converged()},
       {"newton_unconverged_steps", checks.total.newton_unconverged_steps},
       {"nlgs_unconverged_steps", checks.total.nlgs_unconverged_steps},
+      {"retried_steps", checks.total.retried_steps},
       {"failed_contact_problems_written", checks.problems_written},
       {"failed_contact_problems_not_written", checks.problems_not_written},
       {"max_overlap_depth", checks.max_overlap_depth},

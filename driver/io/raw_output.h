@@ -21,9 +21,13 @@ struct ConvergenceCounts
   long newton_unconverged_steps = 0;
   /// Steps with at least one contact solve that stopped unconverged
   long nlgs_unconverged_steps = 0;
+  /// Steps solved only after a retry at a smaller step size (StepSize):
+  /// solved, so not unconverged, but counted
+  long retried_steps = 0;
 
   void add(const dynamics::StepReport& r)
   {
+    retried_steps += r.retries > 0 ? 1 : 0;
     newton_unconverged_steps += r.newton_converged ? 0 : 1;
     nlgs_unconverged_steps +=
         (r.nlgs_converged && r.unsolved_contact_solves == 0) ? 0 : 1;

@@ -114,6 +114,7 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
   put(out, s.step_size.h);
   put(out, static_cast<std::int64_t>(s.step_size.calm_steps));
   put(out, static_cast<std::int64_t>(s.step_size.window_iterations));
+  put(out, static_cast<std::int64_t>(c.total.retried_steps));
   return out;
 }
 
@@ -262,6 +263,7 @@ StateFile read_state_file(const std::filesystem::path& path,
     s.step_size.h = r.get<double>();
     s.step_size.calm_steps = static_cast<int>(r.get<std::int64_t>());
     s.step_size.window_iterations = static_cast<int>(r.get<std::int64_t>());
+    c.total.retried_steps = r.get<std::int64_t>();
   }
   if (r.at + sizeof(std::uint64_t) != bytes.size())
     throw std::runtime_error(path.string() + ": state file has bad sizes");

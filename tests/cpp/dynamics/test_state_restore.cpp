@@ -167,3 +167,39 @@ TEST(StateFile, RefusesWhatIsNotAStateFileOrDoesNotFit)
   s.u_tangent.assign(s.u.size() + 1, 0.0);
   EXPECT_THROW(scheme.restore(s), std::invalid_argument);
 }
+
+/// A step that cannot be solved at its size is started again from the same
+/// start at half the size, down to time.time_step: with one Newton
+/// iteration allowed no step converges, so a step begun at 4e-4 s is tried
+/// at 4e-4, 2e-4 and 1e-4 s and kept at 1e-4 s, unsolved, bit for bit the
+/// step of a run on fixed 1e-4-s steps.
+TEST(AdaptiveStep, AnUnsolvedStepIsRetriedAtHalfTheSizeDownToTheBase)
+{
+  // Full Newton: both runs factorize at the step's start, at 1e-4 s.
+  dynamics::MoreauJeanOptions fixed = options(Stepping::full_newton);
+  fixed.time.newton_max_iterations = 1;
+  dynamics::MoreauJeanOptions adaptive = fixed;
+  adaptive.time.max_time_step = 4e-4;
+
+  bodies::BodySet bodies_a = two_stacked_disks(),
+                  bodies_b = two_stacked_disks();
+  dynamics::MoreauJean a(bodies_a, plates(), fixed);
+  dynamics::MoreauJean b(bodies_b, plates(), adaptive);
+  // Both start touching: advance to contact on fixed steps, then give b
+  // a current step of 4e-4 s through its state.
+  advance(a, 25);
+  dynamics::SchemeState s = a.state();
+  s.step_size.h = 4e-4;
+  b.restore(s);
+  const dynamics::StepReport ra = a.step(), rb = b.step();
+  ASSERT_GT(ra.contacts, 0);
+  EXPECT_FALSE(ra.newton_converged);
+  EXPECT_EQ(rb.retries, 2);
+  EXPECT_EQ(rb.time_step, 1e-4);
+  EXPECT_FALSE(rb.newton_converged);
+  EXPECT_EQ(b.time(), a.time());
+  const std::span<double> ua = bodies_a.displacement(),
+                          ub = bodies_b.displacement();
+  for (std::size_t i = 0; i < ua.size(); ++i)
+    ASSERT_EQ(ua[i], ub[i]) << i;
+}

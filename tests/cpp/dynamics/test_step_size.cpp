@@ -91,3 +91,20 @@ TEST(StepSize, StateRoundTripAndOldStates)
   EXPECT_EQ(b.current(), 1e-4);
   EXPECT_THROW(StepSize(1e-4, 5e-5, 5), std::invalid_argument);
 }
+
+TEST(StepSize, RetryHalvesDownToTheBaseOnly)
+{
+  StepSize s(1e-4, 4e-4, 5);
+  s.restore({4e-4, 7, 14});
+  EXPECT_TRUE(s.retry());
+  EXPECT_EQ(s.current(), 2e-4);
+  // The window restarts: a doubling needs a whole calm window again.
+  EXPECT_EQ(feed(s, StepSize::window - 1, 2), 0);
+  s.restore({2e-4, 0, 0});
+  EXPECT_TRUE(s.retry());
+  EXPECT_EQ(s.current(), 1e-4);
+  EXPECT_FALSE(s.retry());
+  EXPECT_EQ(s.current(), 1e-4);
+  StepSize fixed(1e-4, 1e-4, 5);
+  EXPECT_FALSE(fixed.retry());
+}
