@@ -193,6 +193,14 @@ def test_out_of_range(tmp_path, text, expected):
      " must be < 0.0798 m"),
     ("[time]\ntime_step = 0.005\n", "[time] time_step = 0.005: must be <="
      " 0.002 s ([contact] alert_distance / the speed of [walls.right]"),
+    ("[time]\nmax_time_step = 5e-5\n", "[time] max_time_step = 5e-05: must"
+     " be 0 (every step is time_step) or >= [time] time_step = 7.2e-05"),
+    ("[time]\nmax_time_step = 0.005\n", "[time] max_time_step = 0.005: must"
+     " be <= 0.002 s ([contact] alert_distance / the speed of"
+     " [walls.right]"),
+    ("[time]\nmax_time_step = 0.0018\n[contact]\nmax_penetration = 1.5e-4\n",
+     "[contact] max_penetration = 0.00015: must be >= 0.00018 m (the travel"
+     " of [walls.right] in one step of [time] max_time_step)"),
     ("[contact]\nnlgs_tolerance = 1e-4\n", "[contact] nlgs_tolerance ="
      " 0.0001: must be <= 1e-05 (a tenth of [time] newton_tolerance"),
     ("[walls.right]\nvelocity = [-0.1, 0.0]\npoint = [0.2, 0.0]\n",

@@ -514,6 +514,10 @@ def _say_checks(finish: dict, say) -> None:
             f" Newton and {finish.get('nlgs_unconverged_steps', '?')} with a"
             f" contact solve unconverged (raw/steps.csv"
             f" newton_unconverged_steps, nlgs_unconverged_steps)")
+    if finish.get("retried_steps", 0):
+        say(f"{finish['retried_steps']} steps were solved only after a retry"
+            f" at half the time step (time.max_time_step; raw/steps.csv"
+            f" retried_steps)")
     if finish.get("overlap_steps", 0):
         say(f"WARNING: bodies overlap by up to"
             f" {finish.get('max_overlap_depth', 0):.3g} m at"
