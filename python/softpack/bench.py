@@ -329,6 +329,10 @@ def main(argv=None) -> int:
     parser.add_argument("--mpi", action="store_true",
                         help="only time --steps steps of the paper case on 1,"
                         " 2 and 4 MPI ranks (from --from-state if given)")
+    parser.add_argument("--mpi-to-phi", type=float, metavar="PHI",
+                        help="with --mpi: run from --from-state to this"
+                        " packing fraction and compare every output step"
+                        " and contact file with the 1-rank run")
     parser.add_argument("--to-phi", type=float, default=0.84,
                         help="packing fraction that ends --invariance-from")
     args = parser.parse_args(argv)
@@ -339,7 +343,8 @@ def main(argv=None) -> int:
                      "sharing-" + _now().replace(":", "") + ".json")
     if args.mpi:
         from softpack.bench_mpi import bench_mpi, table
-        report = bench_mpi(WORK, args.steps, args.from_state)
+        report = bench_mpi(WORK, args.steps, args.from_state,
+                           to_phi=args.mpi_to_phi)
         print(table(report))
         return _save(report, "mpi-" + _now().replace(":", "") + ".json")
     if args.invariance or args.invariance_from:

@@ -9,14 +9,22 @@ such). For each: the wall time of the stepping and its split by part
 (raw/done.json), the peak memory of each rank and the bytes each rank handed
 to collectives, per step (done.json's "mpi"), and whether the run is the
 1-rank run (Phi and strain energy of the last step).
+
+With ``--mpi-to-phi PHI`` the runs go from the state to that packing
+fraction instead, writing every 12 steps, and are compared output step by
+output step with the 1-rank run (issue 14's check): Phi and the strain
+energy at every output step, and the contact files byte for byte.
 """
 
 from __future__ import annotations
 
+import filecmp
 import json
 import os
 import subprocess
 from pathlib import Path
+
+import numpy as np
 
 from softpack.analysis.tables import read_table
 from softpack.simulation import driver
@@ -66,18 +74,47 @@ def run_ranks(config, scene: dict, out: Path, ranks: int,
     return result
 
 
+def same_run(serial: Path, other: Path) -> dict:
+    """Largest differences of a run's output steps from the serial run's:
+    Phi and the strain energy (relative), and the contact files that
+    differ in any byte."""
+    a = read_table(serial / "raw" / "steps.csv")
+    b = read_table(other / "raw" / "steps.csv")
+    if len(a["step"]) != len(b["step"]):
+        return {"output_steps": [len(a["step"]), len(b["step"])]}
+    files = sorted(p.name for p in (serial / "raw" / "contacts").iterdir())
+    differ = [f for f in files if not filecmp.cmp(
+        serial / "raw" / "contacts" / f, other / "raw" / "contacts" / f,
+        shallow=False)]
+    energy = np.asarray(a["strain_energy"], dtype=float)
+    return {"output_steps": len(a["step"]),
+            "phi_max_abs_diff": float(np.max(np.abs(
+                np.asarray(b["phi"]) - np.asarray(a["phi"])))),
+            "strain_energy_max_rel_diff": float(np.max(np.abs(
+                np.asarray(b["strain_energy"]) - energy) / energy)),
+            "contact_files": len(files), "contact_files_differing": differ}
+
+
 def bench_mpi(work: Path, steps: int, state: Path | None,
-              ranks=(1, 2, 4)) -> dict:
+              ranks=(1, 2, 4), to_phi: float | None = None) -> dict:
     """The paper case on each number of ranks (see the module)."""
     from softpack.bench import FAST, _scene_for, scaled_config
 
-    # Steps, not Phi, end these runs (a state may be past the target).
-    config = scaled_config(1, {**FAST, "stop.steps": steps,
-                               "stop.packing_fraction": 0,
-                               "output.every_steps": steps})
+    if to_phi is None:
+        # Steps, not Phi, end these runs (a state may be past the target).
+        sets = {"stop.steps": steps, "stop.packing_fraction": 0,
+                "output.every_steps": steps}
+    else:
+        sets = {"stop.packing_fraction": to_phi, "output.every_steps": 12,
+                "output.fields": False}
+    config = scaled_config(1, {**FAST, **sets})
     scene = _scene_for(config, "n100")
     runs = [run_ranks(config, scene, work / f"mpi-{n}", n, state)
             for n in ranks]
+    if to_phi is not None:
+        for n, r in zip(ranks, runs):
+            r["against_serial"] = same_run(work / f"mpi-{ranks[0]}",
+                                           work / f"mpi-{n}")
     serial = runs[0]
     for r in runs:
         r["phi_minus_serial"] = r["phi"] - serial["phi"]
@@ -86,13 +123,16 @@ def bench_mpi(work: Path, steps: int, state: Path | None,
         r["speedup"] = serial["seconds"] / r["seconds"]
         replicated = sum(r[f"ms_{p}"] for p in ("detection", "nlgs"))
         r["replicated_fraction"] = replicated / r["ms_per_step"]
-    return {"case": "paper (100 disks), defaults", "steps": steps,
+    return {"case": "paper (100 disks), defaults",
+            "steps": steps if to_phi is None else None, "to_phi": to_phi,
             "from_state": str(state) if state else None, "runs": runs}
 
 
 def table(report: dict) -> str:
     """The report as text lines."""
-    lines = [f"{report['case']}, {report['steps']} steps"
+    lines = [f"{report['case']}, "
+             + (f"{report['steps']} steps" if report.get("steps")
+                else f"to Phi {report.get('to_phi')}")
              + (f" from {report['from_state']}" if report["from_state"]
                 else "")]
     for r in report["runs"]:
@@ -104,4 +144,7 @@ def table(report: dict) -> str:
             f" sent {[round(k, 1) for k in r['kb_sent_per_step_per_rank']]}"
             f" kB/step/rank, dPhi {r['phi_minus_serial']:.1e},"
             f" dE/E {r['strain_energy_rel_diff']:.1e}")
+        if "against_serial" in r:
+            lines.append(f"  against 1 rank, every output step:"
+                         f" {r['against_serial']}")
     return "\n".join(lines)

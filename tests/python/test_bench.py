@@ -50,3 +50,31 @@ def test_bench_configs_are_validated_with_their_overrides(tmp_path_factory,
     assert config["stop"]["max_time"] == pytest.approx(base["stop"]["max_time"])
     quarter = bench.scaled_config(0.25, {})
     assert [s["count"] for s in quarter["species"]] == [18, 8]
+
+
+def _raw_run(root, name, phi_shift=0.0, contact_text="1,2\n"):
+    raw = root / name / "raw"
+    (raw / "contacts").mkdir(parents=True)
+    (raw / "steps.csv").write_text(
+        "step,phi,strain_energy\n"
+        f"0,{0.80 + phi_shift!r},1.0\n12,{0.81 + phi_shift!r},2.0\n")
+    for step in (0, 12):
+        (raw / "contacts" / f"step_{step:08d}.csv").write_text(
+            contact_text if step == 12 else "1,2\n")
+    return root / name
+
+
+def test_a_run_on_other_ranks_is_compared_step_by_step(tmp_path):
+    """bench --mpi --mpi-to-phi: Phi, E and contact files of every output
+    step against the 1-rank run; a differing byte is named."""
+    from softpack.bench_mpi import same_run
+
+    serial = _raw_run(tmp_path, "one")
+    same = same_run(serial, _raw_run(tmp_path, "two"))
+    assert same["phi_max_abs_diff"] == 0.0
+    assert same["strain_energy_max_rel_diff"] == 0.0
+    assert same["contact_files"] == 2 and same["contact_files_differing"] == []
+    other = same_run(serial, _raw_run(tmp_path, "four", phi_shift=1e-6,
+                                      contact_text="1,3\n"))
+    assert other["phi_max_abs_diff"] == pytest.approx(1e-6, rel=1e-6)
+    assert other["contact_files_differing"] == ["step_00000012.csv"]
