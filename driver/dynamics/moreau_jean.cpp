@@ -89,7 +89,7 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
       _f_ext(bodies.num_dofs(), 0.0), _f_int(bodies.num_dofs(), 0.0),
       _v_contact(bodies.num_dofs(), 0.0),
       _step_size(options.time.time_step,
-                 std::max(options.time.time_step, options.time.max_time_step),
+                 options.time.time_step * options.time.max_step_factor,
                  options.time.refactor_above_iterations),
       _h(options.time.time_step)
 {

@@ -313,7 +313,7 @@ private:
   int _last_iterations = 0;
   /// Displacement at which _K was assembled (saved in the state)
   std::vector<double> _u_tangent;
-  /// time.time_step, or adapted up to time.max_time_step
+  /// time.time_step, or adapted up to time.max_step_factor times it
   StepSize _step_size;
   /// The size of the current (or last) step
   double _h;

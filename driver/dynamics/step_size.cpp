@@ -15,7 +15,7 @@ StepSize::StepSize(double base, double largest, int hard_above_iterations)
 {
   if (!(base > 0) || !(largest >= base))
     throw std::invalid_argument(
-        "StepSize: time.max_time_step must be >= time.time_step > 0");
+        "StepSize: the largest step must be >= time.time_step > 0");
 }
 
 bool StepSize::update(const StepReport& report)

@@ -6,8 +6,9 @@ namespace softpack::dynamics
 struct StepReport;
 
 /// The time step of each Moreau–Jean step: time.time_step throughout, or,
-/// with time.max_time_step above it, a step adapted to how hard the steps
-/// are (issue 17): doubled, up to max_time_step, after `window` steps that
+/// with time.max_step_factor above 1, a step adapted to how hard the steps
+/// are (issue 17): doubled, up to max_step_factor x time_step, after
+/// `window` steps that
 /// all converged and needed on average at most `grow_below_iterations`
 /// Newton iterations; halved, down to time_step, after a step that needed
 /// more than time.refactor_above_iterations iterations. A step whose Newton
@@ -28,7 +29,8 @@ public:
   static constexpr double grow_below_iterations = 2.5;
 
   /// @param[in] base time.time_step, the smallest step (s)
-  /// @param[in] largest time.max_time_step (s, >= base; equal: fixed)
+  /// @param[in] largest time.max_step_factor x base (s, >= base; equal:
+  /// fixed)
   /// @param[in] hard_above_iterations time.refactor_above_iterations
   StepSize(double base, double largest, int hard_above_iterations);
 

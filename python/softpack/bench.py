@@ -59,7 +59,8 @@ PAPER_TOML = ROOT / "examples" / "paper.toml"
 PISTON = "right"
 
 #: The paper's numerical settings (examples/paper_9us.toml) ...
-PAPER = {"time.time_step": 9e-6, "time.theta": 0.5,
+PAPER = {"time.time_step": 9e-6, "time.max_step_factor": 1.0,
+         "time.theta": 0.5,
          "time.newton_tolerance": 1e-6, "contact.nlgs_tolerance": 1e-8}
 #: ... and softpack's defaults (examples/paper.toml)
 FAST = {"time.time_step": 7.2e-5, "time.theta": 0.55,

@@ -114,7 +114,7 @@ def test_small_example_is_ci_sized():
 
 @pytest.mark.parametrize("text, expected", [
     ("[time]\nstepp = 1\n",
-     "unknown key [time] stepp (allowed: time_step, max_time_step,"),
+     "unknown key [time] stepp (allowed: time_step, max_step_factor,"),
     ("[timing]\ntime_step = 1e-5\n", "unknown section [timing] (allowed"
      " sections: model, box, packing, species, mesh, material, materials,"
      " walls,"),
@@ -191,16 +191,18 @@ def test_out_of_range(tmp_path, text, expected):
      "[species.0] (species 'species0') diameter = 0.03, sigma = 0.4"
      " (lognormal without diameter_max: its 1 - 1e-4 quantile, 0.1328 m):"
      " must be < 0.0798 m"),
-    ("[time]\ntime_step = 0.005\n", "[time] time_step = 0.005: must be <="
-     " 0.002 s ([contact] alert_distance / the speed of [walls.right]"),
-    ("[time]\nmax_time_step = 5e-5\n", "[time] max_time_step = 5e-05: must"
-     " be 0 (every step is time_step) or >= [time] time_step = 7.2e-05"),
-    ("[time]\nmax_time_step = 0.005\n", "[time] max_time_step = 0.005: must"
-     " be <= 0.002 s ([contact] alert_distance / the speed of"
+    ("[time]\ntime_step = 0.005\n", "[time] time_step x max_step_factor ="
+     " 0.01: must be <= 0.002 s ([contact] alert_distance / the speed of"
      " [walls.right]"),
-    ("[time]\nmax_time_step = 0.0018\n[contact]\nmax_penetration = 1.5e-4\n",
+    ("[time]\ntime_step = 0.005\nmax_step_factor = 1.0\n", "[time] time_step"
+     " = 0.005: must be <= 0.002 s"),
+    ("[time]\nmax_step_factor = 0.5\n", "[time] max_step_factor = 0.5"),
+    ("[time]\nmax_step_factor = 40.0\n", "[time] time_step x max_step_factor"
+     " = 0.00288: must be <= 0.002 s ([contact] alert_distance / the speed of"
+     " [walls.right]"),
+    ("[time]\nmax_step_factor = 25.0\n[contact]\nmax_penetration = 1.5e-4\n",
      "[contact] max_penetration = 0.00015: must be >= 0.00018 m (the travel"
-     " of [walls.right] in one step of [time] max_time_step)"),
+     " of [walls.right] in one step of [time] time_step x max_step_factor)"),
     ("[contact]\nnlgs_tolerance = 1e-4\n", "[contact] nlgs_tolerance ="
      " 0.0001: must be <= 1e-05 (a tenth of [time] newton_tolerance"),
     ("[walls.right]\nvelocity = [-0.1, 0.0]\npoint = [0.2, 0.0]\n",

@@ -12,7 +12,7 @@ of range, and inconsistent values (:mod:`softpack.scene.consistency`). The
 message names the file, the key and what is allowed::
 
     examples/x.toml: [contact] friction = -1: must be >= 0
-    examples/x.toml: unknown key [time] stepp (allowed: time_step, max_time_step, ...)
+    examples/x.toml: unknown key [time] stepp (allowed: time_step, max_step_factor, ...)
 
 Values the user leaves out take their defaults; the schema's derived keys
 (``derived = ...``) and the law's expression defaults are computed. A

@@ -134,22 +134,13 @@ def _check_box(sections) -> None:
 
 
 def largest_time_step(sections) -> tuple[float, str]:
-    """The largest step the driver may take and the key that sets it:
-    ``[time] max_time_step`` when the step adapts, else ``time_step``."""
+    """The largest step the driver may take and the keys that set it:
+    ``[time] time_step`` times ``max_step_factor``."""
     time = sections["time"]
-    if time["max_time_step"] > time["time_step"]:
-        return time["max_time_step"], "[time] max_time_step"
+    if time["max_step_factor"] > 1:
+        return (time["time_step"] * time["max_step_factor"],
+                "[time] time_step x max_step_factor")
     return time["time_step"], "[time] time_step"
-
-
-def _check_time_steps(sections) -> None:
-    """max_time_step is 0 (fixed steps) or at least time_step."""
-    time = sections["time"]
-    if 0 < time["max_time_step"] < time["time_step"]:
-        raise Inconsistent(
-            f"[time] max_time_step = {time['max_time_step']!r}: must be 0"
-            f" (every step is time_step) or >= [time] time_step ="
-            f" {time['time_step']!r}")
 
 
 def _check_solvers(sections) -> None:
@@ -162,13 +153,12 @@ def _check_solvers(sections) -> None:
             f" {newton / NEWTON_OVER_NLGS:.3g} (a tenth of [time]"
             " newton_tolerance: the Newton iterations cannot converge below"
             " the noise of the contact solve)")
-    _check_time_steps(sections)
     wall = fastest(scene_walls(sections))
     step, key = largest_time_step(sections)
     alert = sections["contact"]["alert_distance"]
     if wall is not None and wall.speed * step > alert:
         raise Inconsistent(
-            f"{key} = {step!r}: must be <= {alert / wall.speed:.4g}"
+            f"{key} = {step:.4g}: must be <= {alert / wall.speed:.4g}"
             f" s ([contact] alert_distance / the speed of [walls.{wall.name}]"
             ": no wall may move more than the alert distance in one step)")
     _check_max_penetration(sections, wall)

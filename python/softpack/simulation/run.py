@@ -516,7 +516,7 @@ def _say_checks(finish: dict, say) -> None:
             f" newton_unconverged_steps, nlgs_unconverged_steps)")
     if finish.get("retried_steps", 0):
         say(f"{finish['retried_steps']} steps were solved only after a retry"
-            f" at half the time step (time.max_time_step; raw/steps.csv"
+            f" at half the time step (time.max_step_factor; raw/steps.csv"
             f" retried_steps)")
     if finish.get("overlap_steps", 0):
         say(f"WARNING: bodies overlap by up to"

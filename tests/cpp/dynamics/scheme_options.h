@@ -8,8 +8,8 @@ namespace softpack::test
 /// Time-stepping options for small checks against exact properties: theta
 /// = 1/2 (no numerical dissipation), full Newton to a tight tolerance,
 /// plain Gauss–Seidel to 1e-8 with every Delassus block kept, no damping,
-/// and detection distances for centimetre disks. Tests change what they
-/// check from there; the production settings are the schema's defaults.
+/// detection distances for centimetre disks, and fixed steps. Tests change what
+/// they check from there; the production settings are the schema's defaults.
 /// @param[in] time_step h (s)
 /// @param[in] velocity_scale Velocity scale of the Newton test (m/s)
 inline dynamics::MoreauJeanOptions exact_options(double time_step,
@@ -17,6 +17,7 @@ inline dynamics::MoreauJeanOptions exact_options(double time_step,
 {
   dynamics::MoreauJeanOptions o;
   o.time.time_step = time_step;
+  o.time.max_step_factor = 1; // checks at a known step
   o.time.theta = 0.5;
   o.time.newton_tolerance = 1e-6;
   o.time.full_newton = true;

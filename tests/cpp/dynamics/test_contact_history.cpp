@@ -161,7 +161,7 @@ TEST(ContactForceAverage, BalancesMomentumAndRemovesTheAlternation)
       {"bottom", {0, -R - 1e-6}, {0, 1}, {0, 0}},
       {"top", {0, R + 1e-6}, {0, -1}, {0, -speed}}};
   dynamics::MoreauJean scheme(bodies, walls, paper_like_options());
-  const double h = scheme.options().time.time_step;
+  const double h = scheme.time_step(); // of the last step
 
   // Press by 1 mm, stop the plate, hold.
   const int press = 200, hold = 400, interval = 100;

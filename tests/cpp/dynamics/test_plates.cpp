@@ -71,7 +71,7 @@ std::array<double, 2> contact_resultant(const dynamics::MoreauJean& scheme,
                                         int b, int from_body = -2)
 {
   std::array<double, 2> f = {0, 0};
-  const double h = scheme.options().time.time_step;
+  const double h = scheme.time_step(); // of the last step
   for (std::size_t a = 0; a < scheme.contacts().size(); ++a)
   {
     const dynamics::Contact& c = scheme.contacts()[a];

@@ -60,7 +60,7 @@ dynamics::MoreauJeanOptions options(Stepping stepping)
   if (stepping == Stepping::adaptive_step)
   {
     // Tolerances at which the calm steps need two Newton iterations.
-    o.time.max_time_step = 4e-4;
+    o.time.max_step_factor = 4;
     o.time.newton_tolerance = 1e-5;
     o.contact.nlgs_tolerance = 1e-7;
   }
@@ -179,7 +179,7 @@ TEST(AdaptiveStep, AnUnsolvedStepIsRetriedAtHalfTheSizeDownToTheBase)
   dynamics::MoreauJeanOptions fixed = options(Stepping::full_newton);
   fixed.time.newton_max_iterations = 1;
   dynamics::MoreauJeanOptions adaptive = fixed;
-  adaptive.time.max_time_step = 4e-4;
+  adaptive.time.max_step_factor = 4;
 
   bodies::BodySet bodies_a = two_stacked_disks(),
                   bodies_b = two_stacked_disks();
