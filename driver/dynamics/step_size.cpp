@@ -39,10 +39,12 @@ bool StepSize::update(const StepReport& report)
   const double mean = static_cast<double>(_window_iterations) / window;
   _calm_steps = 0;
   _window_iterations = 0;
-  if (mean > grow_below_iterations || _h >= _largest)
-    return false;
-  _h = std::min(_largest, 2 * _h);
-  return true;
+  const double before = _h;
+  if (mean > shrink_above_iterations)
+    _h = std::max(_base, _h / 2);
+  else if (mean <= grow_below_iterations)
+    _h = std::min(_largest, 2 * _h);
+  return _h != before;
 }
 
 bool StepSize::retry()

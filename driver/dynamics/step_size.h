@@ -10,8 +10,9 @@ struct StepReport;
 /// are (issue 17): doubled, up to max_step_factor x time_step, after
 /// `window` steps that
 /// all converged and needed on average at most `grow_below_iterations`
-/// Newton iterations; halved, down to time_step, after a step that needed
-/// more than time.refactor_above_iterations iterations. A step whose Newton
+/// Newton iterations; halved, down to time_step, after a window that needed
+/// more than `shrink_above_iterations` on average or a step that needed
+/// more than time.refactor_above_iterations. A step whose Newton
 /// iterations or contact solve fail is started again at half the size
 /// (retry()), down to time_step. A quiet assembly (few, settled
 /// contacts) then runs on long steps, a rearranging one on short ones; the
@@ -27,6 +28,10 @@ public:
   /// 2.6; cost per unit time ~ iterations / h, so a doubling pays while
   /// the iterations grow by less than that factor
   static constexpr double grow_below_iterations = 2.5;
+  /// Mean Newton iterations of a window above which the step halves: the
+  /// iterations then cost more than the longer step saves, and the energy
+  /// balance closes less well (its quadrature error grows as h^2)
+  static constexpr double shrink_above_iterations = 3.5;
 
   /// @param[in] base time.time_step, the smallest step (s)
   /// @param[in] largest time.max_step_factor x base (s, >= base; equal:

@@ -191,11 +191,10 @@ def test_out_of_range(tmp_path, text, expected):
      "[species.0] (species 'species0') diameter = 0.03, sigma = 0.4"
      " (lognormal without diameter_max: its 1 - 1e-4 quantile, 0.1328 m):"
      " must be < 0.0798 m"),
-    ("[time]\ntime_step = 0.005\n", "[time] time_step x max_step_factor ="
-     " 0.01: must be <= 0.002 s ([contact] alert_distance / the speed of"
-     " [walls.right]"),
-    ("[time]\ntime_step = 0.005\nmax_step_factor = 1.0\n", "[time] time_step"
-     " = 0.005: must be <= 0.002 s"),
+    ("[time]\ntime_step = 0.005\n", "[time] time_step = 0.005: must be <="
+     " 0.002 s ([contact] alert_distance / the speed of [walls.right]"),
+    ("[time]\ntime_step = 0.0015\nmax_step_factor = 2.0\n", "[time]"
+     " time_step x max_step_factor = 0.003: must be <= 0.002 s"),
     ("[time]\nmax_step_factor = 0.5\n", "[time] max_step_factor = 0.5"),
     ("[time]\nmax_step_factor = 40.0\n", "[time] time_step x max_step_factor"
      " = 0.00288: must be <= 0.002 s ([contact] alert_distance / the speed of"

@@ -56,6 +56,18 @@ TEST(StepSize, AWindowAboveTheIterationThresholdKeepsTheStep)
   EXPECT_EQ(s.current(), 1e-4);
 }
 
+TEST(StepSize, HalvesAfterAWindowOfManyIterations)
+{
+  StepSize s(1e-4, 4e-4, 5);
+  feed(s, 2 * StepSize::window, 2);
+  ASSERT_EQ(s.current(), 4e-4);
+  // Mean 4 > 3.5: halved at the end of the window, and again.
+  EXPECT_EQ(feed(s, StepSize::window, 4), 1);
+  EXPECT_EQ(s.current(), 2e-4);
+  EXPECT_EQ(feed(s, 3 * StepSize::window, 4), 1);
+  EXPECT_EQ(s.current(), 1e-4);
+}
+
 TEST(StepSize, HalvesAfterAHardOrUnsolvedStepDownToTheBase)
 {
   StepSize s(1e-4, 8e-4, 5);
