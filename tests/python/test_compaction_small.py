@@ -15,17 +15,15 @@ import pytest
 from softpack.analysis.tables import read_table
 from softpack.scene import config as cfg
 from softpack.scene.packing import Packing
-from softpack.simulation.run import RunError, driver_executable, run
+from softpack.simulation.run import RunError, run
+from driver_required import require_driver
 
 ROOT = Path(os.environ.get("SOFTPACK_ROOT", Path(__file__).resolve().parents[2]))
 
 
 @pytest.fixture(scope="module")
 def small_run(tmp_path_factory):
-    try:
-        driver_executable()
-    except RunError:
-        pytest.skip("softpack-simulate is not built (run ./softpack test)")
+    require_driver()
     out = tmp_path_factory.mktemp("small") / "run"
     config = cfg.load_config(ROOT / "examples" / "small.toml")
     assert run(config, out) == 0

@@ -16,7 +16,8 @@ import pytest
 from softpack.analysis import fields
 from softpack.analysis.tables import read_table
 from softpack.scene import config as cfg
-from softpack.simulation.run import RunError, driver_executable, run
+from softpack.simulation.run import run
+from driver_required import require_driver
 
 ROOT = Path(os.environ.get("SOFTPACK_ROOT",
                            Path(__file__).resolve().parents[2]))
@@ -25,10 +26,7 @@ meshio = pytest.importorskip("meshio")
 
 @pytest.fixture(scope="module")
 def fields_run(tmp_path_factory):
-    try:
-        driver_executable()
-    except RunError:
-        pytest.skip("softpack-simulate is not built (run ./softpack test)")
+    require_driver()
     config = cfg.load_config(ROOT / "examples" / "small.toml")
     config["stop"]["steps"] = 20
     config["output"]["fields_every"] = 1

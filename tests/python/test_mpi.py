@@ -18,7 +18,8 @@ import pytest
 
 from softpack.analysis.tables import read_table
 from softpack.scene import config as cfg
-from softpack.simulation.run import RunError, driver_executable, run
+from softpack.simulation.run import run
+from driver_required import require_driver
 
 ROOT = Path(os.environ.get("SOFTPACK_ROOT",
                            Path(__file__).resolve().parents[2]))
@@ -35,10 +36,7 @@ def _cli(*args, env=None):
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
     """small.toml on 1 and on 2 ranks (fields off: not compared here)."""
-    try:
-        driver_executable()
-    except RunError:
-        pytest.skip("softpack-simulate is not built (run ./softpack test)")
+    require_driver()
     if shutil.which("mpirun") is None:
         pytest.skip("mpirun is not installed")
     config = cfg.load_config(SMALL, {"output.fields": False})

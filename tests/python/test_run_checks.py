@@ -13,17 +13,15 @@ import pytest
 
 from softpack.analysis.tables import read_table
 from softpack.scene import config as cfg
-from softpack.simulation.run import RunError, driver_executable, run
+from softpack.simulation.run import run
+from driver_required import require_driver
 
 ROOT = Path(os.environ.get("SOFTPACK_ROOT",
                            Path(__file__).resolve().parents[2]))
 
 
 def test_unconverged_steps_reach_series_and_summary(tmp_path, capsys):
-    try:
-        driver_executable()
-    except RunError:
-        pytest.skip("softpack-simulate is not built (run ./softpack test)")
+    require_driver()
     config = cfg.load_config(ROOT / "examples" / "small.toml")
     config["time"]["newton_max_iterations"] = 1
     config["stop"]["steps"] = 30

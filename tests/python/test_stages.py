@@ -21,7 +21,8 @@ import pytest
 
 from softpack.analysis.tables import read_table
 from softpack.scene import config as cfg
-from softpack.simulation.run import RunError, driver_executable, run
+from softpack.simulation.run import RunError, run
+from driver_required import require_driver
 
 ROOT = Path(os.environ.get("SOFTPACK_ROOT",
                            Path(__file__).resolve().parents[2]))
@@ -120,10 +121,7 @@ def small_config(stages, **sections):
 
 @pytest.fixture(scope="module")
 def stepped_run(tmp_path_factory):
-    try:
-        driver_executable()
-    except RunError:
-        pytest.skip("softpack-simulate is not built (run ./softpack test)")
+    require_driver()
     out = tmp_path_factory.mktemp("stages") / "run"
     # equilibrium 5e-3: a servo wall then ends its stage within 0.5 % of
     # its load at the last step, so its force averaged over the output
@@ -174,10 +172,7 @@ def test_the_energy_balance_closes_across_stage_changes(stepped_run):
 
 
 def test_a_stage_that_cannot_meet_its_criterion_ends_the_run(tmp_path):
-    try:
-        driver_executable()
-    except RunError:
-        pytest.skip("softpack-simulate is not built (run ./softpack test)")
+    require_driver()
     config = small_config([
         {"name": "settle", "stop": {"equilibrium": 1e-9, "max_time": 0.01}},
         {"name": "never", "stop": {"max_time": 0.01}},

@@ -15,6 +15,7 @@ import pytest
 
 from softpack.analysis import stress
 from softpack.analysis.tables import read_table
+from driver_required import require_driver
 
 ROOT = Path(os.environ.get("SOFTPACK_ROOT",
                            Path(__file__).resolve().parents[2]))
@@ -121,11 +122,8 @@ def test_relative_difference_of_two_estimates():
 def at_rest(tmp_path_factory):
     """examples/isotropic_small.toml run to rest; its stress table."""
     from softpack.scene import config as cfg
-    from softpack.simulation.run import RunError, driver_executable, run
-    try:
-        driver_executable()
-    except RunError:
-        pytest.skip("softpack-simulate is not built (run ./softpack test)")
+    from softpack.simulation.run import run
+    require_driver()
     out = tmp_path_factory.mktemp("stress") / "run"
     config = cfg.load_config(ROOT / "examples" / "isotropic_small.toml")
     assert run(config, out) == 0

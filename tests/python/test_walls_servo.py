@@ -20,7 +20,8 @@ from softpack.analysis.stress import NAME, write_stress
 from softpack.analysis.tables import read_table
 from softpack.scene import config as cfg
 from softpack.scene.species import total_area
-from softpack.simulation.run import RunError, driver_executable, run
+from softpack.simulation.run import run
+from driver_required import require_driver
 
 ROOT = Path(os.environ.get("SOFTPACK_ROOT",
                            Path(__file__).resolve().parents[2]))
@@ -84,10 +85,7 @@ def test_the_walls_mass_counts_each_species_density():
 
 @pytest.fixture(scope="module")
 def servo_run(tmp_path_factory):
-    try:
-        driver_executable()
-    except RunError:
-        pytest.skip("softpack-simulate is not built (run ./softpack test)")
+    require_driver()
     out = tmp_path_factory.mktemp("servo") / "run"
     config = cfg.load_config(ROOT / "examples" / "isotropic_small.toml")
     assert run(config, out) == 0

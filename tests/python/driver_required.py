@@ -1,0 +1,13 @@
+"""The one skip of the tests that run softpack-simulate."""
+
+import pytest
+
+
+def require_driver() -> None:
+    """Skip the calling test (or fixture) when softpack-simulate is not
+    built: ``./softpack test`` builds it first."""
+    from softpack.simulation.run import RunError, driver_executable
+    try:
+        driver_executable()
+    except RunError:
+        pytest.skip("softpack-simulate is not built (run ./softpack test)")
