@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <temp_dir.h>
 #include <vector>
 
 namespace softpack::contact::test
@@ -83,26 +84,6 @@ inline Eigen::MatrixXd to_dense(const DelassusMatrix& W)
   return dense;
 }
 
-/// A unique temporary directory for one test, removed on destruction.
-class TempDir
-{
-public:
-  TempDir()
-  {
-    std::string tmpl =
-        (std::filesystem::temp_directory_path() / "softpack-contact-XXXXXX")
-            .string();
-    _path = ::mkdtemp(tmpl.data());
-  }
-  ~TempDir()
-  {
-    std::error_code ec;
-    std::filesystem::remove_all(_path, ec);
-  }
-  const std::filesystem::path& path() const { return _path; }
-
-private:
-  std::filesystem::path _path;
-};
+using softpack::test::TempDir;
 
 } // namespace softpack::contact::test

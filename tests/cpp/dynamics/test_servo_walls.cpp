@@ -15,6 +15,7 @@
 #include <io/state_file.h>
 #include <material_registry.h>
 #include <mesh_fixtures.h>
+#include <temp_dir.h>
 
 using namespace softpack;
 
@@ -177,8 +178,8 @@ TEST(ServoWalls, AContinuedRunEqualsTheUninterruptedOne)
   dynamics::MoreauJean a(bodies_a, walls, o);
   run(a, first + second);
 
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / "softpack_test_servo_state.bin";
+  const test::TempDir dir;
+  const std::filesystem::path path = dir.path() / "servo_state.bin";
   bodies::BodySet bodies_b = one_disk();
   {
     dynamics::MoreauJean b(bodies_b, walls, o);
@@ -189,7 +190,6 @@ TEST(ServoWalls, AContinuedRunEqualsTheUninterruptedOne)
   bodies::BodySet bodies_c = one_disk();
   dynamics::MoreauJean c(bodies_c, walls, o);
   c.restore(softpack::io::read_state(path));
-  std::filesystem::remove(path);
   run(c, second);
   const double travel = walls[1].point[0] - a.walls()[1].point[0];
   ASSERT_GT(travel, 1e-5);

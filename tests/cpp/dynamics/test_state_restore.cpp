@@ -10,6 +10,7 @@
 #include <io/state_file.h>
 #include <material_registry.h>
 #include <mesh_fixtures.h>
+#include <temp_dir.h>
 #include <vector>
 
 using namespace softpack;
@@ -97,8 +98,8 @@ TEST_P(ContinuedRun, EqualsUninterruptedRun)
   const std::vector<long> refactored_a = advance(a, second);
 
   bodies::BodySet bodies_b = two_stacked_disks();
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / "softpack_test_state.bin";
+  const test::TempDir dir;
+  const std::filesystem::path path = dir.path() / "state.bin";
   {
     dynamics::MoreauJean b(bodies_b, plates(), options(stepping));
     advance(b, first);
@@ -110,7 +111,6 @@ TEST_P(ContinuedRun, EqualsUninterruptedRun)
   bodies::BodySet bodies_c = two_stacked_disks();
   dynamics::MoreauJean c(bodies_c, plates(), options(stepping));
   c.restore(softpack::io::read_state(path));
-  std::filesystem::remove(path);
   EXPECT_EQ(c.steps(), first);
   EXPECT_EQ(advance(c, second), refactored_a);
 
@@ -149,11 +149,10 @@ INSTANTIATE_TEST_SUITE_P(StateFile, ContinuedRun,
 
 TEST(StateFile, RefusesWhatIsNotAStateFileOrDoesNotFit)
 {
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / "softpack_test_not_state.bin";
+  const test::TempDir dir;
+  const std::filesystem::path path = dir.path() / "not_state.bin";
   std::ofstream(path) << "hello";
   EXPECT_THROW(softpack::io::read_state(path), std::runtime_error);
-  std::filesystem::remove(path);
 
   bodies::BodySet bodies = two_stacked_disks();
   dynamics::MoreauJean scheme(bodies, plates(),
