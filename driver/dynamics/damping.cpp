@@ -14,4 +14,24 @@ void combine(RayleighDamping::Combination combination,
     a[i] = combination.mass * m[i] + combination.stiffness * k[i];
 }
 
+Eigen::VectorXd combined_product(RayleighDamping::Combination combination,
+                                 const bodies::BodyMatrix& M,
+                                 const bodies::BodyMatrix& K,
+                                 const Eigen::VectorXd& v)
+{
+  const double* m = M.valuePtr();
+  const double* k = K.valuePtr();
+  const int* outer = M.outerIndexPtr();
+  const int* inner = M.innerIndexPtr();
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(M.rows());
+  for (Eigen::Index j = 0; j < M.outerSize(); ++j)
+  {
+    const double vj = v[j];
+    for (int p = outer[j]; p < outer[j + 1]; ++p)
+      y[inner[p]] +=
+          (combination.mass * m[p] + combination.stiffness * k[p]) * vj;
+  }
+  return y;
+}
+
 } // namespace softpack::dynamics

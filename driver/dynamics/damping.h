@@ -46,4 +46,16 @@ void combine(RayleighDamping::Combination combination,
              const bodies::BodyMatrix& M, const bodies::BodyMatrix& K,
              bodies::BodyMatrix& out);
 
+/// (a M + c K) v without forming a M + c K: one pass over the shared
+/// pattern, so that no third matrix per body is stored (in the order of a
+/// column-major product, which gives the same bits as forming it).
+/// @param[in] combination (a, c)
+/// @param[in] M Mass matrix of a body
+/// @param[in] K Stiffness matrix of the body, on M's pattern
+/// @param[in] v A vector of the body's DOFs
+Eigen::VectorXd combined_product(RayleighDamping::Combination combination,
+                                 const bodies::BodyMatrix& M,
+                                 const bodies::BodyMatrix& K,
+                                 const Eigen::VectorXd& v);
+
 } // namespace softpack::dynamics

@@ -47,7 +47,7 @@ delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
     for (const BodyShare& share : shares[b])
       for (const auto& [slot, weight] : share.slots)
         slots.push_back(slot);
-    Kbar.boundary_compliance(b, slots);
+    Kbar.prepare_columns(b, slots);
   }
 
   std::vector<DelassusBlock> W;
@@ -55,13 +55,12 @@ delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
                  const Eigen::Matrix2d& block) {
     W.push_back({b, i, j, block});
   };
-  auto body_block =
-      [&](const Eigen::MatrixXd& G, const BodyShare& sa, const BodyShare& sb)
+  auto body_block = [&](int b, const BodyShare& sa, const BodyShare& sb)
   {
     Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
     for (const auto& [i, wi] : sa.slots)
       for (const auto& [j, wj] : sb.slots)
-        block += wi * wj * G.block<2, 2>(2 * i, 2 * j);
+        block += wi * wj * Kbar.boundary_block(b, i, j);
     return block;
   };
   // A rigid body's block: sum_ij w_i w_j P_i Mr^-1 P_j^T.
@@ -87,16 +86,15 @@ delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
                   H.frame(sb.contact));
       continue;
     }
-    const Eigen::MatrixXd& G = Kbar.boundary_compliance(b, {});
     // Each contact's own block on this body, for the drop test.
     std::vector<double> own(shares[b].size());
     for (std::size_t k = 0; k < shares[b].size(); ++k)
-      own[k] = body_block(G, shares[b][k], shares[b][k]).norm();
+      own[k] = body_block(b, shares[b][k], shares[b][k]).norm();
     for (std::size_t ka = 0; ka < shares[b].size(); ++ka)
       for (std::size_t kb = 0; kb < shares[b].size(); ++kb)
       {
         const BodyShare &sa = shares[b][ka], &sb = shares[b][kb];
-        const Eigen::Matrix2d block = body_block(G, sa, sb);
+        const Eigen::Matrix2d block = body_block(b, sa, sb);
         if (sa.contact != sb.contact && drop_tolerance > 0 &&
             block.norm() < drop_tolerance * std::sqrt(own[ka] * own[kb]))
           continue;

@@ -20,7 +20,8 @@ namespace softpack::dynamics
 class EffectiveStiffness
 {
 public:
-  /// @param[in] bodies Bodies (masses and sparsity patterns)
+  /// @param[in] bodies Bodies (masses and sparsity patterns); must outlive
+  /// this object (the consistent masses are read from it, not copied)
   /// @param[in] lumped_mass Use the lumped (diagonal) mass instead of the
   /// consistent one
   /// @param[in] owned The bodies this rank factorizes (1; empty: all): a
@@ -42,19 +43,31 @@ public:
     return _factors[body].solve(y);
   }
 
-  /// Compliance \f$\bar K_b^{-1}\f$ of body b restricted to its boundary
-  /// DOFs (2 per boundary node, in the order of Body::boundary_nodes). Only
-  /// the columns of the given boundary slots are guaranteed: they are
-  /// computed on first demand after each factorization (one solve per DOF)
-  /// and kept until the next one, so the cost follows the nodes that
-  /// actually carry contacts.
-  const Eigen::MatrixXd& boundary_compliance(int body,
-                                             std::span<const int> slots) const;
+  /// Make the compliance columns \f$\bar K_b^{-1} e\f$ of the given
+  /// boundary slots of body b available (2 per slot, one solve each): they
+  /// are computed on first demand after each factorization and kept until
+  /// the next one, so the cost follows the nodes that actually carry
+  /// contacts.
+  void prepare_columns(int body, std::span<const int> slots) const;
+
+  /// The 2x2 block of \f$\bar K_b^{-1}\f$ between boundary slots i
+  /// (rows) and j (columns), read off the kept columns.
+  /// @pre prepare_columns() was called with slot j since the last
+  /// factorization
+  Eigen::Matrix2d boundary_block(int body, int i, int j) const
+  {
+    const std::vector<Eigen::VectorXd>& C = _columns[body];
+    const int row = 2 * _boundary[body][i];
+    Eigen::Matrix2d block;
+    block << C[2 * j][row], C[2 * j + 1][row], C[2 * j][row + 1],
+        C[2 * j + 1][row + 1];
+    return block;
+  }
 
   /// \f$(\bar K_b^{-1} y)\f$ at the two DOFs of a boundary slot, from the
   /// kept compliance columns (\f$\bar K\f$ is symmetric: a row of the
   /// inverse is a column): two dot products instead of a solve.
-  /// @pre boundary_compliance() was called with this slot since the last
+  /// @pre prepare_columns() was called with this slot since the last
   /// factorization
   Eigen::Vector2d boundary_response(int body, int slot,
                                     const Eigen::VectorXd& y) const
@@ -70,21 +83,25 @@ public:
   }
 
   /// Mass matrix of body b, on the body's stiffness pattern
-  const bodies::BodyMatrix& mass(int body) const { return _mass[body]; }
+  const bodies::BodyMatrix& mass(int body) const { return (*_mass)[body]; }
 
   /// Number of factorizations done so far (all bodies count as one)
   int factorizations() const { return _count; }
 
 private:
-  std::vector<bodies::BodyMatrix> _mass, _kbar;
+  /// The masses on the stiffness pattern: the bodies' consistent masses
+  /// (BodySet keeps them on that pattern), or _lumped, the lumped masses
+  /// put on it. Kbar itself is not kept: each factorization forms it in a
+  /// scratch matrix (a per-body copy was a fifth of the driver's memory).
+  const std::vector<bodies::BodyMatrix>* _mass;
+  std::vector<bodies::BodyMatrix> _lumped;
   std::vector<Eigen::SimplicialLDLT<bodies::BodyMatrix>> _factors;
   std::vector<std::vector<std::int32_t>> _boundary, _slot;
-  /// Boundary rows (G) of each body's compliance at its boundary DOFs ...
-  mutable std::vector<Eigen::MatrixXd> _compliance;
-  /// ... and its whole columns (C), allocated only for the boundary DOFs
-  /// that carried a contact since the last factorization (empty vectors
-  /// otherwise): they are most of the driver's memory, and only the
-  /// contact nodes' columns are ever needed
+  /// The compliance columns of each body, allocated only for the boundary
+  /// DOFs that carried a contact since the last factorization (empty
+  /// vectors otherwise): they are most of the driver's memory, and only the
+  /// contact nodes' columns are ever needed (their rows at other contact
+  /// nodes are the Delassus blocks)
   mutable std::vector<std::vector<Eigen::VectorXd>> _columns;
   mutable std::vector<std::vector<char>> _column_ready;
   int _count = 0;

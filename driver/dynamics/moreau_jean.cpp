@@ -85,9 +85,8 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
                                                      options.damping.beta},
       _kbar(bodies, options.time.mass == "lumped", _own.owned()),
       _rigid(bodies, _kbar), _K(bodies.create_matrices()),
-      _A(bodies.create_matrices()), _v(bodies.num_dofs(), 0.0),
-      _f_ext(bodies.num_dofs(), 0.0), _f_int(bodies.num_dofs(), 0.0),
-      _v_contact(bodies.num_dofs(), 0.0),
+      _v(bodies.num_dofs(), 0.0), _f_ext(bodies.num_dofs(), 0.0),
+      _f_int(bodies.num_dofs(), 0.0), _v_contact(bodies.num_dofs(), 0.0),
       _step_size(options.time.time_step,
                  options.time.time_step * options.time.max_step_factor,
                  options.time.refactor_above_iterations),
@@ -233,12 +232,9 @@ void MoreauJean::factorize_tangent(StepReport* report)
     report->seconds.assembly += seconds_since(t0);
   t0 = clock::now();
   // Kbar = M + h th C + h^2 th^2 K; A = M + h th C multiplies v_k in the
-  // residual.
-  const RayleighDamping::Combination A = _damping.mass_plus(h * th);
-  _kbar.factorize(_K, A.mass, A.stiffness + h * h * th * th);
-  for (std::size_t b = 0; b < _A.size(); ++b)
-    if (_own.owns(static_cast<int>(b)))
-      combine(A, _kbar.mass(static_cast<int>(b)), _K[b], _A[b]);
+  // residual (with the same K and h until the next factorization).
+  _A = _damping.mass_plus(h * th);
+  _kbar.factorize(_K, _A.mass, _A.stiffness + h * h * th * th);
   _products_valid = false;
   if (report)
     report->seconds.factorization += seconds_since(t0);
@@ -298,7 +294,8 @@ MoreauJean::Vectors MoreauJean::residual(const Vectors& vk,
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
     if (_own.owns(b))
-      r[b] = _A[b] * vk[b] + h * th * (f_int[b] - f_ext[b]) - known[b];
+      r[b] = combined_product(_A, _kbar.mass(b), _K[b], vk[b]) +
+             h * th * (f_int[b] - f_ext[b]) - known[b];
   return r;
 }
 

@@ -291,9 +291,11 @@ private:
   EffectiveStiffness _kbar;
   /// The rigid bodies' three degrees of freedom (none: every body soft)
   RigidBodies _rigid;
-  /// Tangent stiffness as last assembled, and A = M + h th C on the same
-  /// pattern (it multiplies v_k in the Newton residual)
-  std::vector<bodies::BodyMatrix> _K, _A;
+  /// Tangent stiffness as last assembled
+  std::vector<bodies::BodyMatrix> _K;
+  /// A = M + h th C with that K and the h of its factorization: the
+  /// coefficients only (A v_k in the Newton residual is formed from M and K)
+  RayleighDamping::Combination _A{1, 0};
   /// M v and K v at the current velocity (valid while K is unchanged)
   Vectors _Mv, _Kv;
   bool _products_valid = false;
