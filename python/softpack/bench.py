@@ -334,6 +334,12 @@ def main(argv=None) -> int:
                         help="with --mpi: run from --from-state to this"
                         " packing fraction and compare every output step"
                         " and contact file with the 1-rank run")
+    parser.add_argument("--disks", type=int, metavar="N",
+                        help="only compact N paper disks from a fresh"
+                        " packing and mesh to --disks-phi, timed whole with"
+                        " the driver's peak memory (issue 17: 1,000)")
+    parser.add_argument("--disks-phi", type=float, default=0.88,
+                        help="packing fraction that ends --disks")
     parser.add_argument("--to-phi", type=float, default=0.84,
                         help="packing fraction that ends --invariance-from")
     args = parser.parse_args(argv)
@@ -342,6 +348,12 @@ def main(argv=None) -> int:
         from softpack.bench_sharing import bench_sharing
         return _save(bench_sharing(WORK),
                      "sharing-" + _now().replace(":", "") + ".json")
+    if args.disks:
+        from softpack.bench_disks import bench_disks, table
+        result = bench_disks(args.disks, args.disks_phi)
+        print(table(result))
+        return _save(result, f"disks-{args.disks}-" + _now().replace(":", "")
+                     + ".json")
     if args.mpi:
         from softpack.bench_mpi import bench_mpi, table
         report = bench_mpi(WORK, args.steps, args.from_state,

@@ -1,0 +1,72 @@
+"""``./softpack bench --disks N``: N paper disks compacted, timed whole.
+
+Issue 17 item 2 asks for 1,000 disks from Phi 0.75 to 0.88 in at most an
+hour, packing and meshing included, under 1 GB of peak memory. This runs
+that case as ``./softpack bench`` scales the paper's (same species, element
+size and initial packing fraction, box scaled with the disks' area, piston
+speed with the box length: the same strain rate), at the defaults, from a
+fresh packing and mesh (timed: the scene stage is part of the target) to
+``--disks-phi``, and reports
+
+- the seconds of the scene stage (packing and meshing, Python and gmsh),
+- the driver's wall time, steps, the per-step split by part and the peak
+  resident memory (``wait4``),
+- the cost per unit strain, to compare with the 25/100/400-disk scaling
+  rows of ``./softpack bench``,
+- the NLGS yardstick of the day (sweeps per second on the FCLIB problem),
+  since this host's speed moves by 1.5-3x from day to day.
+"""
+
+from __future__ import annotations
+
+import time
+
+from softpack.analysis.strain import cumulative_strain
+from softpack.analysis.tables import read_table
+from softpack.scene.build import build_scene
+
+
+def bench_disks(count: int, to_phi: float) -> dict:
+    """Compact ``count`` disks to ``to_phi``; see the module doc."""
+    from softpack import bench
+
+    config = bench.scaled_config(count / 100, {
+        **bench.FAST, "output.every_steps": 100,
+        "stop.packing_fraction": to_phi})
+    n = sum(s["count"] for s in config["species"])
+    name = f"disks-n{n}"
+    start = time.perf_counter()
+    scene = build_scene(config, bench.WORK / f"mesh-{name}").record()
+    scene_seconds = time.perf_counter() - start
+    start = time.perf_counter()
+    result = bench.run_driver(config, scene, name)
+    driver_seconds = time.perf_counter() - start
+    steps = read_table(bench.WORK / name / "raw" / "steps.csv")
+    length = config["box"]["length"]
+    piston = config["walls"][bench.PISTON]["point"][0]
+    strain = float(cumulative_strain(
+        piston - float(steps[f"{bench.PISTON}_x"][-1]), length))
+    result.update(
+        disks=n, target_phi=to_phi, final_phi=float(steps["phi"][-1]),
+        scene_seconds=scene_seconds, driver_seconds=driver_seconds,
+        whole_seconds=scene_seconds + driver_seconds, strain=strain,
+        seconds_per_unit_strain=result["seconds"] / strain,
+        nlgs_yardstick=bench.bench_nlgs().get("sweeps_per_second"))
+    return result
+
+
+def table(r: dict) -> str:
+    """A few lines for a person."""
+    parts = ", ".join(f"{p} {r['ms_' + p]:.0f}" for p in
+                      ("assembly", "factorization", "solves", "delassus",
+                       "detection", "nlgs"))
+    return "\n".join([
+        f"{r['disks']} disks to Phi = {r['final_phi']:.3f}"
+        f" (target {r['target_phi']}): {r['steps']} steps",
+        f"scene (packing + meshing): {r['scene_seconds']:.1f} s",
+        f"driver: {r['driver_seconds']:.0f} s wall, {r['ms_per_step']:.0f}"
+        f" ms per step ({parts})",
+        f"whole: {r['whole_seconds'] / 60:.1f} min;"
+        f" {r['seconds_per_unit_strain']:.0f} s per unit strain",
+        f"peak memory of the driver: {r['peak_memory_mb']:.0f} MB",
+        f"NLGS yardstick today: {r['nlgs_yardstick']:.0f} sweeps/s"])
