@@ -230,8 +230,9 @@ std::vector<BodyMatrix> BodySet::create_matrices() const
         for (std::int32_t nj : dofmap.cell_dofs(c))
           for (int ci = 0; ci < 2; ++ci)
             for (int cj = 0; cj < 2; ++cj)
-              pattern.emplace_back(2 * _node_local[ni] + ci,
-                                   2 * _node_local[nj] + cj, 0.0);
+              if (2 * _node_local[ni] + ci >= 2 * _node_local[nj] + cj)
+                pattern.emplace_back(2 * _node_local[ni] + ci,
+                                     2 * _node_local[nj] + cj, 0.0);
     BodyMatrix A(body.num_dofs(), body.num_dofs());
     A.setFromTriplets(pattern.begin(), pattern.end());
     A.makeCompressed();
@@ -265,9 +266,12 @@ void assemble_by_body(const fem::Form<double>& a,
       for (int ci = 0; ci < 2; ++ci)
         for (std::size_t j = 0; j < cols.size(); ++j)
           for (int cj = 0; cj < 2; ++cj)
-            A.coeffRef(2 * node_local[rows[i]] + ci,
-                       2 * node_local[cols[j]] + cj) +=
-                values[(2 * i + ci) * ncols + 2 * j + cj];
+          {
+            const int row = 2 * node_local[rows[i]] + ci,
+                      col = 2 * node_local[cols[j]] + cj;
+            if (row >= col) // the lower triangle (BodyMatrix)
+              A.coeffRef(row, col) += values[(2 * i + ci) * ncols + 2 * j + cj];
+          }
     return 0;
   };
   fem::assemble_matrix(add, a, {});

@@ -20,8 +20,19 @@ namespace softpack::bodies
 class ParallelResidual;
 
 /// Sparse symmetric matrix of one body, in the body's local DOF numbering
-/// (2 per node: x then y).
+/// (2 per node: x then y), of which only the lower triangle (row >= col) is
+/// stored: the masses and tangents are symmetric (they derive from a kinetic
+/// energy and a strain-energy density), the factorization reads the lower
+/// triangle only, and the matrices are a third of the driver's memory.
+/// Multiply with symmetric_product(), never with operator*.
 using BodyMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+/// A v for a BodyMatrix A (its lower triangle stored)
+inline Eigen::VectorXd symmetric_product(const BodyMatrix& A,
+                                         const Eigen::VectorXd& v)
+{
+  return A.selfadjointView<Eigen::Lower>() * v;
+}
 
 /// One deformable body: its nodes, cells and boundary, as indices into the
 /// global arrays of its BodySet.
@@ -108,7 +119,7 @@ public:
   /// matrices holding the body's sparsity pattern (see create_matrices)
   void tangent(std::vector<BodyMatrix>& K) const;
 
-  /// Zero matrices with each body's sparsity pattern
+  /// Zero matrices with each body's sparsity pattern (lower triangle)
   std::vector<BodyMatrix> create_matrices() const;
 
   /// Consistent mass matrix of each body (computed once)

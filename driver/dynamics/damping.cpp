@@ -28,8 +28,14 @@ Eigen::VectorXd combined_product(RayleighDamping::Combination combination,
   {
     const double vj = v[j];
     for (int p = outer[j]; p < outer[j + 1]; ++p)
-      y[inner[p]] +=
-          (combination.mass * m[p] + combination.stiffness * k[p]) * vj;
+    {
+      // the lower triangle: (i, j) stands for (j, i) too
+      const int i = inner[p];
+      const double a = combination.mass * m[p] + combination.stiffness * k[p];
+      y[i] += a * vj;
+      if (i != j)
+        y[j] += a * v[i];
+    }
   }
   return y;
 }

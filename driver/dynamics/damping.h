@@ -47,8 +47,8 @@ void combine(RayleighDamping::Combination combination,
              bodies::BodyMatrix& out);
 
 /// (a M + c K) v without forming a M + c K: one pass over the shared
-/// pattern, so that no third matrix per body is stored (in the order of a
-/// column-major product, which gives the same bits as forming it).
+/// pattern (the lower triangle of symmetric matrices, BodyMatrix), so that
+/// no third matrix per body is stored.
 /// @param[in] combination (a, c)
 /// @param[in] M Mass matrix of a body
 /// @param[in] K Stiffness matrix of the body, on M's pattern

@@ -40,11 +40,11 @@ void EffectiveStiffness::prepare_columns(int b,
                                          std::span<const int> slots) const
 {
   const std::vector<std::int32_t>& nodes = _boundary[b];
-  std::vector<Eigen::VectorXd>& C = _columns[b];
+  std::vector<Column>& C = _columns[b];
   std::vector<char>& ready = _column_ready[b];
   if (ready.empty())
   {
-    C.assign(2 * nodes.size(), Eigen::VectorXd());
+    C.assign(2 * nodes.size(), Column());
     ready.assign(nodes.size(), 0);
   }
   Eigen::VectorXd e = Eigen::VectorXd::Zero(_factors[b].rows());
@@ -56,7 +56,7 @@ void EffectiveStiffness::prepare_columns(int b,
     {
       const int dof = 2 * nodes[slot] + c;
       e[dof] = 1;
-      C[2 * slot + c] = _factors[b].solve(e);
+      C[2 * slot + c] = _factors[b].solve(e).cast<float>();
       e[dof] = 0;
     }
     ready[slot] = 1;

@@ -56,7 +56,7 @@ public:
   /// factorization
   Eigen::Matrix2d boundary_block(int body, int i, int j) const
   {
-    const std::vector<Eigen::VectorXd>& C = _columns[body];
+    const std::vector<Column>& C = _columns[body];
     const int row = 2 * _boundary[body][i];
     Eigen::Matrix2d block;
     block << C[2 * j][row], C[2 * j + 1][row], C[2 * j][row + 1],
@@ -72,8 +72,9 @@ public:
   Eigen::Vector2d boundary_response(int body, int slot,
                                     const Eigen::VectorXd& y) const
   {
-    const std::vector<Eigen::VectorXd>& C = _columns[body];
-    return {C[2 * slot].dot(y), C[2 * slot + 1].dot(y)};
+    const std::vector<Column>& C = _columns[body];
+    return {C[2 * slot].cast<double>().dot(y),
+            C[2 * slot + 1].cast<double>().dot(y)};
   }
 
   /// Position of a local node in Body::boundary_nodes (-1 if interior)
@@ -89,6 +90,11 @@ public:
   int factorizations() const { return _count; }
 
 private:
+  /// A compliance column, kept in single precision: the columns are the
+  /// largest memory item after the factors, and their 6e-8 relative
+  /// rounding is far below the Newton (1e-4) and NLGS (1e-6) tolerances
+  /// they feed (the Delassus blocks and the free velocity)
+  using Column = Eigen::VectorXf;
   /// The masses on the stiffness pattern: the bodies' consistent masses
   /// (BodySet keeps them on that pattern), or _lumped, the lumped masses
   /// put on it. Kbar itself is not kept: each factorization forms it in a
@@ -102,7 +108,7 @@ private:
   /// vectors otherwise): they are most of the driver's memory, and only the
   /// contact nodes' columns are ever needed (their rows at other contact
   /// nodes are the Delassus blocks)
-  mutable std::vector<std::vector<Eigen::VectorXd>> _columns;
+  mutable std::vector<std::vector<Column>> _columns;
   mutable std::vector<std::vector<char>> _column_ready;
   int _count = 0;
   std::vector<char> _owned;

@@ -7,7 +7,8 @@ double kinetic_energy(const EffectiveStiffness& kbar, const BodyVectors& v)
 {
   double e = 0;
   for (std::size_t b = 0; b < v.size(); ++b)
-    e += 0.5 * v[b].dot(kbar.mass(static_cast<int>(b)) * v[b]);
+    e += 0.5 * v[b].dot(bodies::symmetric_product(
+                   kbar.mass(static_cast<int>(b)), v[b]));
   return e;
 }
 

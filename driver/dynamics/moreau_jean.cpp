@@ -600,8 +600,8 @@ void MoreauJean::update_products(const Vectors& v)
   {
     if (!_own.owns(b))
       continue;
-    _Mv[b] = _kbar.mass(b) * v[b];
-    _Kv[b] = _K[b] * v[b];
+    _Mv[b] = bodies::symmetric_product(_kbar.mass(b), v[b]);
+    _Kv[b] = bodies::symmetric_product(_K[b], v[b]);
   }
   _products_valid = true;
 }

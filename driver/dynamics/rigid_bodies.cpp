@@ -22,7 +22,7 @@ RigidBodies::RigidBodies(const bodies::BodySet& bodies,
     Eigen::MatrixXd P(2 * n, 3);
     for (int i = 0; i < n; ++i)
       P.middleRows<2>(2 * i) = kinematics(k, i);
-    k.mass = P.transpose() * (k.nodal_mass * P);
+    k.mass = P.transpose() * (k.nodal_mass.selfadjointView<Eigen::Lower>() * P);
     k.inverse_mass = k.mass.inverse();
     _index[b] = static_cast<int>(_rigid.size());
     _rigid.push_back(std::move(k));
@@ -75,7 +75,7 @@ void RigidBodies::start_step(std::span<const double> u, std::span<double> v,
         vb[2 * i + c] = v[2 * body.nodes[i] + c];
         fb[2 * i + c] = f_ext[2 * body.nodes[i] + c];
       }
-    const Eigen::VectorXd Mv = k.nodal_mass * vb;
+    const Eigen::VectorXd Mv = bodies::symmetric_product(k.nodal_mass, vb);
     Eigen::Vector3d PtMv = Eigen::Vector3d::Zero(),
                     PtF = Eigen::Vector3d::Zero();
     for (int i = 0; i < n; ++i)

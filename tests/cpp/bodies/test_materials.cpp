@@ -300,7 +300,7 @@ TEST(Materials, TangentIsTheDerivativeOfTheResidual)
     for (std::size_t k = 0; k < body.nodes.size(); ++k)
       for (int c = 0; c < 2; ++c)
         wb[2 * k + c] = w[2 * body.nodes[k] + c];
-    const Eigen::VectorXd Kw = K[0] * wb;
+    const Eigen::VectorXd Kw = bodies::symmetric_product(K[0], wb);
 
     const double eps = 1e-5;
     std::span<double> u = bodies.displacement();

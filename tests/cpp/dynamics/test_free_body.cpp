@@ -31,7 +31,8 @@ std::array<double, 2> momentum(const bodies::BodySet& bodies,
   for (std::size_t k = 0; k < body.nodes.size(); ++k)
     for (int c = 0; c < 2; ++c)
       vb[2 * k + c] = v[2 * body.nodes[k] + c];
-  const Eigen::VectorXd p = bodies.consistent_mass()[0] * vb;
+  const Eigen::VectorXd p =
+      bodies::symmetric_product(bodies.consistent_mass()[0], vb);
   std::array<double, 2> P = {0, 0};
   for (int i = 0; i < p.size(); ++i)
     P[i % 2] += p[i];
