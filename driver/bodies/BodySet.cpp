@@ -230,9 +230,12 @@ std::vector<BodyMatrix> BodySet::create_matrices() const
         for (std::int32_t nj : dofmap.cell_dofs(c))
           for (int ci = 0; ci < 2; ++ci)
             for (int cj = 0; cj < 2; ++cj)
-              if (2 * _node_local[ni] + ci >= 2 * _node_local[nj] + cj)
-                pattern.emplace_back(2 * _node_local[ni] + ci,
-                                     2 * _node_local[nj] + cj, 0.0);
+            {
+              const int row = 2 * _node_local[ni] + ci,
+                        col = 2 * _node_local[nj] + cj;
+              if (stored_entry(row, col))
+                pattern.emplace_back(row, col, 0.0);
+            }
     BodyMatrix A(body.num_dofs(), body.num_dofs());
     A.setFromTriplets(pattern.begin(), pattern.end());
     A.makeCompressed();
@@ -269,7 +272,7 @@ void assemble_by_body(const fem::Form<double>& a,
           {
             const int row = 2 * node_local[rows[i]] + ci,
                       col = 2 * node_local[cols[j]] + cj;
-            if (row >= col) // the lower triangle (BodyMatrix)
+            if (stored_entry(row, col))
               A.coeffRef(row, col) += values[(2 * i + ci) * ncols + 2 * j + cj];
           }
     return 0;

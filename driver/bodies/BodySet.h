@@ -27,6 +27,12 @@ class ParallelResidual;
 /// Multiply with symmetric_product(), never with operator*.
 using BodyMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
+/// Whether a BodyMatrix stores entry (row, col): the one place of the rule
+constexpr bool stored_entry(int row, int col)
+{
+  return row >= col;
+}
+
 /// A v for a BodyMatrix A (its lower triangle stored)
 inline Eigen::VectorXd symmetric_product(const BodyMatrix& A,
                                          const Eigen::VectorXd& v)

@@ -105,9 +105,8 @@ private:
   std::vector<std::vector<std::int32_t>> _boundary, _slot;
   /// The compliance columns of each body, allocated only for the boundary
   /// DOFs that carried a contact since the last factorization (empty
-  /// vectors otherwise): they are most of the driver's memory, and only the
-  /// contact nodes' columns are ever needed (their rows at other contact
-  /// nodes are the Delassus blocks)
+  /// vectors otherwise): only the contact nodes' columns are ever needed
+  /// (their rows at other contact nodes are the Delassus blocks)
   mutable std::vector<std::vector<Column>> _columns;
   mutable std::vector<std::vector<char>> _column_ready;
   int _count = 0;
