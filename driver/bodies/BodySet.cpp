@@ -5,6 +5,7 @@
 #include <body.h>
 #include <dolfinx/fem/assembler.h>
 #include <dolfinx/fem/utils.h>
+#include <numeric>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -174,6 +175,7 @@ void BodySet::build_bodies()
     body.nodes.push_back(node);
   }
 
+  rank_input_order();
   for (Body& body : _bodies)
   {
     // An edge on the boundary belongs to one cell only; orienting each
@@ -213,6 +215,36 @@ void BodySet::build_bodies()
       body.segment_to[s[1]] = static_cast<std::int32_t>(k);
     }
     std::sort(body.boundary_nodes.begin(), body.boundary_nodes.end());
+  }
+}
+
+void BodySet::rank_input_order()
+{
+  // A P1 cell lists its DOF blocks as its geometry nodes (both follow the
+  // reference cell's vertices), which carry the input file's indices.
+  const fem::DofMap& dofmap = *_V->dofmap();
+  const mesh::Geometry& geometry = _mesh->geometry();
+  const std::vector<std::int64_t>& input = geometry.input_global_indices();
+  std::vector<std::int64_t> node_input(_node_body.size(), -1);
+  for (std::int32_t c = 0; c < static_cast<std::int32_t>(_cell_body.size());
+       ++c)
+  {
+    auto dofs = dofmap.cell_dofs(c);
+    auto x = geometry.dofmap().links(c);
+    for (std::size_t i = 0; i < dofs.size(); ++i)
+      node_input[dofs[i]] = input[x[i]];
+  }
+  for (Body& body : _bodies)
+  {
+    std::vector<std::int32_t> order(body.nodes.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(),
+              [&](std::int32_t a, std::int32_t b) {
+                return node_input[body.nodes[a]] < node_input[body.nodes[b]];
+              });
+    body.input_rank.assign(order.size(), 0);
+    for (std::size_t r = 0; r < order.size(); ++r)
+      body.input_rank[order[r]] = static_cast<std::int32_t>(r);
   }
 }
 

@@ -59,6 +59,12 @@ struct Body
   std::vector<std::int32_t> segment_from, segment_to;
   /// Area of the body in the reference configuration
   double reference_area = 0;
+  /// For each local node, its rank within the body in the input mesh
+  /// file's node order. Bodies copied from one template mesh list their
+  /// nodes alike in that file, so in this order their matrices have one
+  /// sparsity pattern (which lets them share a symbolic factorization),
+  /// whatever order dolfinx gave the nodes.
+  std::vector<std::int32_t> input_rank;
 
   /// Number of scalar DOFs of the body (2 per node)
   int num_dofs() const { return 2 * static_cast<int>(nodes.size()); }
@@ -204,6 +210,8 @@ private:
   };
   void build_forms();
   void build_bodies();
+  /// Fill each Body::input_rank
+  void rank_input_order();
   void build_mass();
   std::vector<double> sum_per_body(const std::vector<double>& per_cell) const;
   std::vector<double>

@@ -85,9 +85,10 @@ class Monitor
 {
 public:
   Monitor(const FrictionContactProblem2D& problem, std::span<double> r,
-          std::span<double> u, const NlgsOptions& options, NlgsResult& result)
+          std::span<double> u, const NlgsOptions& options, NlgsResult& result,
+          const SweepDomain* domain)
       : omega(options.relaxation), _problem(problem), _r(r), _u(u),
-        _options(options), _result(result),
+        _options(options), _result(result), _domain(domain),
         _working_tolerance(options.tolerance)
   {
   }
@@ -95,6 +96,13 @@ public:
   bool after_sweep(const SweepSums& sums);
   /// The full error at the end (computed unless the last test did)
   void finish();
+  /// The full error of the whole problem, every reaction made current
+  void full_error()
+  {
+    if (_domain)
+      _domain->gather(_r);
+    _full = compute_error(_problem, _r, _u, _options.q_zero_tolerance);
+  }
   /// Relaxation of the next sweep
   double omega;
 
@@ -103,6 +111,7 @@ private:
   std::span<double> _r, _u;
   const NlgsOptions& _options;
   NlgsResult& _result;
+  const SweepDomain* _domain;
   double _working_tolerance;
   double _window_start_error = std::numeric_limits<double>::infinity();
   bool _full_error_current = false;
@@ -132,7 +141,7 @@ bool Monitor::after_sweep(const SweepSums& sums)
   const bool more = _result.iterations < _options.max_sweeps;
   if (_result.cheap_error > _working_tolerance)
     return more;
-  _full = compute_error(_problem, _r, _u, _options.q_zero_tolerance);
+  full_error();
   _full_error_current = true;
   if (_full.value <= _options.tolerance)
     return false;
@@ -144,7 +153,7 @@ bool Monitor::after_sweep(const SweepSums& sums)
 void Monitor::finish()
 {
   if (!_full_error_current)
-    _full = compute_error(_problem, _r, _u, _options.q_zero_tolerance);
+    full_error();
   _result.error = _full.value;
   _result.converged = _full.value <= _options.tolerance;
 }
@@ -173,13 +182,35 @@ void split_sweeps(const FrictionContactProblem2D& problem, double* r,
     }
   }
 }
+//-----------------------------------------------------------------------------
+/// Sweeps of one domain's contacts stage by stage, exchanging after each
+/// interface stage (SweepDomain).
+void domain_sweeps(const FrictionContactProblem2D& problem, std::span<double> r,
+                   const SweepDomain& domain, Monitor& monitor)
+{
+  bool more = true;
+  while (more)
+  {
+    double sums[2] = {0, 0};
+    for (std::size_t s = 0; s < domain.stages.size(); ++s)
+    {
+      const SweepSums part =
+          sweep(problem, r.data(), monitor.omega, domain.stages[s]);
+      sums[0] += part.change;
+      sums[1] += part.norm;
+      if (s > 0)
+        domain.exchange(static_cast<int>(s), r);
+    }
+    domain.reduce(sums);
+    more = monitor.after_sweep({sums[0], sums[1]});
+  }
+}
 } // namespace
 
 //-----------------------------------------------------------------------------
-NlgsResult
-softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
-                              std::span<double> r, std::span<double> u,
-                              const NlgsOptions& options)
+NlgsResult softpack::contact::solve_nlgs(
+    const FrictionContactProblem2D& problem, std::span<double> r,
+    std::span<double> u, const NlgsOptions& options, const SweepDomain* domain)
 {
   check_arguments(problem, r, u, options);
   if (!options.warm_start)
@@ -190,12 +221,14 @@ softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
   if (result.q_zero)
     std::fill(r.begin(), r.end(), 0.0);
 
-  Monitor monitor(problem, r, u, options, result);
+  Monitor monitor(problem, r, u, options, result, domain);
   const bool split = options.split_min_contacts > 0 and
                      problem.num_contacts() >= options.split_min_contacts;
   if (!result.q_zero and options.max_sweeps > 0)
   {
-    if (split)
+    if (domain)
+      domain_sweeps(problem, r, *domain, monitor);
+    else if (split)
       split_sweeps(problem, r.data(), split_for_two_threads(problem.W),
                    options.threads, monitor);
     else

@@ -2,6 +2,7 @@
 
 #include "problem.h"
 
+#include <functional>
 #include <span>
 
 namespace softpack::contact
@@ -68,6 +69,26 @@ struct NlgsResult
   bool relaxation_dropped = false;
 };
 
+/// One domain's share of a distributed solve: the domain-wise NLGS of
+/// docs/mpi_design.md, in the stages of a DomainPlan (domain_plan.h). The
+/// solver itself knows nothing of how domains talk: the caller does.
+struct SweepDomain
+{
+  /// This domain's contacts by stage, swept in order; the same number of
+  /// stages on every domain
+  std::span<const std::vector<std::int32_t>> stages;
+  /// After every stage but the first: make current here the reactions the
+  /// other domains changed in that stage and this domain's rows read (and
+  /// send this domain's where others read them)
+  std::function<void(int stage, std::span<double> r)> exchange;
+  /// After each sweep: sum `sums` (the sweep's squared change and squared
+  /// norm) over the domains, the same on every domain
+  std::function<void(double sums[2])> reduce;
+  /// Make every reaction current here (before a full error test, and at
+  /// the end)
+  std::function<void(std::span<double> r)> gather;
+};
+
 /// Nonlinear (block) Gauss–Seidel for the 2D frictional contact problem
 /// \f$u = W r + q\f$ (Moreau, Jean; Siconos `fc2d_nsgs`).
 ///
@@ -90,8 +111,12 @@ struct NlgsResult
 /// @return Sweeps, error and convergence flag. The solver writes nothing:
 ///   a caller that keeps unsolved problems (for replay) copies the problem
 ///   and the starting r, and writes them with dump_problem() (fclib_io.h).
+/// @param[in] domain When given, this process sweeps only its domain's
+///   contacts and exchanges as SweepDomain says; every domain returns the
+///   same r, u and result
 NlgsResult solve_nlgs(const FrictionContactProblem2D& problem,
                       std::span<double> r, std::span<double> u,
-                      const NlgsOptions& options = {});
+                      const NlgsOptions& options = {},
+                      const SweepDomain* domain = nullptr);
 
 } // namespace softpack::contact

@@ -9,7 +9,8 @@ namespace softpack::dynamics
 EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
                                        bool lumped_mass,
                                        std::span<const char> owned)
-    : _mass(&bodies.consistent_mass()), _factors(bodies.num_bodies()),
+    : _mass(&bodies.consistent_mass()),
+      _factors(bodies, bodies.consistent_mass(), owned),
       _owned(owned.begin(), owned.end())
 {
   if (lumped_mass) // the lumped masses on the stiffness pattern
@@ -24,8 +25,6 @@ EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
   }
   for (int b = 0; b < bodies.num_bodies(); ++b)
   {
-    if (_owned.empty() || _owned[b])
-      _factors[b].analyzePattern(mass(b));
     const bodies::Body& body = bodies.body(b);
     _boundary.push_back(body.boundary_nodes);
     _slot.emplace_back(body.nodes.size(), -1);
@@ -47,7 +46,7 @@ void EffectiveStiffness::prepare_columns(int b,
     C.assign(2 * nodes.size(), Column());
     ready.assign(nodes.size(), 0);
   }
-  Eigen::VectorXd e = Eigen::VectorXd::Zero(_factors[b].rows());
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(_factors.rows(b));
   for (int slot : slots)
   {
     if (ready[slot])
@@ -56,7 +55,7 @@ void EffectiveStiffness::prepare_columns(int b,
     {
       const int dof = 2 * nodes[slot] + c;
       e[dof] = 1;
-      C[2 * slot + c] = _factors[b].solve(e).cast<float>();
+      C[2 * slot + c] = _factors.solve(b, e).cast<float>();
       e[dof] = 0;
     }
     ready[slot] = 1;
@@ -67,22 +66,10 @@ void EffectiveStiffness::factorize(const std::vector<bodies::BodyMatrix>& K,
                                    double mass_coefficient,
                                    double stiffness_coefficient)
 {
-  bool ok = true;
-  const int nb = static_cast<int>(_factors.size());
   const RayleighDamping::Combination kbar{mass_coefficient,
                                           stiffness_coefficient};
-#pragma omp parallel for schedule(dynamic) reduction(&& : ok) if (nb >= 16)
-  for (int b = 0; b < nb; ++b)
-  {
-    if (!_owned.empty() && !_owned[b])
-      continue;
-    bodies::BodyMatrix scratch = mass(b); // the pattern; values replaced
-    combine(kbar, mass(b), K[b], scratch);
-    _factors[b].factorize(scratch);
-    ok = ok && _factors[b].info() == Eigen::Success &&
-         (_factors[b].vectorD().array() > 0).all();
-  }
-  // No throwing inside the parallel loop.
+  const bool ok = _factors.factorize([&](int b, bodies::BodyMatrix& A)
+                                     { combine(kbar, mass(b), K[b], A); });
   if (!ok)
     throw std::runtime_error("the iteration matrix of a body is not positive "
                              "definite (element inverted or time step too "

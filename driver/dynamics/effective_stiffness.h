@@ -1,6 +1,6 @@
 #pragma once
 
-#include <Eigen/SparseCholesky>
+#include "body_factors.h"
 #include <bodies/BodySet.h>
 #include <span>
 #include <vector>
@@ -14,9 +14,9 @@ namespace softpack::dynamics
 ///          = (1 + h\theta\alpha) M + (h\theta\beta + h^2\theta^2) K,
 /// \f]
 /// with Rayleigh damping \f$C = \alpha M + \beta K\f$. Each body's block is
-/// factorized on its own (sparse LDL^T; the symbolic analysis is done once
-/// and reused), so solves, refactorizations and compliance computations
-/// stay per body.
+/// factorized on its own (sparse LDL^T, BodyFactors: one symbolic analysis
+/// per distinct mesh), so solves, refactorizations and compliance
+/// computations stay per body.
 class EffectiveStiffness
 {
 public:
@@ -40,7 +40,7 @@ public:
   /// Solve \f$\bar K_b x = y\f$ for body b (local DOF numbering).
   Eigen::VectorXd solve(int body, const Eigen::VectorXd& y) const
   {
-    return _factors[body].solve(y);
+    return _factors.solve(body, y);
   }
 
   /// Make the compliance columns \f$\bar K_b^{-1} e\f$ of the given
@@ -89,6 +89,9 @@ public:
   /// Number of factorizations done so far (all bodies count as one)
   int factorizations() const { return _count; }
 
+  /// Distinct symbolic factorizations (BodyFactors::num_patterns)
+  int factor_patterns() const { return _factors.num_patterns(); }
+
 private:
   /// A compliance column, kept in single precision: the columns are the
   /// largest memory item after the factors, and their 6e-8 relative
@@ -101,7 +104,7 @@ private:
   /// scratch matrix (a per-body copy was a fifth of the driver's memory).
   const std::vector<bodies::BodyMatrix>* _mass;
   std::vector<bodies::BodyMatrix> _lumped;
-  std::vector<Eigen::SimplicialLDLT<bodies::BodyMatrix>> _factors;
+  BodyFactors _factors;
   std::vector<std::vector<std::int32_t>> _boundary, _slot;
   /// The compliance columns of each body, allocated only for the boundary
   /// DOFs that carried a contact since the last factorization (empty

@@ -338,7 +338,10 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
   for (std::size_t i = 0; i < U_free.size(); ++i)
     problem.q[i] = U_free[i] + sc.shift[i];
   std::vector<double> U(U_free.size()), start = _R;
-  const contact::NlgsResult nlgs = contact::solve_nlgs(problem, _R, U, _nlgs);
+  const std::optional<parallel::ContactDomains> domains =
+      contact_domains(problem);
+  const contact::NlgsResult nlgs = contact::solve_nlgs(
+      problem, _R, U, _nlgs, domains ? &domains->domain() : nullptr);
   report.nlgs_iterations += nlgs.iterations;
   report.nlgs_error = nlgs.error;
   report.nlgs_converged = nlgs.converged;

@@ -15,6 +15,8 @@
 #include <contact/nlgs.h>
 #include <contact/problem.h>
 #include <memory>
+#include <optional>
+#include <parallel/contact_domains.h>
 #include <parallel/ownership.h>
 #include <softpack/parameters.h>
 #include <vector>
@@ -209,8 +211,16 @@ public:
   long steps() const { return _steps; }
   /// Factorizations of the iteration matrix so far
   int factorizations() const { return _kbar.factorizations(); }
+  /// Distinct symbolic factorizations of this rank's bodies (one per mesh
+  /// when bodies are copies of a few meshes)
+  int factor_patterns() const { return _kbar.factor_patterns(); }
   /// Which rank owns which body, and the collectives' volume so far
   const parallel::Ownership& ownership() const { return _own; }
+  /// What the domain-wise contact solves have sent so far (distributed)
+  const parallel::ContactTraffic& contact_traffic() const
+  {
+    return _contact_traffic;
+  }
 
 private:
   using Vectors = BodyVectors;
@@ -230,6 +240,10 @@ private:
                                    std::span<const WallCoupling> walls) const;
   /// The entries of the contact nodes (local nodes per body) of a global
   /// vector filled by their owners, made whole on every rank
+  /// This rank's share of a distributed contact solve (none when serial):
+  /// the contacts of its bodies' candidate nodes
+  std::optional<parallel::ContactDomains>
+  contact_domains(const contact::FrictionContactProblem2D& problem);
   void share_contact_nodes(
       const std::vector<std::vector<std::int32_t>>& contact_nodes,
       std::span<double> global) const;
@@ -283,6 +297,7 @@ private:
 
   bodies::BodySet& _bodies;
   parallel::Ownership _own;
+  parallel::ContactTraffic _contact_traffic;
   std::vector<Wall> _walls;
   MoreauJeanOptions _options;
   DetectionOptions _detection;

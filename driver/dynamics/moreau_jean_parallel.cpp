@@ -53,6 +53,20 @@ MoreauJean::delassus(const ContactOperator& H,
   return assemble_delassus(H.size(), blocks, walls);
 }
 
+std::optional<parallel::ContactDomains>
+MoreauJean::contact_domains(const contact::FrictionContactProblem2D& problem)
+{
+  if (!_own.distributed())
+    return std::nullopt;
+  // A contact belongs to its candidate node's body.
+  std::vector<int> owner(_contacts.size());
+  for (std::size_t a = 0; a < _contacts.size(); ++a)
+    owner[a] = _own.body_rank()[_contacts[a].candidate_body];
+  return std::optional<parallel::ContactDomains>(std::in_place, _own.comm(),
+                                                 problem.W, std::move(owner),
+                                                 _contact_traffic);
+}
+
 void MoreauJean::share_contact_nodes(
     const std::vector<std::vector<std::int32_t>>& contact_nodes,
     std::span<double> global) const

@@ -37,6 +37,8 @@ public:
   /// Whether there is more than one rank
   bool distributed() const { return _size > 1; }
   int rank() const { return _rank; }
+  /// The ranks (MPI_COMM_SELF when serial)
+  MPI_Comm comm() const { return _comm; }
   int size() const { return _size; }
   /// Whether this rank owns body b
   bool owns(int b) const { return _size == 1 || _body_rank[b] == _rank; }

@@ -119,29 +119,35 @@ int rank_of(MPI_Comm comm)
 }
 
 /// Per rank (a collective: every rank calls it): its bodies, the bytes it
-/// handed to collectives (before this call), their count and its peak
-/// resident memory, as done.json's "mpi" entry.
-nlohmann::json rank_report(const parallel::Ownership& own)
+/// handed to collectives (before this call), their count, its peak
+/// resident memory, and what its domain-wise contact solves sent (bytes,
+/// messages, sweeps), as done.json's "mpi" entry.
+nlohmann::json rank_report(const parallel::Ownership& own,
+                           const parallel::ContactTraffic& contact)
 {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   const std::vector<int>& body_rank = own.body_rank();
-  const double mine[4] = {
+  constexpr std::size_t n = 7;
+  const double mine[n] = {
       double(std::count(body_rank.begin(), body_rank.end(), own.rank())),
-      double(own.bytes_sent()), double(own.messages()),
-      usage.ru_maxrss / 1024.0};
+      double(own.bytes_sent()),
+      double(own.messages()),
+      usage.ru_maxrss / 1024.0,
+      double(contact.bytes),
+      double(contact.messages),
+      double(contact.sweeps)};
   const std::vector<double> all = own.gather(mine);
-  nlohmann::json report = {{"bodies", {}},
-                           {"bytes_sent", {}},
-                           {"collectives", {}},
-                           {"peak_rss_mb", {}}};
-  for (std::size_t r = 0; r < all.size() / 4; ++r)
-  {
-    report["bodies"].push_back(long(all[4 * r]));
-    report["bytes_sent"].push_back(all[4 * r + 1]);
-    report["collectives"].push_back(long(all[4 * r + 2]));
-    report["peak_rss_mb"].push_back(all[4 * r + 3]);
-  }
+  const char* keys[n] = {"bodies",      "bytes_sent",      "collectives",
+                         "peak_rss_mb", "nlgs_bytes_sent", "nlgs_messages",
+                         "nlgs_sweeps"};
+  nlohmann::json report;
+  for (std::size_t k = 0; k < n; ++k)
+    report[keys[k]] = nlohmann::json::array();
+  for (std::size_t r = 0; r < all.size() / n; ++r)
+    for (std::size_t k = 0; k < n; ++k)
+      report[keys[k]].push_back(k == 3 ? nlohmann::json(all[n * r + k])
+                                       : nlohmann::json(long(all[n * r + k])));
   return report;
 }
 
@@ -250,8 +256,9 @@ private:
     const RunSummary summary{step, elapsed(), reason};
     nlohmann::json done = extra.is_object() ? extra : nlohmann::json::object();
     done["mpi_ranks"] = _scheme.ownership().size();
+    done["factor_patterns"] = _scheme.factor_patterns();
     if (_scheme.ownership().distributed())
-      done["mpi"] = rank_report(_scheme.ownership());
+      done["mpi"] = rank_report(_scheme.ownership(), _scheme.contact_traffic());
     if (_raw)
       _raw->finish(summary.steps, summary.seconds, summary.reason, _spent,
                    _scheme.factorizations(), _checks, done);

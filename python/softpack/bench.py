@@ -125,13 +125,14 @@ def _scene_for(config, tag: str) -> dict:
 
 
 def run_driver(config, scene: dict, name: str,
-               initial_state: Path | None = None) -> dict:
-    """Run softpack-simulate; its done.json plus steps, cost and memory."""
+               initial_state: Path | None = None, ranks: int = 1) -> dict:
+    """Run softpack-simulate (on ``ranks`` MPI ranks); its done.json plus
+    steps, cost and memory (per rank on several)."""
     out = WORK / name
     out.mkdir(parents=True, exist_ok=True)
     write_driver_json(config, scene, out, initial_state)
     status, peak_mb = driver.wait(driver.start(out / "driver.json", None,
-                                               quiet=True))
+                                               quiet=True, ranks=ranks))
     if status != 0:
         raise RuntimeError(f"softpack-simulate failed on {out / 'driver.json'}")
     done = json.loads((out / "raw" / "done.json").read_text())
@@ -144,7 +145,12 @@ def run_driver(config, scene: dict, name: str,
               "setup_seconds": float(rows["seconds"][0]),
               "ms_per_step": 1e3 * stepping / steps,
               "factorizations": done["factorizations"],
-              "peak_memory_mb": peak_mb}
+              "peak_memory_mb": peak_mb, "ranks": ranks}
+    if "mpi" in done:
+        result["peak_memory_mb_per_rank"] = done["mpi"]["peak_rss_mb"]
+        result["nlgs_bytes_per_sweep_per_rank"] = [
+            b / max(w, 1) for b, w in zip(done["mpi"]["nlgs_bytes_sent"],
+                                          done["mpi"]["nlgs_sweeps"])]
     for part in PARTS:
         result[f"ms_{part}"] = 1e3 * done["seconds_by_part"][part] / steps
     return result
@@ -338,6 +344,8 @@ def main(argv=None) -> int:
                         help="only compact N paper disks from a fresh"
                         " packing and mesh to --disks-phi, timed whole with"
                         " the driver's peak memory (issue 17: 1,000)")
+    parser.add_argument("--disks-ranks", type=int, default=1, metavar="R",
+                        help="run --disks on R MPI ranks (default 1)")
     parser.add_argument("--disks-phi", type=float, default=0.88,
                         help="packing fraction that ends --disks")
     parser.add_argument("--to-phi", type=float, default=0.84,
@@ -350,10 +358,11 @@ def main(argv=None) -> int:
                      "sharing-" + _now().replace(":", "") + ".json")
     if args.disks:
         from softpack.bench_disks import bench_disks, table
-        result = bench_disks(args.disks, args.disks_phi)
+        result = bench_disks(args.disks, args.disks_phi, args.disks_ranks)
         print(table(result))
-        return _save(result, f"disks-{args.disks}-" + _now().replace(":", "")
-                     + ".json")
+        ranks = f"r{args.disks_ranks}-" if args.disks_ranks > 1 else ""
+        return _save(result, f"disks-{args.disks}-{ranks}"
+                     + _now().replace(":", "") + ".json")
     if args.mpi:
         from softpack.bench_mpi import bench_mpi, table
         report = bench_mpi(WORK, args.steps, args.from_state,

@@ -10,7 +10,8 @@ fresh packing and mesh (timed: the scene stage is part of the target) to
 
 - the seconds of the scene stage (packing and meshing, Python and gmsh),
 - the driver's wall time, steps, the per-step split by part and the peak
-  resident memory (``wait4``),
+  resident memory (``wait4``; per rank from done.json with
+  ``--disks-ranks R``, issue 14's 4,000-disk case),
 - the cost per unit strain, to compare with the 25/100/400-disk scaling
   rows of ``./softpack bench``,
 - the NLGS yardstick of the day (sweeps per second on the FCLIB problem),
@@ -26,20 +27,21 @@ from softpack.analysis.tables import read_table
 from softpack.scene.build import build_scene
 
 
-def bench_disks(count: int, to_phi: float) -> dict:
-    """Compact ``count`` disks to ``to_phi``; see the module doc."""
+def bench_disks(count: int, to_phi: float, ranks: int = 1) -> dict:
+    """Compact ``count`` disks to ``to_phi`` on ``ranks`` MPI ranks; see
+    the module doc."""
     from softpack import bench
 
     config = bench.scaled_config(count / 100, {
         **bench.FAST, "output.every_steps": 100,
         "stop.packing_fraction": to_phi})
     n = sum(s["count"] for s in config["species"])
-    name = f"disks-n{n}"
+    name = f"disks-n{n}" + (f"-r{ranks}" if ranks > 1 else "")
     start = time.perf_counter()
     scene = build_scene(config, bench.WORK / f"mesh-{name}").record()
     scene_seconds = time.perf_counter() - start
     start = time.perf_counter()
-    result = bench.run_driver(config, scene, name)
+    result = bench.run_driver(config, scene, name, ranks=ranks)
     driver_seconds = time.perf_counter() - start
     steps = read_table(bench.WORK / name / "raw" / "steps.csv")
     length = config["box"]["length"]
@@ -68,5 +70,7 @@ def table(r: dict) -> str:
         f" ms per step ({parts})",
         f"whole: {r['whole_seconds'] / 60:.1f} min;"
         f" {r['seconds_per_unit_strain']:.0f} s per unit strain",
-        f"peak memory of the driver: {r['peak_memory_mb']:.0f} MB",
+        f"peak memory of the driver: {r['peak_memory_mb']:.0f} MB"
+        + (f" (per rank: {', '.join(f'{m:.0f}' for m in r['peak_memory_mb_per_rank'])}"
+           f" MB on {r['ranks']} ranks)" if r.get("ranks", 1) > 1 else ""),
         f"NLGS yardstick today: {r['nlgs_yardstick']:.0f} sweeps/s"])

@@ -52,7 +52,10 @@ def test_bench_configs_are_validated_with_their_overrides(tmp_path_factory,
     assert [s["count"] for s in quarter["species"]] == [18, 8]
 
 
-def _raw_run(root, name, phi_shift=0.0, contact_text="1,2\n"):
+CONTACTS = "candidate,node,antagonist,wall,fn\n"
+
+
+def _raw_run(root, name, phi_shift=0.0, contact_text="1,2,3,-1,5.0\n"):
     raw = root / name / "raw"
     (raw / "contacts").mkdir(parents=True)
     (raw / "steps.csv").write_text(
@@ -60,21 +63,28 @@ def _raw_run(root, name, phi_shift=0.0, contact_text="1,2\n"):
         f"0,{0.80 + phi_shift!r},1.0\n12,{0.81 + phi_shift!r},2.0\n")
     for step in (0, 12):
         (raw / "contacts" / f"step_{step:08d}.csv").write_text(
-            contact_text if step == 12 else "1,2\n")
+            CONTACTS + (contact_text if step == 12 else "1,2,3,-1,5.0\n"))
     return root / name
 
 
 def test_a_run_on_other_ranks_is_compared_step_by_step(tmp_path):
-    """bench --mpi --mpi-to-phi: Phi, E and contact files of every output
-    step against the 1-rank run; a differing byte is named."""
+    """bench --mpi --mpi-to-phi: Phi, E and the contacts of every output
+    step against the 1-rank run; a file with other contacts is named, and
+    the normal forces of the same contacts are compared."""
     from softpack.bench_mpi import same_run
 
     serial = _raw_run(tmp_path, "one")
     same = same_run(serial, _raw_run(tmp_path, "two"))
     assert same["phi_max_abs_diff"] == 0.0
     assert same["strain_energy_max_rel_diff"] == 0.0
-    assert same["contact_files"] == 2 and same["contact_files_differing"] == []
+    assert same["contact_files"] == 2
+    assert same["contact_files_with_other_contacts"] == []
+    assert same["fn_max_rel_diff"] == 0.0
     other = same_run(serial, _raw_run(tmp_path, "four", phi_shift=1e-6,
-                                      contact_text="1,3\n"))
+                                      contact_text="1,7,3,-1,5.0\n"))
     assert other["phi_max_abs_diff"] == pytest.approx(1e-6, rel=1e-6)
-    assert other["contact_files_differing"] == ["step_00000012.csv"]
+    assert other["contact_files_with_other_contacts"] == ["step_00000012.csv"]
+    forces = same_run(serial, _raw_run(tmp_path, "five",
+                                       contact_text="1,2,3,-1,5.5\n"))
+    assert forces["contact_files_with_other_contacts"] == []
+    assert forces["fn_max_rel_diff"] == pytest.approx(0.1)

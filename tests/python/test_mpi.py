@@ -2,11 +2,13 @@
 
 examples/small.toml (14 disks) over its whole run on 1 and 2 ranks
 (``./softpack run --ranks``, i.e. ``mpirun --oversubscribe -np 2``): the
-same Phi(eps), strain energy and contacts; ``--ranks`` outside 1..bodies
+same Phi(eps), strain energy and contacts, the contact solve domain by
+domain (done.json counts its sweeps and exchanges); ``--ranks`` outside 1..bodies
 refused before anything starts; a failing rank stops every rank and leaves
 nothing that looks complete.
 """
 
+import json
 import os
 import shutil
 import subprocess
@@ -80,6 +82,14 @@ def test_two_ranks_write_the_same_contacts(runs):
 def test_a_two_rank_run_is_one_set_of_outputs(runs):
     done = (runs[2] / "raw" / "done.json").read_text()
     assert '"mpi_ranks": 2' in done
+
+
+def test_two_ranks_solve_contacts_domain_by_domain(runs):
+    """The NLGS ran domain-wise: both ranks swept (the same number of
+    sweeps: one allreduce each) and sent interface reactions."""
+    mpi = json.loads((runs[2] / "raw" / "done.json").read_text())["mpi"]
+    assert mpi["nlgs_sweeps"][0] == mpi["nlgs_sweeps"][1] > 0
+    assert all(b > 0 for b in mpi["nlgs_bytes_sent"])
     assert (runs[2] / "series.csv").is_file()
     assert (runs[2] / "raw" / "state.bin").is_file()
 
