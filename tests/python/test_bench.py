@@ -78,13 +78,14 @@ def test_a_run_on_other_ranks_is_compared_step_by_step(tmp_path):
     assert same["phi_max_abs_diff"] == 0.0
     assert same["strain_energy_max_rel_diff"] == 0.0
     assert same["contact_files"] == 2
-    assert same["contact_files_with_other_contacts"] == []
+    assert same["contacts_in_one_run_only"] == {}
     assert same["fn_max_rel_diff"] == 0.0
     other = same_run(serial, _raw_run(tmp_path, "four", phi_shift=1e-6,
                                       contact_text="1,7,3,-1,5.0\n"))
     assert other["phi_max_abs_diff"] == pytest.approx(1e-6, rel=1e-6)
-    assert other["contact_files_with_other_contacts"] == ["step_00000012.csv"]
+    assert other["contacts_in_one_run_only"] == {
+        "step_00000012.csv": [(1, 2, 3, -1), (1, 7, 3, -1)]}
     forces = same_run(serial, _raw_run(tmp_path, "five",
                                        contact_text="1,2,3,-1,5.5\n"))
-    assert forces["contact_files_with_other_contacts"] == []
+    assert forces["contacts_in_one_run_only"] == {}
     assert forces["fn_max_rel_diff"] == pytest.approx(0.1)

@@ -1,0 +1,196 @@
+// The Newton loop of a Moreau–Jean step: the residual, the contact solve
+// of each iteration (free velocity at the contact nodes, NLGS) and the one
+// solve per body that updates the velocity.
+#include "moreau_jean_step.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace softpack::dynamics
+{
+namespace
+{
+double max_abs(const std::vector<double>& v)
+{
+  double m = 0;
+  for (double x : v)
+    m = std::max(m, std::abs(x));
+  return m;
+}
+} // namespace
+
+MoreauJean::Vectors MoreauJean::residual(const Vectors& vk,
+                                         const Vectors& f_int,
+                                         const Vectors& f_ext,
+                                         const Vectors& known) const
+{
+  // r = (M + h th C) v_k + h th (F_int(q_k) - F_ext) - b
+  const double h = _h, th = _options.time.theta;
+  const int nb = _bodies.num_bodies();
+  Vectors r(nb);
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int b = 0; b < nb; ++b)
+    if (_own.owns(b))
+      r[b] = combined_product(_A, _kbar.mass(b), _K[b], vk[b]) +
+             h * th * (f_int[b] - f_ext[b]) - known[b];
+  return r;
+}
+
+void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
+                                Vectors& residual,
+                                contact::FrictionContactProblem2D& problem,
+                                StepReport& report)
+{
+  // The free velocity v_k - Kbar^-1 r is needed only at the contact nodes:
+  // there it is read off the compliance columns that the Delassus operator
+  // already required, and the one solve per body comes after the contact
+  // solve, with the impulses in the right-hand side.
+  const int nb = _bodies.num_bodies();
+  auto t0 = clock::now();
+  std::fill(_v_contact.begin(), _v_contact.end(), 0.0);
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int b = 0; b < nb; ++b)
+  {
+    if (!_own.owns(b))
+      continue;
+    const bodies::Body& body = _bodies.body(b);
+    for (const std::int32_t node : sc.contact_nodes[b])
+    {
+      const Eigen::Vector2d v_free =
+          _rigid.rigid(b) ? _rigid.free_velocity(b, node)
+                          : Eigen::Vector2d(vk[b].segment<2>(2 * node) -
+                                            _kbar.boundary_response(
+                                                b, _kbar.boundary_slot(b, node),
+                                                residual[b]));
+      for (int c = 0; c < 2; ++c)
+        _v_contact[2 * body.nodes[node] + c] = v_free[c];
+    }
+  }
+  share_contact_nodes(sc.contact_nodes, _v_contact);
+  const std::vector<double> U_free =
+      sc.H.relative_velocity(_bodies, _v_contact);
+  report.seconds.solves += seconds_since(t0);
+
+  t0 = clock::now();
+  for (std::size_t i = 0; i < U_free.size(); ++i)
+    problem.q[i] = U_free[i] + sc.shift[i];
+  std::vector<double> U(U_free.size()), start = _R;
+  const std::optional<parallel::ContactDomains> domains =
+      contact_domains(problem);
+  const contact::NlgsResult nlgs = contact::solve_nlgs(
+      problem, _R, U, _nlgs, domains ? &domains->domain() : nullptr);
+  report.nlgs_iterations += nlgs.iterations;
+  report.nlgs_error = nlgs.error;
+  report.nlgs_converged = nlgs.converged;
+  if (!nlgs.converged)
+  {
+    // Kept for replay; the solver itself writes nothing.
+    ++report.unsolved_contact_solves;
+    report.unsolved_problem =
+        std::make_shared<const contact::FrictionContactProblem2D>(problem);
+    report.unsolved_start = std::move(start);
+  }
+  report.seconds.nlgs += seconds_since(t0);
+
+  // r <- r - H R: the impulses enter the bodies' right-hand sides.
+  t0 = clock::now();
+  Vectors impulse(nb);
+  for (int b = 0; b < nb; ++b)
+    impulse[b] = Eigen::VectorXd::Zero(
+        sc.contact_nodes[b].empty() ? 0 : _bodies.body(b).num_dofs());
+  sc.H.add_impulses(_R, impulse);
+  // Every rank moves every rigid body (three numbers each): they stay
+  // replicated.
+  for (int b = 0; b < nb; ++b)
+    if (!sc.contact_nodes[b].empty() && _rigid.rigid(b))
+      _rigid.add_impulse(b, impulse[b]);
+    else if (!sc.contact_nodes[b].empty() && _own.owns(b))
+      residual[b] -= impulse[b];
+  report.seconds.solves += seconds_since(t0);
+}
+
+void MoreauJean::set_displacement(const std::vector<double>& u_old,
+                                  const std::vector<double>& v_old,
+                                  const std::vector<double>& v)
+{
+  const double h = _h, th = _options.time.theta;
+  std::span<double> u = _bodies.displacement();
+  for (std::size_t i = 0; i < u.size(); ++i)
+    u[i] = u_old[i] + h * (th * v[i] + (1 - th) * v_old[i]);
+  // Rigid bodies: the exact rigid motion of their iterate.
+  _rigid.displace(u, h, th);
+}
+
+double MoreauJean::newton_iteration(int k, const StepContacts& sc,
+                                    const StepStart& start,
+                                    std::vector<double>& vk,
+                                    contact::FrictionContactProblem2D& problem,
+                                    StepReport& report)
+{
+  const int nb = _bodies.num_bodies();
+  auto t0 = clock::now();
+  set_displacement(start.u_old, start.v_old, vk);
+  std::vector<double> f_int(vk.size());
+  _bodies.owned_internal_force(f_int);
+  _rigid.zero(f_int);
+  report.seconds.assembly += seconds_since(t0);
+  if (k > 0 && _options.time.full_newton)
+    refactorize(sc, problem, report);
+
+  t0 = clock::now();
+  const Vectors vk_b = gather(vk);
+  Vectors r = residual(vk_b, gather(f_int), start.f_ext_b, start.known);
+  report.seconds.solves += seconds_since(t0);
+  _rigid.reset_to_free();
+  if (sc.size() > 0)
+    solve_contacts(sc, vk_b, r, problem, report);
+  // v_{k+1} = v_k - Kbar^-1 (r - H R), one solve per body
+  t0 = clock::now();
+  Vectors v_new(nb);
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int b = 0; b < nb; ++b)
+    if (_own.owns(b))
+      v_new[b] = _rigid.rigid(b)
+                     ? _rigid.velocity_field(b)
+                     : Eigen::VectorXd(vk_b[b] - _kbar.solve(b, r[b]));
+  std::vector<double> v_next(vk.size());
+  scatter(v_new, v_next);
+  _own.share(v_next);
+  report.seconds.solves += seconds_since(t0);
+
+  double change = 0;
+  for (std::size_t i = 0; i < vk.size(); ++i)
+    change = std::max(change, std::abs(v_next[i] - vk[i]));
+  vk = std::move(v_next);
+  return change;
+}
+
+void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
+                        contact::FrictionContactProblem2D& problem,
+                        StepReport& report)
+{
+  std::vector<double> vk = start.v_old;
+  double previous_change = 0;
+  for (int k = 0;; ++k)
+  {
+    const double change = newton_iteration(k, sc, start, vk, problem, report);
+    report.newton_iterations = k + 1;
+    // The iterations contract at the rate rho = change / previous change;
+    // the distance of vk to the converged velocity is then at most
+    // change * rho / (1 - rho) (Banach), which is what the tolerance bounds.
+    const double rho = k > 0 ? change / previous_change : 1.0;
+    const double error = rho < 0.5 ? change * rho / (1 - rho) : change;
+    previous_change = change;
+    if (error <= _options.time.newton_tolerance *
+                     std::max(max_abs(vk), _options.velocity_scale))
+    {
+      report.newton_converged = true;
+      break;
+    }
+    if (k + 1 >= _options.time.newton_max_iterations)
+      break;
+  }
+  _v = std::move(vk);
+}
+
+} // namespace softpack::dynamics
