@@ -93,7 +93,6 @@ BodyFactors::BodyFactors(const bodies::BodySet& bodies,
       g = static_cast<int>(_symbolic.size());
       _symbolic.emplace_back();
       analyze(_symbolic.back(), canonical);
-      _symbolic.back().representative = b;
       seen.emplace(h, std::make_pair(g, std::move(canonical)));
     }
     _pattern_of[b] = g;

@@ -63,7 +63,6 @@ private:
   /// indices in the fill-reducing order
   struct Symbolic
   {
-    int representative = -1;
     std::vector<int> column_start, row_index;
     Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> ordering;
   };

@@ -10,8 +10,7 @@ EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
                                        bool lumped_mass,
                                        std::span<const char> owned)
     : _mass(&bodies.consistent_mass()),
-      _factors(bodies, bodies.consistent_mass(), owned),
-      _owned(owned.begin(), owned.end())
+      _factors(bodies, bodies.consistent_mass(), owned)
 {
   if (lumped_mass) // the lumped masses on the stiffness pattern
   {
@@ -55,8 +54,13 @@ void EffectiveStiffness::prepare_columns(int b,
     {
       const int dof = 2 * nodes[slot] + c;
       e[dof] = 1;
-      C[2 * slot + c] = _factors.solve(b, e).cast<float>();
+      const Eigen::VectorXd x = _factors.solve(b, e);
       e[dof] = 0;
+      Column& rows = C[2 * slot + c];
+      rows.resize(2 * nodes.size());
+      for (std::size_t i = 0; i < nodes.size(); ++i)
+        for (int d = 0; d < 2; ++d)
+          rows[2 * i + d] = x[2 * nodes[i] + d];
     }
     ready[slot] = 1;
   }

@@ -47,7 +47,8 @@ public:
   /// boundary slots of body b available (2 per slot, one solve each): they
   /// are computed on first demand after each factorization and kept until
   /// the next one, so the cost follows the nodes that actually carry
-  /// contacts.
+  /// contacts. Only their rows at the body's boundary nodes are kept: the
+  /// Delassus blocks read nothing else.
   void prepare_columns(int body, std::span<const int> slots) const;
 
   /// The 2x2 block of \f$\bar K_b^{-1}\f$ between boundary slots i
@@ -57,24 +58,10 @@ public:
   Eigen::Matrix2d boundary_block(int body, int i, int j) const
   {
     const std::vector<Column>& C = _columns[body];
-    const int row = 2 * _boundary[body][i];
     Eigen::Matrix2d block;
-    block << C[2 * j][row], C[2 * j + 1][row], C[2 * j][row + 1],
-        C[2 * j + 1][row + 1];
+    block << C[2 * j][2 * i], C[2 * j + 1][2 * i], C[2 * j][2 * i + 1],
+        C[2 * j + 1][2 * i + 1];
     return block;
-  }
-
-  /// \f$(\bar K_b^{-1} y)\f$ at the two DOFs of a boundary slot, from the
-  /// kept compliance columns (\f$\bar K\f$ is symmetric: a row of the
-  /// inverse is a column): two dot products instead of a solve.
-  /// @pre prepare_columns() was called with this slot since the last
-  /// factorization
-  Eigen::Vector2d boundary_response(int body, int slot,
-                                    const Eigen::VectorXd& y) const
-  {
-    const std::vector<Column>& C = _columns[body];
-    return {C[2 * slot].cast<double>().dot(y),
-            C[2 * slot + 1].cast<double>().dot(y)};
   }
 
   /// Position of a local node in Body::boundary_nodes (-1 if interior)
@@ -93,11 +80,15 @@ public:
   int factor_patterns() const { return _factors.num_patterns(); }
 
 private:
-  /// A compliance column, kept in single precision: the columns are the
-  /// largest memory item after the factors, and their 6e-8 relative
-  /// rounding is far below the Newton (1e-4) and NLGS (1e-6) tolerances
-  /// they feed (the Delassus blocks and the free velocity)
-  using Column = Eigen::VectorXf;
+  /// A compliance column's rows at the body's boundary nodes (2 per slot),
+  /// in double precision: the Delassus blocks built from them must be
+  /// those of the solves that update the velocity (H Kbar^-1 H^T to the
+  /// last digit), or the Newton iteration of a closed contact stalls at
+  /// their difference (float columns with float factors: a two-cycle at
+  /// 1e-8 m/s in tests/cpp/dynamics/test_plates.cpp). Whole columns were
+  /// the largest item of a crowded run's memory; their boundary rows are
+  /// a tenth of it.
+  using Column = Eigen::VectorXd;
   /// The masses on the stiffness pattern: the bodies' consistent masses
   /// (BodySet keeps them on that pattern), or _lumped, the lumped masses
   /// put on it. Kbar itself is not kept: each factorization forms it in a
@@ -108,12 +99,11 @@ private:
   std::vector<std::vector<std::int32_t>> _boundary, _slot;
   /// The compliance columns of each body, allocated only for the boundary
   /// DOFs that carried a contact since the last factorization (empty
-  /// vectors otherwise): only the contact nodes' columns are ever needed
-  /// (their rows at other contact nodes are the Delassus blocks)
+  /// vectors otherwise): only the contact nodes' columns are ever needed,
+  /// and only their rows at other contact nodes (the Delassus blocks)
   mutable std::vector<std::vector<Column>> _columns;
   mutable std::vector<std::vector<char>> _column_ready;
   int _count = 0;
-  std::vector<char> _owned;
 };
 
 } // namespace softpack::dynamics

@@ -275,12 +275,13 @@ private:
   /// Newton residual of every body at the iterate v_k
   Vectors residual(const Vectors& vk, const Vectors& f_int,
                    const Vectors& f_ext, const Vectors& known) const;
-  /// Solve the contact problem at the free velocity v_k - Kbar^-1 r and
-  /// subtract the impulses H R from the residual r
+  /// Solve the contact problem at the free velocity v_k - Kbar^-1 r; the
+  /// new velocity v_k - Kbar^-1 (r - H R) of each owned deformable body
+  /// that carries a contact goes to v_new (the others' stay empty)
   void solve_contacts(const StepContacts& sc, const Vectors& vk,
-                      Vectors& residual,
+                      const Vectors& residual,
                       contact::FrictionContactProblem2D& problem,
-                      StepReport& report);
+                      StepReport& report, Vectors& v_new);
   /// q = q- + h (th v + (1 - th) v-) into the bodies' displacement
   void set_displacement(const std::vector<double>& u_old,
                         const std::vector<double>& v_old,

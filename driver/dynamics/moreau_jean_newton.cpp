@@ -37,31 +37,34 @@ MoreauJean::Vectors MoreauJean::residual(const Vectors& vk,
 }
 
 void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
-                                Vectors& residual,
+                                const Vectors& residual,
                                 contact::FrictionContactProblem2D& problem,
-                                StepReport& report)
+                                StepReport& report, Vectors& v_new)
 {
-  // The free velocity v_k - Kbar^-1 r is needed only at the contact nodes:
-  // there it is read off the compliance columns that the Delassus operator
-  // already required, and the one solve per body comes after the contact
-  // solve, with the impulses in the right-hand side.
+  // The free velocity v_k - Kbar^-1 r of each body that carries a contact
+  // (one solve), read at its contact nodes; after the contact solve the
+  // impulses' response Kbar^-1 H R is added (a second solve, whose
+  // right-hand side vanishes but at the contact nodes). Reading the free
+  // velocity off whole compliance columns instead saved no time and made
+  // the columns the largest item of a crowded run's memory.
   const int nb = _bodies.num_bodies();
   auto t0 = clock::now();
   std::fill(_v_contact.begin(), _v_contact.end(), 0.0);
+  Vectors free(nb);
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
   {
-    if (!_own.owns(b))
+    if (!_own.owns(b) || sc.contact_nodes[b].empty())
       continue;
+    const bool rigid = _rigid.rigid(b);
+    if (!rigid)
+      free[b] = vk[b] - _kbar.solve(b, residual[b]);
     const bodies::Body& body = _bodies.body(b);
     for (const std::int32_t node : sc.contact_nodes[b])
     {
       const Eigen::Vector2d v_free =
-          _rigid.rigid(b) ? _rigid.free_velocity(b, node)
-                          : Eigen::Vector2d(vk[b].segment<2>(2 * node) -
-                                            _kbar.boundary_response(
-                                                b, _kbar.boundary_slot(b, node),
-                                                residual[b]));
+          rigid ? _rigid.free_velocity(b, node)
+                : Eigen::Vector2d(free[b].segment<2>(2 * node));
       for (int c = 0; c < 2; ++c)
         _v_contact[2 * body.nodes[node] + c] = v_free[c];
     }
@@ -92,7 +95,7 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
   }
   report.seconds.nlgs += seconds_since(t0);
 
-  // r <- r - H R: the impulses enter the bodies' right-hand sides.
+  // v = v_free + Kbar^-1 H R on the bodies that carry a contact.
   t0 = clock::now();
   Vectors impulse(nb);
   for (int b = 0; b < nb; ++b)
@@ -104,8 +107,10 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
   for (int b = 0; b < nb; ++b)
     if (!sc.contact_nodes[b].empty() && _rigid.rigid(b))
       _rigid.add_impulse(b, impulse[b]);
-    else if (!sc.contact_nodes[b].empty() && _own.owns(b))
-      residual[b] -= impulse[b];
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int b = 0; b < nb; ++b)
+    if (free[b].size() > 0)
+      v_new[b] = free[b] + _kbar.solve(b, impulse[b]);
   report.seconds.solves += seconds_since(t0);
 }
 
@@ -142,17 +147,17 @@ double MoreauJean::newton_iteration(int k, const StepContacts& sc,
   Vectors r = residual(vk_b, gather(f_int), start.f_ext_b, start.known);
   report.seconds.solves += seconds_since(t0);
   _rigid.reset_to_free();
+  Vectors v_new(nb); // filled by the contact solve for contact bodies
   if (sc.size() > 0)
-    solve_contacts(sc, vk_b, r, problem, report);
-  // v_{k+1} = v_k - Kbar^-1 (r - H R), one solve per body
+    solve_contacts(sc, vk_b, r, problem, report, v_new);
+  // v_{k+1} = v_k - Kbar^-1 r on the others, one solve per body
   t0 = clock::now();
-  Vectors v_new(nb);
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
-    if (_own.owns(b))
-      v_new[b] = _rigid.rigid(b)
-                     ? _rigid.velocity_field(b)
-                     : Eigen::VectorXd(vk_b[b] - _kbar.solve(b, r[b]));
+    if (_own.owns(b) && _rigid.rigid(b))
+      v_new[b] = _rigid.velocity_field(b);
+    else if (_own.owns(b) && v_new[b].size() == 0)
+      v_new[b] = vk_b[b] - _kbar.solve(b, r[b]);
   std::vector<double> v_next(vk.size());
   scatter(v_new, v_next);
   _own.share(v_next);
