@@ -72,7 +72,7 @@ BodyFactors::BodyFactors(const bodies::BodySet& bodies,
                          std::span<const char> owned)
     : _patterns(&patterns), _pattern_of(bodies.num_bodies(), -1),
       _perm(bodies.num_bodies()), _values(bodies.num_bodies()),
-      _inverse_d(bodies.num_bodies()), _owned(owned.begin(), owned.end())
+      _inverse_d(bodies.num_bodies())
 {
   // Patterns met so far, by hash: (symbolic index, its canonical matrix)
   std::multimap<std::uint64_t, std::pair<int, bodies::BodyMatrix>> seen;
@@ -80,7 +80,7 @@ BodyFactors::BodyFactors(const bodies::BodySet& bodies,
   {
     const Permutation to_input = input_order(bodies.body(b));
     _perm[b] = to_input;
-    if (!_owned.empty() && !_owned[b])
+    if (!owned.empty() && !owned[b])
       continue;
     bodies::BodyMatrix canonical = permuted(patterns[b], to_input);
     const std::uint64_t h = pattern_hash(canonical);
