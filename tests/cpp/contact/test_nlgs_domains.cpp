@@ -28,16 +28,31 @@ struct DomainRun
   int colours = 0;
 };
 
+/// D domains of consecutive contacts: the owner of each contact.
+std::vector<int> consecutive_owners(std::size_t n, int D)
+{
+  std::vector<int> owner(n);
+  for (std::size_t a = 0; a < n; ++a)
+    owner[a] = static_cast<int>(a * D / n);
+  return owner;
+}
+
+/// Every domain's plan.
+std::vector<DomainPlan> all_plans(const FrictionContactProblem2D& p,
+                                  const std::vector<int>& owner, int D)
+{
+  std::vector<DomainPlan> plans;
+  for (int d = 0; d < D; ++d)
+    plans.push_back(plan_domain(p.W, owner, D, d));
+  return plans;
+}
+
 DomainRun solve_in_domains(const FrictionContactProblem2D& p, int D,
                            const NlgsOptions& options)
 {
   const std::size_t n = p.num_contacts();
-  std::vector<int> owner(n);
-  for (std::size_t a = 0; a < n; ++a)
-    owner[a] = static_cast<int>(a * D / n);
-  std::vector<DomainPlan> plans;
-  for (int d = 0; d < D; ++d)
-    plans.push_back(plan_domain(p.W, owner, D, d));
+  const std::vector<int> owner = consecutive_owners(n, D);
+  const std::vector<DomainPlan> plans = all_plans(p, owner, D);
   DomainRun run{std::vector<std::vector<double>>(D, std::vector<double>(2 * n)),
                 std::vector<NlgsResult>(D), plans[0].colours};
   std::barrier sync(D);
@@ -137,12 +152,8 @@ TEST(NlgsDomains, PlanSplitsContactsAndLinksNeighboursBothWays)
       read_fclib_local(hdf5_file("fc2d_granularflowonwall_02020_00213"));
   const std::size_t n = p.num_contacts();
   const int D = 3;
-  std::vector<int> owner(n);
-  for (std::size_t a = 0; a < n; ++a)
-    owner[a] = static_cast<int>(a * D / n);
-  std::vector<DomainPlan> plans;
-  for (int d = 0; d < D; ++d)
-    plans.push_back(plan_domain(p.W, owner, D, d));
+  const std::vector<int> owner = consecutive_owners(n, D);
+  const std::vector<DomainPlan> plans = all_plans(p, owner, D);
   std::vector<int> seen(n, 0);
   for (const DomainPlan& plan : plans)
   {
