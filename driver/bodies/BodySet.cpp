@@ -248,13 +248,20 @@ void BodySet::rank_input_order()
   }
 }
 
-std::vector<BodyMatrix> BodySet::create_matrices() const
+std::vector<BodyMatrix>
+BodySet::create_matrices(std::span<const char> only) const
 {
   const fem::DofMap& dofmap = *_V->dofmap();
   std::vector<BodyMatrix> matrices;
   matrices.reserve(_bodies.size());
-  for (const Body& body : _bodies)
+  for (std::size_t b = 0; b < _bodies.size(); ++b)
   {
+    const Body& body = _bodies[b];
+    if (!only.empty() && !only[b])
+    {
+      matrices.emplace_back(body.num_dofs(), body.num_dofs());
+      continue;
+    }
     std::vector<Eigen::Triplet<double>> pattern;
     pattern.reserve(36 * body.cells.size());
     for (std::int32_t c : body.cells)

@@ -132,7 +132,11 @@ public:
   void tangent(std::vector<BodyMatrix>& K) const;
 
   /// Zero matrices with each body's sparsity pattern (lower triangle)
-  std::vector<BodyMatrix> create_matrices() const;
+  /// @param[in] only 1 for the bodies whose pattern is wanted (empty: all);
+  /// the others get a matrix of their size with no entry (a distributed
+  /// run's ranks keep the tangents of their own bodies only)
+  std::vector<BodyMatrix>
+  create_matrices(std::span<const char> only = {}) const;
 
   /// Consistent mass matrix of each body (computed once)
   const std::vector<BodyMatrix>& consistent_mass() const { return _mass; }

@@ -213,12 +213,16 @@ std::vector<std::array<int, 2>> near_body_pairs(const bodies::BodySet& bodies,
 std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
                                      std::span<const double> x,
                                      const std::vector<Wall>& walls,
-                                     const DetectionOptions& options)
+                                     const DetectionOptions& options,
+                                     std::span<const char> owned)
 {
+  auto mine = [&](int b) { return owned.empty() || owned[b]; };
   std::vector<Contact> contacts;
   const std::vector<Box> boxes = body_boxes(bodies, x);
   for (const auto& [a, b] : near_body_pairs(bodies, x, options.alert_distance))
   {
+    if (!mine(a))
+      continue;
     const std::size_t first = contacts.size();
     for (const auto& [cand, ant] : {std::pair{a, b}, std::pair{b, a}})
       for (std::int32_t node : bodies.body(cand).boundary_nodes)
@@ -235,6 +239,9 @@ std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
     const std::array<double, 2>& p = walls[w].point;
     const std::array<double, 2>& n = walls[w].normal;
     for (int b = 0; b < bodies.num_bodies(); ++b)
+    {
+      if (!mine(b))
+        continue;
       for (std::int32_t node : bodies.body(b).boundary_nodes)
       {
         const std::int32_t g = bodies.body(b).nodes[node];
@@ -244,8 +251,18 @@ std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
           contacts.push_back(
               Contact{b, node, -1, w, {-1, -1}, 0.0, n, {-n[1], n[0]}, gap});
       }
+    }
   }
   return contacts;
+}
+
+std::int64_t contact_order_key(const Contact& c, int num_bodies)
+{
+  const std::int64_t n = num_bodies;
+  if (c.wall >= 0)
+    return n * n + c.wall * n + c.candidate_body;
+  return std::min(c.candidate_body, c.antagonist_body) * n +
+         std::max(c.candidate_body, c.antagonist_body);
 }
 
 } // namespace softpack::dynamics

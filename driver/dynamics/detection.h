@@ -3,6 +3,7 @@
 #include "walls.h"
 #include <array>
 #include <bodies/BodySet.h>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -63,10 +64,21 @@ struct DetectionOptions
 /// @param[in] x Current node coordinates (global, interleaved)
 /// @param[in] walls Walls
 /// @param[in] options Alert distance
+/// @param[in] owned 1 for the bodies whose share of the detection is wanted
+/// (empty: every body): the pairs whose first (lower) body is owned and the
+/// wall contacts of the owned bodies. The shares of a partition of the
+/// bodies, put together and ordered by contact_order_key, are the whole
+/// list in its order (a distributed run detects its share only).
 std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
                                      std::span<const double> x,
                                      const std::vector<Wall>& walls,
-                                     const DetectionOptions& options);
+                                     const DetectionOptions& options,
+                                     std::span<const char> owned = {});
+
+/// The position of a contact's group in detect_contacts' order: the body
+/// pairs (a < b) in increasing order, then each wall's contacts by body.
+/// The contacts of one key come from one detection share, in their order.
+std::int64_t contact_order_key(const Contact& c, int num_bodies);
 
 /// Pairs of bodies whose bounding boxes, inflated by `margin`, overlap
 /// (i < j). Exposed for tests and benchmarks.

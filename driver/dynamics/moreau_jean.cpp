@@ -70,7 +70,7 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
       _nlgs(nlgs_options(options.contact)), _damping{options.damping.alpha,
                                                      options.damping.beta},
       _kbar(bodies, options.time.mass == "lumped", _own.owned()),
-      _rigid(bodies, _kbar), _K(bodies.create_matrices()),
+      _rigid(bodies, _kbar), _K(bodies.create_matrices(_own.owned())),
       _v(bodies.num_dofs(), 0.0), _f_ext(bodies.num_dofs(), 0.0),
       _f_int(bodies.num_dofs(), 0.0), _v_contact(bodies.num_dofs(), 0.0),
       _step_size(options.time.time_step,
@@ -129,7 +129,7 @@ MoreauJean::prepare_contacts(const std::vector<double>& u_old,
                         _bodies.reference_coordinates().end());
   for (std::size_t i = 0; i < x.size(); ++i)
     x[i] += u_old[i];
-  _contacts = detect_contacts(_bodies, x, _walls, _detection);
+  _contacts = detect(x);
   StepContacts sc{ContactOperator(_contacts, _walls), {}};
   const std::vector<double> U_old = sc.H.relative_velocity(_bodies, v_old);
   // Signorini on the predicted gap g~ = g + h((1-th) U_n- + th U_n+):

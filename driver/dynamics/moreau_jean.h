@@ -228,6 +228,10 @@ private:
   struct StepContacts;
   /// What the step knows before its Newton iterations
   struct StepStart;
+  /// The contacts at the node coordinates x: a distributed run's ranks
+  /// each detect those of their bodies (detect_contacts' shares) and put
+  /// the shares together in the serial order
+  std::vector<Contact> detect(std::span<const double> x) const;
   StepContacts prepare_contacts(const std::vector<double>& u_old,
                                 const std::vector<double>& v_old);
   /// The contact problem of the step (W, and mu; q is set by each solve)
@@ -307,7 +311,8 @@ private:
   EffectiveStiffness _kbar;
   /// The rigid bodies' three degrees of freedom (none: every body soft)
   RigidBodies _rigid;
-  /// Tangent stiffness as last assembled
+  /// Tangent stiffness as last assembled (this rank's bodies; the others'
+  /// matrices have no entry)
   std::vector<bodies::BodyMatrix> _K;
   /// A = M + h th C with that K and the h of its factorization: the
   /// coefficients only (A v_k in the Newton residual is formed from M and K)

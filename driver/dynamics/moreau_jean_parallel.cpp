@@ -1,7 +1,9 @@
 // The parts of a Moreau–Jean step that differ when the bodies are spread
-// over MPI ranks (docs/mpi_design.md): W from every rank's blocks, and
-// the body terms of the energy accounts summed over the ranks.
+// over MPI ranks (docs/mpi_design.md): the detection by shares, W from
+// every rank's blocks, and the body terms of the energy accounts summed
+// over the ranks.
 #include "delassus.h"
+#include "detection.h"
 #include "moreau_jean.h"
 
 #include <algorithm>
@@ -40,6 +42,21 @@ std::vector<DelassusBlock> share_blocks(const parallel::Ownership& own,
   return blocks;
 }
 } // namespace
+
+std::vector<Contact> MoreauJean::detect(std::span<const double> x) const
+{
+  std::vector<Contact> contacts =
+      detect_contacts(_bodies, x, _walls, _detection, _own.owned());
+  if (!_own.distributed())
+    return contacts;
+  contacts = _own.gather_items<Contact>(contacts);
+  const int nb = _bodies.num_bodies();
+  std::stable_sort(contacts.begin(), contacts.end(),
+                   [nb](const Contact& a, const Contact& b) {
+                     return contact_order_key(a, nb) < contact_order_key(b, nb);
+                   });
+  return contacts;
+}
 
 contact::DelassusMatrix
 MoreauJean::delassus(const ContactOperator& H,

@@ -76,19 +76,18 @@ void Ownership::sum(std::span<double> values) const
   ++_calls;
 }
 
-std::vector<double> Ownership::gather(std::span<const double> local) const
+std::vector<std::byte>
+Ownership::gather_bytes(std::span<const std::byte> local) const
 {
-  if (_size == 1)
-    return {local.begin(), local.end()};
   int n = static_cast<int>(local.size());
   std::vector<int> counts(_size), offsets(_size, 0);
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, _comm);
   for (int r = 1; r < _size; ++r)
     offsets[r] = offsets[r - 1] + counts[r - 1];
-  std::vector<double> all(offsets.back() + counts.back());
-  MPI_Allgatherv(local.data(), n, MPI_DOUBLE, all.data(), counts.data(),
-                 offsets.data(), MPI_DOUBLE, _comm);
-  _bytes += sizeof(int) + local.size() * sizeof(double);
+  std::vector<std::byte> all(offsets.back() + counts.back());
+  MPI_Allgatherv(local.data(), n, MPI_BYTE, all.data(), counts.data(),
+                 offsets.data(), MPI_BYTE, _comm);
+  _bytes += sizeof(int) + local.size();
   _calls += 2;
   return all;
 }

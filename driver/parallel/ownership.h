@@ -2,8 +2,10 @@
 
 #include <bodies/BodySet.h>
 #include <cstddef>
+#include <cstring>
 #include <mpi.h>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 namespace softpack::parallel
@@ -58,7 +60,23 @@ public:
   /// Sum over ranks, in place.
   void sum(std::span<double> values) const;
   /// All ranks' vectors concatenated in rank order, on every rank.
-  std::vector<double> gather(std::span<const double> local) const;
+  std::vector<double> gather(std::span<const double> local) const
+  {
+    return gather_items<double>(local);
+  }
+  /// gather() of plain records (sent as their bytes: every rank runs the
+  /// same build)
+  template <typename T>
+  std::vector<T> gather_items(std::span<const T> local) const
+  {
+    static_assert(std::is_trivially_copyable_v<T>);
+    if (_size == 1)
+      return {local.begin(), local.end()};
+    const std::vector<std::byte> all = gather_bytes(std::as_bytes(local));
+    std::vector<T> items(all.size() / sizeof(T));
+    std::memcpy(items.data(), all.data(), all.size());
+    return items;
+  }
 
   /// Bytes this rank has handed to collectives so far (its send volume;
   /// what the network carries is of the same order per rank)
@@ -67,6 +85,8 @@ public:
   std::size_t messages() const { return _calls; }
 
 private:
+  std::vector<std::byte> gather_bytes(std::span<const std::byte> local) const;
+
   MPI_Comm _comm = MPI_COMM_SELF;
   int _rank = 0, _size = 1;
   std::vector<int> _body_rank;

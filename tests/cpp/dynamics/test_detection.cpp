@@ -1,5 +1,6 @@
 // Node-to-segment detection: gaps, frames, both directions, walls, and the
 // broad phase.
+#include <algorithm>
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
@@ -112,4 +113,51 @@ TEST(Detection, BroadPhaseFindsExactlyTheOverlappingBoxes)
         brute.push_back({int(a), int(b)});
     }
   EXPECT_EQ(pairs, brute);
+}
+
+TEST(Detection, SharesOfAPartitionOrderedByKeyAreTheWholeList)
+{
+  // A distributed run detects each rank's share and orders the union by
+  // contact_order_key: the result must be the serial list, in its order.
+  std::vector<std::array<double, 3>> spec;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 4; ++j)
+      spec.push_back({0.0201 * i, 0.0201 * j, 0.01});
+  bodies::BodySet bodies = disks(spec, 3);
+  const std::vector<dynamics::Wall> walls = {
+      {"floor", {0, -0.01 - 5e-5}, {0, 1}, {0, 0}},
+      {"left", {-0.01 - 5e-5, 0}, {1, 0}, {0, 0}}};
+  dynamics::DetectionOptions options;
+  options.alert_distance = 5e-4;
+  const std::vector<double> x = positions(bodies);
+  const auto whole = dynamics::detect_contacts(bodies, x, walls, options);
+  std::vector<dynamics::Contact> merged;
+  const int nb = bodies.num_bodies(), ranks = 3;
+  for (int r = 0; r < ranks; ++r)
+  {
+    std::vector<char> owned(nb);
+    for (int b = 0; b < nb; ++b)
+      owned[b] = (b * 7 + 2) % ranks == r; // scattered, not by position
+    const auto share =
+        dynamics::detect_contacts(bodies, x, walls, options, owned);
+    EXPECT_LT(share.size(), whole.size());
+    merged.insert(merged.end(), share.begin(), share.end());
+  }
+  std::stable_sort(merged.begin(), merged.end(),
+                   [nb](const auto& a, const auto& b)
+                   {
+                     return dynamics::contact_order_key(a, nb) <
+                            dynamics::contact_order_key(b, nb);
+                   });
+  ASSERT_GT(whole.size(), 2u * nb); // pairs and walls both present
+  ASSERT_EQ(merged.size(), whole.size());
+  for (std::size_t k = 0; k < whole.size(); ++k)
+  {
+    EXPECT_EQ(merged[k].candidate_body, whole[k].candidate_body) << k;
+    EXPECT_EQ(merged[k].candidate_node, whole[k].candidate_node) << k;
+    EXPECT_EQ(merged[k].antagonist_body, whole[k].antagonist_body) << k;
+    EXPECT_EQ(merged[k].wall, whole[k].wall) << k;
+    EXPECT_EQ(merged[k].segment, whole[k].segment) << k;
+    EXPECT_EQ(merged[k].gap, whole[k].gap) << k;
+  }
 }
