@@ -384,7 +384,9 @@ void BodySet::set_owned(std::vector<char> owned)
         cells.insert(cells.end(), _bodies[b].cells.begin(),
                      _bodies[b].cells.end());
     std::sort(cells.begin(), cells.end());
-    f.tangent = restrict_to_cells(*f.tangent, cells);
+    if (!f.all_tangent)
+      f.all_tangent = f.tangent;
+    f.tangent = restrict_to_cells(*f.all_tangent, cells);
   }
   _owned = std::move(owned);
 }

@@ -196,6 +196,7 @@ public:
   /// bodies whose entry is nonzero (the bodies a rank of a distributed run
   /// owns, parallel::Ownership); the others' entries are left zero.
   /// internal_force, energies, areas and outputs still cover every body.
+  /// May be called again (a rebalanced run) with other flags.
   /// @throws std::invalid_argument if the size is not the number of bodies
   void set_owned(std::vector<char> owned);
 
@@ -211,6 +212,9 @@ private:
     int material;
     std::shared_ptr<dolfinx::fem::Form<double>> energy, residual, tangent,
         energy_density, mass, lumped_mass;
+    /// The tangent over all the material's bodies, which set_owned
+    /// restricts (null until the first set_owned)
+    std::shared_ptr<dolfinx::fem::Form<double>> all_tangent;
   };
   void build_forms();
   void build_bodies();

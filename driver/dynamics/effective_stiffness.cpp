@@ -34,6 +34,16 @@ EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
   _column_ready.resize(bodies.num_bodies());
 }
 
+void EffectiveStiffness::set_owned(const bodies::BodySet& bodies,
+                                   std::span<const char> owned)
+{
+  _factors = BodyFactors(bodies, bodies.consistent_mass(), owned);
+  for (std::vector<Column>& C : _columns)
+    C.clear();
+  for (std::vector<char>& ready : _column_ready)
+    ready.clear();
+}
+
 void EffectiveStiffness::prepare_columns(int b,
                                          std::span<const int> slots) const
 {

@@ -29,6 +29,11 @@ public:
   EffectiveStiffness(const bodies::BodySet& bodies, bool lumped_mass,
                      std::span<const char> owned = {});
 
+  /// Factorize the flagged bodies from now on (a rebalanced distributed
+  /// run): their symbolic analyses are done again and every compliance
+  /// column is dropped; the next factorize() makes the factors.
+  void set_owned(const bodies::BodySet& bodies, std::span<const char> owned);
+
   /// Build and factorize \f$\bar K = a M + c K\f$ for every body.
   /// @param[in] K Tangent stiffness of every body (BodySet::tangent)
   /// @param[in] mass_coefficient a

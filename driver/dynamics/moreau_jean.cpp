@@ -163,7 +163,10 @@ MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
       problem.friction[a] = _options.friction(_contacts[a]);
   problem.q.resize(2 * sc.size());
   if (needs_refactorization())
+  {
+    rebalance(); // every body is refactorized now: a free time to move
     refactorize(sc, problem, report);
+  }
   else if (sc.size() > 0)
   {
     const auto t0 = clock::now();

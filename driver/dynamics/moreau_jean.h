@@ -232,6 +232,10 @@ private:
   /// each detect those of their bodies (detect_contacts' shares) and put
   /// the shares together in the serial order
   std::vector<Contact> detect(std::span<const double> x) const;
+  /// Before a refactorization of a distributed run: split the bodies
+  /// again if the split has drifted (parallel::Ownership::rebalance), and
+  /// give the per-body work to the new owners
+  void rebalance();
   StepContacts prepare_contacts(const std::vector<double>& u_old,
                                 const std::vector<double>& v_old);
   /// The contact problem of the step (W, and mu; q is set by each solve)

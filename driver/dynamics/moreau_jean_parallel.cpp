@@ -7,6 +7,7 @@
 #include "moreau_jean.h"
 
 #include <algorithm>
+#include <cstdlib>
 
 namespace softpack::dynamics
 {
@@ -56,6 +57,44 @@ std::vector<Contact> MoreauJean::detect(std::span<const double> x) const
                      return contact_order_key(a, nb) < contact_order_key(b, nb);
                    });
   return contacts;
+}
+
+void MoreauJean::rebalance()
+{
+  if (!_own.distributed())
+    return;
+  // A body's work: its DOFs (assembly, factorization, solves) and its
+  // contacts as candidate (Delassus blocks, its rank's NLGS share), one
+  // contact costing as much as 35 DOFs: the paper case over Phi 0.80 ->
+  // 0.82 on one rank spent 0.82 us per DOF and 29 us per contact and step
+  // (docs/mpi_design.md). A drift of 10 % in work or cut contacts makes
+  // the others wait or talk about as much as a split costs once.
+  constexpr double contact_weight = 35;
+  double tolerance = 0.1;
+  // Test hook (tests/python/test_mpi.py): a small run rebalances at 0.
+  if (const char* t = std::getenv("SOFTPACK_TEST_REBALANCE_TOLERANCE"))
+    tolerance = std::atof(t);
+  const int nb = _bodies.num_bodies();
+  std::vector<double> weights(nb);
+  for (int b = 0; b < nb; ++b)
+    weights[b] = _bodies.body(b).num_dofs();
+  std::vector<std::array<int, 2>> links;
+  for (const Contact& c : _contacts)
+  {
+    weights[c.candidate_body] += contact_weight;
+    if (c.antagonist_body >= 0)
+      links.push_back({c.candidate_body, c.antagonist_body});
+  }
+  const std::span<const double> u = _bodies.displacement();
+  std::vector<double> x(_bodies.reference_coordinates().begin(),
+                        _bodies.reference_coordinates().end());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    x[i] += u[i];
+  if (!_own.rebalance(_bodies, x, weights, links, tolerance))
+    return;
+  _kbar.set_owned(_bodies, _own.owned());
+  _K = _bodies.create_matrices(_own.owned());
+  _products_valid = false;
 }
 
 contact::DelassusMatrix

@@ -7,6 +7,25 @@
 namespace softpack::parallel
 {
 
+namespace
+{
+/// Centre of each body at the node coordinates x (interleaved)
+std::vector<double> body_centres(const bodies::BodySet& bodies,
+                                 std::span<const double> x)
+{
+  std::vector<double> centres(2 * bodies.num_bodies(), 0.0);
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+  {
+    const bodies::Body& body = bodies.body(b);
+    for (std::int32_t node : body.nodes)
+      for (int c = 0; c < 2; ++c)
+        centres[2 * b + c] += x[2 * node + c] / body.nodes.size();
+  }
+  return centres;
+}
+
+} // namespace
+
 Ownership::Ownership(MPI_Comm comm, bodies::BodySet& bodies) : _comm(comm)
 {
   MPI_Comm_rank(comm, &_rank);
@@ -18,20 +37,22 @@ Ownership::Ownership(MPI_Comm comm, bodies::BodySet& bodies) : _comm(comm)
     throw std::invalid_argument(
         std::to_string(_size) + " MPI ranks for " + std::to_string(nb) +
         " bodies: --ranks must be between 1 and the number of bodies");
-  // Centres of the reference configuration: the bodies move little over a
-  // compaction, and every rank computes the same split without messages.
-  const std::span<const double> x = bodies.reference_coordinates();
-  std::vector<double> centres(2 * nb, 0.0), weights(nb);
+  // Centres of the reference configuration: every rank computes the same
+  // split without messages.
+  std::vector<double> weights(nb);
   for (int b = 0; b < nb; ++b)
-  {
-    const bodies::Body& body = bodies.body(b);
-    for (std::int32_t node : body.nodes)
-      for (int c = 0; c < 2; ++c)
-        centres[2 * b + c] += x[2 * node + c] / body.nodes.size();
-    weights[b] = body.num_dofs();
-  }
-  _body_rank = partition_bodies(centres, weights, _size);
+    weights[b] = bodies.body(b).num_dofs();
+  assign(partition_bodies(body_centres(bodies, bodies.reference_coordinates()),
+                          weights, _size),
+         bodies);
+}
+
+void Ownership::assign(std::vector<int> body_rank, bodies::BodySet& bodies)
+{
+  const int nb = bodies.num_bodies();
+  _body_rank = std::move(body_rank);
   _owned.assign(nb, 0);
+  _foreign_nodes.clear();
   for (int b = 0; b < nb; ++b)
   {
     _owned[b] = _body_rank[b] == _rank;
@@ -40,6 +61,24 @@ Ownership::Ownership(MPI_Comm comm, bodies::BodySet& bodies) : _comm(comm)
                             bodies.body(b).nodes.end());
   }
   bodies.set_owned(_owned);
+}
+
+bool Ownership::rebalance(bodies::BodySet& bodies, std::span<const double> x,
+                          std::span<const double> weights,
+                          std::span<const std::array<int, 2>> links,
+                          double tolerance)
+{
+  if (_size == 1)
+    return false;
+  std::vector<int> fresh =
+      partition_bodies(body_centres(bodies, x), weights, _size);
+  if (!split_has_drifted(_body_rank, fresh, weights, links, tolerance))
+    return false;
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+    _moved += fresh[b] != _body_rank[b];
+  ++_rebalances;
+  assign(std::move(fresh), bodies);
+  return true;
 }
 
 void Ownership::share(std::span<double> global) const

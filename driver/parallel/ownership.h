@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <bodies/BodySet.h>
 #include <cstddef>
 #include <cstring>
@@ -35,6 +36,25 @@ public:
   /// (BodySet::set_owned).
   /// @throws std::invalid_argument if comm has more ranks than bodies
   Ownership(MPI_Comm comm, bodies::BodySet& bodies);
+
+  /// Split the bodies again, by recursive coordinate bisection of their
+  /// current centres with the given weights, when the split in force has
+  /// drifted from it (split_has_drifted: uneven work, or many more
+  /// contacts cut between ranks). Every rank decides alike from the same
+  /// data, with no message. When the owners change, `bodies` is restricted
+  /// to the new ones (BodySet::set_owned); the caller moves its own
+  /// per-body state.
+  /// @param[in] x Current node coordinates (global, interleaved)
+  /// @param[in] weights Work of each body, > 0
+  /// @param[in] links The body pairs of the contacts between bodies
+  /// @param[in] tolerance Relative drift allowed (e.g. 0.1)
+  /// @return Whether the owners changed
+  bool rebalance(bodies::BodySet& bodies, std::span<const double> x,
+                 std::span<const double> weights,
+                 std::span<const std::array<int, 2>> links, double tolerance);
+  /// Rebalances done, and the bodies they gave to another rank
+  int rebalances() const { return _rebalances; }
+  long bodies_moved() const { return _moved; }
 
   /// Whether there is more than one rank
   bool distributed() const { return _size > 1; }
@@ -85,6 +105,8 @@ public:
   std::size_t messages() const { return _calls; }
 
 private:
+  /// Give body b to rank body_rank[b] and restrict `bodies` to this rank's
+  void assign(std::vector<int> body_rank, bodies::BodySet& bodies);
   std::vector<std::byte> gather_bytes(std::span<const std::byte> local) const;
 
   MPI_Comm _comm = MPI_COMM_SELF;
@@ -94,6 +116,8 @@ private:
   /// Global nodes of the bodies this rank does not own
   std::vector<std::int32_t> _foreign_nodes;
   mutable std::size_t _bytes = 0, _calls = 0;
+  int _rebalances = 0;
+  long _moved = 0;
 };
 
 } // namespace softpack::parallel

@@ -73,4 +73,52 @@ std::vector<int> partition_bodies(std::span<const double> centres,
   return part;
 }
 
+namespace
+{
+/// How much the busiest part's weight exceeds the mean part's (0: even)
+double imbalance(std::span<const int> part, std::span<const double> weights,
+                 int parts)
+{
+  std::vector<double> load(parts, 0.0);
+  double total = 0;
+  for (std::size_t b = 0; b < part.size(); ++b)
+  {
+    load[part[b]] += weights[b];
+    total += weights[b];
+  }
+  return *std::max_element(load.begin(), load.end()) / (total / parts) - 1;
+}
+
+/// Links whose two bodies are in different parts
+long cut(std::span<const int> part, std::span<const std::array<int, 2>> links)
+{
+  return std::count_if(links.begin(), links.end(),
+                       [&](const auto& l) { return part[l[0]] != part[l[1]]; });
+}
+} // namespace
+
+bool split_has_drifted(std::span<const int> now, std::span<const int> fresh,
+                       std::span<const double> weights,
+                       std::span<const std::array<int, 2>> links,
+                       double tolerance)
+{
+  if (std::equal(now.begin(), now.end(), fresh.begin(), fresh.end()))
+    return false;
+  const int parts = 1 + std::max(*std::max_element(now.begin(), now.end()),
+                                 *std::max_element(fresh.begin(), fresh.end()));
+  // A rank with more work than the others makes them wait at every
+  // exchange; a contact cut between ranks costs messages in every sweep.
+  // The floor of a few links keeps contacts that open and close at an
+  // interface from moving bodies back and forth.
+  constexpr long few_links = 8;
+  const double before = imbalance(now, weights, parts),
+               after = imbalance(fresh, weights, parts);
+  const long cut_before = cut(now, links), cut_after = cut(fresh, links);
+  const bool uneven = before > tolerance && after < before;
+  const bool scattered = cut_before > (1 + tolerance) * cut_after &&
+                         cut_before - cut_after >= few_links &&
+                         after <= std::max(before, tolerance);
+  return uneven || scattered;
+}
+
 } // namespace softpack::parallel

@@ -148,6 +148,8 @@ nlohmann::json rank_report(const parallel::Ownership& own,
     for (std::size_t k = 0; k < n; ++k)
       report[keys[k]].push_back(k == 3 ? nlohmann::json(all[n * r + k])
                                        : nlohmann::json(long(all[n * r + k])));
+  report["rebalances"] = own.rebalances();
+  report["bodies_moved"] = own.bodies_moved();
   return report;
 }
 

@@ -3,7 +3,8 @@
 examples/small.toml (14 disks) over its whole run on 1 and 2 ranks
 (``./softpack run --ranks``, i.e. ``mpirun --oversubscribe -np 2``): the
 same Phi(eps), strain energy and contacts, the contact solve domain by
-domain (done.json counts its sweeps and exchanges); ``--ranks`` outside 1..bodies
+domain (done.json counts its sweeps and exchanges), the bodies moved
+between ranks when the split drifts (3 ranks); ``--ranks`` outside 1..bodies
 refused before anything starts; a failing rank stops every rank and leaves
 nothing that looks complete.
 """
@@ -92,6 +93,25 @@ def test_two_ranks_solve_contacts_domain_by_domain(runs):
     assert all(b > 0 for b in mpi["nlgs_bytes_sent"])
     assert (runs[2] / "series.csv").is_file()
     assert (runs[2] / "raw" / "state.bin").is_file()
+
+
+def test_a_rebalanced_run_gives_the_serial_run(runs, tmp_path, monkeypatch):
+    """On 3 ranks with the rebalance tolerance at 0 (test hook) the bodies
+    change owners during the run (done.json counts it); Phi, E and the
+    contacts stay those of the 1-rank run."""
+    monkeypatch.setenv("SOFTPACK_TEST_REBALANCE_TOLERANCE", "0")
+    config = cfg.load_config(SMALL, {"output.fields": False})
+    assert run(config, tmp_path / "r3", verbose=False, ranks=3) == 0
+    mpi = json.loads((tmp_path / "r3" / "raw" / "done.json").read_text())["mpi"]
+    assert mpi["rebalances"] > 0 and mpi["bodies_moved"] > 0
+    assert sum(mpi["bodies"]) == 14
+    one = read_table(runs[1] / "raw" / "steps.csv")
+    three = read_table(tmp_path / "r3" / "raw" / "steps.csv")
+    np.testing.assert_array_equal(three["step"], one["step"])
+    np.testing.assert_allclose(three["phi"], one["phi"], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(three["strain_energy"], one["strain_energy"],
+                               rtol=1e-4, atol=1e-4 * one["strain_energy"][-1])
+    np.testing.assert_array_equal(three["contacts"], one["contacts"])
 
 
 @pytest.mark.parametrize("ranks", [0, 15])

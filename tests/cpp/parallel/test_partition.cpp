@@ -1,5 +1,6 @@
 // The recursive coordinate bisection of body centres (parallel/partition.h).
 #include <algorithm>
+#include <array>
 #include <gtest/gtest.h>
 #include <numeric>
 #include <parallel/partition.h>
@@ -70,4 +71,41 @@ TEST(Partition, RanksOutsideOneToBodiesAreRefused)
                std::invalid_argument);
   EXPECT_THROW(partition_bodies(x, std::vector<double>(3, 1.0), 4),
                std::invalid_argument);
+}
+
+TEST(Partition, ASplitHasDriftedWhenUnevenOrScatteredNotWhenClose)
+{
+  using softpack::parallel::split_has_drifted;
+  // 8 x 2 grid, two parts by x; links between horizontal neighbours.
+  const std::vector<double> x = grid(8, 2);
+  std::vector<double> w(16, 1.0);
+  const std::vector<int> fresh = partition_bodies(x, w, 2);
+  std::vector<std::array<int, 2>> links;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i + 1 < 8; ++i)
+      links.push_back({8 * j + i, 8 * j + i + 1});
+  // The same split: nothing to do.
+  EXPECT_FALSE(split_has_drifted(fresh, fresh, w, links, 0.1));
+  // One body (of 16) on the other side: 1/8 uneven, above 10 %.
+  std::vector<int> shifted = fresh;
+  shifted[3] = 1;
+  EXPECT_TRUE(split_has_drifted(shifted, fresh, w, links, 0.1));
+  // ... but within a 20 % tolerance, and it cuts as many links (2).
+  EXPECT_FALSE(split_has_drifted(shifted, fresh, w, links, 0.2));
+  // Even but scattered (alternate columns): 14 cut links against 2.
+  std::vector<int> striped(16);
+  for (int b = 0; b < 16; ++b)
+    striped[b] = (b % 8) % 2;
+  EXPECT_TRUE(split_has_drifted(striped, fresh, w, links, 0.2));
+  // Uneven (a heavy body) but the other split is no better: the same
+  // split with the parts' names swapped.
+  std::vector<double> heavy(16, 1.0);
+  heavy[0] = 5;
+  std::vector<int> swapped(16);
+  for (int b = 0; b < 16; ++b)
+    swapped[b] = 1 - fresh[b];
+  EXPECT_FALSE(split_has_drifted(fresh, swapped, heavy, links, 0.1));
+  // ... while a split by the weights is more even: worth the move.
+  EXPECT_TRUE(split_has_drifted(fresh, partition_bodies(x, heavy, 2), heavy,
+                                links, 0.1));
 }
