@@ -1,6 +1,7 @@
 #include "ownership.h"
 
 #include "partition.h"
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -23,7 +24,6 @@ std::vector<double> body_centres(const bodies::BodySet& bodies,
   }
   return centres;
 }
-
 } // namespace
 
 Ownership::Ownership(MPI_Comm comm, bodies::BodySet& bodies) : _comm(comm)
@@ -118,11 +118,25 @@ void Ownership::sum(std::span<double> values) const
 std::vector<std::byte>
 Ownership::gather_bytes(std::span<const std::byte> local) const
 {
+  // MPI counts are ints: a share or the whole above 2 GiB cannot be sent
+  // in one call (not reached: 1,000 disks gather ~35 MB per step)
+  constexpr std::size_t limit = std::numeric_limits<int>::max();
+  if (local.size() > limit)
+    throw std::runtime_error(
+        "Ownership::gather: " + std::to_string(local.size()) +
+        " bytes from one rank, above MPI's int count");
   int n = static_cast<int>(local.size());
   std::vector<int> counts(_size), offsets(_size, 0);
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, _comm);
+  std::size_t total = counts[0];
   for (int r = 1; r < _size; ++r)
+  {
     offsets[r] = offsets[r - 1] + counts[r - 1];
+    total += counts[r];
+    if (total > limit)
+      throw std::runtime_error("Ownership::gather: " + std::to_string(total) +
+                               " bytes gathered, above MPI's int count");
+  }
   std::vector<std::byte> all(offsets.back() + counts.back());
   MPI_Allgatherv(local.data(), n, MPI_BYTE, all.data(), counts.data(),
                  offsets.data(), MPI_BYTE, _comm);
