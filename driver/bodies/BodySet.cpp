@@ -248,6 +248,15 @@ void BodySet::rank_input_order()
   }
 }
 
+std::vector<double> BodySet::current_coordinates() const
+{
+  const std::span<const double> u = _u->x()->array();
+  std::vector<double> x(_reference_x);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    x[i] += u[i];
+  return x;
+}
+
 std::vector<BodyMatrix>
 BodySet::create_matrices(std::span<const char> only) const
 {

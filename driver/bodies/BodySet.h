@@ -119,6 +119,9 @@ public:
   /// Reference coordinates of the nodes (interleaved x, y per node)
   std::span<const double> reference_coordinates() const { return _reference_x; }
 
+  /// Current coordinates X + u of the nodes (interleaved x, y per node)
+  std::vector<double> current_coordinates() const;
+
   /// Internal force \f$F_{int}(u) = \partial E/\partial u\f$ of all bodies,
   /// written (not added) into the global vector f
   void internal_force(std::span<double> f) const;

@@ -121,15 +121,10 @@ void MoreauJean::scatter(const Vectors& per_body,
 }
 
 MoreauJean::StepContacts
-MoreauJean::prepare_contacts(const std::vector<double>& u_old,
-                             const std::vector<double>& v_old)
+MoreauJean::prepare_contacts(const std::vector<double>& v_old)
 {
   const double h = _h, th = _options.time.theta;
-  std::vector<double> x(_bodies.reference_coordinates().begin(),
-                        _bodies.reference_coordinates().end());
-  for (std::size_t i = 0; i < x.size(); ++i)
-    x[i] += u_old[i];
-  _contacts = detect(x);
+  _contacts = detect(_bodies.current_coordinates());
   StepContacts sc{ContactOperator(_contacts, _walls), {}};
   const std::vector<double> U_old = sc.H.relative_velocity(_bodies, v_old);
   // Signorini on the predicted gap g~ = g + h((1-th) U_n- + th U_n+):
@@ -292,7 +287,7 @@ MoreauJean::Attempt MoreauJean::attempt()
   // Rigid bodies: V- from the node velocities, which become exactly rigid.
   _rigid.start_step(u, _v, _f_ext, _h);
   std::vector<double> u_old(u.begin(), u.end()), v_old = _v;
-  StepContacts sc = prepare_contacts(u_old, v_old);
+  StepContacts sc = prepare_contacts(v_old);
   report.contacts = static_cast<int>(sc.size());
   report.seconds.detection = seconds_since(t0);
   contact::FrictionContactProblem2D problem = prepare_problem(sc, report);

@@ -236,8 +236,9 @@ private:
   /// again if the split has drifted (parallel::Ownership::rebalance), and
   /// give the per-body work to the new owners
   void rebalance();
-  StepContacts prepare_contacts(const std::vector<double>& u_old,
-                                const std::vector<double>& v_old);
+  /// The contacts at the bodies' current configuration (the start of the
+  /// step) and their data fixed during the step
+  StepContacts prepare_contacts(const std::vector<double>& v_old);
   /// The contact problem of the step (W, and mu; q is set by each solve)
   contact::FrictionContactProblem2D prepare_problem(const StepContacts& sc,
                                                     StepReport& report);

@@ -85,12 +85,8 @@ void MoreauJean::rebalance()
     if (c.antagonist_body >= 0)
       links.push_back({c.candidate_body, c.antagonist_body});
   }
-  const std::span<const double> u = _bodies.displacement();
-  std::vector<double> x(_bodies.reference_coordinates().begin(),
-                        _bodies.reference_coordinates().end());
-  for (std::size_t i = 0; i < x.size(); ++i)
-    x[i] += u[i];
-  if (!_own.rebalance(_bodies, x, weights, links, tolerance))
+  if (!_own.rebalance(_bodies, _bodies.current_coordinates(), weights, links,
+                      tolerance))
     return;
   _kbar.set_owned(_bodies, _own.owned());
   _K = _bodies.create_matrices(_own.owned());
