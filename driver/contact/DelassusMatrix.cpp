@@ -95,9 +95,7 @@ void DelassusMatrix::multiply_add(std::span<const double> r,
     throw std::invalid_argument("DelassusMatrix::multiply_add: wrong sizes");
   for (std::size_t a = 0; a < _num_contacts; ++a)
   {
-    const Eigen::Vector2d ra(r[2 * a], r[2 * a + 1]);
-    const Eigen::Vector2d ua =
-        _diagonal[a] * ra + offdiagonal_product(a, r.data());
+    const Eigen::Vector2d ua = row_product(a, r.data());
     u[2 * a] += ua[0];
     u[2 * a + 1] += ua[1];
   }

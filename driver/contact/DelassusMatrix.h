@@ -97,6 +97,13 @@ public:
     return sum;
   }
 
+  /// Block row a applied to r: \f$\sum_b W_{ab} r_b\f$.
+  Eigen::Vector2d row_product(std::size_t a, const double* r) const
+  {
+    const Eigen::Vector2d ra(r[2 * a], r[2 * a + 1]);
+    return _diagonal[a] * ra + offdiagonal_product(a, r);
+  }
+
   /// \f$u \leftarrow u + W r\f$.
   /// @param[in] r Reactions, size 2 num_contacts()
   /// @param[in,out] u Velocities, size 2 num_contacts()

@@ -10,11 +10,22 @@ namespace softpack::contact
 
 namespace
 {
-/// Greedy colouring of the domains' graph, in domain order.
-std::vector<int> colour_domains(const std::vector<std::set<int>>& neighbours)
+/// Greedy colouring of the domains' graph, in domain order; d and e are
+/// linked when either lists the other.
+std::vector<int> colour_domains(const std::vector<std::vector<int>>& graph)
 {
-  std::vector<int> colour(neighbours.size(), -1);
-  for (std::size_t d = 0; d < neighbours.size(); ++d)
+  const std::size_t domains = graph.size();
+  std::vector<std::set<int>> neighbours(domains);
+  for (std::size_t d = 0; d < domains; ++d)
+    for (const int e : graph[d])
+    {
+      if (e < 0 || static_cast<std::size_t>(e) >= domains)
+        throw std::invalid_argument("plan_domain: a neighbour is no domain");
+      neighbours[d].insert(e);
+      neighbours[e].insert(static_cast<int>(d));
+    }
+  std::vector<int> colour(domains, -1);
+  for (std::size_t d = 0; d < domains; ++d)
   {
     std::set<int> taken;
     for (const int e : neighbours[d])
@@ -43,41 +54,50 @@ std::size_t DomainPlan::sent_per_sweep() const
   return n;
 }
 
+std::vector<int> neighbour_domains(const DelassusMatrix& W,
+                                   std::span<const int> owner, int me)
+{
+  std::set<int> domains;
+  for (std::size_t a = 0; a < owner.size(); ++a)
+    if (owner[a] == me)
+      for (const std::int32_t b : W.row_columns(a))
+        if (owner[b] != me)
+          domains.insert(owner[b]);
+  return {domains.begin(), domains.end()};
+}
+
 DomainPlan plan_domain(const DelassusMatrix& W, std::span<const int> owner,
-                       int domains, int me)
+                       int me, const std::vector<std::vector<int>>& graph)
 {
   const std::size_t n = W.num_contacts();
   if (owner.size() != n)
     throw std::invalid_argument("plan_domain: one owner per contact");
-  std::vector<std::set<int>> neighbours(domains);
-  std::vector<char> interface(n, 0);
-  // Row a reads r_b for each stored block W_ab.
-  std::map<int, DomainPlan::Link> links;
-  for (std::size_t a = 0; a < n; ++a)
-    for (const std::int32_t b : W.row_columns(a))
-    {
-      const int da = owner[a], db = owner[b];
-      if (da == db)
-        continue;
-      neighbours[da].insert(db);
-      neighbours[db].insert(da);
-      interface[a] = interface[b] = 1;
-      if (da == me)
-        links[db].receive.push_back(b);
-      else if (db == me)
-        links[da].send.push_back(b);
-    }
+  const int domains = static_cast<int>(graph.size());
   DomainPlan plan;
   plan.domain = me;
-  plan.colour = colour_domains(neighbours);
+  plan.colour = colour_domains(graph);
   plan.colours = domains > 0 ? 1 + *std::max_element(plan.colour.begin(),
                                                      plan.colour.end())
                              : 0;
   plan.stages.resize(1 + plan.colours);
+  // Row a reads r_b for each stored block W_ab, and (the pattern being
+  // symmetric) row b, owned by b's domain, reads r_a.
+  std::map<int, DomainPlan::Link> links;
   for (std::size_t a = 0; a < n; ++a)
-    if (owner[a] == me)
-      plan.stages[interface[a] ? 1 + plan.colour[me] : 0].push_back(
-          static_cast<std::int32_t>(a));
+  {
+    if (owner[a] != me)
+      continue;
+    bool interface = false;
+    for (const std::int32_t b : W.row_columns(a))
+      if (owner[b] != me)
+      {
+        interface = true;
+        links[owner[b]].receive.push_back(b);
+        links[owner[b]].send.push_back(static_cast<std::int32_t>(a));
+      }
+    plan.stages[interface ? 1 + plan.colour[me] : 0].push_back(
+        static_cast<std::int32_t>(a));
+  }
   for (auto& [domain, link] : links)
   {
     link.domain = domain;

@@ -9,8 +9,9 @@ namespace softpack::contact
 {
 
 /// How one domain of a distributed contact problem takes part in a sweep
-/// of the domain-wise NLGS (docs/mpi_design.md), from the whole problem's
-/// pattern, which every domain knows.
+/// of the domain-wise NLGS (docs/mpi_design.md), from the rows of W of its
+/// own contacts (the only rows a domain holds) and the graph of which
+/// domains neighbour which.
 ///
 /// A domain's contacts are split into its *interior* (no Delassus block
 /// with another domain's contact, either way) and its *interface*. The
@@ -51,8 +52,20 @@ struct DomainPlan
   std::size_t sent_per_sweep() const;
 };
 
-/// The plan of domain `me` among `domains`, contact a owned by owner[a].
+/// The domains that domain `me`'s rows of W read (contact a owned by
+/// owner[a]), in increasing order: with W's pattern symmetric, also those
+/// that read `me`'s contacts.
+std::vector<int> neighbour_domains(const DelassusMatrix& W,
+                                   std::span<const int> owner, int me);
+
+/// The plan of domain `me`, contact a owned by owner[a].
+/// @param[in] W The rows of `me`'s contacts (others may be empty); its
+/// pattern must be symmetric (W_ab stored iff W_ba is, as
+/// dynamics::delassus_blocks keeps them), so that what `me` sends follows
+/// from what it reads
+/// @param[in] graph Every domain's neighbour_domains, the same on every
+/// domain (the colours must agree)
 DomainPlan plan_domain(const DelassusMatrix& W, std::span<const int> owner,
-                       int domains, int me);
+                       int me, const std::vector<std::vector<int>>& graph);
 
 } // namespace softpack::contact

@@ -37,36 +37,67 @@ bool softpack::contact::is_q_zero(const FrictionContactProblem2D& problem,
                      { return std::abs(v) <= q_zero_tolerance; });
 }
 //-----------------------------------------------------------------------------
-NaturalMapError
-softpack::contact::compute_error(const FrictionContactProblem2D& problem,
-                                 std::span<const double> r, std::span<double> u,
-                                 double q_zero_tolerance)
+namespace
+{
+/// Contact a's terms of the ErrorSums, its u_a written
+void add_contact(ErrorSums& sums, const FrictionContactProblem2D& problem,
+                 std::span<const double> r, std::span<double> u, std::size_t a)
+{
+  const Eigen::Vector2d qa(problem.q[2 * a], problem.q[2 * a + 1]);
+  const Eigen::Vector2d ua = qa + problem.W.row_product(a, r.data());
+  u[2 * a] = ua[0];
+  u[2 * a + 1] = ua[1];
+  const Eigen::Vector2d ra(r[2 * a], r[2 * a + 1]);
+  sums.residual += natural_map_residual_squared(ra, ua, problem.friction[a]);
+  sums.r += ra.squaredNorm();
+  sums.u += ua.squaredNorm();
+  sums.q += qa.squaredNorm();
+}
+
+void check_sizes(const FrictionContactProblem2D& problem,
+                 std::span<const double> r, std::span<double> u)
 {
   const std::size_t nc = problem.num_contacts();
   if (r.size() != 2 * nc or u.size() != 2 * nc)
     throw std::invalid_argument("compute_error: r and u need 2 per contact");
-  std::copy(problem.q.begin(), problem.q.end(), u.begin());
-  problem.W.multiply_add(r, u);
-
-  double sum = 0, rr = 0, uu = 0, qq = 0;
-  for (std::size_t a = 0; a < nc; ++a)
-  {
-    const Eigen::Vector2d ra(r[2 * a], r[2 * a + 1]);
-    const Eigen::Vector2d ua(u[2 * a], u[2 * a + 1]);
-    sum += natural_map_residual_squared(ra, ua, problem.friction[a]);
-    rr += ra.squaredNorm();
-    uu += ua.squaredNorm();
-    qq += problem.q[2 * a] * problem.q[2 * a] +
-          problem.q[2 * a + 1] * problem.q[2 * a + 1];
-  }
+}
+} // namespace
+//-----------------------------------------------------------------------------
+ErrorSums softpack::contact::error_sums(const FrictionContactProblem2D& problem,
+                                        std::span<const double> r,
+                                        std::span<double> u,
+                                        std::span<const std::int32_t> rows)
+{
+  check_sizes(problem, r, u);
+  ErrorSums sums;
+  for (const std::int32_t a : rows)
+    add_contact(sums, problem, r, u, static_cast<std::size_t>(a));
+  return sums;
+}
+//-----------------------------------------------------------------------------
+NaturalMapError softpack::contact::natural_map_error(const ErrorSums& sums,
+                                                     bool q_zero)
+{
   NaturalMapError e;
-  e.absolute = std::sqrt(sum);
-  e.scale = std::sqrt(std::max({rr, uu, qq}));
-  e.q_zero = is_q_zero(problem, q_zero_tolerance);
+  e.absolute = std::sqrt(sums.residual);
+  e.scale = std::sqrt(std::max({sums.r, sums.u, sums.q}));
+  e.q_zero = q_zero;
   if (e.q_zero or e.scale <= std::numeric_limits<double>::epsilon())
     e.value = e.absolute;
   else
     e.value = e.absolute / e.scale;
   return e;
+}
+//-----------------------------------------------------------------------------
+NaturalMapError
+softpack::contact::compute_error(const FrictionContactProblem2D& problem,
+                                 std::span<const double> r, std::span<double> u,
+                                 double q_zero_tolerance)
+{
+  check_sizes(problem, r, u);
+  ErrorSums sums;
+  for (std::size_t a = 0; a < problem.num_contacts(); ++a)
+    add_contact(sums, problem, r, u, a);
+  return natural_map_error(sums, is_q_zero(problem, q_zero_tolerance));
 }
 //-----------------------------------------------------------------------------

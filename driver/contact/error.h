@@ -53,6 +53,25 @@ struct NaturalMapError
 bool is_q_zero(const FrictionContactProblem2D& problem,
                double q_zero_tolerance);
 
+/// The sums behind a NaturalMapError, over some of the contacts (a domain's
+/// share of a distributed problem: the shares add up)
+struct ErrorSums
+{
+  /// of the squared natural-map residuals, of |r_a|^2, |u_a|^2, |q_a|^2
+  double residual = 0, r = 0, u = 0, q = 0;
+};
+
+/// ErrorSums over the contacts `rows`, their u = W r + q computed here
+/// from their rows of W (the reactions these rows read must be current).
+/// @param[out] u Written at `rows` only
+ErrorSums error_sums(const FrictionContactProblem2D& problem,
+                     std::span<const double> r, std::span<double> u,
+                     std::span<const std::int32_t> rows);
+
+/// The error from the sums over every contact
+/// @param[in] q_zero is_q_zero() of the problem
+NaturalMapError natural_map_error(const ErrorSums& sums, bool q_zero);
+
 /// Full error of (r, u = W r + q), u recomputed here (one pass over W).
 /// \f[
 ///   e = \frac{\big(\sum_a \|r_a - \mathrm{proj}_{K_{\mu_a}}(r_a - \tilde

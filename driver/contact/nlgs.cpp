@@ -91,17 +91,29 @@ public:
         _options(options), _result(result), _domain(domain),
         _working_tolerance(options.tolerance)
   {
+    if (domain)
+      for (const std::vector<std::int32_t>& stage : domain->stages)
+        _rows.insert(_rows.end(), stage.begin(), stage.end());
   }
   /// Account for a finished sweep; false when the solve should stop.
   bool after_sweep(const SweepSums& sums);
   /// The full error at the end (computed unless the last test did)
   void finish();
-  /// The full error of the whole problem, every reaction made current
+  /// The full error of the whole problem (a domain's rows read current
+  /// reactions after a whole sweep: the neighbours' interface ones came in
+  /// its exchanges)
   void full_error()
   {
-    if (_domain)
-      _domain->gather(_r);
-    _full = compute_error(_problem, _r, _u, _options.q_zero_tolerance);
+    if (!_domain)
+    {
+      _full = compute_error(_problem, _r, _u, _options.q_zero_tolerance);
+      return;
+    }
+    const ErrorSums mine = error_sums(_problem, _r, _u, _rows);
+    double sums[4] = {mine.residual, mine.r, mine.u, mine.q};
+    _domain->reduce(sums);
+    _full = natural_map_error({sums[0], sums[1], sums[2], sums[3]},
+                              is_q_zero(_problem, _options.q_zero_tolerance));
   }
   /// Relaxation of the next sweep
   double omega;
@@ -112,6 +124,8 @@ private:
   const NlgsOptions& _options;
   NlgsResult& _result;
   const SweepDomain* _domain;
+  /// The domain's contacts (all stages)
+  std::vector<std::int32_t> _rows;
   double _working_tolerance;
   double _window_start_error = std::numeric_limits<double>::infinity();
   bool _full_error_current = false;
@@ -237,6 +251,11 @@ NlgsResult softpack::contact::solve_nlgs(
         ;
   }
   monitor.finish();
+  if (domain)
+  {
+    domain->gather(r);
+    domain->gather(u);
+  }
   return result;
 }
 //-----------------------------------------------------------------------------

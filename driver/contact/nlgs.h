@@ -71,7 +71,9 @@ struct NlgsResult
 
 /// One domain's share of a distributed solve: the domain-wise NLGS of
 /// docs/mpi_design.md, in the stages of a DomainPlan (domain_plan.h). The
-/// solver itself knows nothing of how domains talk: the caller does.
+/// solver itself knows nothing of how domains talk: the caller does. A
+/// domain needs W's rows of its own contacts only: the full error is summed
+/// from the domains' rows.
 struct SweepDomain
 {
   /// This domain's contacts by stage, swept in order; the same number of
@@ -81,12 +83,12 @@ struct SweepDomain
   /// other domains changed in that stage and this domain's rows read (and
   /// send this domain's where others read them)
   std::function<void(int stage, std::span<double> r)> exchange;
-  /// After each sweep: sum `sums` (the sweep's squared change and squared
-  /// norm) over the domains, the same on every domain
-  std::function<void(double sums[2])> reduce;
-  /// Make every reaction current here (before a full error test, and at
-  /// the end)
-  std::function<void(std::span<double> r)> gather;
+  /// Sum `values` over the domains, the same on every domain (after each
+  /// sweep: its squared change and norm; for a full error: ErrorSums)
+  std::function<void(std::span<double> values)> reduce;
+  /// Make the entries of every contact (2 per contact: reactions or
+  /// velocities) those its domain holds, here (at the end of the solve)
+  std::function<void(std::span<double> x)> gather;
 };
 
 /// Nonlinear (block) Gauss–Seidel for the 2D frictional contact problem

@@ -1,5 +1,6 @@
 #include "delassus.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace softpack::dynamics
@@ -86,20 +87,29 @@ delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
                   H.frame(sb.contact));
       continue;
     }
-    // Each contact's own block on this body, for the drop test.
-    std::vector<double> own(shares[b].size());
-    for (std::size_t k = 0; k < shares[b].size(); ++k)
-      own[k] = body_block(b, shares[b][k], shares[b][k]).norm();
-    for (std::size_t ka = 0; ka < shares[b].size(); ++ka)
-      for (std::size_t kb = 0; kb < shares[b].size(); ++kb)
+    // All the body's blocks first: a pair is kept or dropped as one
+    // (W_ab and W_ba = W_ab^T only up to rounding), so that W's pattern is
+    // symmetric, which a distributed run's plan relies on
+    // (contact::plan_domain).
+    const std::size_t n = shares[b].size();
+    std::vector<Eigen::Matrix2d> blocks(n * n);
+    for (std::size_t ka = 0; ka < n; ++ka)
+      for (std::size_t kb = 0; kb < n; ++kb)
+        blocks[ka * n + kb] = body_block(b, shares[b][ka], shares[b][kb]);
+    auto norm = [&](std::size_t ka, std::size_t kb)
+    { return blocks[ka * n + kb].norm(); };
+    for (std::size_t ka = 0; ka < n; ++ka)
+      for (std::size_t kb = 0; kb < n; ++kb)
       {
         const BodyShare &sa = shares[b][ka], &sb = shares[b][kb];
-        const Eigen::Matrix2d block = body_block(b, sa, sb);
+        const double below =
+            drop_tolerance * std::sqrt(norm(ka, ka) * norm(kb, kb));
         if (sa.contact != sb.contact && drop_tolerance > 0 &&
-            block.norm() < drop_tolerance * std::sqrt(own[ka] * own[kb]))
+            std::max(norm(ka, kb), norm(kb, ka)) < below)
           continue;
         add(b, sa.contact, sb.contact,
-            H.frame(sa.contact).transpose() * block * H.frame(sb.contact));
+            H.frame(sa.contact).transpose() * blocks[ka * n + kb] *
+                H.frame(sb.contact));
       }
   }
   return W;
@@ -107,16 +117,20 @@ delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
 
 contact::DelassusMatrix assemble_delassus(std::size_t num_contacts,
                                           std::span<const DelassusBlock> blocks,
-                                          std::span<const WallCoupling> walls)
+                                          std::span<const WallCoupling> walls,
+                                          std::span<const char> rows)
 {
+  auto wanted = [&](std::size_t a) { return rows.empty() || rows[a]; };
   contact::DelassusMatrix W(num_contacts);
   for (const DelassusBlock& k : blocks)
-    W.add_block(k.a, k.b, k.block);
+    if (wanted(k.a))
+      W.add_block(k.a, k.b, k.block);
   for (const WallCoupling& wall : walls)
     for (std::size_t i = 0; i < wall.contacts.size(); ++i)
       for (std::size_t j = 0; j < wall.contacts.size(); ++j)
-        W.add_block(wall.contacts[i], wall.contacts[j],
-                    wall.inverse_mass * wall.g[i] * wall.g[j].transpose());
+        if (wanted(wall.contacts[i]))
+          W.add_block(wall.contacts[i], wall.contacts[j],
+                      wall.inverse_mass * wall.g[i] * wall.g[j].transpose());
   W.finalize();
   return W;
 }

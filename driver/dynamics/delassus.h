@@ -20,34 +20,6 @@ struct WallCoupling
   double inverse_mass = 0;
 };
 
-/// Build the Delassus operator \f$W = H^T \bar K^{-1} H\f$ body by body.
-///
-/// Only boundary nodes carry contacts. The columns of each body's
-/// compliance \f$G_b = \bar K_b^{-1}\f$ at the boundary nodes that carry
-/// contacts are kept by EffectiveStiffness while the factorization is
-/// unchanged, so rebuilding W for a new contact set costs small dense
-/// products (and a few solves for newly touched nodes): every pair of
-/// contacts touching the body receives
-/// \f$\sum_{i,j} w_i w_j\, F_a^T G_b(i, j) F_b\f$ (F the contact frames,
-/// w the node weights). No global or dense W is formed.
-///
-/// The compliance of a mass-dominated \f$\bar K\f$ decays with distance
-/// over a few element sizes (a length of order \f$h\theta c\f$, c the wave
-/// speed): two contacts on opposite sides of a disk do not feel each other
-/// within one time step. Blocks smaller than `drop_tolerance` times the
-/// geometric mean of the two contacts' diagonal blocks (Frobenius norms)
-/// are left out, which keeps W symmetric and cuts the cost of every NLGS
-/// sweep several times.
-/// @param[in] bodies Bodies
-/// @param[in] H Contact operator of the step
-/// @param[in] Kbar Factorized iteration matrices
-/// @param[in] drop_tolerance Relative size below which an off-diagonal
-/// block is dropped (0: keep all)
-/// @param[in] walls The servo walls' couplings (never dropped)
-/// @param[in] rigid The rigid bodies, whose compliance is \f$P_i M_r^{-1}
-/// P_j^T\f$ (RigidBodies::compliance) in place of the FE one; it does not
-/// decay with distance and none of its blocks is dropped (null: none)
-/// @return The finalized block-sparse W
 /// One body's contribution to a block of W (in the order build_delassus
 /// adds them).
 struct DelassusBlock
@@ -67,10 +39,43 @@ delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
 
 /// W from the bodies' contributions (in body order: the sums are then
 /// those of the serial build, bit for bit) and the servo walls' couplings.
+/// @param[in] rows 1 for the rows (contacts) wanted, the others left empty
+/// (a rank of a distributed run keeps the rows of its own contacts); empty:
+/// every row. `blocks` may hold only the wanted rows' contributions.
 contact::DelassusMatrix assemble_delassus(std::size_t num_contacts,
                                           std::span<const DelassusBlock> blocks,
-                                          std::span<const WallCoupling> walls);
+                                          std::span<const WallCoupling> walls,
+                                          std::span<const char> rows = {});
 
+/// Build the Delassus operator \f$W = H^T \bar K^{-1} H\f$ body by body.
+///
+/// Only boundary nodes carry contacts. The columns of each body's
+/// compliance \f$G_b = \bar K_b^{-1}\f$ at the boundary nodes that carry
+/// contacts are kept by EffectiveStiffness while the factorization is
+/// unchanged, so rebuilding W for a new contact set costs small dense
+/// products (and a few solves for newly touched nodes): every pair of
+/// contacts touching the body receives
+/// \f$\sum_{i,j} w_i w_j\, F_a^T G_b(i, j) F_b\f$ (F the contact frames,
+/// w the node weights). No global or dense W is formed.
+///
+/// The compliance of a mass-dominated \f$\bar K\f$ decays with distance
+/// over a few element sizes (a length of order \f$h\theta c\f$, c the wave
+/// speed): two contacts on opposite sides of a disk do not feel each other
+/// within one time step. Blocks smaller than `drop_tolerance` times the
+/// geometric mean of the two contacts' diagonal blocks (Frobenius norms)
+/// are left out, a pair (a, b) only when both W_ab and W_ba are (so W's
+/// pattern is symmetric), which cuts the cost of every NLGS sweep several
+/// times.
+/// @param[in] bodies Bodies
+/// @param[in] H Contact operator of the step
+/// @param[in] Kbar Factorized iteration matrices
+/// @param[in] drop_tolerance Relative size below which an off-diagonal
+/// block is dropped (0: keep all)
+/// @param[in] walls The servo walls' couplings (never dropped)
+/// @param[in] rigid The rigid bodies, whose compliance is \f$P_i M_r^{-1}
+/// P_j^T\f$ (RigidBodies::compliance) in place of the FE one; it does not
+/// decay with distance and none of its blocks is dropped (null: none)
+/// @return The finalized block-sparse W
 contact::DelassusMatrix build_delassus(const bodies::BodySet& bodies,
                                        const ContactOperator& H,
                                        const EffectiveStiffness& Kbar,

@@ -163,11 +163,7 @@ MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
     refactorize(sc, problem, report);
   }
   else if (sc.size() > 0)
-  {
-    const auto t0 = clock::now();
-    problem.W = delassus(sc.H, sc.servo.couplings);
-    report.seconds.delassus += seconds_since(t0);
-  }
+    set_delassus(sc, problem, report);
   return problem;
 }
 
@@ -205,11 +201,7 @@ void MoreauJean::refactorize(const StepContacts& sc,
   _matrix_age = 0;
   report.refactorized = true;
   if (sc.size() > 0)
-  {
-    const auto t0 = clock::now();
-    problem.W = delassus(sc.H, sc.servo.couplings);
-    report.seconds.delassus += seconds_since(t0);
-  }
+    set_delassus(sc, problem, report);
 }
 
 MoreauJean::StepStart MoreauJean::start_step(std::vector<double> u_old,

@@ -243,16 +243,20 @@ private:
   contact::FrictionContactProblem2D prepare_problem(const StepContacts& sc,
                                                     StepReport& report);
   bool needs_refactorization() const;
-  /// W from this rank's bodies' blocks and the other ranks' (their
-  /// compliances), the same on every rank
-  contact::DelassusMatrix delassus(const ContactOperator& H,
-                                   std::span<const WallCoupling> walls) const;
+  /// W into `problem` and the plan of this rank's share of the contact
+  /// solves (_domains): when distributed, W's rows of this rank's contacts
+  /// only, from the blocks of every rank's bodies (their compliances)
+  void set_delassus(const StepContacts& sc,
+                    contact::FrictionContactProblem2D& problem,
+                    StepReport& report);
+  /// The rank of each contact's candidate body (empty when serial)
+  std::vector<int> contact_owners() const;
+  /// The problem with W's rows of every rank (a collective), to write an
+  /// unsolved problem whole
+  contact::FrictionContactProblem2D
+  whole_problem(const contact::FrictionContactProblem2D& problem) const;
   /// The entries of the contact nodes (local nodes per body) of a global
   /// vector filled by their owners, made whole on every rank
-  /// This rank's share of a distributed contact solve (none when serial):
-  /// the contacts of its bodies' candidate nodes
-  std::optional<parallel::ContactDomains>
-  contact_domains(const contact::FrictionContactProblem2D& problem);
   void share_contact_nodes(
       const std::vector<std::vector<std::int32_t>>& contact_nodes,
       std::span<double> global) const;
@@ -308,6 +312,9 @@ private:
   bodies::BodySet& _bodies;
   parallel::Ownership _own;
   parallel::ContactTraffic _contact_traffic;
+  /// This rank's share of the step's contact solves (none when serial),
+  /// planned with each W
+  std::optional<parallel::ContactDomains> _domains;
   std::vector<Wall> _walls;
   MoreauJeanOptions _options;
   DetectionOptions _detection;

@@ -78,10 +78,10 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
   for (std::size_t i = 0; i < U_free.size(); ++i)
     problem.q[i] = U_free[i] + sc.shift[i];
   std::vector<double> U(U_free.size()), start = _R;
-  const std::optional<parallel::ContactDomains> domains =
-      contact_domains(problem);
   const contact::NlgsResult nlgs = contact::solve_nlgs(
-      problem, _R, U, _nlgs, domains ? &domains->domain() : nullptr);
+      problem, _R, U, _nlgs, _domains ? &_domains->domain() : nullptr);
+  if (_domains)
+    _contact_traffic.sweeps += nlgs.iterations;
   report.nlgs_iterations += nlgs.iterations;
   report.nlgs_error = nlgs.error;
   report.nlgs_converged = nlgs.converged;
@@ -90,7 +90,8 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
     // Kept for replay; the solver itself writes nothing.
     ++report.unsolved_contact_solves;
     report.unsolved_problem =
-        std::make_shared<const contact::FrictionContactProblem2D>(problem);
+        std::make_shared<const contact::FrictionContactProblem2D>(
+            whole_problem(problem));
     report.unsolved_start = std::move(start);
   }
   report.seconds.nlgs += seconds_since(t0);

@@ -1,10 +1,11 @@
 // The parts of a Moreau–Jean step that differ when the bodies are spread
-// over MPI ranks (docs/mpi_design.md): the detection by shares, W from
-// every rank's blocks, and the body terms of the energy accounts summed
-// over the ranks.
+// over MPI ranks (docs/mpi_design.md): the detection by shares, W's rows of
+// a rank's contacts from every rank's blocks, and the body terms of the
+// energy accounts summed over the ranks.
 #include "delassus.h"
 #include "detection.h"
 #include "moreau_jean.h"
+#include "moreau_jean_step.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -13,30 +14,38 @@ namespace softpack::dynamics
 {
 namespace
 {
-/// Doubles per block on the wire: body, a, b and the 2x2 block.
-constexpr int block_size = 7;
-
-/// Every rank's blocks, on every rank, in the body order of the serial
-/// build (each body's blocks come from its one owner, in its order).
-std::vector<DelassusBlock> share_blocks(const parallel::Ownership& own,
-                                        const std::vector<DelassusBlock>& mine)
+/// A block of W on the wire (Eigen's matrices are not plain bytes): its
+/// body (-1 when not needed), row, column and entries in column order
+struct WireBlock
 {
-  std::vector<double> packed;
-  packed.reserve(block_size * mine.size());
+  std::int32_t body, a, b;
+  double entries[4];
+};
+
+WireBlock to_wire(std::int32_t body, std::int32_t a, std::int32_t b,
+                  const Eigen::Matrix2d& block)
+{
+  return {body, a, b, {block(0, 0), block(1, 0), block(0, 1), block(1, 1)}};
+}
+
+Eigen::Matrix2d from_wire(const WireBlock& w)
+{
+  return Eigen::Map<const Eigen::Matrix2d>(w.entries);
+}
+
+/// Each rank's blocks sent to the owners of their rows, and this rank's
+/// rows received, in the body order of the serial build (each body's blocks
+/// come from its one owner, in its order): W's rows then sum alike.
+std::vector<DelassusBlock> route_blocks(const parallel::Ownership& own,
+                                        const std::vector<DelassusBlock>& mine,
+                                        std::span<const int> row_owner)
+{
+  std::vector<std::vector<WireBlock>> to_rank(own.size());
   for (const DelassusBlock& k : mine)
-    packed.insert(packed.end(),
-                  {double(k.body), double(k.a), double(k.b), k.block(0, 0),
-                   k.block(1, 0), k.block(0, 1), k.block(1, 1)});
-  const std::vector<double> all = own.gather(packed);
-  std::vector<DelassusBlock> blocks(all.size() / block_size);
-  for (std::size_t i = 0; i < blocks.size(); ++i)
-  {
-    const double* p = &all[block_size * i];
-    blocks[i].body = static_cast<std::int32_t>(p[0]);
-    blocks[i].a = static_cast<std::int32_t>(p[1]);
-    blocks[i].b = static_cast<std::int32_t>(p[2]);
-    blocks[i].block << p[3], p[5], p[4], p[6];
-  }
+    to_rank[row_owner[k.a]].push_back(to_wire(k.body, k.a, k.b, k.block));
+  std::vector<DelassusBlock> blocks;
+  for (const WireBlock& w : own.exchange_items(to_rank))
+    blocks.push_back({w.body, w.a, w.b, from_wire(w)});
   std::stable_sort(blocks.begin(), blocks.end(),
                    [](const DelassusBlock& x, const DelassusBlock& y)
                    { return x.body < y.body; });
@@ -93,30 +102,63 @@ void MoreauJean::rebalance()
   _products_valid = false;
 }
 
-contact::DelassusMatrix
-MoreauJean::delassus(const ContactOperator& H,
-                     std::span<const WallCoupling> walls) const
-{
-  std::vector<DelassusBlock> blocks = delassus_blocks(
-      _bodies, H, _kbar, _options.contact.delassus_drop_tolerance, &_rigid,
-      _own.owned());
-  if (_own.distributed())
-    blocks = share_blocks(_own, blocks);
-  return assemble_delassus(H.size(), blocks, walls);
-}
-
-std::optional<parallel::ContactDomains>
-MoreauJean::contact_domains(const contact::FrictionContactProblem2D& problem)
+std::vector<int> MoreauJean::contact_owners() const
 {
   if (!_own.distributed())
-    return std::nullopt;
+    return {};
   // A contact belongs to its candidate node's body.
   std::vector<int> owner(_contacts.size());
   for (std::size_t a = 0; a < _contacts.size(); ++a)
     owner[a] = _own.body_rank()[_contacts[a].candidate_body];
-  return std::optional<parallel::ContactDomains>(std::in_place, _own.comm(),
-                                                 problem.W, std::move(owner),
-                                                 _contact_traffic);
+  return owner;
+}
+
+void MoreauJean::set_delassus(const StepContacts& sc,
+                              contact::FrictionContactProblem2D& problem,
+                              StepReport& report)
+{
+  const auto t0 = clock::now();
+  std::vector<DelassusBlock> blocks = delassus_blocks(
+      _bodies, sc.H, _kbar, _options.contact.delassus_drop_tolerance, &_rigid,
+      _own.owned());
+  const std::vector<int> owner = contact_owners();
+  std::vector<char> rows;
+  if (_own.distributed())
+  {
+    blocks = route_blocks(_own, blocks, owner);
+    rows.resize(owner.size());
+    for (std::size_t a = 0; a < owner.size(); ++a)
+      rows[a] = owner[a] == _own.rank();
+  }
+  problem.W = assemble_delassus(sc.H.size(), blocks, sc.servo.couplings, rows);
+  _domains.reset();
+  if (_own.distributed())
+    _domains.emplace(_own.comm(), problem.W, owner, _contact_traffic);
+  report.seconds.delassus += seconds_since(t0);
+}
+
+contact::FrictionContactProblem2D MoreauJean::whole_problem(
+    const contact::FrictionContactProblem2D& problem) const
+{
+  if (!_own.distributed())
+    return problem;
+  const contact::DelassusMatrix& W = problem.W;
+  std::vector<WireBlock> mine;
+  for (const std::vector<std::int32_t>& stage : _domains->plan().stages)
+    for (const std::int32_t a : stage)
+    {
+      mine.push_back(to_wire(-1, a, a, W.diagonal(a)));
+      const auto columns = W.row_columns(a);
+      const auto blocks = W.row_blocks(a);
+      for (std::size_t k = 0; k < columns.size(); ++k)
+        mine.push_back(to_wire(-1, a, columns[k], blocks[k]));
+    }
+  contact::FrictionContactProblem2D whole = problem;
+  whole.W = contact::DelassusMatrix(W.num_contacts());
+  for (const WireBlock& w : _own.gather_items<WireBlock>(mine))
+    whole.W.add_block(w.a, w.b, from_wire(w));
+  whole.W.finalize();
+  return whole;
 }
 
 void MoreauJean::share_contact_nodes(

@@ -19,20 +19,41 @@ int size_of(MPI_Comm comm)
   MPI_Comm_size(comm, &size);
   return size;
 }
+
+/// Every rank's neighbour_domains, on every rank
+std::vector<std::vector<int>> domain_graph(MPI_Comm comm,
+                                           const contact::DelassusMatrix& W,
+                                           std::span<const int> owner)
+{
+  const std::vector<int> mine =
+      contact::neighbour_domains(W, owner, rank_in(comm));
+  const int ranks = size_of(comm), n = static_cast<int>(mine.size());
+  std::vector<int> counts(ranks), offsets(ranks + 1, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int r = 0; r < ranks; ++r)
+    offsets[r + 1] = offsets[r] + counts[r];
+  std::vector<int> all(offsets.back());
+  MPI_Allgatherv(mine.data(), n, MPI_INT, all.data(), counts.data(),
+                 offsets.data(), MPI_INT, comm);
+  std::vector<std::vector<int>> graph(ranks);
+  for (int r = 0; r < ranks; ++r)
+    graph[r].assign(all.begin() + offsets[r], all.begin() + offsets[r + 1]);
+  return graph;
+}
 } // namespace
 
 ContactDomains::ContactDomains(MPI_Comm comm, const contact::DelassusMatrix& W,
                                std::span<const int> owner,
                                ContactTraffic& traffic)
-    : _comm(comm),
-      _plan(contact::plan_domain(W, owner, size_of(comm), rank_in(comm))),
+    : _comm(comm), _plan(contact::plan_domain(W, owner, rank_in(comm),
+                                              domain_graph(comm, W, owner))),
       _traffic(traffic)
 {
   _domain.stages = _plan.stages;
   _domain.exchange = [this](int stage, std::span<double> r)
   { exchange(stage, r); };
-  _domain.reduce = [this](double sums[2]) { reduce(sums); };
-  _domain.gather = [this](std::span<double> r) { gather(r); };
+  _domain.reduce = [this](std::span<double> values) { reduce(values); };
+  _domain.gather = [this](std::span<double> x) { gather(x); };
 }
 
 void ContactDomains::exchange(int stage, std::span<double> r)
@@ -76,29 +97,29 @@ void ContactDomains::exchange(int stage, std::span<double> r)
     }
 }
 
-void ContactDomains::reduce(double sums[2])
+void ContactDomains::reduce(std::span<double> values)
 {
-  MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, _comm);
-  _traffic.bytes += 2 * sizeof(double);
+  MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()),
+                MPI_DOUBLE, MPI_SUM, _comm);
+  _traffic.bytes += values.size() * sizeof(double);
   ++_traffic.messages;
-  ++_traffic.sweeps;
 }
 
-void ContactDomains::gather(std::span<double> r)
+void ContactDomains::gather(std::span<double> x)
 {
-  // Every owner's reactions, summed into zeros elsewhere: exact.
-  std::vector<double> all(r.size(), 0.0);
+  // Every owner's entries, summed into zeros elsewhere: exact.
+  std::vector<double> all(x.size(), 0.0);
   for (const std::vector<std::int32_t>& stage : _plan.stages)
     for (const std::int32_t a : stage)
     {
-      all[2 * a] = r[2 * a];
-      all[2 * a + 1] = r[2 * a + 1];
+      all[2 * a] = x[2 * a];
+      all[2 * a + 1] = x[2 * a + 1];
     }
   MPI_Allreduce(MPI_IN_PLACE, all.data(), static_cast<int>(all.size()),
                 MPI_DOUBLE, MPI_SUM, _comm);
   _traffic.bytes += all.size() * sizeof(double);
   ++_traffic.messages;
-  std::copy(all.begin(), all.end(), r.begin());
+  std::copy(all.begin(), all.end(), x.begin());
 }
 
 } // namespace softpack::parallel

@@ -23,13 +23,16 @@ struct ContactTraffic
 /// domain of contact::DomainPlan; after each interface stage the ranks of
 /// that stage's colour send the new reactions of their interface contacts
 /// to the neighbours that read them (point to point), and each sweep's
-/// sums go through one allreduce. The whole problem (W) is known on every
-/// rank, so both ends of every message derive the same lists from it.
+/// sums go through one allreduce. A rank holds W's rows of its own contacts
+/// only; W's pattern being symmetric, both ends of every message derive the
+/// same lists from their own rows, and one allgather of every rank's
+/// neighbours gives all the same colours.
 class ContactDomains
 {
 public:
   /// @param[in] comm The ranks (one domain each)
-  /// @param[in] W The step's Delassus operator
+  /// @param[in] W The step's Delassus operator: at least the rows of this
+  /// rank's contacts, its pattern symmetric (contact::plan_domain)
   /// @param[in] owner The rank owning each contact
   /// @param[in,out] traffic Where the exchanges are counted
   ContactDomains(MPI_Comm comm, const contact::DelassusMatrix& W,
@@ -46,8 +49,8 @@ public:
 
 private:
   void exchange(int stage, std::span<double> r);
-  void reduce(double sums[2]);
-  void gather(std::span<double> r);
+  void reduce(std::span<double> values);
+  void gather(std::span<double> x);
 
   MPI_Comm _comm;
   contact::DomainPlan _plan;

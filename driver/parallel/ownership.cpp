@@ -115,29 +115,73 @@ void Ownership::sum(std::span<double> values) const
   ++_calls;
 }
 
+namespace
+{
+/// A byte count as MPI's int, refused above it
+int int_count(std::size_t bytes, const char* what)
+{
+  if (bytes > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw std::runtime_error(std::string(what) + ": " + std::to_string(bytes) +
+                             " bytes from one rank, above MPI's int count");
+  return static_cast<int>(bytes);
+}
+
+/// Offsets of consecutive blocks of the given sizes, refusing a total above
+/// MPI's int count
+std::vector<int> int_offsets(std::span<const int> counts, const char* what)
+{
+  constexpr std::size_t limit = std::numeric_limits<int>::max();
+  std::vector<int> offsets(counts.size() + 1, 0);
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < counts.size(); ++r)
+  {
+    total += counts[r];
+    if (total > limit)
+      throw std::runtime_error(std::string(what) + ": " +
+                               std::to_string(total) +
+                               " bytes in all, above MPI's int count");
+    offsets[r + 1] = static_cast<int>(total);
+  }
+  return offsets;
+}
+} // namespace
+
+std::vector<std::byte> Ownership::exchange_bytes(
+    std::span<const std::span<const std::byte>> to_rank) const
+{
+  if (static_cast<int>(to_rank.size()) != _size)
+    throw std::invalid_argument("Ownership::exchange: one list per rank");
+  std::vector<int> send_counts(_size), receive_counts(_size);
+  std::vector<std::byte> out;
+  for (int r = 0; r < _size; ++r)
+  {
+    send_counts[r] = int_count(to_rank[r].size(), "Ownership::exchange");
+    out.insert(out.end(), to_rank[r].begin(), to_rank[r].end());
+  }
+  const std::vector<int> send_offsets =
+      int_offsets(send_counts, "Ownership::exchange (sent)");
+  MPI_Alltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1,
+               MPI_INT, _comm);
+  const std::vector<int> receive_offsets =
+      int_offsets(receive_counts, "Ownership::exchange (received)");
+  std::vector<std::byte> in(receive_offsets.back());
+  MPI_Alltoallv(out.data(), send_counts.data(), send_offsets.data(), MPI_BYTE,
+                in.data(), receive_counts.data(), receive_offsets.data(),
+                MPI_BYTE, _comm);
+  _bytes += _size * sizeof(int) + out.size();
+  _calls += 2;
+  return in;
+}
+
 std::vector<std::byte>
 Ownership::gather_bytes(std::span<const std::byte> local) const
 {
-  // MPI counts are ints: a share or the whole above 2 GiB cannot be sent
-  // in one call (not reached: 1,000 disks gather ~35 MB per step)
-  constexpr std::size_t limit = std::numeric_limits<int>::max();
-  if (local.size() > limit)
-    throw std::runtime_error(
-        "Ownership::gather: " + std::to_string(local.size()) +
-        " bytes from one rank, above MPI's int count");
-  int n = static_cast<int>(local.size());
-  std::vector<int> counts(_size), offsets(_size, 0);
+  // (not reached: 1,000 disks gather ~35 MB per step)
+  const int n = int_count(local.size(), "Ownership::gather");
+  std::vector<int> counts(_size);
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, _comm);
-  std::size_t total = counts[0];
-  for (int r = 1; r < _size; ++r)
-  {
-    offsets[r] = offsets[r - 1] + counts[r - 1];
-    total += counts[r];
-    if (total > limit)
-      throw std::runtime_error("Ownership::gather: " + std::to_string(total) +
-                               " bytes gathered, above MPI's int count");
-  }
-  std::vector<std::byte> all(offsets.back() + counts.back());
+  const std::vector<int> offsets = int_offsets(counts, "Ownership::gather");
+  std::vector<std::byte> all(offsets.back());
   MPI_Allgatherv(local.data(), n, MPI_BYTE, all.data(), counts.data(),
                  offsets.data(), MPI_BYTE, _comm);
   _bytes += sizeof(int) + local.size();

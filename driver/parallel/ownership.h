@@ -98,6 +98,24 @@ public:
     return items;
   }
 
+  /// Send each rank r the records to_rank[r] (size(): one list per rank);
+  /// receive what every rank sent this one, concatenated in rank order.
+  template <typename T>
+  std::vector<T>
+  exchange_items(const std::vector<std::vector<T>>& to_rank) const
+  {
+    static_assert(std::is_trivially_copyable_v<T>);
+    if (_size == 1)
+      return to_rank.empty() ? std::vector<T>{} : to_rank[0];
+    std::vector<std::span<const std::byte>> out;
+    for (const std::vector<T>& items : to_rank)
+      out.push_back(std::as_bytes(std::span<const T>(items)));
+    const std::vector<std::byte> in = exchange_bytes(out);
+    std::vector<T> items(in.size() / sizeof(T));
+    std::memcpy(items.data(), in.data(), in.size());
+    return items;
+  }
+
   /// Bytes this rank has handed to collectives so far (its send volume;
   /// what the network carries is of the same order per rank)
   std::size_t bytes_sent() const { return _bytes; }
@@ -108,6 +126,8 @@ private:
   /// Give body b to rank body_rank[b] and restrict `bodies` to this rank's
   void assign(std::vector<int> body_rank, bodies::BodySet& bodies);
   std::vector<std::byte> gather_bytes(std::span<const std::byte> local) const;
+  std::vector<std::byte>
+  exchange_bytes(std::span<const std::span<const std::byte>> to_rank) const;
 
   MPI_Comm _comm = MPI_COMM_SELF;
   int _rank = 0, _size = 1;

@@ -159,3 +159,40 @@ def test_a_state_restarts_on_another_number_of_ranks(runs, tmp_path):
                                atol=1e-6)
     np.testing.assert_allclose(rows[2]["strain_energy"],
                                rows[1]["strain_energy"], rtol=1e-4)
+
+
+def _datasets(path):
+    """Every dataset of an HDF5 file by name (numbers as float arrays)."""
+    import h5py
+    out = {}
+    with h5py.File(path, "r") as f:
+        def visit(name, item):
+            if isinstance(item, h5py.Dataset) and item.dtype.kind in "iuf":
+                out[name] = np.asarray(item[()], dtype=float)
+        f.visititems(visit)
+    return out
+
+
+def test_an_unsolved_problem_is_written_whole_on_two_ranks(tmp_path):
+    """A rank holds W's rows of its own contacts only; a contact problem
+    left unsolved (here: one NLGS sweep allowed) is still written whole
+    (W gathered from the ranks): the first one written on 2 ranks is the
+    1-rank run's, block for block."""
+    require_driver()
+    config = cfg.load_config(SMALL, {"output.fields": False,
+                                     "contact.nlgs_max_sweeps": 1,
+                                     "stop.steps": 120})
+    first = {}
+    for ranks in (1, 2):
+        out = tmp_path / f"ranks{ranks}"
+        run(config, out, verbose=False, ranks=ranks)
+        dumps = sorted((out / "raw" / "failed_contact_problems").glob("*.hdf5"))
+        assert dumps, f"no unsolved problem written on {ranks} rank(s)"
+        first[ranks] = dumps[0]
+    assert first[1].name == first[2].name
+    one, two = _datasets(first[1]), _datasets(first[2])
+    assert set(one) == set(two)
+    assert any(name.startswith("fclib_local/W") for name in one)
+    for name in one:
+        np.testing.assert_allclose(two[name], one[name], rtol=1e-12,
+                                   atol=1e-14, err_msg=name)

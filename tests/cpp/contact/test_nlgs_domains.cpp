@@ -1,7 +1,8 @@
 // The domain-wise NLGS (DomainPlan, SweepDomain, docs/mpi_design.md) with
 // its domains on threads of one process instead of MPI ranks: the
 // interiors swept at once, then the interfaces colour by colour, each
-// exchange copying what the plan's links receive between two barriers. The
+// exchange copying what the plan's links receive between two barriers.
+// Each domain holds W's rows of its own contacts only, as a rank does. The
 // MPI exchange itself (parallel/contact_domains.cpp) is run by
 // tests/python/test_mpi.py.
 #include "domain_plan.h"
@@ -37,14 +38,58 @@ std::vector<int> consecutive_owners(std::size_t n, int D)
   return owner;
 }
 
-/// Every domain's plan.
-std::vector<DomainPlan> all_plans(const FrictionContactProblem2D& p,
-                                  const std::vector<int>& owner, int D)
+/// The problem with W's rows of domain d's contacts only (what a rank
+/// holds); the other rows empty.
+FrictionContactProblem2D rows_of(const FrictionContactProblem2D& p,
+                                 const std::vector<int>& owner, int d)
 {
+  FrictionContactProblem2D mine = p;
+  mine.W = DelassusMatrix(p.num_contacts());
+  for (std::size_t a = 0; a < p.num_contacts(); ++a)
+    if (owner[a] == d)
+    {
+      mine.W.add_block(a, a, p.W.diagonal(a));
+      for (std::size_t k = 0; k < p.W.row_columns(a).size(); ++k)
+        mine.W.add_block(a, p.W.row_columns(a)[k], p.W.row_blocks(a)[k]);
+    }
+  mine.W.finalize();
+  return mine;
+}
+
+/// Every domain's problem (its rows) and plan, each plan from its own rows
+/// and the graph of every domain's neighbours, as on ranks.
+struct Domains
+{
+  std::vector<FrictionContactProblem2D> problems;
   std::vector<DomainPlan> plans;
+};
+Domains all_plans(const FrictionContactProblem2D& p,
+                  const std::vector<int>& owner, int D)
+{
+  Domains domains;
+  std::vector<std::vector<int>> graph;
   for (int d = 0; d < D; ++d)
-    plans.push_back(plan_domain(p.W, owner, D, d));
-  return plans;
+  {
+    domains.problems.push_back(rows_of(p, owner, d));
+    graph.push_back(neighbour_domains(domains.problems[d].W, owner, d));
+  }
+  for (int d = 0; d < D; ++d)
+    domains.plans.push_back(
+        plan_domain(domains.problems[d].W, owner, d, graph));
+  return domains;
+}
+
+/// Whether W_ab is stored exactly when W_ba is (plan_domain's premise)
+bool pattern_is_symmetric(const DelassusMatrix& W)
+{
+  for (std::size_t a = 0; a < W.num_contacts(); ++a)
+    for (const std::int32_t b : W.row_columns(a))
+    {
+      const auto back = W.row_columns(b);
+      if (std::find(back.begin(), back.end(), a) == back.end())
+        return false;
+    }
+  return true;
 }
 
 DomainRun solve_in_domains(const FrictionContactProblem2D& p, int D,
@@ -52,25 +97,21 @@ DomainRun solve_in_domains(const FrictionContactProblem2D& p, int D,
 {
   const std::size_t n = p.num_contacts();
   const std::vector<int> owner = consecutive_owners(n, D);
-  const std::vector<DomainPlan> plans = all_plans(p, owner, D);
+  const Domains domains = all_plans(p, owner, D);
+  const std::vector<DomainPlan>& plans = domains.plans;
   DomainRun run{std::vector<std::vector<double>>(D, std::vector<double>(2 * n)),
                 std::vector<NlgsResult>(D), plans[0].colours};
   std::barrier sync(D);
-  std::vector<std::array<double, 2>> posted(D);
+  std::vector<std::vector<double>> posted(D);
   // Between two barriers (all domains done before, all copies done after):
-  // domain d copies what its links receive from the domains that just swept
-  // (all of them for a gather).
+  // domain d copies what its links receive from the domains that just swept.
   auto refresh = [&](int d, int colour)
   {
     for (const DomainPlan::Link& link : plans[d].links)
-      if (colour < 0 || plans[d].colour[link.domain] == colour)
+      if (plans[d].colour[link.domain] == colour)
         for (const std::int32_t b : link.receive)
           for (int c = 0; c < 2; ++c)
             run.r[d][2 * b + c] = run.r[link.domain][2 * b + c];
-    if (colour < 0)
-      for (std::size_t a = 0; a < n; ++a)
-        for (int c = 0; c < 2; ++c)
-          run.r[d][2 * a + c] = run.r[owner[a]][2 * a + c];
   };
   std::vector<std::thread> threads;
   for (int d = 0; d < D; ++d)
@@ -85,23 +126,30 @@ DomainRun solve_in_domains(const FrictionContactProblem2D& p, int D,
             refresh(d, stage - 1);
             sync.arrive_and_wait();
           };
-          domain.reduce = [&, d](double sums[2])
+          domain.reduce = [&, d](std::span<double> values)
           {
-            posted[d] = {sums[0], sums[1]};
+            posted[d].assign(values.begin(), values.end());
             sync.arrive_and_wait();
-            sums[0] = sums[1] = 0;
+            std::fill(values.begin(), values.end(), 0.0);
             for (int e = 0; e < D; ++e) // one order on every domain
-              sums[0] += posted[e][0], sums[1] += posted[e][1];
+              for (std::size_t i = 0; i < values.size(); ++i)
+                values[i] += posted[e][i];
             sync.arrive_and_wait();
           };
-          domain.gather = [&, d](std::span<double>)
+          // Each contact's entries from its owner's array of the same kind
+          // (reactions or velocities), copied after all have posted theirs.
+          domain.gather = [&, d](std::span<double> x)
           {
+            posted[d].assign(x.begin(), x.end());
             sync.arrive_and_wait();
-            refresh(d, -1);
+            for (std::size_t a = 0; a < n; ++a)
+              for (int c = 0; c < 2; ++c)
+                x[2 * a + c] = posted[owner[a]][2 * a + c];
             sync.arrive_and_wait();
           };
           std::vector<double> u(2 * n);
-          run.result[d] = solve_nlgs(p, run.r[d], u, options, &domain);
+          run.result[d] =
+              solve_nlgs(domains.problems[d], run.r[d], u, options, &domain);
         });
   for (std::thread& t : threads)
     t.join();
@@ -114,6 +162,7 @@ TEST(NlgsDomains, EveryFclibProblemSolvedToItsErrorOnTwoAndThreeDomains)
   for (const DataProblem& d : data_problems())
   {
     const FrictionContactProblem2D p = read_fclib_local(hdf5_file(d.name));
+    ASSERT_TRUE(pattern_is_symmetric(p.W)) << d.name;
     NlgsOptions opt;
     opt.tolerance = d.tolerance;
     opt.max_sweeps = 20000;
@@ -153,7 +202,7 @@ TEST(NlgsDomains, PlanSplitsContactsAndLinksNeighboursBothWays)
   const std::size_t n = p.num_contacts();
   const int D = 3;
   const std::vector<int> owner = consecutive_owners(n, D);
-  const std::vector<DomainPlan> plans = all_plans(p, owner, D);
+  const std::vector<DomainPlan> plans = all_plans(p, owner, D).plans;
   std::vector<int> seen(n, 0);
   for (const DomainPlan& plan : plans)
   {

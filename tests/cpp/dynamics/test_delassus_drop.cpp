@@ -79,6 +79,22 @@ TEST(DelassusDrop, FarContactsOnOneDiskDoNotCoupleAndKeptBlocksAreExact)
   EXPECT_LT(cross, 1e-8);
   // ... so those blocks go, while neighbours at one pole stay coupled.
   EXPECT_GE(dropped, 2 * top * bottom);
+  // A pair goes as one: W_ab is kept exactly when W_ba is (a distributed
+  // run's plan derives what a rank sends from the rows it holds), at any
+  // tolerance.
+  for (const double tolerance : {1e-9, 1e-6, 1e-4, 1e-3, 1e-2, 1e-1})
+  {
+    const contact::DelassusMatrix W =
+        dynamics::build_delassus(bodies, H, kbar, tolerance);
+    for (std::size_t a = 0; a < contacts.size(); ++a)
+      for (const std::int32_t b : W.row_columns(a))
+      {
+        const auto back = W.row_columns(b);
+        EXPECT_NE(std::find(back.begin(), back.end(), a), back.end())
+            << "W_" << a << "," << b << " kept without W_" << b << "," << a
+            << " at tolerance " << tolerance;
+      }
+  }
   EXPECT_LT(kept.num_offdiagonal_blocks(), full.num_offdiagonal_blocks());
   EXPECT_GE(kept.num_offdiagonal_blocks(),
             static_cast<std::size_t>(top * (top - 1) + bottom * (bottom - 1)));
