@@ -168,7 +168,8 @@ std::vector<std::byte> Ownership::exchange_bytes(
   MPI_Alltoallv(out.data(), send_counts.data(), send_offsets.data(), MPI_BYTE,
                 in.data(), receive_counts.data(), receive_offsets.data(),
                 MPI_BYTE, _comm);
-  _bytes += _size * sizeof(int) + out.size();
+  // What leaves this rank (its own share stays)
+  _bytes += _size * sizeof(int) + out.size() - to_rank[_rank].size();
   _calls += 2;
   return in;
 }
