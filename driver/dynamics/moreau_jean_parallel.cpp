@@ -133,7 +133,7 @@ void MoreauJean::set_delassus(const StepContacts& sc,
   problem.W = assemble_delassus(sc.H.size(), blocks, sc.servo.couplings, rows);
   _domains.reset();
   if (_own.distributed())
-    _domains.emplace(_own.comm(), problem.W, owner, _contact_traffic);
+    _domains.emplace(_own, problem.W, owner, _contact_traffic);
   report.seconds.delassus += seconds_since(t0);
 }
 

@@ -7,46 +7,34 @@ namespace softpack::parallel
 
 namespace
 {
-int rank_in(MPI_Comm comm)
-{
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  return rank;
-}
-int size_of(MPI_Comm comm)
-{
-  int size = 1;
-  MPI_Comm_size(comm, &size);
-  return size;
-}
-
 /// Every rank's neighbour_domains, on every rank
-std::vector<std::vector<int>> domain_graph(MPI_Comm comm,
+std::vector<std::vector<int>> domain_graph(const Ownership& own,
                                            const contact::DelassusMatrix& W,
                                            std::span<const int> owner)
 {
   const std::vector<int> mine =
-      contact::neighbour_domains(W, owner, rank_in(comm));
-  const int ranks = size_of(comm), n = static_cast<int>(mine.size());
-  std::vector<int> counts(ranks), offsets(ranks + 1, 0);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 0; r < ranks; ++r)
-    offsets[r + 1] = offsets[r] + counts[r];
-  std::vector<int> all(offsets.back());
-  MPI_Allgatherv(mine.data(), n, MPI_INT, all.data(), counts.data(),
-                 offsets.data(), MPI_INT, comm);
-  std::vector<std::vector<int>> graph(ranks);
-  for (int r = 0; r < ranks; ++r)
-    graph[r].assign(all.begin() + offsets[r], all.begin() + offsets[r + 1]);
+      contact::neighbour_domains(W, owner, own.rank());
+  const int n = static_cast<int>(mine.size());
+  const std::vector<int> counts = own.gather_items<int>({&n, 1});
+  const std::vector<int> all = own.gather_items<int>(mine);
+  std::vector<std::vector<int>> graph(own.size());
+  auto next = all.begin();
+  for (int r = 0; r < own.size(); ++r)
+  {
+    graph[r].assign(next, next + counts[r]);
+    next += counts[r];
+  }
   return graph;
 }
 } // namespace
 
-ContactDomains::ContactDomains(MPI_Comm comm, const contact::DelassusMatrix& W,
+ContactDomains::ContactDomains(const Ownership& own,
+                               const contact::DelassusMatrix& W,
                                std::span<const int> owner,
                                ContactTraffic& traffic)
-    : _comm(comm), _plan(contact::plan_domain(W, owner, rank_in(comm),
-                                              domain_graph(comm, W, owner))),
+    : _comm(own.comm()),
+      _plan(contact::plan_domain(W, owner, own.rank(),
+                                 domain_graph(own, W, owner))),
       _traffic(traffic)
 {
   _domain.stages = _plan.stages;

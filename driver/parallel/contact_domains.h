@@ -5,6 +5,7 @@
 #include <contact/nlgs.h>
 #include <cstddef>
 #include <mpi.h>
+#include <parallel/ownership.h>
 #include <span>
 #include <vector>
 
@@ -30,12 +31,12 @@ struct ContactTraffic
 class ContactDomains
 {
 public:
-  /// @param[in] comm The ranks (one domain each)
+  /// @param[in] own The ranks (one domain each)
   /// @param[in] W The step's Delassus operator: at least the rows of this
   /// rank's contacts, its pattern symmetric (contact::plan_domain)
   /// @param[in] owner The rank owning each contact
   /// @param[in,out] traffic Where the exchanges are counted
-  ContactDomains(MPI_Comm comm, const contact::DelassusMatrix& W,
+  ContactDomains(const Ownership& own, const contact::DelassusMatrix& W,
                  std::span<const int> owner, ContactTraffic& traffic);
   // The solver's view points into this object.
   ContactDomains(const ContactDomains&) = delete;
