@@ -387,17 +387,62 @@ void BodySet::set_owned(std::vector<char> owned)
   // bodies' cells only (each material's over its own owned bodies).
   for (MaterialForms& f : _forms)
   {
-    std::vector<std::int32_t> cells;
-    for (std::size_t b = 0; b < _bodies.size(); ++b)
-      if (owned[b] && (_forms.size() == 1 || _body_material[b] == f.material))
-        cells.insert(cells.end(), _bodies[b].cells.begin(),
-                     _bodies[b].cells.end());
-    std::sort(cells.begin(), cells.end());
     if (!f.all_tangent)
       f.all_tangent = f.tangent;
-    f.tangent = restrict_to_cells(*f.all_tangent, cells);
+    f.tangent = restrict_to_cells(*f.all_tangent, cells_of(owned, f));
   }
+  keep_masses(kept_masses(owned));
   _owned = std::move(owned);
+}
+
+std::vector<char> BodySet::kept_masses(std::span<const char> owned) const
+{
+  std::vector<char> kept(_bodies.size(), 1);
+  if (!owned.empty())
+    for (std::size_t b = 0; b < kept.size(); ++b)
+      kept[b] = owned[b] || rigid(static_cast<int>(b));
+  return kept;
+}
+
+std::vector<std::int32_t> BodySet::cells_of(std::span<const char> flags,
+                                            const MaterialForms& f) const
+{
+  std::vector<std::int32_t> cells;
+  for (std::size_t b = 0; b < _bodies.size(); ++b)
+    if (flags[b] && (_forms.size() == 1 || _body_material[b] == f.material))
+      cells.insert(cells.end(), _bodies[b].cells.begin(),
+                   _bodies[b].cells.end());
+  std::sort(cells.begin(), cells.end());
+  return cells;
+}
+
+void BodySet::keep_masses(std::span<const char> kept)
+{
+  // A body that was not kept has an empty matrix (every kept one has
+  // entries: its diagonal).
+  std::vector<char> missing(_bodies.size(), 0);
+  bool any = false;
+  for (std::size_t b = 0; b < _bodies.size(); ++b)
+  {
+    if (!kept[b])
+      _mass[b] = BodyMatrix(_bodies[b].num_dofs(), _bodies[b].num_dofs());
+    else if (_mass[b].nonZeros() == 0)
+    {
+      missing[b] = 1;
+      any = true;
+    }
+  }
+  if (!any)
+    return;
+  // Bodies that came to this rank (a rebalanced run): their masses are
+  // assembled again, over their cells only.
+  std::vector<BodyMatrix> fresh = create_matrices(missing);
+  for (const MaterialForms& f : _forms)
+    assemble_by_body(*restrict_to_cells(*f.mass, cells_of(missing, f)),
+                     _node_body, _node_local, fresh);
+  for (std::size_t b = 0; b < _bodies.size(); ++b)
+    if (missing[b])
+      _mass[b] = std::move(fresh[b]);
 }
 
 bool BodySet::parallel_residual() const

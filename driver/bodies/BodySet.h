@@ -11,6 +11,7 @@
 #include <map>
 #include <material_registry.h>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -141,8 +142,16 @@ public:
   std::vector<BodyMatrix>
   create_matrices(std::span<const char> only = {}) const;
 
-  /// Consistent mass matrix of each body (computed once)
+  /// Consistent mass matrix of each body whose mass this rank keeps
+  /// (kept_masses of set_owned's flags: every body until set_owned); the
+  /// others' are empty. Computed once, and for a body that comes to this
+  /// rank when it does.
   const std::vector<BodyMatrix>& consistent_mass() const { return _mass; }
+
+  /// The bodies whose masses a rank with the given owned flags keeps: its
+  /// own, and every rigid body (dynamics::RigidBodies reads them all);
+  /// every body when `owned` is empty. The one place of the rule.
+  std::vector<char> kept_masses(std::span<const char> owned) const;
 
   /// Lumped (vertex-quadrature, row-sum) mass of each body, one per DOF
   const std::vector<Eigen::VectorXd>& lumped_mass() const
@@ -197,7 +206,8 @@ public:
 
   /// Restrict the per-body work of owned_internal_force and tangent to the
   /// bodies whose entry is nonzero (the bodies a rank of a distributed run
-  /// owns, parallel::Ownership); the others' entries are left zero.
+  /// owns, parallel::Ownership); the others' entries are left zero. The
+  /// consistent masses of the bodies kept_masses leaves out are freed.
   /// internal_force, energies, areas and outputs still cover every body.
   /// May be called again (a rebalanced run) with other flags.
   /// @throws std::invalid_argument if the size is not the number of bodies
@@ -224,6 +234,12 @@ private:
   /// Fill each Body::input_rank
   void rank_input_order();
   void build_mass();
+  /// Free the masses of the bodies not flagged; assemble those flagged
+  /// whose mass was freed before
+  void keep_masses(std::span<const char> kept);
+  /// The cells of the flagged bodies that form f runs over, sorted
+  std::vector<std::int32_t> cells_of(std::span<const char> flags,
+                                     const MaterialForms& f) const;
   std::vector<double> sum_per_body(const std::vector<double>& per_cell) const;
   std::vector<double>
   assemble_cellwise(const dolfinx::fem::Form<double>& L) const;

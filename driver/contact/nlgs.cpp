@@ -251,11 +251,10 @@ NlgsResult softpack::contact::solve_nlgs(
         ;
   }
   monitor.finish();
+  // The reactions are made whole (the caller's next Newton iterate needs
+  // every impulse); u is not: each domain has it at its own contacts.
   if (domain)
-  {
     domain->gather(r);
-    domain->gather(u);
-  }
   return result;
 }
 //-----------------------------------------------------------------------------

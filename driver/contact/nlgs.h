@@ -86,8 +86,8 @@ struct SweepDomain
   /// Sum `values` over the domains, the same on every domain (after each
   /// sweep: its squared change and norm; for a full error: ErrorSums)
   std::function<void(std::span<double> values)> reduce;
-  /// Make the entries of every contact (2 per contact: reactions or
-  /// velocities) those its domain holds, here (at the end of the solve)
+  /// Make the entries of every contact (2 per contact: the reactions)
+  /// those its domain holds, here (at the end of the solve)
   std::function<void(std::span<double> x)> gather;
 };
 
@@ -115,7 +115,8 @@ struct SweepDomain
 ///   and the starting r, and writes them with dump_problem() (fclib_io.h).
 /// @param[in] domain When given, this process sweeps only its domain's
 ///   contacts and exchanges as SweepDomain says; every domain returns the
-///   same r, u and result
+///   same r and result, and u at its own contacts only (the stages; the
+///   other entries are left as passed)
 NlgsResult solve_nlgs(const FrictionContactProblem2D& problem,
                       std::span<double> r, std::span<double> u,
                       const NlgsOptions& options = {},

@@ -12,14 +12,9 @@ EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
     : _mass(&bodies.consistent_mass()),
       _factors(bodies, bodies.consistent_mass(), owned)
 {
-  if (lumped_mass) // the lumped masses on the stiffness pattern
+  if (lumped_mass)
   {
-    _lumped = bodies.create_matrices();
-    for (int b = 0; b < bodies.num_bodies(); ++b)
-      for (int col = 0; col < _lumped[b].outerSize(); ++col)
-        for (bodies::BodyMatrix::InnerIterator it(_lumped[b], col); it; ++it)
-          it.valueRef() =
-              it.row() == it.col() ? bodies.lumped_mass()[b][it.row()] : 0.0;
+    build_lumped(bodies, owned);
     _mass = &_lumped;
   }
   for (int b = 0; b < bodies.num_bodies(); ++b)
@@ -34,9 +29,24 @@ EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
   _column_ready.resize(bodies.num_bodies());
 }
 
+void EffectiveStiffness::build_lumped(const bodies::BodySet& bodies,
+                                      std::span<const char> owned)
+{
+  // On the stiffness pattern, for the bodies whose consistent masses the
+  // body set keeps (BodySet::kept_masses): the others' stay empty.
+  _lumped = bodies.create_matrices(bodies.kept_masses(owned));
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+    for (int col = 0; col < _lumped[b].outerSize(); ++col)
+      for (bodies::BodyMatrix::InnerIterator it(_lumped[b], col); it; ++it)
+        it.valueRef() =
+            it.row() == it.col() ? bodies.lumped_mass()[b][it.row()] : 0.0;
+}
+
 void EffectiveStiffness::set_owned(const bodies::BodySet& bodies,
                                    std::span<const char> owned)
 {
+  if (_mass == &_lumped)
+    build_lumped(bodies, owned);
   _factors = BodyFactors(bodies, bodies.consistent_mass(), owned);
   for (std::vector<Column>& C : _columns)
     C.clear();

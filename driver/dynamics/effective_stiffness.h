@@ -75,7 +75,8 @@ public:
     return _slot[body][node];
   }
 
-  /// Mass matrix of body b, on the body's stiffness pattern
+  /// Mass matrix of body b, on the body's stiffness pattern (empty for a
+  /// body whose mass the body set does not keep: BodySet::kept_masses)
   const bodies::BodyMatrix& mass(int body) const { return (*_mass)[body]; }
 
   /// Number of factorizations done so far (all bodies count as one)
@@ -94,6 +95,8 @@ private:
   /// the largest item of a crowded run's memory; their boundary rows are
   /// a tenth of it.
   using Column = Eigen::VectorXd;
+  /// Put the lumped masses of the kept bodies on the stiffness pattern
+  void build_lumped(const bodies::BodySet& bodies, std::span<const char> owned);
   /// The masses on the stiffness pattern: the bodies' consistent masses
   /// (BodySet keeps them on that pattern), or _lumped, the lumped masses
   /// put on it. Kbar itself is not kept: each factorization forms it in a

@@ -3,12 +3,13 @@
 namespace softpack::dynamics
 {
 
-double kinetic_energy(const EffectiveStiffness& kbar, const BodyVectors& v)
+double kinetic_energy(const BodyVectors& v, const BodyVectors& Mv,
+                      std::span<const char> owned)
 {
   double e = 0;
   for (std::size_t b = 0; b < v.size(); ++b)
-    e += 0.5 * v[b].dot(bodies::symmetric_product(
-                   kbar.mass(static_cast<int>(b)), v[b]));
+    if (owned.empty() || owned[b])
+      e += 0.5 * v[b].dot(Mv[b]);
   return e;
 }
 

@@ -2,7 +2,6 @@
 
 #include "contact_operator.h"
 #include "detection.h"
-#include "effective_stiffness.h"
 #include <Eigen/Core>
 #include <span>
 #include <vector>
@@ -41,10 +40,14 @@ struct EnergyBalance
   }
 };
 
-/// Kinetic energy \f$\sum_b \tfrac12 v_b \cdot M_b v_b\f$.
-/// @param[in] kbar The iteration matrix (it holds the mass matrices)
+/// Kinetic energy \f$\sum_b \tfrac12 v_b \cdot (M v)_b\f$ of the flagged
+/// bodies.
 /// @param[in] v Velocity of every body
-double kinetic_energy(const EffectiveStiffness& kbar, const BodyVectors& v);
+/// @param[in] Mv Mass times velocity of (at least) the flagged bodies
+/// @param[in] owned The bodies to count (1; empty: all): a rank of a
+/// distributed run counts its own, whose masses it alone keeps
+double kinetic_energy(const BodyVectors& v, const BodyVectors& Mv,
+                      std::span<const char> owned = {});
 
 /// Add the stiffness part of the theta scheme's dissipation over a step.
 ///

@@ -85,6 +85,29 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
   link_walls(_walls);
 }
 
+void MoreauJean::set_initial_velocity(std::vector<double> v)
+{
+  if (_started)
+    throw std::logic_error("set_initial_velocity: after the first step");
+  if (v.size() != _v.size())
+    throw std::invalid_argument("initial velocity: wrong size");
+  _v = std::move(v);
+  _body_kinetic = body_kinetic_energy();
+  _energy_stale = true;
+}
+
+double MoreauJean::body_kinetic_energy() const
+{
+  const Vectors v = gather(_v);
+  Vectors Mv(v.size());
+  for (int b = 0; b < _bodies.num_bodies(); ++b)
+    if (_own.owns(b))
+      Mv[b] = bodies::symmetric_product(_kbar.mass(b), v[b]);
+  double e = kinetic_energy(v, Mv, _own.owned());
+  _own.sum(std::span<double>(&e, 1));
+  return e;
+}
+
 void MoreauJean::set_external_force(std::vector<double> f)
 {
   if (f.size() != _bodies.num_dofs())
@@ -97,6 +120,8 @@ MoreauJean::Vectors MoreauJean::gather(std::span<const double> global) const
   Vectors out(_bodies.num_bodies());
   for (int b = 0; b < _bodies.num_bodies(); ++b)
   {
+    if (!_own.owns(b))
+      continue;
     const bodies::Body& body = _bodies.body(b);
     out[b].resize(body.num_dofs());
     for (std::size_t k = 0; k < body.nodes.size(); ++k)
@@ -235,9 +260,9 @@ StepReport MoreauJean::step()
 {
   if (!_started)
   {
-    // Initial velocities are set between construction and the first step.
-    _energy.kinetic0 =
-        kinetic_energy(_kbar, gather(_v)) + walls_kinetic_energy(_walls);
+    // Initial velocities are set between construction and the first step
+    // (set_initial_velocity), a wall's velocity too.
+    _energy.kinetic0 = _body_kinetic + walls_kinetic_energy(_walls);
     _started = true;
   }
   const std::span<double> u = _bodies.displacement();
@@ -332,16 +357,19 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
   const Vectors v_new_b = gather(_v);
   _products_valid = false;
   update_products(v_new_b);
+  // The contact terms read every contact's velocity: v_th is made from the
+  // whole vectors, then split for the owned bodies' terms.
+  std::vector<double> v_mid(_v.size());
+  for (std::size_t i = 0; i < v_mid.size(); ++i)
+    v_mid[i] = th * _v[i] + (1 - th) * start.v_old[i];
+  const Vectors v_mid_b = gather(v_mid);
   const std::size_t nb = v_new_b.size();
-  Vectors v_mid_b(nb), Cv_new(nb);
+  Vectors Cv_new(nb);
   for (std::size_t b = 0; b < nb; ++b)
-  {
-    v_mid_b[b] = th * v_new_b[b] + (1 - th) * start.v_old_b[b];
     if (_own.owns(static_cast<int>(b)))
       Cv_new[b] = _rigid.rigid(b)
                       ? Eigen::VectorXd(Eigen::VectorXd::Zero(_Mv[b].size()))
                       : _damping.force(_Mv[b], _Kv[b]);
-  }
   add_owned_body_terms({.v_old = start.v_old_b,
                         .v_new = v_new_b,
                         .v_mid = v_mid_b,
@@ -351,8 +379,6 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
                         .Cv_new = Cv_new,
                         .f_ext = start.f_ext_b});
   account_servo_walls(sc.servo, _walls, sc.H, _energy, h, th);
-  std::vector<double> v_mid(_v.size());
-  scatter(v_mid_b, v_mid);
   const std::vector<double> U_mid = sc.H.relative_velocity(_bodies, v_mid);
   add_contact_terms(_energy, sc.H, _contacts, _walls, _R, U_mid);
   for (std::size_t a = 0; a < sc.size(); ++a)

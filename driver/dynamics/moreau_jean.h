@@ -44,6 +44,8 @@ struct MoreauJeanOptions
   /// Friction coefficient of each contact by its pair of species (or
   /// species and wall); empty: contact.friction for every contact
   FrictionTable friction;
+  /// How a distributed run's bodies stay split (rebalance_tolerance)
+  parameters::Parallel parallel;
 };
 
 /// The detection's options from the contact parameters (the one place).
@@ -181,9 +183,13 @@ public:
   double time() const { return _time; }
   /// The size of the last step taken (before the first: of the first)
   double time_step() const { return _h; }
-  /// Global velocity vector (writable before the first step: initial
-  /// conditions)
-  std::span<double> velocity() { return _v; }
+  /// Global velocity vector
+  std::span<const double> velocity() const { return _v; }
+  /// Initial conditions: the global velocity vector before the first step
+  /// (collective: every rank of a distributed run gives the same vector)
+  /// @throws std::invalid_argument if the size is wrong
+  /// @throws std::logic_error after the first step
+  void set_initial_velocity(std::vector<double> v);
   /// Constant external nodal forces (global vector; default zero)
   void set_external_force(std::vector<double> f);
 
@@ -192,8 +198,10 @@ public:
   const std::vector<double>& impulses() const { return _R; }
   /// Force each wall received during the last step (impulse / h)
   std::vector<std::array<double, 2>> wall_forces() const;
-  /// Energy balance since the start (strain and kinetic energies are
-  /// evaluated on demand: they are state functions, not needed to step)
+  /// Energy balance since the start (the strain energy is evaluated on
+  /// demand: a state function, not needed to step; the kinetic energy is
+  /// summed over the ranks where every rank passes, at a step's end, a
+  /// restore and the initial velocity, so rank 0 alone may call this)
   const EnergyBalance& energy() const;
   /// The walls (writable: a wall's velocity, control, pressure or force may
   /// be changed between steps; link_walls(walls()) after changing a
@@ -260,7 +268,8 @@ private:
   void share_contact_nodes(
       const std::vector<std::vector<std::int32_t>>& contact_nodes,
       std::span<double> global) const;
-  /// add_body_terms over the owned bodies, summed over the ranks
+  /// add_body_terms over the owned bodies, summed over the ranks, and the
+  /// bodies' kinetic energy at the step's end (in the same sum)
   void add_owned_body_terms(const BodyStep& step);
   /// Assemble K at the bodies' current displacement, factorize Kbar and
   /// form A (the arithmetic of every refactorization, and of a restore);
@@ -306,7 +315,11 @@ private:
   void account_step(StepContacts& sc, const StepStart& start,
                     StepReport& report);
   void update_products(const Vectors& v);
+  /// The owned bodies' parts of a global vector (the others' are empty:
+  /// per-body work is the owner's, and a copy of every body per rank
+  /// would grow with the whole model)
   Vectors gather(std::span<const double> global) const;
+  /// Write the nonempty per-body vectors into the global vector
   void scatter(const Vectors& per_body, std::span<double> global) const;
 
   bodies::BodySet& _bodies;
@@ -343,6 +356,11 @@ private:
   /// The previous step's impulses: the warm start
   ImpulseHistory _history;
   mutable EnergyBalance _energy;
+  /// The bodies' kinetic energy at the last step's end (or at the initial
+  /// velocity or restored state), summed over the ranks
+  double _body_kinetic = 0;
+  /// The bodies' kinetic energy at the current velocity (collective)
+  double body_kinetic_energy() const;
   mutable bool _energy_stale = true;
   int _matrix_age = -1; ///< steps since the last factorization (-1: none)
   int _last_iterations = 0;

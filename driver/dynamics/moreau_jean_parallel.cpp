@@ -8,7 +8,6 @@
 #include "moreau_jean_step.h"
 
 #include <algorithm>
-#include <cstdlib>
 
 namespace softpack::dynamics
 {
@@ -76,13 +75,8 @@ void MoreauJean::rebalance()
   // contacts as candidate (Delassus blocks, its rank's NLGS share), one
   // contact costing as much as 35 DOFs: the paper case over Phi 0.80 ->
   // 0.82 on one rank spent 0.82 us per DOF and 29 us per contact and step
-  // (docs/mpi_design.md). A drift of 10 % in work or cut contacts makes
-  // the others wait or talk about as much as a split costs once.
+  // (docs/mpi_design.md).
   constexpr double contact_weight = 35;
-  double tolerance = 0.1;
-  // Test hook (tests/python/test_mpi.py): a small run rebalances at 0.
-  if (const char* t = std::getenv("SOFTPACK_TEST_REBALANCE_TOLERANCE"))
-    tolerance = std::atof(t);
   const int nb = _bodies.num_bodies();
   std::vector<double> weights(nb);
   for (int b = 0; b < nb; ++b)
@@ -95,7 +89,7 @@ void MoreauJean::rebalance()
       links.push_back({c.candidate_body, c.antagonist_body});
   }
   if (!_own.rebalance(_bodies, _bodies.current_coordinates(), weights, links,
-                      tolerance))
+                      _options.parallel.rebalance_tolerance))
     return;
   _kbar.set_owned(_bodies, _own.owned());
   _K = _bodies.create_matrices(_own.owned());
@@ -181,15 +175,18 @@ void MoreauJean::add_owned_body_terms(const BodyStep& step)
   if (!_own.distributed())
   {
     add_body_terms(_energy, h, th, step);
+    _body_kinetic = kinetic_energy(step.v_new, step.Mv_new);
     return;
   }
   EnergyBalance mine;
   add_body_terms(mine, h, th, step, _own.owned());
-  double sums[3] = {mine.damping, mine.numerical, mine.external_work};
+  double sums[4] = {mine.damping, mine.numerical, mine.external_work,
+                    kinetic_energy(step.v_new, step.Mv_new, _own.owned())};
   _own.sum(sums);
   _energy.damping += sums[0];
   _energy.numerical += sums[1];
   _energy.external_work += sums[2];
+  _body_kinetic = sums[3];
 }
 
 } // namespace softpack::dynamics

@@ -13,8 +13,7 @@ const EnergyBalance& MoreauJean::energy() const
   if (_energy_stale)
   {
     _energy.strain = _bodies.strain_energy();
-    _energy.kinetic =
-        kinetic_energy(_kbar, gather(_v)) + walls_kinetic_energy(_walls);
+    _energy.kinetic = _body_kinetic + walls_kinetic_energy(_walls);
     if (!_started)
       _energy.kinetic0 = _energy.kinetic;
     _energy_stale = false;
@@ -88,6 +87,7 @@ void MoreauJean::restore(const SchemeState& s)
   _rigid.zero(_f_int);
   _own.share(_f_int);
   _energy = s.energy;
+  _body_kinetic = body_kinetic_energy();
   _energy_stale = true;
   _started = true;
   _matrix_age = s.matrix_age;

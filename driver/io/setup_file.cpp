@@ -64,7 +64,8 @@ json setup_json(const DriverConfig& config, const bodies::BodySet& bodies)
             {"contact", parameters::to_json(p.contact)},
             {"time", parameters::to_json(p.time)},
             {"damping", parameters::to_json(p.damping)},
-            {"output", parameters::to_json(p.output)}}},
+            {"output", parameters::to_json(p.output)},
+            {"parallel", parameters::to_json(p.parallel)}}},
           {"initial_state", config.initial_state
                                 ? json(config.initial_state->string())
                                 : json(nullptr)},

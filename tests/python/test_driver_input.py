@@ -18,7 +18,7 @@ from softpack.simulation.driver_input import driver_document, write_driver_json
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 TOP_KEYS = ["schema_version", "directory", "initial_state", "scene",
             "material", "materials", "walls", "stages", "stop", "contact",
-            "friction", "time", "damping", "output"]
+            "friction", "time", "damping", "output", "parallel"]
 
 
 @pytest.fixture(autouse=True)
@@ -42,7 +42,7 @@ def test_every_key_is_explicit_and_named_as_in_the_schema(paper_document):
     assert doc["schema_version"] == 2 and doc["initial_state"] is None
     assert doc["directory"] == str((tmp_path / "out").resolve())
     schema = load_schema()
-    for name in ("stop", "contact", "time", "damping", "output"):
+    for name in ("stop", "contact", "time", "damping", "output", "parallel"):
         assert list(doc[name]) == list(schema[name].parameters), name
         assert all(v is not None for v in doc[name].values())
     assert doc["material"] == {"law": "neo_hookean", "density": 1180.0,

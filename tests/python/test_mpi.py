@@ -65,6 +65,19 @@ def test_two_ranks_give_the_serial_run(runs):
                                   one["active_contacts"])
 
 
+def test_two_ranks_close_the_same_energy_balance(runs):
+    """The kinetic energy is summed over the ranks (each keeps the masses
+    of its own bodies): on 2 ranks it, and the balance's residual, are the
+    1-rank run's, on the scale of the work the walls supplied."""
+    one = read_table(runs[1] / "raw" / "steps.csv")
+    two = read_table(runs[2] / "raw" / "steps.csv")
+    work = one["wall_work"][-1]
+    assert work > 0 and one["kinetic_energy"].max() > 0
+    for key in ("kinetic_energy", "wall_work", "energy_residual"):
+        np.testing.assert_allclose(two[key], one[key], rtol=0,
+                                   atol=1e-4 * work, err_msg=key)
+
+
 def test_two_ranks_write_the_same_contacts(runs):
     """The same contacts (candidate, node, antagonist) at every output."""
     first = sorted((runs[1] / "raw" / "contacts").iterdir())
@@ -95,12 +108,12 @@ def test_two_ranks_solve_contacts_domain_by_domain(runs):
     assert (runs[2] / "raw" / "state.bin").is_file()
 
 
-def test_a_rebalanced_run_gives_the_serial_run(runs, tmp_path, monkeypatch):
-    """On 3 ranks with the rebalance tolerance at 0 (test hook) the bodies
-    change owners during the run (done.json counts it); Phi, E and the
-    contacts stay those of the 1-rank run."""
-    monkeypatch.setenv("SOFTPACK_TEST_REBALANCE_TOLERANCE", "0")
-    config = cfg.load_config(SMALL, {"output.fields": False})
+def test_a_rebalanced_run_gives_the_serial_run(runs, tmp_path):
+    """On 3 ranks with parallel.rebalance_tolerance = 0 the bodies change
+    owners during the run (done.json counts it); Phi, E and the contacts
+    stay those of the 1-rank run."""
+    config = cfg.load_config(SMALL, {"output.fields": False,
+                                     "parallel.rebalance_tolerance": 0.0})
     assert run(config, tmp_path / "r3", verbose=False, ranks=3) == 0
     mpi = json.loads((tmp_path / "r3" / "raw" / "done.json").read_text())["mpi"]
     assert mpi["rebalances"] > 0 and mpi["bodies_moved"] > 0

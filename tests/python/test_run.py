@@ -46,7 +46,8 @@ assert [w["name"] for w in walls[:4]] == ["left", "right", "bottom", "top"]
 json.dump({"schema_version": 2, "units": {}, "scene": doc["scene"],
            "material": doc["material"], "walls": walls,
            "parameters": {k: doc[k] for k in
-                          ("stop", "contact", "time", "damping", "output")},
+                          ("stop", "contact", "time", "damping", "output",
+                           "parallel")},
            "initial_state": doc["initial_state"],
            "bodies": {"count": len(areas), "species": bodies["species"],
                       "reference_area": areas, "nodes": [], "triangles": []}},

@@ -143,3 +143,25 @@ TEST(BodySet, MassMatricesCarryTheBodyMass)
         0.0);
   }
 }
+
+TEST(BodySet, ARankKeepsTheMassesOfItsOwnBodies)
+{
+  bodies::BodySet bodies = two_disks();
+  const std::vector<bodies::BodyMatrix> all = bodies.consistent_mass();
+  bodies.set_owned({1, 0});
+  EXPECT_EQ(bodies.consistent_mass()[1].nonZeros(), 0);
+  EXPECT_EQ(bodies.consistent_mass()[1].rows(), all[1].rows());
+  EXPECT_EQ(Eigen::MatrixXd(bodies.consistent_mass()[0] - all[0]).norm(), 0.0);
+  // Body 1 comes to this rank (a rebalanced run), body 0 leaves: body 1's
+  // mass is assembled again, over its own cells, to the last bit.
+  bodies.set_owned({0, 1});
+  EXPECT_EQ(bodies.consistent_mass()[0].nonZeros(), 0);
+  const bodies::BodyMatrix& M = bodies.consistent_mass()[1];
+  ASSERT_EQ(M.nonZeros(), all[1].nonZeros());
+  EXPECT_EQ(Eigen::MatrixXd(M - all[1]).norm(), 0.0);
+  // The lumped masses stay for every body (one vector each).
+  EXPECT_GT(bodies.lumped_mass()[0].minCoeff(), 0.0);
+  EXPECT_EQ(bodies.kept_masses(std::vector<char>{0, 1}),
+            (std::vector<char>{0, 1}));
+  EXPECT_EQ(bodies.kept_masses({}), (std::vector<char>{1, 1}));
+}

@@ -81,12 +81,13 @@ TEST(RigidBodies, FreeRigidBodyKeepsItsMomentaAndShape)
   o.damping.alpha = 50; // acts on soft bodies only
   dynamics::MoreauJean scheme(set, {}, o);
   const auto X = set.reference_coordinates();
-  std::span<double> v = scheme.velocity();
+  std::vector<double> v(X.size());
   for (std::size_t i = 0; i < X.size() / 2; ++i)
   {
     v[2 * i] = 0.3 - 40 * X[2 * i + 1];
     v[2 * i + 1] = -0.1 + 40 * X[2 * i];
   }
+  scheme.set_initial_velocity(v);
   const Eigen::Vector3d p0 = momentum(set, 0, v);
   const double kinetic0 = scheme.energy().kinetic;
   for (int s = 0; s < 200; ++s)
@@ -156,4 +157,23 @@ TEST(RigidBodies, RigidDiskBetweenSoftDisksMovesRigidlyAndTheBalanceCloses)
   EXPECT_LT(std::abs(strain[1]), 1e-10 * e.wall_work);
   EXPECT_LT(std::abs(e.residual()), 1e-3 * e.wall_work)
       << "residual " << e.residual() << " of wall work " << e.wall_work;
+}
+
+TEST(RigidBodies, EveryRankKeepsTheRigidBodiesMasses)
+{
+  // RigidBodies reads every rigid body's mass when a scheme is made, on
+  // every rank: a rank that owns only soft bodies keeps the rigid ones'.
+  bodies::BodySet set(
+      test::bodies_mesh({test::disk(0, 0, R, 4), test::disk(3 * R, 0, R, 4)}),
+      {soft(), rigid(rho)}, {0, 1});
+  EXPECT_EQ(set.kept_masses(std::vector<char>{1, 0}),
+            (std::vector<char>{1, 1}));
+  EXPECT_EQ(set.kept_masses(std::vector<char>{0, 1}),
+            (std::vector<char>{0, 1}));
+  const Eigen::Index entries = set.consistent_mass()[1].nonZeros();
+  set.set_owned({1, 0});
+  EXPECT_EQ(set.consistent_mass()[1].nonZeros(), entries);
+  EXPECT_GT(entries, 0);
+  set.set_owned({0, 1});
+  EXPECT_EQ(set.consistent_mass()[0].nonZeros(), 0);
 }

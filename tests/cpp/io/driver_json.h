@@ -60,7 +60,8 @@ inline nlohmann::json driver_json(const std::filesystem::path& directory,
              "refactor_above_iterations": 5},
     "damping": {"alpha": 30.0, "beta": 1e-5},
     "output": {"every_steps": 12, "fields": true, "fields_every": 10,
-               "state": true}
+               "state": true},
+    "parallel": {"rebalance_tolerance": 0.1}
   })");
   doc["directory"] = directory.string();
   doc["scene"]["box"]["length"] = length;

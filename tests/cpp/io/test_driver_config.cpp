@@ -40,7 +40,7 @@ TEST(DriverConfig, RoundTrip)
   const io::DriverConfig c = read(doc);
   const json sections = parameters::to_json(c.parameters);
   for (const char* s :
-       {"stop", "contact", "time", "damping", "output", "material"})
+       {"stop", "contact", "time", "damping", "output", "parallel", "material"})
     EXPECT_EQ(sections.at(s), doc.at(s)) << s;
   EXPECT_EQ(c.scene, doc.at("scene"));
   EXPECT_EQ(c.directory, "/runs/paper");
@@ -83,7 +83,7 @@ TEST(DriverConfig, MissingKeysAreRefused)
 {
   for (const char* key :
        {"schema_version", "directory", "initial_state", "scene", "material",
-        "walls", "stop", "contact", "time", "damping", "output"})
+        "walls", "stop", "contact", "time", "damping", "output", "parallel"})
   {
     json doc = paper();
     doc.erase(key);

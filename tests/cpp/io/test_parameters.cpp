@@ -29,6 +29,7 @@ json paper_sections()
     "damping": {"alpha": 30.0, "beta": 1e-5},
     "output": {"every_steps": 12, "fields": true, "fields_every": 10,
                "state": true},
+    "parallel": {"rebalance_tolerance": 0.1},
     "material": {"law": "neo_hookean", "density": 1180.0, "rigid": false,
                  "parameters": {"shear_modulus": 150000.0,
                                 "lame_lambda": 300000.0}}

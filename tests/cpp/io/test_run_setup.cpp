@@ -89,7 +89,8 @@ TEST(RunSetup, SetupDescribesTheRunAndStepsStopIt)
   EXPECT_EQ(setup.at("walls"), doc.at("walls"));
   EXPECT_EQ(setup.at("stages"), json::array());
   EXPECT_TRUE(setup.at("initial_state").is_null());
-  for (const char* s : {"stop", "contact", "time", "damping", "output"})
+  for (const char* s :
+       {"stop", "contact", "time", "damping", "output", "parallel"})
     EXPECT_EQ(setup.at("parameters").at(s), doc.at(s)) << s;
   EXPECT_EQ(setup.at("units").at("force"), "N/m");
 
