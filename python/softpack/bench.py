@@ -321,7 +321,9 @@ def main(argv=None) -> int:
                         help="packing fraction the scaling runs stop at")
     parser.add_argument("--from-state", type=Path, metavar="FILE",
                         help="also time --steps steps from this state of the"
-                        " seed-0 paper case (a run's raw/state.bin)")
+                        " seed-0 paper case (a run's raw/state.bin); with"
+                        " --disks: continue an earlier leg of the same case"
+                        " from its state")
     parser.add_argument("--full", action="store_true",
                         help="also run the whole paper case (the defaults)")
     parser.add_argument("--invariance", type=float, metavar="EPS",
@@ -358,7 +360,8 @@ def main(argv=None) -> int:
                      "sharing-" + _now().replace(":", "") + ".json")
     if args.disks:
         from softpack.bench_disks import bench_disks, table
-        result = bench_disks(args.disks, args.disks_phi, args.disks_ranks)
+        result = bench_disks(args.disks, args.disks_phi, args.disks_ranks,
+                             args.from_state)
         print(table(result))
         ranks = f"r{args.disks_ranks}-" if args.disks_ranks > 1 else ""
         return _save(result, f"disks-{args.disks}-{ranks}"

@@ -16,20 +16,28 @@ fresh packing and mesh (timed: the scene stage is part of the target) to
   rows of ``./softpack bench``,
 - the NLGS yardstick of the day (sweeps per second on the FCLIB problem),
   since this host's speed moves by 1.5-3x from day to day.
+
+A case longer than a sitting runs in legs: ``--from-state STATE`` continues
+from the state file of an earlier leg (copied out of ``bench/work`` first:
+the leg writes there again); the scene is built again from the same seed
+and the driver refuses a state of another mesh. A leg reports its own
+steps, time and strain (from its first output row).
 """
 
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
 from softpack.analysis.strain import cumulative_strain
 from softpack.analysis.tables import read_table
 from softpack.scene.build import build_scene
 
 
-def bench_disks(count: int, to_phi: float, ranks: int = 1) -> dict:
-    """Compact ``count`` disks to ``to_phi`` on ``ranks`` MPI ranks; see
-    the module doc."""
+def bench_disks(count: int, to_phi: float, ranks: int = 1,
+                state: Path | None = None) -> dict:
+    """Compact ``count`` disks to ``to_phi`` on ``ranks`` MPI ranks (from
+    ``state``, a leg of a longer case, if given); see the module doc."""
     from softpack import bench
 
     config = bench.scaled_config(count / 100, {
@@ -41,15 +49,21 @@ def bench_disks(count: int, to_phi: float, ranks: int = 1) -> dict:
     scene = build_scene(config, bench.WORK / f"mesh-{name}").record()
     scene_seconds = time.perf_counter() - start
     start = time.perf_counter()
-    result = bench.run_driver(config, scene, name, ranks=ranks)
+    result = bench.run_driver(config, scene, name, initial_state=state,
+                              ranks=ranks)
     driver_seconds = time.perf_counter() - start
     steps = read_table(bench.WORK / name / "raw" / "steps.csv")
-    length = config["box"]["length"]
-    piston = config["walls"][bench.PISTON]["point"][0]
-    strain = float(cumulative_strain(
-        piston - float(steps[f"{bench.PISTON}_x"][-1]), length))
+    # Over this leg: from its first output row (step 0 of a fresh run),
+    # where the box is shorter than its initial length by the piston's
+    # travel so far.
+    piston = steps[f"{bench.PISTON}_x"]
+    x0 = config["walls"][bench.PISTON]["point"][0]
+    length = config["box"]["length"] - (x0 - float(piston[0]))
+    strain = float(cumulative_strain(float(piston[0] - piston[-1]), length))
     result.update(
         disks=n, target_phi=to_phi, final_phi=float(steps["phi"][-1]),
+        initial_phi=float(steps["phi"][0]),
+        from_state=str(state) if state is not None else None,
         scene_seconds=scene_seconds, driver_seconds=driver_seconds,
         whole_seconds=scene_seconds + driver_seconds, strain=strain,
         seconds_per_unit_strain=result["seconds"] / strain,
@@ -64,7 +78,9 @@ def table(r: dict) -> str:
                        "detection", "nlgs"))
     return "\n".join([
         f"{r['disks']} disks to Phi = {r['final_phi']:.3f}"
-        f" (target {r['target_phi']}): {r['steps']} steps",
+        f" (target {r['target_phi']}): {r['steps']} steps"
+        + (f" from Phi = {r['initial_phi']:.4f} (a leg, from {r['from_state']})"
+           if r.get("from_state") else ""),
         f"scene (packing + meshing): {r['scene_seconds']:.1f} s",
         f"driver: {r['driver_seconds']:.0f} s wall, {r['ms_per_step']:.0f}"
         f" ms per step ({parts})",
