@@ -68,14 +68,16 @@ def test_two_ranks_give_the_serial_run(runs):
 def test_two_ranks_close_the_same_energy_balance(runs):
     """The kinetic energy is summed over the ranks (each keeps the masses
     of its own bodies): on 2 ranks it, and the balance's residual, are the
-    1-rank run's, on the scale of the work the walls supplied."""
+    1-rank run's, on the scale of the work the walls supplied (measured
+    2026-12-01: 3e-12 of it; the kinetic energy peaks at 0.1 of it, so a
+    rank's share missing would be ~0.05)."""
     one = read_table(runs[1] / "raw" / "steps.csv")
     two = read_table(runs[2] / "raw" / "steps.csv")
     work = one["wall_work"][-1]
     assert work > 0 and one["kinetic_energy"].max() > 0
     for key in ("kinetic_energy", "wall_work", "energy_residual"):
         np.testing.assert_allclose(two[key], one[key], rtol=0,
-                                   atol=1e-4 * work, err_msg=key)
+                                   atol=1e-6 * work, err_msg=key)
 
 
 def test_two_ranks_write_the_same_contacts(runs):
