@@ -22,6 +22,50 @@ double signed_area2(std::span<const double> x, std::int32_t a, std::int32_t b,
   return (x[2 * b] - x[2 * a]) * (x[2 * c + 1] - x[2 * a + 1]) -
          (x[2 * b + 1] - x[2 * a + 1]) * (x[2 * c] - x[2 * a]);
 }
+
+/// The body's reference area, boundary segments and boundary nodes
+/// (body-local numbers)
+void trace_boundary(Body& body, const fem::DofMap& dofmap,
+                    std::span<const std::int32_t> node_local,
+                    std::span<const double> x)
+{
+  // An edge on the boundary belongs to one cell only; orienting each
+  // cell's edges counter-clockwise orients boundary edges outward-right.
+  std::unordered_map<std::int64_t, std::pair<int, std::array<std::int32_t, 2>>>
+      edges;
+  const std::int64_t n = body.nodes.size();
+  for (std::int32_t c : body.cells)
+  {
+    auto d = dofmap.cell_dofs(c);
+    std::array<std::int32_t, 3> v = {node_local[d[0]], node_local[d[1]],
+                                     node_local[d[2]]};
+    const double a2 = signed_area2(x, d[0], d[1], d[2]);
+    if (a2 < 0)
+      std::swap(v[1], v[2]);
+    body.reference_area += 0.5 * std::abs(a2);
+    for (int e = 0; e < 3; ++e)
+    {
+      const std::int32_t p = v[e], q = v[(e + 1) % 3];
+      auto& [count, edge] = edges[std::min(p, q) * n + std::max(p, q)];
+      ++count;
+      edge = {p, q};
+    }
+  }
+  for (const auto& [key, entry] : edges)
+    if (entry.first == 1)
+      body.boundary_segments.push_back(entry.second);
+  std::sort(body.boundary_segments.begin(), body.boundary_segments.end());
+  body.segment_from.assign(body.nodes.size(), -1);
+  body.segment_to.assign(body.nodes.size(), -1);
+  for (std::size_t k = 0; k < body.boundary_segments.size(); ++k)
+  {
+    const auto& s = body.boundary_segments[k];
+    body.boundary_nodes.push_back(s[0]);
+    body.segment_from[s[0]] = static_cast<std::int32_t>(k);
+    body.segment_to[s[1]] = static_cast<std::int32_t>(k);
+  }
+  std::sort(body.boundary_nodes.begin(), body.boundary_nodes.end());
+}
 } // namespace
 
 BodySet::BodySet(BodyMesh mesh, const forms::MaterialForms& material,
@@ -177,45 +221,7 @@ void BodySet::build_bodies()
 
   rank_input_order();
   for (Body& body : _bodies)
-  {
-    // An edge on the boundary belongs to one cell only; orienting each
-    // cell's edges counter-clockwise orients boundary edges outward-right.
-    std::unordered_map<std::int64_t,
-                       std::pair<int, std::array<std::int32_t, 2>>>
-        edges;
-    const std::int64_t n = body.nodes.size();
-    for (std::int32_t c : body.cells)
-    {
-      auto d = dofmap.cell_dofs(c);
-      std::array<std::int32_t, 3> v = {_node_local[d[0]], _node_local[d[1]],
-                                       _node_local[d[2]]};
-      const double a2 = signed_area2(_reference_x, d[0], d[1], d[2]);
-      if (a2 < 0)
-        std::swap(v[1], v[2]);
-      body.reference_area += 0.5 * std::abs(a2);
-      for (int e = 0; e < 3; ++e)
-      {
-        const std::int32_t p = v[e], q = v[(e + 1) % 3];
-        auto& [count, edge] = edges[std::min(p, q) * n + std::max(p, q)];
-        ++count;
-        edge = {p, q};
-      }
-    }
-    for (const auto& [key, entry] : edges)
-      if (entry.first == 1)
-        body.boundary_segments.push_back(entry.second);
-    std::sort(body.boundary_segments.begin(), body.boundary_segments.end());
-    body.segment_from.assign(body.nodes.size(), -1);
-    body.segment_to.assign(body.nodes.size(), -1);
-    for (std::size_t k = 0; k < body.boundary_segments.size(); ++k)
-    {
-      const auto& s = body.boundary_segments[k];
-      body.boundary_nodes.push_back(s[0]);
-      body.segment_from[s[0]] = static_cast<std::int32_t>(k);
-      body.segment_to[s[1]] = static_cast<std::int32_t>(k);
-    }
-    std::sort(body.boundary_nodes.begin(), body.boundary_nodes.end());
-  }
+    trace_boundary(body, dofmap, _node_local, _reference_x);
 }
 
 void BodySet::rank_input_order()
@@ -257,101 +263,6 @@ std::vector<double> BodySet::current_coordinates() const
   return x;
 }
 
-std::vector<BodyMatrix>
-BodySet::create_matrices(std::span<const char> only) const
-{
-  const fem::DofMap& dofmap = *_V->dofmap();
-  std::vector<BodyMatrix> matrices;
-  matrices.reserve(_bodies.size());
-  for (std::size_t b = 0; b < _bodies.size(); ++b)
-  {
-    const Body& body = _bodies[b];
-    if (!only.empty() && !only[b])
-    {
-      matrices.emplace_back(body.num_dofs(), body.num_dofs());
-      continue;
-    }
-    std::vector<Eigen::Triplet<double>> pattern;
-    pattern.reserve(36 * body.cells.size());
-    for (std::int32_t c : body.cells)
-      for (std::int32_t ni : dofmap.cell_dofs(c))
-        for (std::int32_t nj : dofmap.cell_dofs(c))
-          for (int ci = 0; ci < 2; ++ci)
-            for (int cj = 0; cj < 2; ++cj)
-            {
-              const int row = 2 * _node_local[ni] + ci,
-                        col = 2 * _node_local[nj] + cj;
-              if (stored_entry(row, col))
-                pattern.emplace_back(row, col, 0.0);
-            }
-    BodyMatrix A(body.num_dofs(), body.num_dofs());
-    A.setFromTriplets(pattern.begin(), pattern.end());
-    A.makeCompressed();
-    matrices.push_back(std::move(A));
-  }
-  return matrices;
-}
-
-namespace
-{
-/// Assemble a bilinear form into per-body matrices holding its pattern.
-void zero(std::vector<BodyMatrix>& matrices)
-{
-  for (BodyMatrix& A : matrices)
-    std::fill_n(A.valuePtr(), A.nonZeros(), 0.0);
-}
-
-/// Add a bilinear form into per-body matrices holding its pattern.
-void assemble_by_body(const fem::Form<double>& a,
-                      const std::vector<std::int32_t>& node_body,
-                      const std::vector<std::int32_t>& node_local,
-                      std::vector<BodyMatrix>& matrices)
-{
-  auto add = [&](std::span<const std::int32_t> rows,
-                 std::span<const std::int32_t> cols,
-                 std::span<const double> values)
-  {
-    BodyMatrix& A = matrices[node_body[rows[0]]];
-    const std::size_t ncols = 2 * cols.size();
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      for (int ci = 0; ci < 2; ++ci)
-        for (std::size_t j = 0; j < cols.size(); ++j)
-          for (int cj = 0; cj < 2; ++cj)
-          {
-            const int row = 2 * node_local[rows[i]] + ci,
-                      col = 2 * node_local[cols[j]] + cj;
-            if (stored_entry(row, col))
-              A.coeffRef(row, col) += values[(2 * i + ci) * ncols + 2 * j + cj];
-          }
-    return 0;
-  };
-  fem::assemble_matrix(add, a, {});
-}
-} // namespace
-
-void BodySet::tangent(std::vector<BodyMatrix>& K) const
-{
-  zero(K);
-  for (const MaterialForms& f : _forms)
-    assemble_by_body(*f.tangent, _node_body, _node_local, K);
-}
-
-void BodySet::build_mass()
-{
-  _mass = create_matrices();
-  std::vector<BodyMatrix> lumped = create_matrices();
-  zero(_mass);
-  zero(lumped);
-  for (const MaterialForms& f : _forms)
-  {
-    assemble_by_body(*f.mass, _node_body, _node_local, _mass);
-    assemble_by_body(*f.lumped_mass, _node_body, _node_local, lumped);
-  }
-  _lumped_mass.clear();
-  for (const BodyMatrix& A : lumped)
-    _lumped_mass.push_back(A.diagonal());
-}
-
 void BodySet::internal_force(std::span<double> f) const
 {
   if (f.size() != num_dofs())
@@ -375,74 +286,6 @@ void BodySet::owned_internal_force(std::span<double> f) const
     throw std::invalid_argument("internal_force: wrong vector size");
   std::fill(f.begin(), f.end(), 0.0);
   _parallel_residual->assemble(f, _bodies, _owned);
-}
-
-void BodySet::set_owned(std::vector<char> owned)
-{
-  if (owned.size() != _bodies.size())
-    throw std::invalid_argument(
-        "BodySet::set_owned: " + std::to_string(owned.size()) + " flags for " +
-        std::to_string(_bodies.size()) + " bodies");
-  // The tangent is the expensive assembly: its forms run over the owned
-  // bodies' cells only (each material's over its own owned bodies).
-  for (MaterialForms& f : _forms)
-  {
-    if (!f.all_tangent)
-      f.all_tangent = f.tangent;
-    f.tangent = restrict_to_cells(*f.all_tangent, cells_of(owned, f));
-  }
-  keep_masses(kept_masses(owned));
-  _owned = std::move(owned);
-}
-
-std::vector<char> BodySet::kept_masses(std::span<const char> owned) const
-{
-  std::vector<char> kept(_bodies.size(), 1);
-  if (!owned.empty())
-    for (std::size_t b = 0; b < kept.size(); ++b)
-      kept[b] = owned[b] || rigid(static_cast<int>(b));
-  return kept;
-}
-
-std::vector<std::int32_t> BodySet::cells_of(std::span<const char> flags,
-                                            const MaterialForms& f) const
-{
-  std::vector<std::int32_t> cells;
-  for (std::size_t b = 0; b < _bodies.size(); ++b)
-    if (flags[b] && (_forms.size() == 1 || _body_material[b] == f.material))
-      cells.insert(cells.end(), _bodies[b].cells.begin(),
-                   _bodies[b].cells.end());
-  std::sort(cells.begin(), cells.end());
-  return cells;
-}
-
-void BodySet::keep_masses(std::span<const char> kept)
-{
-  // A body that was not kept has an empty matrix (every kept one has
-  // entries: its diagonal).
-  std::vector<char> missing(_bodies.size(), 0);
-  bool any = false;
-  for (std::size_t b = 0; b < _bodies.size(); ++b)
-  {
-    if (!kept[b])
-      _mass[b] = BodyMatrix(_bodies[b].num_dofs(), _bodies[b].num_dofs());
-    else if (_mass[b].nonZeros() == 0)
-    {
-      missing[b] = 1;
-      any = true;
-    }
-  }
-  if (!any)
-    return;
-  // Bodies that came to this rank (a rebalanced run): their masses are
-  // assembled again, over their cells only.
-  std::vector<BodyMatrix> fresh = create_matrices(missing);
-  for (const MaterialForms& f : _forms)
-    assemble_by_body(*restrict_to_cells(*f.mass, cells_of(missing, f)),
-                     _node_body, _node_local, fresh);
-  for (std::size_t b = 0; b < _bodies.size(); ++b)
-    if (missing[b])
-      _mass[b] = std::move(fresh[b]);
 }
 
 bool BodySet::parallel_residual() const

@@ -72,7 +72,7 @@ bool Ownership::rebalance(bodies::BodySet& bodies, std::span<const double> x,
     return false;
   std::vector<int> fresh =
       partition_bodies(body_centres(bodies, x), weights, _size);
-  if (!split_has_drifted(_body_rank, fresh, weights, links, tolerance))
+  if (!split_has_drifted(_body_rank, fresh, _size, weights, links, tolerance))
     return false;
   for (int b = 0; b < bodies.num_bodies(); ++b)
     _moved += fresh[b] != _body_rank[b];

@@ -98,14 +98,12 @@ long cut(std::span<const int> part, std::span<const std::array<int, 2>> links)
 } // namespace
 
 bool split_has_drifted(std::span<const int> now, std::span<const int> fresh,
-                       std::span<const double> weights,
+                       int parts, std::span<const double> weights,
                        std::span<const std::array<int, 2>> links,
                        double tolerance)
 {
   if (std::equal(now.begin(), now.end(), fresh.begin(), fresh.end()))
     return false;
-  const int parts = 1 + std::max(*std::max_element(now.begin(), now.end()),
-                                 *std::max_element(fresh.begin(), fresh.end()));
   // A rank with more work than the others makes them wait at every
   // exchange; a contact cut between ranks costs messages in every sweep.
   // The floor of a few links keeps contacts that open and close at an

@@ -26,7 +26,8 @@ std::vector<int> partition_bodies(std::span<const double> centres,
                                   std::span<const double> weights, int ranks);
 
 /// Whether a distributed run should move from the split `now` to the
-/// split `fresh` (e.g. partition_bodies of the current centres): the
+/// split `fresh` (e.g. partition_bodies of the current centres), both into
+/// `parts` parts (a part may hold no body: it counts in the mean): the
 /// busiest part's work exceeds the mean by more than `tolerance` and
 /// `fresh` is more even, or the links (contacts) cut between parts exceed
 /// fresh's by more than `tolerance` and by at least 8, and fresh is not
@@ -34,7 +35,7 @@ std::vector<int> partition_bodies(std::span<const double> centres,
 /// @param[in] weights Work of each body
 /// @param[in] links Body pairs in contact
 bool split_has_drifted(std::span<const int> now, std::span<const int> fresh,
-                       std::span<const double> weights,
+                       int parts, std::span<const double> weights,
                        std::span<const std::array<int, 2>> links,
                        double tolerance);
 

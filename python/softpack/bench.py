@@ -310,7 +310,8 @@ def _table(report: dict) -> str:
     return "\n".join(lines)
 
 
-def main(argv=None) -> int:
+def _parser() -> argparse.ArgumentParser:
+    """Command line of ``./softpack bench``."""
     parser = argparse.ArgumentParser(prog="softpack bench",
                                      description=__doc__.split("\n\n")[0])
     parser.add_argument("--steps", type=int, default=100,
@@ -352,7 +353,11 @@ def main(argv=None) -> int:
                         help="packing fraction that ends --disks")
     parser.add_argument("--to-phi", type=float, default=0.84,
                         help="packing fraction that ends --invariance-from")
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv=None) -> int:
+    args = _parser().parse_args(argv)
     WORK.mkdir(parents=True, exist_ok=True)
     if args.sharing:
         from softpack.bench_sharing import bench_sharing

@@ -20,7 +20,8 @@ import numpy as np
 import pytest
 
 from softpack import paths
-from softpack.simulation import run
+from softpack.simulation import run, run_directory
+from softpack.simulation.run_directory import MARKER, is_run_directory
 from softpack.simulation.progress import remaining_seconds
 from test_run import FAKE_DRIVER, SMALL, fake_bin, fake_mesh  # noqa: F401
 from test_run import registry  # noqa: F401  (autouse fixture)
@@ -46,7 +47,7 @@ def test_foreign_directory_is_kept(tmp_path, fake_bin, fake_mesh, capsys):
     (out / "mesh" / "important.msh").unlink()
     (out / "mesh").rmdir()
     assert run.main([str(SMALL), "--out", str(out), "--force"]) == 0
-    assert (out / "series.csv").is_file() and (out / run.MARKER).is_file()
+    assert (out / "series.csv").is_file() and (out / MARKER).is_file()
     assert (out / "notes.txt").read_text() == "y"
 
 
@@ -58,8 +59,8 @@ def test_rerun_replaces_only_softpack_outputs(tmp_path, fake_bin,
     assert run.main([str(SMALL), "--out", str(out), "--force"]) == 0
     assert (out / "notes.txt").read_text() == "mine"
     # an older run without the marker is recognised by its files
-    (out / run.MARKER).unlink()
-    assert run.is_run_directory(out)
+    (out / MARKER).unlink()
+    assert is_run_directory(out)
     (out / "series.csv").unlink()  # an unfinished run: no --force needed
     assert run.main([str(SMALL), "--out", str(out)]) == 0
     assert (out / "notes.txt").read_text() == "mine"
@@ -89,7 +90,7 @@ def test_read_only_directory(tmp_path, fake_bin, monkeypatch, capsys):
 
     def refuse(*args, **kwargs):
         raise PermissionError(13, "Read-only file system")
-    monkeypatch.setattr(run.tempfile, "mkstemp", refuse)
+    monkeypatch.setattr(run_directory.tempfile, "mkstemp", refuse)
     assert run.main([str(SMALL), "--out", str(out)]) == 2
     assert f"--out {out}: cannot write there (Read-only file system)" in \
         capsys.readouterr().err

@@ -432,7 +432,8 @@ def refused(params, config_of, out) -> bool:
     having printed why: ``--max-strain`` outside (0, 1), what the schema
     refuses in ``config_of(params)``, an unusable ``out`` (made, writable).
     Nothing is meshed before; shared with :mod:`.plates`."""
-    from softpack.simulation.run import UsageError, check_out_directory
+    from softpack.simulation.run_directory import (UsageError,
+                                                   check_out_directory)
 
     if not 0 < params.max_strain < 1:
         print("softpack single-disk: --max-strain must be in (0, 1)",

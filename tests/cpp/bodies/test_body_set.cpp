@@ -150,12 +150,15 @@ TEST(BodySet, ARankKeepsTheMassesOfItsOwnBodies)
   const std::vector<bodies::BodyMatrix> all = bodies.consistent_mass();
   bodies.set_owned({1, 0});
   EXPECT_EQ(bodies.consistent_mass()[1].nonZeros(), 0);
+  // ... and its storage is released (an empty sparse matrix can keep it).
+  EXPECT_EQ(bodies.consistent_mass()[1].data().allocatedSize(), 0);
   EXPECT_EQ(bodies.consistent_mass()[1].rows(), all[1].rows());
   EXPECT_EQ(Eigen::MatrixXd(bodies.consistent_mass()[0] - all[0]).norm(), 0.0);
   // Body 1 comes to this rank (a rebalanced run), body 0 leaves: body 1's
   // mass is assembled again, over its own cells, to the last bit.
   bodies.set_owned({0, 1});
   EXPECT_EQ(bodies.consistent_mass()[0].nonZeros(), 0);
+  EXPECT_EQ(bodies.consistent_mass()[0].data().allocatedSize(), 0);
   const bodies::BodyMatrix& M = bodies.consistent_mass()[1];
   ASSERT_EQ(M.nonZeros(), all[1].nonZeros());
   EXPECT_EQ(Eigen::MatrixXd(M - all[1]).norm(), 0.0);

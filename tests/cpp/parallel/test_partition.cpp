@@ -85,18 +85,18 @@ TEST(Partition, ASplitHasDriftedWhenUnevenOrScatteredNotWhenClose)
     for (int i = 0; i + 1 < 8; ++i)
       links.push_back({8 * j + i, 8 * j + i + 1});
   // The same split: nothing to do.
-  EXPECT_FALSE(split_has_drifted(fresh, fresh, w, links, 0.1));
+  EXPECT_FALSE(split_has_drifted(fresh, fresh, 2, w, links, 0.1));
   // One body (of 16) on the other side: 1/8 uneven, above 10 %.
   std::vector<int> shifted = fresh;
   shifted[3] = 1;
-  EXPECT_TRUE(split_has_drifted(shifted, fresh, w, links, 0.1));
+  EXPECT_TRUE(split_has_drifted(shifted, fresh, 2, w, links, 0.1));
   // ... but within a 20 % tolerance, and it cuts as many links (2).
-  EXPECT_FALSE(split_has_drifted(shifted, fresh, w, links, 0.2));
+  EXPECT_FALSE(split_has_drifted(shifted, fresh, 2, w, links, 0.2));
   // Even but scattered (alternate columns): 14 cut links against 2.
   std::vector<int> striped(16);
   for (int b = 0; b < 16; ++b)
     striped[b] = (b % 8) % 2;
-  EXPECT_TRUE(split_has_drifted(striped, fresh, w, links, 0.2));
+  EXPECT_TRUE(split_has_drifted(striped, fresh, 2, w, links, 0.2));
   // Uneven (a heavy body) but the other split is no better: the same
   // split with the parts' names swapped.
   std::vector<double> heavy(16, 1.0);
@@ -104,8 +104,18 @@ TEST(Partition, ASplitHasDriftedWhenUnevenOrScatteredNotWhenClose)
   std::vector<int> swapped(16);
   for (int b = 0; b < 16; ++b)
     swapped[b] = 1 - fresh[b];
-  EXPECT_FALSE(split_has_drifted(fresh, swapped, heavy, links, 0.1));
+  EXPECT_FALSE(split_has_drifted(fresh, swapped, 2, heavy, links, 0.1));
   // ... while a split by the weights is more even: worth the move.
-  EXPECT_TRUE(split_has_drifted(fresh, partition_bodies(x, heavy, 2), heavy,
+  EXPECT_TRUE(split_has_drifted(fresh, partition_bodies(x, heavy, 2), 2, heavy,
                                 links, 0.1));
+  // A third rank that holds no body counts in the mean: 10 + 6 bodies on
+  // two of three ranks is 87.5 % above the mean (25 % over two), and 8 + 8
+  // is more even, though neither split names the third part.
+  std::vector<int> lopsided(16), halves(16);
+  for (int b = 0; b < 16; ++b)
+    lopsided[b] = b < 10 ? 0 : 1;
+  for (int b = 0; b < 16; ++b)
+    halves[b] = b < 8 ? 0 : 1;
+  EXPECT_TRUE(split_has_drifted(lopsided, halves, 3, w, {}, 0.3));
+  EXPECT_FALSE(split_has_drifted(lopsided, halves, 2, w, {}, 0.3));
 }
