@@ -266,7 +266,14 @@ StepReport MoreauJean::step()
     _started = true;
   }
   const std::span<double> u = _bodies.displacement();
-  const std::vector<double> u_start(u.begin(), u.end()), v_start = _v;
+  // The step's start, for a retry: kept only when one is possible (two
+  // whole vectors on every rank, at fixed steps never read).
+  std::vector<double> u_start, v_start;
+  if (_step_size.can_retry())
+  {
+    u_start.assign(u.begin(), u.end());
+    v_start = _v;
+  }
   StepTimings abandoned;
   for (int retries = 0;; ++retries)
   {

@@ -49,7 +49,7 @@ bool StepSize::update(const StepReport& report)
 
 bool StepSize::retry()
 {
-  if (_h <= _base)
+  if (!can_retry())
     return false;
   _h = std::max(_base, _h / 2);
   _calm_steps = 0;

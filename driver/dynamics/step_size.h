@@ -42,6 +42,10 @@ public:
   /// The step to take next (s)
   double current() const { return _h; }
 
+  /// Whether a step at the current size may be retried (retry() can
+  /// succeed): above the base step only
+  bool can_retry() const { return _h > _base; }
+
   /// A step could not be solved at the current size: halve it, down to the
   /// base, for a new attempt from the step's start.
   /// @return false at the base step (the step is then kept as it is, and

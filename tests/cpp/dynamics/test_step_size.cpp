@@ -108,6 +108,7 @@ TEST(StepSize, RetryHalvesDownToTheBaseOnly)
 {
   StepSize s(1e-4, 4e-4, 5);
   s.restore({4e-4, 7, 14});
+  EXPECT_TRUE(s.can_retry());
   EXPECT_TRUE(s.retry());
   EXPECT_EQ(s.current(), 2e-4);
   // The window restarts: a doubling needs a whole calm window again.
@@ -115,8 +116,12 @@ TEST(StepSize, RetryHalvesDownToTheBaseOnly)
   s.restore({2e-4, 0, 0});
   EXPECT_TRUE(s.retry());
   EXPECT_EQ(s.current(), 1e-4);
+  // At the base a step is kept as it is: MoreauJean::step keeps no copy
+  // of its start then.
+  EXPECT_FALSE(s.can_retry());
   EXPECT_FALSE(s.retry());
   EXPECT_EQ(s.current(), 1e-4);
   StepSize fixed(1e-4, 1e-4, 5);
+  EXPECT_FALSE(fixed.can_retry());
   EXPECT_FALSE(fixed.retry());
 }
