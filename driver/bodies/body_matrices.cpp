@@ -48,7 +48,7 @@ BodySet::create_matrices(std::span<const char> only) const
 
 namespace
 {
-/// Assemble a bilinear form into per-body matrices holding its pattern.
+/// Zero the values of per-body matrices, keeping their patterns
 void zero(std::vector<BodyMatrix>& matrices)
 {
   for (BodyMatrix& A : matrices)
@@ -176,7 +176,7 @@ void BodySet::keep_masses(std::span<const char> kept)
                      _node_body, _node_local, fresh);
   for (std::size_t b = 0; b < _bodies.size(); ++b)
     if (missing[b])
-      _mass[b] = std::move(fresh[b]);
+      _mass[b].swap(fresh[b]); // no copy (Eigen 3.4 has no sparse move)
 }
 
 } // namespace softpack::bodies
