@@ -78,9 +78,9 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
                  options.time.refactor_above_iterations),
       _h(options.time.time_step)
 {
+  // The internal force is its owners' only: no rank reads another's.
   _bodies.owned_internal_force(_f_int);
   _rigid.zero(_f_int);
-  _own.share(_f_int);
   _energy.strain0 = _bodies.strain_energy();
   link_walls(_walls);
 }
@@ -206,6 +206,9 @@ void MoreauJean::factorize_tangent(StepReport* report)
   _bodies.tangent(_K);
   const std::span<const double> u = _bodies.displacement();
   _u_tangent.assign(u.begin(), u.end());
+  // Within the Newton iterations (a full Newton method) only the owned
+  // bodies' displacement is current; the state file needs every body's.
+  _own.share(_u_tangent);
   if (report)
     report->seconds.assembly += seconds_since(t0);
   t0 = clock::now();
@@ -332,9 +335,11 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
   const std::vector<double> f_int_before = _f_int;
   _bodies.owned_internal_force(_f_int);
   _rigid.zero(_f_int);
-  _own.share(_f_int);
   report.seconds.assembly += seconds_since(t0);
-  add_stiffness_dissipation(_energy, _options.time.theta, start.u_old,
+  // Over this rank's bodies (the others' internal forces are zero here):
+  // summed over the ranks with the body terms.
+  EnergyBalance stiffness;
+  add_stiffness_dissipation(stiffness, _options.time.theta, start.u_old,
                             _bodies.displacement(), f_int_before, _f_int);
   _time += h;
   ++_steps;
@@ -346,7 +351,7 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
         wall.point[d] += h * wall.velocity[d];
   finish_servo_walls(sc.servo, _walls, _R, h, _options.time.theta);
   t0 = clock::now();
-  account_step(sc, start, report);
+  account_step(sc, start, report, stiffness.numerical);
   if (!_rigid.empty())
   {
     // The next step's contacts see the rigid bodies' velocity field at
@@ -358,7 +363,7 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
 }
 
 void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
-                              StepReport& report)
+                              StepReport& report, double stiffness_numerical)
 {
   const double h = _h, th = _options.time.theta;
   const Vectors v_new_b = gather(_v);
@@ -384,7 +389,8 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
                         .Mv_new = _Mv,
                         .Cv_old = start.Cv_old,
                         .Cv_new = Cv_new,
-                        .f_ext = start.f_ext_b});
+                        .f_ext = start.f_ext_b},
+                       stiffness_numerical);
   account_servo_walls(sc.servo, _walls, sc.H, _energy, h, th);
   const std::vector<double> U_mid = sc.H.relative_velocity(_bodies, v_mid);
   add_contact_terms(_energy, sc.H, _contacts, _walls, _R, U_mid);

@@ -268,9 +268,10 @@ private:
   void share_contact_nodes(
       const std::vector<std::vector<std::int32_t>>& contact_nodes,
       std::span<double> global) const;
-  /// add_body_terms over the owned bodies, summed over the ranks, and the
-  /// bodies' kinetic energy at the step's end (in the same sum)
-  void add_owned_body_terms(const BodyStep& step);
+  /// add_body_terms over the owned bodies and this rank's part of the
+  /// stiffness dissipation, summed over the ranks, and the bodies' kinetic
+  /// energy at the step's end (in the same sum)
+  void add_owned_body_terms(const BodyStep& step, double stiffness_numerical);
   /// Assemble K at the bodies' current displacement, factorize Kbar and
   /// form A (the arithmetic of every refactorization, and of a restore);
   /// adds its times to `report` when given
@@ -289,7 +290,8 @@ private:
   /// Newton iterations on the velocity; leaves the converged one in _v
   void newton(const StepContacts& sc, const StepStart& start,
               contact::FrictionContactProblem2D& problem, StepReport& report);
-  /// One Newton iteration: vk <- v_{k+1}; returns ||v_{k+1} - v_k||_inf
+  /// One Newton iteration: vk <- v_{k+1} on this rank's bodies (the other
+  /// entries zero); returns ||v_{k+1} - v_k||_inf over this rank's bodies
   double newton_iteration(int k, const StepContacts& sc, const StepStart& start,
                           std::vector<double>& vk,
                           contact::FrictionContactProblem2D& problem,
@@ -313,7 +315,7 @@ private:
                    StepReport& report);
   /// The step's energy terms, contact report and impulse history
   void account_step(StepContacts& sc, const StepStart& start,
-                    StepReport& report);
+                    StepReport& report, double stiffness_numerical);
   void update_products(const Vectors& v);
   /// The owned bodies' parts of a global vector (the others' are empty:
   /// per-body work is the owner's, and a copy of every body per rank
@@ -348,6 +350,8 @@ private:
   double _time = 0;
   long _steps = 0;
   bool _started = false;
+  /// Velocity (whole), external force, internal force (this rank's bodies
+  /// only: the other entries are zero)
   std::vector<double> _v, _f_ext, _f_int;
   /// Free velocity at contact nodes only (work array)
   std::vector<double> _v_contact;

@@ -159,15 +159,16 @@ double MoreauJean::newton_iteration(int k, const StepContacts& sc,
       v_new[b] = _rigid.velocity_field(b);
     else if (_own.owns(b) && v_new[b].size() == 0)
       v_new[b] = vk_b[b] - _kbar.solve(b, r[b]);
-  std::vector<double> v_next(vk.size());
-  scatter(v_new, v_next);
-  _own.share(v_next);
-  report.seconds.solves += seconds_since(t0);
-
+  // Only the owners' entries: no rank reads another's bodies within the
+  // iterations (the contact nodes' free velocities are shared apart), so
+  // the whole velocity is shared once, when the iterations end (newton).
   double change = 0;
-  for (std::size_t i = 0; i < vk.size(); ++i)
-    change = std::max(change, std::abs(v_next[i] - vk[i]));
-  vk = std::move(v_next);
+  for (int b = 0; b < nb; ++b)
+    if (v_new[b].size() > 0)
+      change = std::max(change, (v_new[b] - vk_b[b]).lpNorm<Eigen::Infinity>());
+  std::fill(vk.begin(), vk.end(), 0.0);
+  scatter(v_new, vk);
+  report.seconds.solves += seconds_since(t0);
   return change;
 }
 
@@ -179,7 +180,12 @@ void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
   double previous_change = 0;
   for (int k = 0;; ++k)
   {
-    const double change = newton_iteration(k, sc, start, vk, problem, report);
+    // The largest change and velocity over every rank's bodies (a rank's
+    // vk holds its own bodies' entries only)
+    double largest[2] = {newton_iteration(k, sc, start, vk, problem, report),
+                         max_abs(vk)};
+    _own.max(largest);
+    const double change = largest[0];
     report.newton_iterations = k + 1;
     // The iterations contract at the rate rho = change / previous change;
     // the distance of vk to the converged velocity is then at most
@@ -188,7 +194,7 @@ void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
     const double error = rho < 0.5 ? change * rho / (1 - rho) : change;
     previous_change = change;
     if (error <= _options.time.newton_tolerance *
-                     std::max(max_abs(vk), _options.velocity_scale))
+                     std::max(largest[1], _options.velocity_scale))
     {
       report.newton_converged = true;
       break;
@@ -196,6 +202,7 @@ void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
     if (k + 1 >= _options.time.newton_max_iterations)
       break;
   }
+  _own.share(vk);
   _v = std::move(vk);
 }
 

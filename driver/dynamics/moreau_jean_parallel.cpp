@@ -94,6 +94,10 @@ void MoreauJean::rebalance()
   _kbar.set_owned(_bodies, _own.owned());
   _K = _bodies.create_matrices(_own.owned());
   _products_valid = false;
+  // The arriving bodies' internal force, at the displacement their former
+  // owner computed it at (the step's start): the same bits.
+  _bodies.owned_internal_force(_f_int);
+  _rigid.zero(_f_int);
 }
 
 std::vector<int> MoreauJean::contact_owners() const
@@ -169,16 +173,19 @@ void MoreauJean::share_contact_nodes(
   _own.share_nodes(global, nodes);
 }
 
-void MoreauJean::add_owned_body_terms(const BodyStep& step)
+void MoreauJean::add_owned_body_terms(const BodyStep& step,
+                                      double stiffness_numerical)
 {
   const double h = _h, th = _options.time.theta;
   if (!_own.distributed())
   {
+    _energy.numerical += stiffness_numerical;
     add_body_terms(_energy, h, th, step);
     _body_kinetic = kinetic_energy(step.v_new, step.Mv_new);
     return;
   }
   EnergyBalance mine;
+  mine.numerical = stiffness_numerical;
   add_body_terms(mine, h, th, step, _own.owned());
   double sums[4] = {mine.damping, mine.numerical, mine.external_work,
                     kinetic_energy(step.v_new, step.Mv_new, _own.owned())};

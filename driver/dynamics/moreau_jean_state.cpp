@@ -85,7 +85,6 @@ void MoreauJean::restore(const SchemeState& s)
   _steps = s.steps;
   _bodies.owned_internal_force(_f_int);
   _rigid.zero(_f_int);
-  _own.share(_f_int);
   _energy = s.energy;
   _body_kinetic = body_kinetic_energy();
   _energy_stale = true;

@@ -115,6 +115,16 @@ void Ownership::sum(std::span<double> values) const
   ++_calls;
 }
 
+void Ownership::max(std::span<double> values) const
+{
+  if (_size == 1)
+    return;
+  MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()),
+                MPI_DOUBLE, MPI_MAX, _comm);
+  _bytes += values.size() * sizeof(double);
+  ++_calls;
+}
+
 namespace
 {
 /// A byte count as MPI's int, refused above it

@@ -16,12 +16,13 @@ namespace softpack::parallel
 /// per-body results known to every rank (docs/mpi_design.md).
 ///
 /// Every rank holds the whole mesh and the global displacement and velocity
-/// (replicated); a rank assembles, factorizes and computes the compliance
-/// of its own bodies only, and the per-body results that the rest of the
-/// step needs everywhere (velocities, internal forces at step ends, free
-/// velocities at contact nodes, Delassus blocks) are exchanged through the
-/// calls below. Each exchanged entry has exactly one nonzero contributor,
-/// so a sum over ranks reproduces the serial value bit for bit.
+/// (replicated, whole at each step's end); a rank assembles, factorizes and
+/// computes the compliance of its own bodies only, and the per-body results
+/// that the rest of the step needs everywhere (the velocity once per step,
+/// free velocities at contact nodes, Delassus blocks) are exchanged through
+/// the calls below. Each exchanged entry has exactly one nonzero
+/// contributor, so a sum over ranks reproduces the serial value bit for
+/// bit.
 ///
 /// The default object is serial: one rank owning every body, and every
 /// call a no-op (no MPI call at all).
@@ -79,6 +80,8 @@ public:
                    std::span<const std::int32_t> nodes) const;
   /// Sum over ranks, in place.
   void sum(std::span<double> values) const;
+  /// Largest over ranks, in place (exact: every rank gets the same bits).
+  void max(std::span<double> values) const;
   /// All ranks' vectors concatenated in rank order, on every rank.
   std::vector<double> gather(std::span<const double> local) const
   {
