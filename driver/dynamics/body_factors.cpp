@@ -1,6 +1,7 @@
 #include "body_factors.h"
 
 #include <Eigen/OrderingMethods>
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <stdexcept>
@@ -100,24 +101,81 @@ BodyFactors::BodyFactors(const bodies::BodySet& bodies,
   }
 }
 
+namespace
+{
+/// The fill-reducing order of a pattern of nodes (2 DOFs each): AMD on the
+/// nodes' graph, a node's DOFs kept together (x, then y), so that L is made
+/// of 2x2 blocks.
+Permutation node_ordering(const bodies::BodyMatrix& canonical)
+{
+  const int nodes = static_cast<int>(canonical.rows() / 2);
+  std::vector<Eigen::Triplet<double>> links;
+  for (int j = 0; j < canonical.outerSize(); ++j)
+    for (bodies::BodyMatrix::InnerIterator it(canonical, j); it; ++it)
+    {
+      links.emplace_back(it.row() / 2, j / 2, 1.0);
+      links.emplace_back(j / 2, it.row() / 2, 1.0);
+    }
+  bodies::BodyMatrix graph(nodes, nodes);
+  graph.setFromTriplets(links.begin(), links.end());
+  Permutation inverse; // AMD yields the inverse permutation
+  Eigen::AMDOrdering<int> amd;
+  amd(graph, inverse);
+  const Permutation node_order = inverse.inverse();
+  Permutation P(2 * nodes);
+  for (int i = 0; i < nodes; ++i)
+    for (int c = 0; c < 2; ++c)
+      P.indices()[2 * i + c] = 2 * node_order.indices()[i] + c;
+  return P;
+}
+} // namespace
+
 void BodyFactors::analyze(Symbolic& s, const bodies::BodyMatrix& canonical)
 {
-  // As Eigen::SimplicialLDLT orders: AMD on the whole symmetric pattern,
-  // which yields the inverse permutation.
-  Permutation inverse;
-  Eigen::AMDOrdering<int> amd;
-  bodies::BodyMatrix full = canonical.selfadjointView<Eigen::Lower>();
-  amd(full, inverse);
-  s.ordering = inverse.inverse();
+  if (canonical.rows() % 2 != 0)
+    throw std::invalid_argument("BodyFactors: a body's matrix has an odd "
+                                "number of rows (2 DOFs per node expected)");
+  s.ordering = node_ordering(canonical);
   // L's pattern, from a factorization of the (positive definite) values
   OrderedLDLT ldlt(permuted(canonical, s.ordering));
   if (ldlt.info() != Eigen::Success)
     throw std::runtime_error("BodyFactors: the matrix giving a body's "
                              "pattern is not positive definite");
   const auto& L = ldlt.matrixL().nestedExpression();
-  s.column_start.assign(L.outerIndexPtr(),
-                        L.outerIndexPtr() + L.outerSize() + 1);
-  s.row_index.assign(L.innerIndexPtr(), L.innerIndexPtr() + L.nonZeros());
+  const int nodes = static_cast<int>(L.rows() / 2);
+  // Each node column's block rows: the nodes of the rows of its two
+  // scalar columns below its diagonal block
+  std::vector<std::vector<int>> rows(nodes);
+  for (int j = 0; j < L.outerSize(); ++j)
+    for (int k = L.outerIndexPtr()[j]; k < L.outerIndexPtr()[j + 1]; ++k)
+      if (L.innerIndexPtr()[k] / 2 != j / 2)
+        rows[j / 2].push_back(L.innerIndexPtr()[k] / 2);
+  s.block_start.assign(1, 0);
+  s.block_row.clear();
+  for (std::vector<int>& r : rows)
+  {
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+    s.block_row.insert(s.block_row.end(), r.begin(), r.end());
+    s.block_start.push_back(static_cast<int>(s.block_row.size()));
+  }
+  const int diagonal_lower = 4 * static_cast<int>(s.block_row.size());
+  s.destination.resize(L.nonZeros());
+  for (int j = 0; j < L.outerSize(); ++j)
+    for (int k = L.outerIndexPtr()[j]; k < L.outerIndexPtr()[j + 1]; ++k)
+    {
+      const int i = L.innerIndexPtr()[k], J = j / 2;
+      if (i / 2 == J) // (y, x) of node J's diagonal block
+      {
+        s.destination[k] = diagonal_lower + J;
+        continue;
+      }
+      const auto first = s.block_row.begin() + s.block_start[J];
+      const auto last = s.block_row.begin() + s.block_start[J + 1];
+      const int block = static_cast<int>(std::lower_bound(first, last, i / 2) -
+                                         s.block_row.begin());
+      s.destination[k] = 4 * block + i % 2 + 2 * (j % 2); // column-major
+    }
 }
 
 bool BodyFactors::factorize(const Former& form)
@@ -149,14 +207,16 @@ bool BodyFactors::factorize(const Former& form)
       analyzed = g;
       ldlt.factorize(A);
       const auto& L = ldlt.matrixL().nestedExpression();
+      const Symbolic& s = _symbolic[g];
       const bool good =
           ldlt.info() == Eigen::Success && (ldlt.vectorD().array() > 0).all() &&
-          L.nonZeros() ==
-              static_cast<Eigen::Index>(_symbolic[g].row_index.size());
+          L.nonZeros() == static_cast<Eigen::Index>(s.destination.size());
       ok = ok && good;
       if (!good)
         continue;
-      _values[b].assign(L.valuePtr(), L.valuePtr() + L.nonZeros());
+      _values[b].assign(4 * s.block_row.size() + s.num_nodes(), 0.0f);
+      for (std::size_t k = 0; k < s.destination.size(); ++k)
+        _values[b][s.destination[k]] = static_cast<float>(L.valuePtr()[k]);
       _inverse_d[b] = ldlt.vectorD().cwiseInverse();
     }
   }
@@ -165,27 +225,46 @@ bool BodyFactors::factorize(const Former& form)
 
 Eigen::VectorXd BodyFactors::solve(int b, const Eigen::VectorXd& y) const
 {
+  // L by 2x2 blocks: one index per four values, and a node's two unknowns
+  // updated together (half the indexed loads of a scalar solve).
   const Symbolic& s = _symbolic[_pattern_of[b]];
-  const int* start = s.column_start.data();
-  const int* row = s.row_index.data();
+  const int* start = s.block_start.data();
+  const int* row = s.block_row.data();
   const float* L = _values[b].data();
-  const Eigen::VectorXd& inverse_d = _inverse_d[b];
+  const float* lower = L + 4 * s.block_row.size(); // (y, x) of each node
+  const int nodes = s.num_nodes();
   Eigen::VectorXd z = _perm[b] * y;
-  const int n = static_cast<int>(z.size());
-  for (int j = 0; j < n; ++j) // L z' = z, column by column
+  double* x = z.data();
+  for (int J = 0; J < nodes; ++J) // L z' = z, node column by node column
   {
-    const double zj = z[j];
-    if (zj != 0) // right-hand sides of compliance columns are sparse
-      for (int k = start[j]; k < start[j + 1]; ++k)
-        z[row[k]] -= static_cast<double>(L[k]) * zj;
+    const double z0 = x[2 * J];
+    const double z1 = x[2 * J + 1] - static_cast<double>(lower[J]) * z0;
+    x[2 * J + 1] = z1;
+    if (z0 == 0 && z1 == 0) // right-hand sides of compliance columns
+      continue;             // are sparse
+    for (int k = start[J]; k < start[J + 1]; ++k)
+    {
+      const float* B = L + 4 * k;
+      double* xi = x + 2 * row[k];
+      xi[0] -= static_cast<double>(B[0]) * z0 + static_cast<double>(B[2]) * z1;
+      xi[1] -= static_cast<double>(B[1]) * z0 + static_cast<double>(B[3]) * z1;
+    }
   }
-  z.array() *= inverse_d.array();
-  for (int j = n - 1; j >= 0; --j) // L^T z' = z
+  z.array() *= _inverse_d[b].array();
+  for (int J = nodes - 1; J >= 0; --J) // L^T z' = z
   {
-    double zj = z[j];
-    for (int k = start[j]; k < start[j + 1]; ++k)
-      zj -= static_cast<double>(L[k]) * z[row[k]];
-    z[j] = zj;
+    double z0 = x[2 * J], z1 = x[2 * J + 1];
+    for (int k = start[J]; k < start[J + 1]; ++k)
+    {
+      const float* B = L + 4 * k;
+      const double* xi = x + 2 * row[k];
+      z0 -=
+          static_cast<double>(B[0]) * xi[0] + static_cast<double>(B[1]) * xi[1];
+      z1 -=
+          static_cast<double>(B[2]) * xi[0] + static_cast<double>(B[3]) * xi[1];
+    }
+    x[2 * J + 1] = z1;
+    x[2 * J] = z0 - static_cast<double>(lower[J]) * z1;
   }
   return _perm[b].transpose() * z;
 }

@@ -13,8 +13,8 @@ namespace softpack::dynamics
 /// body, kept compactly:
 /// - bodies whose matrices have one sparsity pattern once their nodes are
 ///   put in input order (Body::input_rank: copies of one template mesh)
-///   share one symbolic factorization (fill-reducing AMD ordering and the
-///   pattern of L), computed once;
+///   share one symbolic factorization (fill-reducing AMD ordering of the
+///   nodes and the pattern of L by 2x2 node blocks), computed once;
 /// - each body keeps only its own values of L, in single precision, D and
 ///   its permutation. The products are formed in double precision.
 ///
@@ -27,7 +27,11 @@ namespace softpack::dynamics
 /// per body) this takes a third of the memory (4 bytes per entry of L
 /// instead of 12), and the solves, which stream L from memory, read a
 /// third of the bytes (measured: solves 7 % faster on the paper case, 18 %
-/// at 1,000 disks; docs/performance.md).
+/// at 1,000 disks; docs/performance.md). L kept by 2x2 node blocks has the
+/// same entries as the scalar L under the nodes' ordering (AMD keeps a
+/// node's DOFs together anyway), one index per block instead of one per
+/// entry: the paper case's solves ran 21 % faster (its factors sit in
+/// cache), those of 1,000 disks no faster (they stream from memory).
 class BodyFactors
 {
 public:
@@ -62,19 +66,26 @@ public:
   std::size_t factor_entries(int b) const { return _values[b].size(); }
 
 private:
-  /// What the bodies of one pattern share: L's column starts and row
-  /// indices in the fill-reducing order
+  /// What the bodies of one pattern share, in the fill-reducing order
+  /// (which keeps a node's two DOFs together, x first): L by 2x2 blocks of
+  /// nodes, each node column's block rows (below its diagonal block), and
+  /// where each entry of the scalar factor goes among a body's values
   struct Symbolic
   {
-    std::vector<int> column_start, row_index;
+    std::vector<int> block_start, block_row;
+    /// Per entry of Eigen's scalar L (in its order): its index in a body's
+    /// values (4 per block, column by column, then one per node: the
+    /// entry of its y row in its x column)
+    std::vector<int> destination;
     Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> ordering;
+    int num_nodes() const { return static_cast<int>(block_start.size()) - 1; }
   };
   void analyze(Symbolic& s, const bodies::BodyMatrix& canonical);
 
   const std::vector<bodies::BodyMatrix>* _patterns;
   std::vector<Symbolic> _symbolic;
   /// Per body: its pattern, the permutation from its local DOFs to the
-  /// factor's order, L's values, D's inverse
+  /// factor's order, L's values (Symbolic::destination), D's inverse
   std::vector<int> _pattern_of;
   std::vector<Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>>
       _perm;
