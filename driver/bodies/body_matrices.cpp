@@ -38,10 +38,11 @@ BodySet::create_matrices(std::span<const char> only) const
               if (stored_entry(row, col))
                 pattern.emplace_back(row, col, 0.0);
             }
-    BodyMatrix A(body.num_dofs(), body.num_dofs());
+    // Built in place: Eigen 3.4's sparse matrix has no move constructor,
+    // so a push_back would copy it.
+    BodyMatrix& A = matrices.emplace_back(body.num_dofs(), body.num_dofs());
     A.setFromTriplets(pattern.begin(), pattern.end());
     A.makeCompressed();
-    matrices.push_back(std::move(A));
   }
   return matrices;
 }

@@ -99,11 +99,7 @@ void MoreauJean::set_initial_velocity(std::vector<double> v)
 double MoreauJean::body_kinetic_energy() const
 {
   const Vectors v = gather(_v);
-  Vectors Mv(v.size());
-  for (int b = 0; b < _bodies.num_bodies(); ++b)
-    if (_own.owns(b))
-      Mv[b] = bodies::symmetric_product(_kbar.mass(b), v[b]);
-  double e = kinetic_energy(v, Mv, _own.owned());
+  double e = kinetic_energy(v, mass_products(v), _own.owned());
   _own.sum(std::span<double>(&e, 1));
   return e;
 }
@@ -299,6 +295,11 @@ StepReport MoreauJean::step()
     }
     // Not solved at h: the step starts again at h / 2 (the iteration
     // matrix with it). Nothing of the attempt was kept but its time.
+    // (retry() succeeds only above the base step, where can_retry() held
+    // at the step's start too: h only falls within a step.)
+    if (u_start.size() != u.size())
+      throw std::logic_error("MoreauJean::step: a retry without the step's "
+                             "start (StepSize::retry against can_retry)");
     abandoned += report.seconds;
     std::copy(u_start.begin(), u_start.end(), u.begin());
     _v = v_start;
@@ -410,17 +411,24 @@ void MoreauJean::update_products(const Vectors& v)
   if (_products_valid)
     return;
   const int nb = _bodies.num_bodies();
-  _Mv.resize(nb);
+  _Mv = mass_products(v);
   _Kv.resize(nb);
 #pragma omp parallel for schedule(static) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
-  {
-    if (!_own.owns(b))
-      continue;
-    _Mv[b] = bodies::symmetric_product(_kbar.mass(b), v[b]);
-    _Kv[b] = bodies::symmetric_product(_K[b], v[b]);
-  }
+    if (_own.owns(b))
+      _Kv[b] = bodies::symmetric_product(_K[b], v[b]);
   _products_valid = true;
+}
+
+MoreauJean::Vectors MoreauJean::mass_products(const Vectors& v) const
+{
+  const int nb = _bodies.num_bodies();
+  Vectors Mv(nb);
+#pragma omp parallel for schedule(static) if (nb >= 16)
+  for (int b = 0; b < nb; ++b)
+    if (_own.owns(b))
+      Mv[b] = bodies::symmetric_product(_kbar.mass(b), v[b]);
+  return Mv;
 }
 
 } // namespace softpack::dynamics

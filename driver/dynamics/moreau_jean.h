@@ -317,6 +317,8 @@ private:
   void account_step(StepContacts& sc, const StepStart& start,
                     StepReport& report, double stiffness_numerical);
   void update_products(const Vectors& v);
+  /// M v of the owned bodies (the others' stay empty)
+  Vectors mass_products(const Vectors& v) const;
   /// The owned bodies' parts of a global vector (the others' are empty:
   /// per-body work is the owner's, and a copy of every body per rank
   /// would grow with the whole model)

@@ -21,7 +21,6 @@ import pytest
 
 from softpack import paths
 from softpack.simulation import run, run_directory
-from softpack.simulation.run_directory import MARKER, is_run_directory
 from softpack.simulation.progress import remaining_seconds
 from test_run import FAKE_DRIVER, SMALL, fake_bin, fake_mesh  # noqa: F401
 from test_run import registry  # noqa: F401  (autouse fixture)
@@ -47,7 +46,7 @@ def test_foreign_directory_is_kept(tmp_path, fake_bin, fake_mesh, capsys):
     (out / "mesh" / "important.msh").unlink()
     (out / "mesh").rmdir()
     assert run.main([str(SMALL), "--out", str(out), "--force"]) == 0
-    assert (out / "series.csv").is_file() and (out / MARKER).is_file()
+    assert (out / "series.csv").is_file() and (out / run_directory.MARKER).is_file()
     assert (out / "notes.txt").read_text() == "y"
 
 
@@ -59,8 +58,8 @@ def test_rerun_replaces_only_softpack_outputs(tmp_path, fake_bin,
     assert run.main([str(SMALL), "--out", str(out), "--force"]) == 0
     assert (out / "notes.txt").read_text() == "mine"
     # an older run without the marker is recognised by its files
-    (out / MARKER).unlink()
-    assert is_run_directory(out)
+    (out / run_directory.MARKER).unlink()
+    assert run_directory.is_run_directory(out)
     (out / "series.csv").unlink()  # an unfinished run: no --force needed
     assert run.main([str(SMALL), "--out", str(out)]) == 0
     assert (out / "notes.txt").read_text() == "mine"
