@@ -51,11 +51,9 @@ delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
     Kbar.prepare_columns(b, slots);
   }
 
-  std::vector<DelassusBlock> W;
-  auto add = [&](int b, std::int32_t i, std::int32_t j,
-                 const Eigen::Matrix2d& block) {
-    W.push_back({b, i, j, block});
-  };
+  // Each body's blocks on all cores, then joined in body order: the same
+  // list, in the same order, as one thread makes.
+  std::vector<std::vector<DelassusBlock>> by_body(nb);
   auto body_block = [&](int b, const BodyShare& sa, const BodyShare& sb)
   {
     Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
@@ -74,15 +72,21 @@ delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
                  rigid->compliance(b, sa.nodes[i], sb.nodes[j]);
     return block;
   };
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
   {
     if (shares[b].empty() || !mine(b))
       continue;
+    std::vector<DelassusBlock>& W = by_body[b];
+    auto add = [&](std::int32_t i, std::int32_t j, const Eigen::Matrix2d& block)
+    {
+      W.push_back({b, i, j, block});
+    };
     if (is_rigid(b))
     {
       for (const BodyShare& sa : shares[b])
         for (const BodyShare& sb : shares[b])
-          add(b, sa.contact, sb.contact,
+          add(sa.contact, sb.contact,
               H.frame(sa.contact).transpose() * rigid_block(b, sa, sb) *
                   H.frame(sb.contact));
       continue;
@@ -107,11 +111,18 @@ delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
         if (sa.contact != sb.contact && drop_tolerance > 0 &&
             std::max(norm(ka, kb), norm(kb, ka)) < below)
           continue;
-        add(b, sa.contact, sb.contact,
+        add(sa.contact, sb.contact,
             H.frame(sa.contact).transpose() * blocks[ka * n + kb] *
                 H.frame(sb.contact));
       }
   }
+  std::size_t total = 0;
+  for (const std::vector<DelassusBlock>& list : by_body)
+    total += list.size();
+  std::vector<DelassusBlock> W;
+  W.reserve(total);
+  for (const std::vector<DelassusBlock>& list : by_body)
+    W.insert(W.end(), list.begin(), list.end());
   return W;
 }
 
