@@ -107,20 +107,20 @@ void Ownership::share_nodes(std::span<double> global,
 
 void Ownership::sum(std::span<double> values) const
 {
-  if (_size == 1)
-    return;
-  MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()),
-                MPI_DOUBLE, MPI_SUM, _comm);
-  _bytes += values.size() * sizeof(double);
-  ++_calls;
+  reduce(values, MPI_SUM);
 }
 
 void Ownership::max(std::span<double> values) const
 {
+  reduce(values, MPI_MAX);
+}
+
+void Ownership::reduce(std::span<double> values, MPI_Op op) const
+{
   if (_size == 1)
     return;
   MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()),
-                MPI_DOUBLE, MPI_MAX, _comm);
+                MPI_DOUBLE, op, _comm);
   _bytes += values.size() * sizeof(double);
   ++_calls;
 }

@@ -128,6 +128,8 @@ public:
 private:
   /// Give body b to rank body_rank[b] and restrict `bodies` to this rank's
   void assign(std::vector<int> body_rank, bodies::BodySet& bodies);
+  /// An allreduce in place with `op`, counted
+  void reduce(std::span<double> values, MPI_Op op) const;
   std::vector<std::byte> gather_bytes(std::span<const std::byte> local) const;
   std::vector<std::byte>
   exchange_bytes(std::span<const std::span<const std::byte>> to_rank) const;
