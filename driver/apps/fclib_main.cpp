@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@ struct Arguments
   std::vector<std::string> files;
   contact::NlgsOptions options;
   std::string solution_out;
+  bool from_guess = false;
 };
 
 //-----------------------------------------------------------------------------
@@ -49,10 +51,10 @@ void write_reactions(const std::filesystem::path& file,
 /// Solve one file; returns false on an invalid file or no convergence.
 bool solve_file(const std::string& file, const Arguments& args)
 {
-  contact::FrictionContactProblem2D problem;
+  contact::FclibLocalFile stored;
   try
   {
-    problem = contact::read_fclib_local(file);
+    stored = contact::read_fclib_local_file(file);
   }
   catch (const contact::FclibError& e)
   {
@@ -60,7 +62,10 @@ bool solve_file(const std::string& file, const Arguments& args)
     return false;
   }
   const std::string name = std::filesystem::path(file).stem().string();
+  const contact::FrictionContactProblem2D& problem = stored.problem;
   std::vector<double> r(2 * problem.num_contacts(), 0.0), u(r.size());
+  if (args.from_guess and stored.guess_r)
+    r = *stored.guess_r;
   const auto start = std::chrono::steady_clock::now();
   const contact::NlgsResult result =
       contact::solve_nlgs(problem, r, u, args.options);
@@ -111,11 +116,27 @@ int main(int argc, char** argv)
                  "relaxation factor in (0, 2)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 2.0));
+  app.add_option("--order", args.options.order,
+                 "sweep order: contact (ascending) or alternate (even "
+                 "positions, then odd)")
+      ->transform(
+          CLI::CheckedTransformer(std::map<std::string, contact::SweepOrder>{
+              {"contact", contact::SweepOrder::contact},
+              {"alternate", contact::SweepOrder::alternate}}))
+      ->capture_default_str();
   app.add_option("--q-zero", args.options.q_zero_tolerance,
                  "|q|_inf at or below this means q = 0: the answer is r = 0 "
                  "and the error printed is absolute")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--full-error-every", args.options.full_error_interval,
+                 "also compute the full error every this many sweeps (0: "
+                 "only when the cheap error passes)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--from-guess", args.from_guess,
+               "start from the file's /guesses/1/r when it has one (a "
+               "simulation's unsolved problems store their start there)");
   app.add_option("--solution-out", args.solution_out,
                  "write DIR/NAME.r.csv, the reactions one per line");
   CLI11_PARSE(app, argc, argv);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <omp.h>
 #include <stdexcept>
 
@@ -70,6 +71,20 @@ SweepSums sweep(const FrictionContactProblem2D& problem, double* r,
     r[2 * a + 1] = ra[1];
   }
   return sums;
+}
+//-----------------------------------------------------------------------------
+/// The sets swept in the order the options ask for (SweepOrder)
+std::vector<std::int32_t> in_order(std::vector<std::int32_t> contacts,
+                                   const NlgsOptions& options)
+{
+  if (options.order == SweepOrder::contact)
+    return contacts;
+  std::vector<std::int32_t> alternate;
+  alternate.reserve(contacts.size());
+  for (std::size_t first : {0, 1})
+    for (std::size_t i = first; i < contacts.size(); i += 2)
+      alternate.push_back(contacts[i]);
+  return alternate;
 }
 //-----------------------------------------------------------------------------
 /// The sums of a split sweep, added in one fixed order: the same bits
@@ -153,7 +168,9 @@ bool Monitor::after_sweep(const SweepSums& sums)
     _window_start_error = _result.cheap_error;
   }
   const bool more = _result.iterations < _options.max_sweeps;
-  if (_result.cheap_error > _working_tolerance)
+  const bool scheduled = _options.full_error_interval > 0 and
+                         _result.iterations % _options.full_error_interval == 0;
+  if (_result.cheap_error > _working_tolerance and !scheduled)
     return more;
   full_error();
   _full_error_current = true;
@@ -170,6 +187,16 @@ void Monitor::finish()
     full_error();
   _result.error = _full.value;
   _result.converged = _full.value <= _options.tolerance;
+}
+//-----------------------------------------------------------------------------
+/// The split of split_for_two_threads(), each set in the options' order
+SweepSplit split_in_order(const DelassusMatrix& W, const NlgsOptions& options)
+{
+  SweepSplit split = split_for_two_threads(W);
+  for (std::vector<std::int32_t>* set :
+       {&split.part[0], &split.part[1], &split.separator})
+    *set = in_order(std::move(*set), options);
+  return split;
 }
 //-----------------------------------------------------------------------------
 /// Sweeps in the split order, the two parts on two threads when there are
@@ -200,16 +227,19 @@ void split_sweeps(const FrictionContactProblem2D& problem, double* r,
 /// Sweeps of one domain's contacts stage by stage, exchanging after each
 /// interface stage (SweepDomain).
 void domain_sweeps(const FrictionContactProblem2D& problem, std::span<double> r,
-                   const SweepDomain& domain, Monitor& monitor)
+                   const SweepDomain& domain, const NlgsOptions& options,
+                   Monitor& monitor)
 {
+  std::vector<std::vector<std::int32_t>> stages;
+  for (const std::vector<std::int32_t>& stage : domain.stages)
+    stages.push_back(in_order(stage, options));
   bool more = true;
   while (more)
   {
     double sums[2] = {0, 0};
     for (std::size_t s = 0; s < domain.stages.size(); ++s)
     {
-      const SweepSums part =
-          sweep(problem, r.data(), monitor.omega, domain.stages[s]);
+      const SweepSums part = sweep(problem, r.data(), monitor.omega, stages[s]);
       sums[0] += part.change;
       sums[1] += part.norm;
       if (s > 0)
@@ -241,10 +271,18 @@ NlgsResult softpack::contact::solve_nlgs(
   if (!result.q_zero and options.max_sweeps > 0)
   {
     if (domain)
-      domain_sweeps(problem, r, *domain, monitor);
+      domain_sweeps(problem, r, *domain, options, monitor);
     else if (split)
-      split_sweeps(problem, r.data(), split_for_two_threads(problem.W),
+      split_sweeps(problem, r.data(), split_in_order(problem.W, options),
                    options.threads, monitor);
+    else if (options.order != SweepOrder::contact)
+    {
+      std::vector<std::int32_t> all(problem.num_contacts());
+      std::iota(all.begin(), all.end(), 0);
+      all = in_order(std::move(all), options);
+      while (monitor.after_sweep(sweep(problem, r.data(), monitor.omega, all)))
+        ;
+    }
     else
       while (monitor.after_sweep(
           sweep(problem, r.data(), monitor.omega, {}, true)))

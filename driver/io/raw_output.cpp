@@ -148,7 +148,9 @@ void RawOutput::finish(long steps, double seconds, const std::string& reason,
       {"failed_contact_problems_written", checks.problems_written},
       {"failed_contact_problems_not_written", checks.problems_not_written},
       {"max_overlap_depth", checks.max_overlap_depth},
-      {"overlap_steps", checks.overlap_steps}};
+      {"overlap_steps", checks.overlap_steps},
+      {"newton_iterations", checks.newton_iterations},
+      {"nlgs_sweeps", checks.nlgs_sweeps}};
   if (extra.is_object())
     done.update(extra);
   const std::filesystem::path tmp = _raw / ".done.json";

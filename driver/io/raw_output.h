@@ -49,6 +49,9 @@ struct RunChecks
   double max_overlap_depth = 0;
   /// Output steps whose overlap depth exceeded the tolerance
   long overlap_steps = 0;
+  /// The work of this run's steps (not carried through a continuation):
+  /// Newton iterations and NLGS sweeps, summed
+  long newton_iterations = 0, nlgs_sweeps = 0;
 };
 
 /// Writer of a run's raw output (docs/driver_io.md, "Raw output"): the

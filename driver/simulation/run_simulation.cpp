@@ -326,6 +326,8 @@ private:
     const io::ConvergenceCounts before = total;
     _interval.add(r);
     total.add(r);
+    _checks.newton_iterations += r.newton_iterations;
+    _checks.nlgs_sweeps += r.nlgs_iterations;
     if (_root &&
         total.newton_unconverged_steps > before.newton_unconverged_steps &&
         warn_now(total.newton_unconverged_steps))

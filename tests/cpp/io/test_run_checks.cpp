@@ -118,6 +118,11 @@ TEST(RunChecks, UnconvergedStepsAreCountedAndDumpsBounded)
   doc["output"]["fields"] = false;
   doc["contact"]["nlgs_max_sweeps"] = 1;
   doc["contact"]["nlgs_tolerance"] = 1e-15;
+  // The sweep this scenario was made with: in the alternate order one of
+  // the 25 one-sweep steps happens to find every contact open (r = 0,
+  // error 0) and converges.
+  doc["contact"]["nlgs_order"] = "contact";
+  doc["contact"]["nlgs_relaxation"] = 1.8;
   doc["time"]["newton_max_iterations"] = 1;
   doc["time"]["newton_tolerance"] = 1e-12;
   run(doc, dir);
@@ -168,7 +173,9 @@ TEST(RunChecks, ConvergedRunIsMarkedConverged)
   const json done = read_json(dir / "raw" / "done.json");
   EXPECT_TRUE(done.at("converged").get<bool>());
   EXPECT_EQ(done.at("newton_unconverged_steps"), 0);
-  EXPECT_EQ(done.at("max_overlap_depth"), 0.0);
+  // No overlap beyond rounding (a contact solved to 1e-6 leaves ~1e-13 m,
+  // against disks of radius 1e-2 m)
+  EXPECT_LT(done.at("max_overlap_depth").get<double>(), 1e-9);
   EXPECT_FALSE(
       std::filesystem::exists(dir / "raw" / "failed_contact_problems"));
   if (!HasFailure())
