@@ -15,13 +15,12 @@ enum class SweepOrder
   /// stage of a domain's)
   contact,
   /// Every other contact of the ascending order first (the even positions,
-  /// then the odd ones), as red-black Gauss–Seidel visits a line: the
-  /// contacts of one interface come in the ascending order node after node,
-  /// and neighbouring nodes of a soft body are coupled almost as strongly
-  /// as each with itself, so that an over-relaxed update of one overshoots
-  /// what its neighbour's just did. On the paper case's problems from
-  /// Phi 0.80 to 0.88 this needs three to four times fewer sweeps
-  /// (docs/performance.md), and rows are still read two by two in memory.
+  /// then the odd ones), as red-black Gauss–Seidel visits a line. Measured,
+  /// not derived: on the paper case's problems (Phi 0.80 to 0.88, warm
+  /// started, relaxation 1.6-1.8) it needs 2.3 to 3.5 times fewer sweeps
+  /// than the ascending order, where the contacts of one body pair come
+  /// node after node; on a plain row of contacts coupled by a smooth
+  /// kernel it needs more (test_sweep_order.cpp). docs/performance.md.
   alternate
 };
 

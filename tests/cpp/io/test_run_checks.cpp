@@ -142,6 +142,9 @@ TEST(RunChecks, UnconvergedStepsAreCountedAndDumpsBounded)
   EXPECT_EQ(files, 20);
   EXPECT_EQ(done.at("failed_contact_problems_written"), 20);
   EXPECT_EQ(done.at("failed_contact_problems_not_written"), 5);
+  // The run's work: one Newton iteration of one sweep per step
+  EXPECT_EQ(done.at("newton_iterations"), 25);
+  EXPECT_EQ(done.at("nlgs_sweeps"), 25);
 
   // Continued from its state for 5 steps: the totals cover the whole run,
   // and the dumps stay bounded.
@@ -154,6 +157,9 @@ TEST(RunChecks, UnconvergedStepsAreCountedAndDumpsBounded)
   EXPECT_EQ(more.at("newton_unconverged_steps"), 30);
   EXPECT_EQ(more.at("failed_contact_problems_written"), 20);
   EXPECT_EQ(more.at("failed_contact_problems_not_written"), 10);
+  // ... counted for this run's steps only
+  EXPECT_EQ(more.at("newton_iterations"), 5);
+  EXPECT_EQ(more.at("nlgs_sweeps"), 5);
   EXPECT_FALSE(
       std::filesystem::exists(next / "raw" / "failed_contact_problems"));
   if (!HasFailure())

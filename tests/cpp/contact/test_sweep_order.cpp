@@ -1,0 +1,134 @@
+// The sweep order (NlgsOptions::order) and the scheduled full error
+// (NlgsOptions::full_error_interval): the same answers, fewer sweeps.
+
+#include "error.h"
+#include "fclib_io.h"
+#include "helpers.h"
+#include "nlgs.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace softpack::contact;
+using namespace softpack::contact::test;
+
+namespace
+{
+/// n contacts in a row coupled as exp(-distance / decay) (a positive
+/// definite kernel): neighbours coupled almost as strongly as each with
+/// itself. All closed and sticking at the answer r*. (On this problem the
+/// alternate order needs more sweeps than the contact order; its gain is
+/// measured on the simulator's own problems, docs/performance.md.)
+struct Interface
+{
+  FrictionContactProblem2D problem;
+  Eigen::VectorXd answer;
+};
+
+Interface interface(int n, double decay)
+{
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  Eigen::VectorXd r(2 * n);
+  for (int a = 0; a < n; ++a)
+  {
+    for (int b = 0; b < n; ++b)
+    {
+      const double g = std::exp(-std::abs(a - b) / decay);
+      W(2 * a, 2 * b) = g;
+      W(2 * a + 1, 2 * b + 1) = 0.6 * g;
+    }
+    r[2 * a] = 1.0 + 0.3 * std::sin(0.7 * a);
+    r[2 * a + 1] = 0.1 * std::cos(1.3 * a) * r[2 * a];
+  }
+  // u* = 0 (closed, sticking): q = -W r*
+  return {make_problem(W, -W * r, std::vector<double>(n, 0.3)), r};
+}
+
+NlgsResult solve(const FrictionContactProblem2D& p, NlgsOptions opt,
+                 std::vector<double>& r)
+{
+  r.assign(2 * p.num_contacts(), 0.0);
+  std::vector<double> u(r.size());
+  return solve_nlgs(p, r, u, opt);
+}
+} // namespace
+
+TEST(SweepOrder, AlternateReachesTheSameAnswer)
+{
+  const Interface s = interface(40, 3.0);
+  NlgsOptions opt;
+  opt.tolerance = 1e-8;
+  opt.relaxation = 1.7;
+  std::vector<double> in_contact_order, alternate;
+  const NlgsResult one = solve(s.problem, opt, in_contact_order);
+  opt.order = SweepOrder::alternate;
+  const NlgsResult two = solve(s.problem, opt, alternate);
+  ASSERT_TRUE(one.converged);
+  ASSERT_TRUE(two.converged);
+  for (int k = 0; k < s.answer.size(); ++k)
+  {
+    EXPECT_NEAR(in_contact_order[k], s.answer[k], 1e-5) << k;
+    EXPECT_NEAR(alternate[k], s.answer[k], 1e-5) << k;
+  }
+}
+
+TEST(SweepOrder, AlternateGivesTheSameBitsOnOneThreadAndOnTwo)
+{
+  const FrictionContactProblem2D p =
+      read_fclib_local(hdf5_file("fc2d_granularflowonwall_02020_00213"));
+  NlgsOptions opt;
+  opt.tolerance = 1e-6;
+  opt.split_min_contacts = 1;
+  opt.order = SweepOrder::alternate;
+  std::vector<double> r1, r2;
+  opt.threads = 1;
+  const NlgsResult one = solve(p, opt, r1);
+  opt.threads = 2;
+  const NlgsResult two = solve(p, opt, r2);
+  EXPECT_TRUE(one.converged);
+  EXPECT_EQ(one.iterations, two.iterations);
+  EXPECT_EQ(r1, r2);
+}
+
+TEST(SweepOrder, EveryFclibProblemIsSolvedToItsErrorInEitherOrder)
+{
+  for (const DataProblem& d : data_problems())
+    for (const SweepOrder order : {SweepOrder::contact, SweepOrder::alternate})
+    {
+      const FrictionContactProblem2D p = read_fclib_local(hdf5_file(d.name));
+      NlgsOptions opt;
+      opt.tolerance = d.tolerance;
+      opt.max_sweeps = 10000;
+      opt.order = order;
+      std::vector<double> r;
+      const NlgsResult res = solve(p, opt, r);
+      EXPECT_TRUE(res.converged) << d.name;
+      // The error again, from the returned reactions alone.
+      std::vector<double> w(r.size());
+      EXPECT_LE(compute_error(p, r, w, opt.q_zero_tolerance).value, d.tolerance)
+          << d.name;
+    }
+}
+
+TEST(SweepOrder, AScheduledFullErrorStopsNoLaterThanTheCheapOne)
+{
+  // The cheap error of an over-relaxed sweep lags the full error: checking
+  // the full error every few sweeps stops at least as early, at an error
+  // within the tolerance.
+  const Interface s = interface(40, 3.0);
+  NlgsOptions opt;
+  opt.tolerance = 1e-8;
+  opt.relaxation = 1.7;
+  std::vector<double> r;
+  opt.full_error_interval = 0;
+  const NlgsResult cheap_only = solve(s.problem, opt, r);
+  opt.full_error_interval = 5;
+  const NlgsResult scheduled = solve(s.problem, opt, r);
+  ASSERT_TRUE(cheap_only.converged);
+  ASSERT_TRUE(scheduled.converged);
+  EXPECT_LE(scheduled.error, opt.tolerance);
+  EXPECT_LE(scheduled.iterations, cheap_only.iterations);
+  std::cout << "[ sweeps   ] cheap error only " << cheap_only.iterations
+            << ", full error every 5 sweeps " << scheduled.iterations << "\n";
+}
