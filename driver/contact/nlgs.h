@@ -53,8 +53,8 @@ struct NlgsOptions
   /// error of an over-relaxed sweep can stay above the tolerance long after
   /// the full error is below it (on the paper case's problems two to three
   /// times as many sweeps); a full error costs about one sweep, and each
-  /// one also rescales the working tolerance (Siconos' adaptive error
-  /// evaluation).
+  /// one also rescales the working tolerance (Siconos' NSGS can likewise
+  /// evaluate its full error at a set frequency).
   int full_error_interval = 10;
 
   /// Start from the reactions passed in (else from r = 0)
