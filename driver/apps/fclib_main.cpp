@@ -17,7 +17,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -116,13 +115,10 @@ int main(int argc, char** argv)
                  "relaxation factor in (0, 2)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 2.0));
-  app.add_option("--order", args.options.order,
+  std::string order = "contact";
+  app.add_option("--order", order,
                  "sweep order: contact (ascending) or alternate (even "
                  "positions, then odd)")
-      ->transform(
-          CLI::CheckedTransformer(std::map<std::string, contact::SweepOrder>{
-              {"contact", contact::SweepOrder::contact},
-              {"alternate", contact::SweepOrder::alternate}}))
       ->capture_default_str();
   app.add_option("--q-zero", args.options.q_zero_tolerance,
                  "|q|_inf at or below this means q = 0: the answer is r = 0 "
@@ -140,6 +136,15 @@ int main(int argc, char** argv)
   app.add_option("--solution-out", args.solution_out,
                  "write DIR/NAME.r.csv, the reactions one per line");
   CLI11_PARSE(app, argc, argv);
+  try
+  {
+    args.options.order = contact::sweep_order(order);
+  }
+  catch (const std::invalid_argument& e)
+  {
+    std::cerr << "softpack-fclib: --order: " << e.what() << "\n";
+    return 2;
+  }
 
   bool all_ok = true;
   for (const std::string& file : args.files)

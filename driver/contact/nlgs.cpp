@@ -252,6 +252,16 @@ void domain_sweeps(const FrictionContactProblem2D& problem, std::span<double> r,
 } // namespace
 
 //-----------------------------------------------------------------------------
+SweepOrder softpack::contact::sweep_order(const std::string& name)
+{
+  if (name == "contact")
+    return SweepOrder::contact;
+  if (name == "alternate")
+    return SweepOrder::alternate;
+  throw std::invalid_argument("sweep order \"" + name +
+                              "\": must be \"contact\" or \"alternate\"");
+}
+//-----------------------------------------------------------------------------
 NlgsResult softpack::contact::solve_nlgs(
     const FrictionContactProblem2D& problem, std::span<double> r,
     std::span<double> u, const NlgsOptions& options, const SweepDomain* domain)

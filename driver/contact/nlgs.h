@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <span>
+#include <string>
 
 namespace softpack::contact
 {
@@ -23,6 +24,11 @@ enum class SweepOrder
   /// kernel it needs more (test_sweep_order.cpp). docs/performance.md.
   alternate
 };
+
+/// The SweepOrder of a name ("contact" or "alternate": the schema's
+/// contact.nlgs_order choices)
+/// @throws std::invalid_argument naming the allowed names
+SweepOrder sweep_order(const std::string& name);
 
 /// Options of solve_nlgs().
 struct NlgsOptions

@@ -31,8 +31,7 @@ contact::NlgsOptions nlgs_options(const parameters::Contact& contact)
   o.tolerance = contact.nlgs_tolerance;
   o.max_sweeps = contact.nlgs_max_sweeps;
   o.relaxation = contact.nlgs_relaxation;
-  o.order = contact.nlgs_order == "alternate" ? contact::SweepOrder::alternate
-                                              : contact::SweepOrder::contact;
+  o.order = contact::sweep_order(contact.nlgs_order);
   // Large problems are swept in split order, on two threads when the
   // driver has them; the order depends on the problem's size only, so a
   // run gives the same answers on any number of threads or ranks. Below a

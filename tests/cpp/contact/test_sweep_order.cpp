@@ -1,5 +1,6 @@
 // The sweep order (NlgsOptions::order) and the scheduled full error
-// (NlgsOptions::full_error_interval): the same answers, fewer sweeps.
+// (NlgsOptions::full_error_interval): the same answers, fewer sweeps. The
+// same bits on one thread and on two: test_sweep_split.cpp.
 
 #include "error.h"
 #include "fclib_io.h"
@@ -71,24 +72,6 @@ TEST(SweepOrder, AlternateReachesTheSameAnswer)
     EXPECT_NEAR(in_contact_order[k], s.answer[k], 1e-5) << k;
     EXPECT_NEAR(alternate[k], s.answer[k], 1e-5) << k;
   }
-}
-
-TEST(SweepOrder, AlternateGivesTheSameBitsOnOneThreadAndOnTwo)
-{
-  const FrictionContactProblem2D p =
-      read_fclib_local(hdf5_file("fc2d_granularflowonwall_02020_00213"));
-  NlgsOptions opt;
-  opt.tolerance = 1e-6;
-  opt.split_min_contacts = 1;
-  opt.order = SweepOrder::alternate;
-  std::vector<double> r1, r2;
-  opt.threads = 1;
-  const NlgsResult one = solve(p, opt, r1);
-  opt.threads = 2;
-  const NlgsResult two = solve(p, opt, r2);
-  EXPECT_TRUE(one.converged);
-  EXPECT_EQ(one.iterations, two.iterations);
-  EXPECT_EQ(r1, r2);
 }
 
 TEST(SweepOrder, EveryFclibProblemIsSolvedToItsErrorInEitherOrder)

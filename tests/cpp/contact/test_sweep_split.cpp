@@ -98,19 +98,23 @@ TEST(SweepSplit, SameBitsOnOneThreadAndOnTwo)
 {
   const FrictionContactProblem2D p =
       read_fclib_local(hdf5_file("fc2d_granularflowonwall_02020_00213"));
-  NlgsOptions opt;
-  opt.tolerance = 1e-6;
-  opt.split_min_contacts = 1;
-  std::vector<double> r1(2 * p.num_contacts(), 0.0), u1(r1.size());
-  std::vector<double> r2 = r1, u2 = u1;
-  opt.threads = 1;
-  const NlgsResult one = solve_nlgs(p, r1, u1, opt);
-  opt.threads = 2;
-  const NlgsResult two = solve_nlgs(p, r2, u2, opt);
-  EXPECT_TRUE(one.converged);
-  EXPECT_EQ(one.iterations, two.iterations);
-  EXPECT_EQ(r1, r2);
-  EXPECT_EQ(one.error, two.error);
+  for (const SweepOrder order : {SweepOrder::contact, SweepOrder::alternate})
+  {
+    NlgsOptions opt;
+    opt.tolerance = 1e-6;
+    opt.split_min_contacts = 1;
+    opt.order = order;
+    std::vector<double> r1(2 * p.num_contacts(), 0.0), u1(r1.size());
+    std::vector<double> r2 = r1, u2 = u1;
+    opt.threads = 1;
+    const NlgsResult one = solve_nlgs(p, r1, u1, opt);
+    opt.threads = 2;
+    const NlgsResult two = solve_nlgs(p, r2, u2, opt);
+    EXPECT_TRUE(one.converged);
+    EXPECT_EQ(one.iterations, two.iterations);
+    EXPECT_EQ(r1, r2);
+    EXPECT_EQ(one.error, two.error);
+  }
 }
 
 TEST(SweepSplit, SplitSolvesEveryFclibProblemToItsError)
