@@ -88,6 +88,41 @@ void DelassusMatrix::finalize()
   _finalized = true;
 }
 //-----------------------------------------------------------------------------
+DelassusMatrix
+DelassusMatrix::renumbered(std::span<const std::int32_t> order) const
+{
+  if (!_finalized or order.size() != _num_contacts)
+    throw std::invalid_argument(
+        "DelassusMatrix::renumbered: needs a finalized operator and one "
+        "new place per contact");
+  std::vector<std::int32_t> position(_num_contacts, -1);
+  for (std::size_t i = 0; i < order.size(); ++i)
+  {
+    const std::int32_t a = order[i];
+    if (a < 0 or static_cast<std::size_t>(a) >= _num_contacts or
+        position[a] >= 0)
+      throw std::invalid_argument(
+          "DelassusMatrix::renumbered: order is not a permutation");
+    position[a] = static_cast<std::int32_t>(i);
+  }
+  DelassusMatrix out(_num_contacts);
+  out._columns.reserve(_columns.size());
+  out._blocks.reserve(_blocks.size());
+  for (std::size_t i = 0; i < _num_contacts; ++i)
+  {
+    const std::int32_t a = order[i];
+    out._diagonal[i] = _diagonal[a];
+    for (std::int32_t k = _offsets[a]; k < _offsets[a + 1]; ++k)
+    {
+      out._columns.push_back(position[_columns[k]]);
+      out._blocks.push_back(_blocks[k]);
+    }
+    out._offsets[i + 1] = static_cast<std::int32_t>(out._columns.size());
+  }
+  out._finalized = true;
+  return out;
+}
+//-----------------------------------------------------------------------------
 void DelassusMatrix::multiply_add(std::span<const double> r,
                                   std::span<double> u) const
 {

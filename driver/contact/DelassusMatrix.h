@@ -14,7 +14,8 @@ namespace softpack::contact
 /// Block \f$W_{ab}\f$ maps the impulse of contact \f$b\f$ to the relative
 /// velocity of contact \f$a\f$, both in the local frame \f$(n, t)\f$. Row
 /// \f$a\f$ holds its diagonal block and the list of off-diagonal blocks
-/// \f$(b, W_{ab})\f$, \f$b \ne a\f$, sorted by \f$b\f$. Two contacts are
+/// \f$(b, W_{ab})\f$, \f$b \ne a\f$, sorted by \f$b\f$ (but in a
+/// renumbered() copy). Two contacts are
 /// coupled only when they share a body, so the number of blocks per row is
 /// small and a product \f$W r\f$ costs O(number of blocks).
 ///
@@ -103,6 +104,15 @@ public:
     const Eigen::Vector2d ra(r[2 * a], r[2 * a + 1]);
     return _diagonal[a] * ra + offdiagonal_product(a, r);
   }
+
+  /// The same operator with its contacts renumbered: contact `order[i]`
+  /// becomes contact i. Each row keeps its blocks in their order (sorted by
+  /// the old numbers, so no longer by the new ones), so every product sums
+  /// in the same order as before and gives the same bits. A solver that
+  /// visits the rows in `order` then reads them one after the other.
+  /// @param[in] order A permutation of the contacts, finalized operator
+  /// @throws std::invalid_argument if order is not a permutation
+  DelassusMatrix renumbered(std::span<const std::int32_t> order) const;
 
   /// \f$u \leftarrow u + W r\f$.
   /// @param[in] r Reactions, size 2 num_contacts()

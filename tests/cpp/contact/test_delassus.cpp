@@ -85,6 +85,56 @@ TEST(Delassus, RejectsOutOfRangeAndLateBlocks)
                std::logic_error);
 }
 
+TEST(Delassus, RenumberedIsThePermutedOperatorWithTheSameRowSums)
+{
+  const int nc = 9;
+  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(2 * nc, 2 * nc);
+  std::srand(5);
+  for (int a = 0; a < nc; ++a) // each contact couples with three others
+    for (int b : {a, (a + 2) % nc, (a + 3) % nc, (a + 7) % nc})
+      dense.block<2, 2>(2 * a, 2 * b) = Eigen::Matrix2d::Random();
+  const FrictionContactProblem2D p = make_problem(
+      dense, Eigen::VectorXd::Zero(2 * nc), std::vector<double>(nc, 0.3));
+  const std::vector<std::int32_t> order = {4, 0, 8, 2, 6, 1, 3, 5, 7};
+  const DelassusMatrix R = p.W.renumbered(order);
+  ASSERT_TRUE(R.finalized());
+  EXPECT_EQ(R.num_offdiagonal_blocks(), p.W.num_offdiagonal_blocks());
+
+  Eigen::MatrixXd permuted(2 * nc, 2 * nc);
+  for (int i = 0; i < nc; ++i)
+    for (int j = 0; j < nc; ++j)
+      permuted.block<2, 2>(2 * i, 2 * j) =
+          dense.block<2, 2>(2 * order[i], 2 * order[j]);
+  EXPECT_TRUE(to_dense(R).isApprox(permuted, 0.0));
+
+  // Each row sums its blocks in the original order: the same bits.
+  const Eigen::VectorXd r = Eigen::VectorXd::Random(2 * nc);
+  Eigen::VectorXd r_here(2 * nc);
+  for (int i = 0; i < nc; ++i)
+    r_here.segment<2>(2 * i) = r.segment<2>(2 * order[i]);
+  for (int i = 0; i < nc; ++i)
+  {
+    const Eigen::Vector2d there = p.W.row_product(order[i], r.data());
+    const Eigen::Vector2d here = R.row_product(i, r_here.data());
+    EXPECT_EQ(here[0], there[0]) << i;
+    EXPECT_EQ(here[1], there[1]) << i;
+  }
+}
+
+TEST(Delassus, RenumberingNeedsAPermutationOfAFinalizedOperator)
+{
+  DelassusMatrix W(2);
+  W.add_block(0, 0, Eigen::Matrix2d::Identity());
+  W.add_block(1, 1, Eigen::Matrix2d::Identity());
+  const std::vector<std::int32_t> swap = {1, 0}, twice = {1, 1},
+                                  short_one = {0}, outside = {0, 2};
+  EXPECT_THROW(W.renumbered(swap), std::invalid_argument); // not finalized
+  W.finalize();
+  EXPECT_NO_THROW(W.renumbered(swap));
+  for (const auto* bad : {&twice, &short_one, &outside})
+    EXPECT_THROW(W.renumbered(*bad), std::invalid_argument);
+}
+
 TEST(Validate, AcceptsAWellFormedProblem)
 {
   FrictionContactProblem2D p = make_problem(

@@ -115,3 +115,45 @@ TEST(SweepOrder, AScheduledFullErrorStopsNoLaterThanTheCheapOne)
   std::cout << "[ sweeps   ] cheap error only " << cheap_only.iterations
             << ", full error every 5 sweeps " << scheduled.iterations << "\n";
 }
+
+TEST(SweepOrder, AlternateIsTheContactOrderOfTheRenumberedProblem)
+{
+  // The solver renumbers the problem in its sweep order (so that a sweep
+  // reads W's rows one after the other): the same sweeps and the same bits
+  // as sweeping the caller's numbering in that order, which is what
+  // renumbering the problem by hand and sweeping it in the contact order
+  // does. (Only the full error sums its terms in another order: it may
+  // differ in its last bits.)
+  for (const DataProblem& d : data_problems())
+  {
+    const FrictionContactProblem2D p = read_fclib_local(hdf5_file(d.name));
+    const std::size_t n = p.num_contacts();
+    std::vector<std::int32_t> order;
+    for (std::size_t first : {0, 1})
+      for (std::size_t a = first; a < n; a += 2)
+        order.push_back(static_cast<std::int32_t>(a));
+    FrictionContactProblem2D by_hand;
+    by_hand.W = p.W.renumbered(order);
+    for (const std::int32_t a : order)
+    {
+      by_hand.q.insert(by_hand.q.end(), {p.q[2 * a], p.q[2 * a + 1]});
+      by_hand.friction.push_back(p.friction[a]);
+    }
+    NlgsOptions opt;
+    opt.tolerance = d.tolerance;
+    opt.relaxation = 1.3;
+    opt.full_error_interval = 0; // stop on the cheap error, summed alike
+    std::vector<double> r_hand, r;
+    const NlgsResult hand = solve(by_hand, opt, r_hand);
+    opt.order = SweepOrder::alternate;
+    const NlgsResult solver = solve(p, opt, r);
+    EXPECT_EQ(solver.iterations, hand.iterations) << d.name;
+    EXPECT_NEAR(solver.error, hand.error, 1e-12 * hand.error + 1e-300)
+        << d.name;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      EXPECT_EQ(r[2 * order[i]], r_hand[2 * i]) << d.name << " " << i;
+      EXPECT_EQ(r[2 * order[i] + 1], r_hand[2 * i + 1]) << d.name << " " << i;
+    }
+  }
+}
