@@ -91,29 +91,34 @@ delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
                   H.frame(sb.contact));
       continue;
     }
-    // All the body's blocks first: a pair is kept or dropped as one
-    // (W_ab and W_ba = W_ab^T only up to rounding), so that W's pattern is
-    // symmetric, which a distributed run's plan relies on
-    // (contact::plan_domain).
+    // All the body's blocks first: a pair is kept or dropped as one, so that
+    // W's pattern is symmetric, which a distributed run's plan relies on
+    // (contact::plan_domain). Kbar^-1 is symmetric: each pair is computed
+    // once and W_ba = W_ab^T, exactly (computed apart, the two differed by
+    // rounding, at twice the cost).
     const std::size_t n = shares[b].size();
     std::vector<Eigen::Matrix2d> blocks(n * n);
     for (std::size_t ka = 0; ka < n; ++ka)
-      for (std::size_t kb = 0; kb < n; ++kb)
-        blocks[ka * n + kb] = body_block(b, shares[b][ka], shares[b][kb]);
-    auto norm = [&](std::size_t ka, std::size_t kb)
-    { return blocks[ka * n + kb].norm(); };
+      for (std::size_t kb = ka; kb < n; ++kb)
+      {
+        const BodyShare &sa = shares[b][ka], &sb = shares[b][kb];
+        blocks[ka * n + kb] = H.frame(sa.contact).transpose() *
+                              body_block(b, sa, sb) * H.frame(sb.contact);
+        if (kb != ka)
+          blocks[kb * n + ka] = blocks[ka * n + kb].transpose();
+      }
+    std::vector<double> diagonal_norm(n);
+    for (std::size_t k = 0; k < n; ++k)
+      diagonal_norm[k] = blocks[k * n + k].norm();
     for (std::size_t ka = 0; ka < n; ++ka)
       for (std::size_t kb = 0; kb < n; ++kb)
       {
-        const BodyShare &sa = shares[b][ka], &sb = shares[b][kb];
+        const std::int32_t a = shares[b][ka].contact, c = shares[b][kb].contact;
         const double below =
-            drop_tolerance * std::sqrt(norm(ka, ka) * norm(kb, kb));
-        if (sa.contact != sb.contact && drop_tolerance > 0 &&
-            std::max(norm(ka, kb), norm(kb, ka)) < below)
+            drop_tolerance * std::sqrt(diagonal_norm[ka] * diagonal_norm[kb]);
+        if (a != c && drop_tolerance > 0 && blocks[ka * n + kb].norm() < below)
           continue;
-        add(sa.contact, sb.contact,
-            H.frame(sa.contact).transpose() * blocks[ka * n + kb] *
-                H.frame(sb.contact));
+        add(a, c, blocks[ka * n + kb]);
       }
   }
   std::size_t total = 0;
