@@ -9,6 +9,7 @@
 #include <limits>
 #include <numeric>
 #include <omp.h>
+#include <optional>
 #include <stdexcept>
 
 using namespace softpack::contact;
@@ -32,6 +33,21 @@ void check_arguments(const FrictionContactProblem2D& problem,
     throw std::invalid_argument("solve_nlgs: relaxation must be in (0, 2)");
   if (!(options.tolerance >= 0) or options.max_sweeps < 0)
     throw std::invalid_argument("solve_nlgs: negative tolerance or sweeps");
+}
+//-----------------------------------------------------------------------------
+/// A plan made for another problem or other options is refused (its
+/// numbering would scramble the reactions)
+void check_plan(const SweepPlan& plan, const FrictionContactProblem2D& problem,
+                const NlgsOptions& options)
+{
+  if (plan.problem.num_contacts() != problem.num_contacts() or
+      plan.problem.W.num_offdiagonal_blocks() !=
+          problem.W.num_offdiagonal_blocks() or
+      plan.split != splits(problem, options) or
+      plan.sweep_order != options.order)
+    throw std::invalid_argument(
+        "solve_nlgs: the sweep plan was made for another W or other "
+        "options (order, split)");
 }
 //-----------------------------------------------------------------------------
 /// Squared change of the reactions and squared norm of the new ones over
@@ -203,70 +219,9 @@ void Monitor::finish()
   _result.converged = _full.value <= _options.tolerance;
 }
 //-----------------------------------------------------------------------------
-/// A problem renumbered in the order of its sweeps, so that a sweep reads
-/// W's rows one after the other: over rows kept in detection order, a sweep
-/// in the alternate order cost 1.1-1.5 times one in the ascending order
-/// (rows read two by two; docs/performance.md). Every product and sum is
-/// that of the original numbering in the same order: the same bits.
-struct SweptProblem
-{
-  FrictionContactProblem2D problem;
-  /// The original number of each contact here
-  std::vector<std::int32_t> order;
-  /// Where each original contact is here (the full error sums in the
-  /// original order through it)
-  std::vector<std::int32_t> position;
-  /// The split sweep's sets: part 0 is [0, ends[0]), part 1 [ends[0],
-  /// ends[1]), the separator [ends[1], n)
-  std::size_t ends[2];
-};
-//-----------------------------------------------------------------------------
-/// The problem in its sweep order: the split of split_for_two_threads()
-/// (when `split`), each set in the options' order
-SweptProblem swept_problem(const FrictionContactProblem2D& problem,
-                           const NlgsOptions& options, bool split)
-{
-  const std::size_t n = problem.num_contacts();
-  SweptProblem s;
-  if (split)
-  {
-    SweepSplit sets = split_for_two_threads(problem.W);
-    int k = 0;
-    for (std::vector<std::int32_t>* set :
-         {&sets.part[0], &sets.part[1], &sets.separator})
-    {
-      const std::vector<std::int32_t> ordered =
-          in_order(std::move(*set), options);
-      s.order.insert(s.order.end(), ordered.begin(), ordered.end());
-      if (k < 2)
-        s.ends[k++] = s.order.size();
-    }
-  }
-  else
-  {
-    std::vector<std::int32_t> all(n);
-    std::iota(all.begin(), all.end(), 0);
-    s.order = in_order(std::move(all), options);
-    s.ends[0] = s.ends[1] = n;
-  }
-  s.position.resize(n);
-  s.problem.q.resize(2 * n);
-  s.problem.friction.resize(n);
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const std::int32_t a = s.order[i];
-    s.position[a] = static_cast<std::int32_t>(i);
-    s.problem.q[2 * i] = problem.q[2 * a];
-    s.problem.q[2 * i + 1] = problem.q[2 * a + 1];
-    s.problem.friction[i] = problem.friction[a];
-  }
-  s.problem.W = problem.W.renumbered(s.order);
-  return s;
-}
-//-----------------------------------------------------------------------------
 /// Sweeps of a swept problem: its two parts on two threads when `threads`
 /// > 1 (the separator on one, between two barriers), else all in order.
-void swept_sweeps(const SweptProblem& swept, double* r, int threads,
+void swept_sweeps(const SweepPlan& swept, double* r, int threads,
                   Monitor& monitor)
 {
   const FrictionContactProblem2D& problem = swept.problem;
@@ -319,29 +274,28 @@ void domain_sweeps(const FrictionContactProblem2D& problem, std::span<double> r,
   }
 }
 //-----------------------------------------------------------------------------
-/// solve_nlgs() on the problem renumbered in its sweep order, r and u in
-/// the caller's numbering
+/// solve_nlgs() on the plan's renumbered problem with the caller's q; r and
+/// u in the caller's numbering
 void solve_swept(const FrictionContactProblem2D& problem, std::span<double> r,
-                 std::span<double> u, const NlgsOptions& options, bool split,
-                 NlgsResult& result)
+                 std::span<double> u, const NlgsOptions& options,
+                 SweepPlan& plan, NlgsResult& result)
 {
-  const SweptProblem swept = swept_problem(problem, options, split);
   const std::size_t n = problem.num_contacts();
   std::vector<double> r_here(2 * n), u_here(2 * n);
   for (std::size_t i = 0; i < n; ++i)
-  {
-    r_here[2 * i] = r[2 * swept.order[i]];
-    r_here[2 * i + 1] = r[2 * swept.order[i] + 1];
-  }
-  Monitor monitor(swept.problem, r_here, u_here, options, result,
-                  swept.position);
-  swept_sweeps(swept, r_here.data(), split ? options.threads : 1, monitor);
+    for (int j = 0; j < 2; ++j)
+    {
+      r_here[2 * i + j] = r[2 * plan.order[i] + j];
+      plan.problem.q[2 * i + j] = problem.q[2 * plan.order[i] + j];
+    }
+  Monitor monitor(plan.problem, r_here, u_here, options, result, plan.position);
+  swept_sweeps(plan, r_here.data(), plan.split ? options.threads : 1, monitor);
   monitor.finish();
   for (std::size_t i = 0; i < n; ++i)
     for (int j = 0; j < 2; ++j)
     {
-      r[2 * swept.order[i] + j] = r_here[2 * i + j];
-      u[2 * swept.order[i] + j] = u_here[2 * i + j];
+      r[2 * plan.order[i] + j] = r_here[2 * i + j];
+      u[2 * plan.order[i] + j] = u_here[2 * i + j];
     }
 }
 } // namespace
@@ -357,11 +311,65 @@ SweepOrder softpack::contact::sweep_order(const std::string& name)
                               "\": must be \"contact\" or \"alternate\"");
 }
 //-----------------------------------------------------------------------------
-NlgsResult softpack::contact::solve_nlgs(
-    const FrictionContactProblem2D& problem, std::span<double> r,
-    std::span<double> u, const NlgsOptions& options, const SweepDomain* domain)
+bool softpack::contact::splits(const FrictionContactProblem2D& problem,
+                               const NlgsOptions& options)
+{
+  return options.split_min_contacts > 0 and
+         problem.num_contacts() >= options.split_min_contacts;
+}
+//-----------------------------------------------------------------------------
+bool softpack::contact::renumbers(const FrictionContactProblem2D& problem,
+                                  const NlgsOptions& options)
+{
+  return splits(problem, options) or options.order != SweepOrder::contact;
+}
+//-----------------------------------------------------------------------------
+SweepPlan::SweepPlan(const FrictionContactProblem2D& problem,
+                     const NlgsOptions& options)
+    : split(splits(problem, options)), sweep_order(options.order)
+{
+  const std::size_t n = problem.num_contacts();
+  if (split)
+  {
+    SweepSplit sets = split_for_two_threads(problem.W);
+    int k = 0;
+    for (std::vector<std::int32_t>* set :
+         {&sets.part[0], &sets.part[1], &sets.separator})
+    {
+      const std::vector<std::int32_t> ordered =
+          in_order(std::move(*set), options);
+      order.insert(order.end(), ordered.begin(), ordered.end());
+      if (k < 2)
+        ends[k++] = order.size();
+    }
+  }
+  else
+  {
+    std::vector<std::int32_t> all(n);
+    std::iota(all.begin(), all.end(), 0);
+    order = in_order(std::move(all), options);
+    ends[0] = ends[1] = n;
+  }
+  position.resize(n);
+  this->problem.q.resize(2 * n);
+  this->problem.friction.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    position[order[i]] = static_cast<std::int32_t>(i);
+    this->problem.friction[i] = problem.friction[order[i]];
+  }
+  this->problem.W = problem.W.renumbered(order);
+}
+//-----------------------------------------------------------------------------
+NlgsResult
+softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
+                              std::span<double> r, std::span<double> u,
+                              const NlgsOptions& options,
+                              const SweepDomain* domain, SweepPlan* plan)
 {
   check_arguments(problem, r, u, options);
+  if (domain and plan)
+    throw std::invalid_argument("solve_nlgs: a domain or a plan, not both");
   if (!options.warm_start)
     std::fill(r.begin(), r.end(), 0.0);
 
@@ -370,8 +378,6 @@ NlgsResult softpack::contact::solve_nlgs(
   if (result.q_zero)
     std::fill(r.begin(), r.end(), 0.0);
 
-  const bool split = options.split_min_contacts > 0 and
-                     problem.num_contacts() >= options.split_min_contacts;
   const bool sweeps = !result.q_zero and options.max_sweeps > 0;
   if (domain)
   {
@@ -383,8 +389,15 @@ NlgsResult softpack::contact::solve_nlgs(
       domain_sweeps(problem, r, *domain, options, monitor);
     monitor.finish();
   }
-  else if (sweeps and (split or options.order != SweepOrder::contact))
-    solve_swept(problem, r, u, options, split, result);
+  else if (sweeps and (plan or renumbers(problem, options)))
+  {
+    if (plan)
+      check_plan(*plan, problem, options);
+    std::optional<SweepPlan> own;
+    if (!plan)
+      own.emplace(problem, options);
+    solve_swept(problem, r, u, options, plan ? *plan : *own, result);
+  }
   else
   {
     Monitor monitor(problem, r, u, options, result, {});

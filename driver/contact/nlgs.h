@@ -5,6 +5,7 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace softpack::contact
 {
@@ -125,6 +126,48 @@ struct SweepDomain
   std::function<void(std::span<double> x)> gather;
 };
 
+/// true when solve_nlgs() sweeps the problem in the order of
+/// split_for_two_threads() (NlgsOptions::split_min_contacts)
+bool splits(const FrictionContactProblem2D& problem,
+            const NlgsOptions& options);
+
+/// true when solve_nlgs() sweeps the problem renumbered (SweepPlan): when
+/// it splits() or the order is not the contact order
+bool renumbers(const FrictionContactProblem2D& problem,
+               const NlgsOptions& options);
+
+/// A problem's contacts renumbered in the order of its sweeps, so that a
+/// sweep reads W's rows one after the other: the split's part 0, part 1
+/// and separator (when splits()) become contiguous ranges, each in the
+/// options' SweepOrder. Over rows kept in detection order a sweep in the
+/// alternate order cost 1.1-1.5 times one in the ascending order
+/// (docs/performance.md); renumbered, every product and sum is the
+/// original one, in the same order: the same bits.
+///
+/// Made from W and the friction; q is filled in by each solve. solve_nlgs()
+/// makes one per call unless it is given one: a caller that solves with
+/// one W and several q (the Newton iterations of a time step) makes it once.
+struct SweepPlan
+{
+  /// @param[in] problem Its W and friction (q is not read)
+  /// @param[in] options Its order, split_min_contacts
+  SweepPlan(const FrictionContactProblem2D& problem,
+            const NlgsOptions& options);
+  /// The problem renumbered (q: the last solve's)
+  FrictionContactProblem2D problem;
+  /// The original number of each contact here
+  std::vector<std::int32_t> order;
+  /// Where each original contact is here (the full error sums its terms in
+  /// the original order through it)
+  std::vector<std::int32_t> position;
+  /// The split sweep's sets: part 0 is [0, ends[0]), part 1 [ends[0],
+  /// ends[1]), the separator [ends[1], n); without a split ends[0] = n
+  std::size_t ends[2];
+  /// What the plan was made for (a solve with other options refuses it)
+  bool split;
+  SweepOrder sweep_order;
+};
+
 /// Nonlinear (block) Gauss–Seidel for the 2D frictional contact problem
 /// \f$u = W r + q\f$ (Moreau, Jean; Siconos `fc2d_nsgs`).
 ///
@@ -151,9 +194,13 @@ struct SweepDomain
 ///   contacts and exchanges as SweepDomain says; every domain returns the
 ///   same r and result, and u at its own contacts only (the stages; the
 ///   other entries are left as passed)
+/// @param[in,out] plan The problem's SweepPlan, made beforehand for this W
+///   and these options (not with a domain); its q is overwritten
+/// @throws std::invalid_argument for a plan of another size or options
 NlgsResult solve_nlgs(const FrictionContactProblem2D& problem,
                       std::span<double> r, std::span<double> u,
                       const NlgsOptions& options = {},
-                      const SweepDomain* domain = nullptr);
+                      const SweepDomain* domain = nullptr,
+                      SweepPlan* plan = nullptr);
 
 } // namespace softpack::contact

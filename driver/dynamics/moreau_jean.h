@@ -332,6 +332,10 @@ private:
   /// This rank's share of the step's contact solves (none when serial),
   /// planned with each W
   std::optional<parallel::ContactDomains> _domains;
+  /// The contact problem renumbered for its sweeps (serial runs): made at
+  /// the first solve after W changes, reused by the step's other Newton
+  /// iterations
+  std::optional<contact::SweepPlan> _sweep_plan;
   std::vector<Wall> _walls;
   MoreauJeanOptions _options;
   DetectionOptions _detection;

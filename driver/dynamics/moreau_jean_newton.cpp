@@ -78,8 +78,11 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
   for (std::size_t i = 0; i < U_free.size(); ++i)
     problem.q[i] = U_free[i] + sc.shift[i];
   std::vector<double> U(U_free.size()), start = _R;
+  if (!_domains && !_sweep_plan && contact::renumbers(problem, _nlgs))
+    _sweep_plan.emplace(problem, _nlgs);
   const contact::NlgsResult nlgs = contact::solve_nlgs(
-      problem, _R, U, _nlgs, _domains ? &_domains->domain() : nullptr);
+      problem, _R, U, _nlgs, _domains ? &_domains->domain() : nullptr,
+      _sweep_plan ? &*_sweep_plan : nullptr);
   if (_domains)
     _contact_traffic.sweeps += nlgs.iterations;
   report.nlgs_iterations += nlgs.iterations;

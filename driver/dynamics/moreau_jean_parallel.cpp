@@ -130,6 +130,7 @@ void MoreauJean::set_delassus(const StepContacts& sc,
   }
   problem.W = assemble_delassus(sc.H.size(), blocks, sc.servo.couplings, rows);
   _domains.reset();
+  _sweep_plan.reset();
   if (_own.distributed())
     _domains.emplace(_own, problem.W, owner, _contact_traffic);
   report.seconds.delassus += seconds_since(t0);

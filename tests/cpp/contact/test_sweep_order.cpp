@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 using namespace softpack::contact;
 using namespace softpack::contact::test;
@@ -156,4 +157,60 @@ TEST(SweepOrder, AlternateIsTheContactOrderOfTheRenumberedProblem)
       EXPECT_EQ(r[2 * order[i] + 1], r_hand[2 * i + 1]) << d.name << " " << i;
     }
   }
+}
+
+TEST(SweepOrder, APlanMadeOnceServesEverySolveWithItsW)
+{
+  // The driver makes a SweepPlan once per W and solves each Newton
+  // iteration's q with it: the same bits as a solve that makes its own.
+  DataProblem d; // the largest of the data problems
+  FrictionContactProblem2D p;
+  for (const DataProblem& each : data_problems())
+  {
+    FrictionContactProblem2D candidate = read_fclib_local(hdf5_file(each.name));
+    if (candidate.num_contacts() > p.num_contacts())
+    {
+      d = each;
+      p = std::move(candidate);
+    }
+  }
+  NlgsOptions opt;
+  opt.tolerance = d.tolerance;
+  opt.relaxation = 1.3;
+  opt.order = SweepOrder::alternate;
+  opt.split_min_contacts = 3;
+  ASSERT_TRUE(splits(p, opt));
+  SweepPlan plan(p, opt);
+  for (const double scale : {1.0, 0.5, 2.0})
+  {
+    FrictionContactProblem2D scaled = p;
+    for (double& q : scaled.q)
+      q *= scale;
+    std::vector<double> r_own(2 * p.num_contacts()), r_plan(r_own.size()),
+        u_own(r_own.size()), u_plan(r_own.size());
+    const NlgsResult own = solve_nlgs(scaled, r_own, u_own, opt);
+    const NlgsResult planned =
+        solve_nlgs(scaled, r_plan, u_plan, opt, nullptr, &plan);
+    EXPECT_TRUE(planned.converged) << scale;
+    EXPECT_EQ(planned.iterations, own.iterations) << scale;
+    EXPECT_EQ(planned.error, own.error) << scale;
+    EXPECT_EQ(r_plan, r_own) << scale;
+    EXPECT_EQ(u_plan, u_own) << scale;
+  }
+  // A plan for other options or another problem is refused.
+  std::vector<double> r(2 * p.num_contacts()), u(r.size());
+  NlgsOptions other = opt;
+  other.order = SweepOrder::contact;
+  EXPECT_THROW(solve_nlgs(p, r, u, other, nullptr, &plan),
+               std::invalid_argument);
+  FrictionContactProblem2D q = p; // one contact fewer
+  q.friction.pop_back();
+  q.q.resize(q.q.size() - 2);
+  q.W = DelassusMatrix(q.num_contacts());
+  for (std::size_t a = 0; a < q.num_contacts(); ++a)
+    q.W.add_block(a, a, p.W.diagonal(a));
+  q.W.finalize();
+  std::vector<double> rq(2 * q.num_contacts()), uq(rq.size());
+  EXPECT_THROW(solve_nlgs(q, rq, uq, opt, nullptr, &plan),
+               std::invalid_argument);
 }
