@@ -71,8 +71,10 @@ void node_to_body(const bodies::BodySet& bodies, std::span<const double> x,
   const std::int32_t gc = bodies.body(cand_body).nodes[cand_node];
   const double px = x[2 * gc], py = x[2 * gc + 1];
 
-  double face_distance = std::numeric_limits<double>::infinity();
-  double vertex_distance = face_distance;
+  // Squared distances: the nearest feature is the same, without a square
+  // root per segment (std::hypot here was half of the detection's time)
+  double face_distance2 = std::numeric_limits<double>::infinity();
+  double vertex_distance2 = face_distance2;
   std::int32_t face = -1, vertex = -1;
   double face_xi = 0;
   for (std::size_t k = 0; k < ant.boundary_segments.size(); ++k)
@@ -81,29 +83,30 @@ void node_to_body(const bodies::BodySet& bodies, std::span<const double> x,
     const std::int32_t ga = ant.nodes[seg[0]], gb = ant.nodes[seg[1]];
     const double ax = x[2 * ga], ay = x[2 * ga + 1];
     const double tx = x[2 * gb] - ax, ty = x[2 * gb + 1] - ay;
-    const double xi = ((px - ax) * tx + (py - ay) * ty) / (tx * tx + ty * ty);
+    const double length2 = tx * tx + ty * ty;
+    const double xi = ((px - ax) * tx + (py - ay) * ty) / length2;
     if (xi >= 0 && xi <= 1)
     {
-      const double d =
-          std::abs((px - ax) * ty - (py - ay) * tx) / std::hypot(tx, ty);
-      if (d < face_distance)
+      const double cross = (px - ax) * ty - (py - ay) * tx;
+      const double d2 = cross * cross / length2;
+      if (d2 < face_distance2)
       {
-        face_distance = d;
+        face_distance2 = d2;
         face = static_cast<std::int32_t>(k);
         face_xi = xi;
       }
     }
-    const double dv = std::hypot(px - ax, py - ay);
-    if (dv < vertex_distance)
+    const double dv2 = (px - ax) * (px - ax) + (py - ay) * (py - ay);
+    if (dv2 < vertex_distance2)
     {
-      vertex_distance = dv;
+      vertex_distance2 = dv2;
       vertex = seg[0];
     }
   }
 
   Contact c{cand_body, cand_node, ant_body, -1, {-1, -1},
             0.0,       {0, 0},    {0, 0},   0.0};
-  if (face >= 0 && face_distance <= vertex_distance)
+  if (face >= 0 && face_distance2 <= vertex_distance2)
   {
     const auto& seg = ant.boundary_segments[face];
     c.segment = seg;
@@ -217,22 +220,31 @@ std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
                                      std::span<const char> owned)
 {
   auto mine = [&](int b) { return owned.empty() || owned[b]; };
-  std::vector<Contact> contacts;
   const std::vector<Box> boxes = body_boxes(bodies, x);
-  for (const auto& [a, b] : near_body_pairs(bodies, x, options.alert_distance))
+  const std::vector<std::array<int, 2>> pairs =
+      near_body_pairs(bodies, x, options.alert_distance);
+  // The pairs on all cores, each into its own list, joined in pair order:
+  // the same list as one thread makes.
+  std::vector<std::vector<Contact>> by_pair(pairs.size());
+  const auto num_pairs = static_cast<std::int64_t>(pairs.size());
+#pragma omp parallel for schedule(dynamic, 8) if (num_pairs >= 64)
+  for (std::int64_t i = 0; i < num_pairs; ++i)
   {
+    const auto [a, b] = pairs[i];
     if (!mine(a))
       continue;
-    const std::size_t first = contacts.size();
     for (const auto& [cand, ant] : {std::pair{a, b}, std::pair{b, a}})
       for (std::int32_t node : bodies.body(cand).boundary_nodes)
       {
         const std::int32_t g = bodies.body(cand).nodes[node];
         if (boxes[ant].contains(x[2 * g], x[2 * g + 1], options.alert_distance))
-          node_to_body(bodies, x, cand, node, ant, options, contacts);
+          node_to_body(bodies, x, cand, node, ant, options, by_pair[i]);
       }
-    remove_mirrored_contacts(contacts, first);
+    remove_mirrored_contacts(by_pair[i], 0);
   }
+  std::vector<Contact> contacts;
+  for (const std::vector<Contact>& list : by_pair)
+    contacts.insert(contacts.end(), list.begin(), list.end());
 
   for (int w = 0; w < static_cast<int>(walls.size()); ++w)
   {
