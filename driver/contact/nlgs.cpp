@@ -132,10 +132,11 @@ public:
   /// @param[in] domain When given, the sums are reduced over the domains
   Monitor(const FrictionContactProblem2D& problem, std::span<double> r,
           std::span<double> u, const NlgsOptions& options, NlgsResult& result,
-          std::vector<std::int32_t> rows, const SweepDomain* domain = nullptr)
+          std::span<const std::int32_t> rows,
+          const SweepDomain* domain = nullptr)
       : omega(options.relaxation), _problem(problem), _r(r), _u(u),
-        _options(options), _result(result), _domain(domain),
-        _rows(std::move(rows)), _working_tolerance(options.tolerance)
+        _options(options), _result(result), _domain(domain), _rows(rows),
+        _working_tolerance(options.tolerance)
   {
   }
   /// Account for a finished sweep; false when the solve should stop.
@@ -169,8 +170,9 @@ private:
   NlgsResult& _result;
   const SweepDomain* _domain;
   /// The contacts of the full error, in the order of its sums (a domain's
-  /// own; or every contact in its original order, of a renumbered problem)
-  std::vector<std::int32_t> _rows;
+  /// own; or every contact in its original order, of a renumbered problem),
+  /// read in place: the caller keeps them for the solve
+  std::span<const std::int32_t> _rows;
   double _working_tolerance;
   double _window_start_error = std::numeric_limits<double>::infinity();
   bool _full_error_current = false;
@@ -384,7 +386,7 @@ softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
     std::vector<std::int32_t> rows;
     for (const std::vector<std::int32_t>& stage : domain->stages)
       rows.insert(rows.end(), stage.begin(), stage.end());
-    Monitor monitor(problem, r, u, options, result, std::move(rows), domain);
+    Monitor monitor(problem, r, u, options, result, rows, domain);
     if (sweeps)
       domain_sweeps(problem, r, *domain, options, monitor);
     monitor.finish();
