@@ -17,13 +17,15 @@ void add_stiffness_dissipation(EnergyBalance& energy, double theta,
                                std::span<const double> u_old,
                                std::span<const double> u_new,
                                std::span<const double> f_old,
-                               std::span<const double> f_new)
+                               std::span<const double> f_new,
+                               std::span<const char> node_owned)
 {
   if (theta == 0.5)
     return;
   double excess = 0;
   for (std::size_t i = 0; i < u_new.size(); ++i)
-    excess += (u_new[i] - u_old[i]) * (f_new[i] - f_old[i]);
+    if (node_owned.empty() || node_owned[i / 2])
+      excess += (u_new[i] - u_old[i]) * (f_new[i] - f_old[i]);
   energy.numerical += (theta - 0.5) * excess;
 }
 

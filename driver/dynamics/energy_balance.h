@@ -58,11 +58,14 @@ double kinetic_energy(const BodyVectors& v, const BodyVectors& Mv,
 /// @param[in] theta theta of the scheme (nothing is added at 1/2)
 /// @param[in] u_old, u_new Global displacement at the start and end
 /// @param[in] f_old, f_new Global internal force at the start and end
+/// @param[in] node_owned 1 for the nodes whose terms are wanted (empty:
+/// all): a rank's own (the others' entries may be stale)
 void add_stiffness_dissipation(EnergyBalance& energy, double theta,
                                std::span<const double> u_old,
                                std::span<const double> u_new,
                                std::span<const double> f_old,
-                               std::span<const double> f_new);
+                               std::span<const double> f_new,
+                               std::span<const char> node_owned = {});
 
 /// Per-body vectors of one step, at its start (-) and end (+).
 struct BodyStep

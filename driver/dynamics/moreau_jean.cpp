@@ -203,9 +203,10 @@ void MoreauJean::factorize_tangent(StepReport* report)
   _bodies.tangent(_K);
   const std::span<const double> u = _bodies.displacement();
   _u_tangent.assign(u.begin(), u.end());
-  // Within the Newton iterations (a full Newton method) only the owned
-  // bodies' displacement is current; the state file needs every body's.
-  _own.share(_u_tangent);
+  // Only the owned bodies' entries are current here (within a full Newton
+  // method's iterations, or between outputs); the state file, which alone
+  // reads the others', takes it after make_whole.
+  _tangent_whole = !_own.distributed();
   if (report)
     report->seconds.assembly += seconds_since(t0);
   t0 = clock::now();
@@ -268,11 +269,10 @@ StepReport MoreauJean::step()
   const std::span<double> u = _bodies.displacement();
   // The step's start, for a retry: kept only when one is possible (two
   // whole vectors on every rank, at fixed steps never read).
-  std::vector<double> u_start, v_start;
   if (_step_size.can_retry())
   {
-    u_start.assign(u.begin(), u.end());
-    v_start = _v;
+    _retry_u.assign(u.begin(), u.end());
+    _retry_v = _v;
   }
   StepTimings abandoned;
   for (int retries = 0;; ++retries)
@@ -285,6 +285,8 @@ StepReport MoreauJean::step()
     if (solved || !_step_size.retry())
     {
       finish_step(a.sc, a.start, report);
+      std::vector<double>().swap(_retry_u); // freed: whole vectors
+      std::vector<double>().swap(_retry_v);
       report.time_step = _h;
       report.retries = retries;
       report.seconds += abandoned;
@@ -298,12 +300,12 @@ StepReport MoreauJean::step()
     // matrix with it). Nothing of the attempt was kept but its time.
     // (retry() succeeds only above the base step, where can_retry() held
     // at the step's start too: h only falls within a step.)
-    if (u_start.size() != u.size())
+    if (_retry_u.size() != u.size())
       throw std::logic_error("MoreauJean::step: a retry without the step's "
                              "start (StepSize::retry against can_retry)");
     abandoned += report.seconds;
-    std::copy(u_start.begin(), u_start.end(), u.begin());
-    _v = v_start;
+    std::copy(_retry_u.begin(), _retry_u.end(), u.begin());
+    _v = _retry_v;
     _matrix_age = -1;
   }
 }
@@ -315,14 +317,15 @@ MoreauJean::Attempt MoreauJean::attempt()
   const std::span<const double> u = _bodies.displacement();
   // Rigid bodies: V- from the node velocities, which become exactly rigid.
   _rigid.start_step(u, _v, _f_ext, _h);
-  std::vector<double> u_old(u.begin(), u.end()), v_old = _v;
-  StepContacts sc = prepare_contacts(v_old);
+  StepContacts sc = prepare_contacts(_v);
   report.contacts = static_cast<int>(sc.size());
   report.seconds.detection = seconds_since(t0);
   contact::FrictionContactProblem2D problem = prepare_problem(sc, report);
 
   t0 = clock::now();
-  StepStart start = start_step(std::move(u_old), std::move(v_old));
+  // The step's start after prepare_problem: a rebalance there makes the
+  // arriving bodies' interiors current (u and v are not changed otherwise).
+  StepStart start = start_step(std::vector<double>(u.begin(), u.end()), _v);
   report.seconds.solves += seconds_since(t0);
   newton(sc, start, problem, report);
   return {std::move(report), std::move(sc), std::move(start)};
@@ -342,7 +345,8 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
   // summed over the ranks with the body terms.
   EnergyBalance stiffness;
   add_stiffness_dissipation(stiffness, _options.time.theta, start.u_old,
-                            _bodies.displacement(), f_int_before, _f_int);
+                            _bodies.displacement(), f_int_before, _f_int,
+                            _own.node_owned());
   _time += h;
   ++_steps;
   ++_matrix_age;

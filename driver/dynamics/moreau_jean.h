@@ -183,8 +183,18 @@ public:
   double time() const { return _time; }
   /// The size of the last step taken (before the first: of the first)
   double time_step() const { return _h; }
-  /// Global velocity vector
+  /// Global velocity vector (distributed: whole after make_whole(); between
+  /// outputs the other ranks' bodies' interior entries are NaN)
   std::span<const double> velocity() const { return _v; }
+  /// Make the displacement, the velocity and the kept tangent's
+  /// displacement whole on every rank (a collective: every rank calls it at
+  /// the same point; nothing to do when serial or whole already). A
+  /// distributed step shares the bodies' boundaries only
+  /// (parallel::Ownership::share_boundaries); what reads the interiors (the
+  /// energies, stresses, fields, the state) is read after this, at outputs.
+  void make_whole();
+  /// Whether every entry of the global vectors is current on this rank
+  bool whole() const { return _whole; }
   /// Initial conditions: the global velocity vector before the first step
   /// (collective: every rank of a distributed run gives the same vector)
   /// @throws std::invalid_argument if the size is wrong
@@ -202,6 +212,8 @@ public:
   /// demand: a state function, not needed to step; the kinetic energy is
   /// summed over the ranks where every rank passes, at a step's end, a
   /// restore and the initial velocity, so rank 0 alone may call this)
+  /// @throws std::logic_error when not whole() (the strain energy reads
+  /// every body's interior)
   const EnergyBalance& energy() const;
   /// The walls (writable: a wall's velocity, control, pressure or force may
   /// be changed between steps; link_walls(walls()) after changing a
@@ -211,6 +223,7 @@ public:
   /// Options
   const MoreauJeanOptions& options() const { return _options; }
   /// The state after the last step
+  /// @throws std::logic_error when not whole()
   SchemeState state() const;
   /// Continue from a state saved by state() on the same bodies and walls.
   /// @throws std::invalid_argument if the sizes do not match
@@ -376,6 +389,12 @@ private:
   int _last_iterations = 0;
   /// Displacement at which _K was assembled (saved in the state)
   std::vector<double> _u_tangent;
+  /// Whether the displacement and velocity are whole on this rank, and
+  /// _u_tangent (made whole by make_whole, not at every refactorization)
+  bool _whole = true, _tangent_whole = true;
+  /// The step's start (displacement, velocity) while a retry of the step
+  /// is possible (StepSize::can_retry); made whole with the others
+  std::vector<double> _retry_u, _retry_v;
   /// time.time_step, or adapted up to time.max_step_factor times it
   StepSize _step_size;
   /// The size of the current (or last) step

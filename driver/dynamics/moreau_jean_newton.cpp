@@ -205,7 +205,10 @@ void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
     if (k + 1 >= _options.time.newton_max_iterations)
       break;
   }
-  _own.share(vk);
+  // The boundaries (what every rank reads between outputs); the interiors
+  // stay with their owners until make_whole.
+  _own.share_boundaries(vk);
+  _whole = !_own.distributed();
   _v = std::move(vk);
 }
 

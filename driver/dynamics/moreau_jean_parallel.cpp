@@ -88,9 +88,14 @@ void MoreauJean::rebalance()
     if (c.antagonist_body >= 0)
       links.push_back({c.candidate_body, c.antagonist_body});
   }
-  if (!_own.rebalance(_bodies, _bodies.current_coordinates(), weights, links,
-                      _options.parallel.rebalance_tolerance))
+  std::vector<int> split =
+      _own.drifted_split(_bodies, _bodies.current_coordinates(), weights, links,
+                         _options.parallel.rebalance_tolerance);
+  if (split.empty())
     return;
+  // The arriving bodies' interiors come from their old owners.
+  make_whole();
+  _own.move_to(std::move(split), _bodies);
   _kbar.set_owned(_bodies, _own.owned());
   _K = _bodies.create_matrices(_own.owned());
   _products_valid = false;
@@ -98,6 +103,27 @@ void MoreauJean::rebalance()
   // owner computed it at (the step's start): the same bits.
   _bodies.owned_internal_force(_f_int);
   _rigid.zero(_f_int);
+}
+
+void MoreauJean::make_whole()
+{
+  if (!_own.distributed())
+    return;
+  if (!_whole)
+  {
+    _own.share(_bodies.displacement());
+    _own.share(_v);
+    // A step that may still be retried restarts from here
+    if (!_retry_u.empty())
+    {
+      _own.share(_retry_u);
+      _own.share(_retry_v);
+    }
+    _whole = true;
+  }
+  if (!_tangent_whole && _matrix_age >= 0)
+    _own.share(_u_tangent);
+  _tangent_whole = true;
 }
 
 std::vector<int> MoreauJean::contact_owners() const

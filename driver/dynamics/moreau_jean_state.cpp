@@ -8,8 +8,21 @@
 namespace softpack::dynamics
 {
 
+namespace
+{
+void require_whole(bool whole, const char* what)
+{
+  if (!whole)
+    throw std::logic_error(std::string("MoreauJean::") + what +
+                           ": the other ranks' bodies' interiors are stale "
+                           "(make_whole first)");
+}
+} // namespace
+
 const EnergyBalance& MoreauJean::energy() const
 {
+  if (_energy_stale)
+    require_whole(_whole, "energy");
   if (_energy_stale)
   {
     _energy.strain = _bodies.strain_energy();
@@ -23,6 +36,7 @@ const EnergyBalance& MoreauJean::energy() const
 
 SchemeState MoreauJean::state() const
 {
+  require_whole(_whole && _tangent_whole, "state");
   SchemeState s;
   s.time = _time;
   s.steps = _steps;
@@ -81,6 +95,7 @@ void MoreauJean::restore(const SchemeState& s)
       _walls[w].velocity = s.wall_velocities[w];
   }
   _history.restore(s.reactions);
+  _whole = _tangent_whole = true;
   _time = s.time;
   _steps = s.steps;
   _bodies.owned_internal_force(_f_int);

@@ -10,13 +10,17 @@ namespace softpack::parallel
 
 namespace
 {
-/// Centre of each body at the node coordinates x (interleaved)
+/// Centre of each body at the node coordinates x (interleaved); of the
+/// flagged bodies only when `only` is given (the others' stay zero)
 std::vector<double> body_centres(const bodies::BodySet& bodies,
-                                 std::span<const double> x)
+                                 std::span<const double> x,
+                                 std::span<const char> only = {})
 {
   std::vector<double> centres(2 * bodies.num_bodies(), 0.0);
   for (int b = 0; b < bodies.num_bodies(); ++b)
   {
+    if (!only.empty() && !only[b])
+      continue;
     const bodies::Body& body = bodies.body(b);
     for (std::int32_t node : body.nodes)
       for (int c = 0; c < 2; ++c)
@@ -52,33 +56,57 @@ void Ownership::assign(std::vector<int> body_rank, bodies::BodySet& bodies)
   const int nb = bodies.num_bodies();
   _body_rank = std::move(body_rank);
   _owned.assign(nb, 0);
+  _node_owned.assign(bodies.num_dofs() / 2, 0);
   _foreign_nodes.clear();
+  _stale_nodes.clear();
+  _boundary_nodes.clear();
   for (int b = 0; b < nb; ++b)
   {
+    const bodies::Body& body = bodies.body(b);
     _owned[b] = _body_rank[b] == _rank;
-    if (!_owned[b])
-      _foreign_nodes.insert(_foreign_nodes.end(), bodies.body(b).nodes.begin(),
-                            bodies.body(b).nodes.end());
+    // A rigid body is moved by every rank: all its nodes are shared.
+    std::vector<char> shared(body.nodes.size(), bodies.rigid(b));
+    for (std::int32_t local : body.boundary_nodes)
+      shared[local] = 1;
+    for (std::size_t k = 0; k < body.nodes.size(); ++k)
+    {
+      const std::int32_t g = body.nodes[k];
+      _node_owned[g] = _owned[b];
+      if (shared[k])
+        _boundary_nodes.push_back(g);
+      if (!_owned[b])
+        _foreign_nodes.push_back(g);
+      if (!_owned[b] && !shared[k])
+        _stale_nodes.push_back(g);
+    }
   }
   bodies.set_owned(_owned);
 }
 
-bool Ownership::rebalance(bodies::BodySet& bodies, std::span<const double> x,
-                          std::span<const double> weights,
-                          std::span<const std::array<int, 2>> links,
-                          double tolerance)
+std::vector<int> Ownership::drifted_split(
+    const bodies::BodySet& bodies, std::span<const double> x,
+    std::span<const double> weights, std::span<const std::array<int, 2>> links,
+    double tolerance) const
 {
   if (_size == 1)
-    return false;
-  std::vector<int> fresh =
-      partition_bodies(body_centres(bodies, x), weights, _size);
+    return {};
+  // One owner computes each centre: the sum is its value, bit for bit.
+  std::vector<double> centres = body_centres(bodies, x, _owned);
+  sum(centres);
+  std::vector<int> fresh = partition_bodies(centres, weights, _size);
   if (!split_has_drifted(_body_rank, fresh, _size, weights, links, tolerance))
-    return false;
-  for (int b = 0; b < bodies.num_bodies(); ++b)
-    _moved += fresh[b] != _body_rank[b];
+    return {};
+  return fresh;
+}
+
+void Ownership::move_to(std::vector<int> split, bodies::BodySet& bodies)
+{
+  if (split.size() != _body_rank.size())
+    throw std::invalid_argument("Ownership::move_to: a rank for each body");
+  for (std::size_t b = 0; b < split.size(); ++b)
+    _moved += split[b] != _body_rank[b];
   ++_rebalances;
-  assign(std::move(fresh), bodies);
-  return true;
+  assign(std::move(split), bodies);
 }
 
 void Ownership::share(std::span<double> global) const
@@ -88,6 +116,16 @@ void Ownership::share(std::span<double> global) const
   for (std::int32_t node : _foreign_nodes)
     global[2 * node] = global[2 * node + 1] = 0;
   sum(global);
+}
+
+void Ownership::share_boundaries(std::span<double> global) const
+{
+  if (_size == 1)
+    return;
+  share_nodes(global, _boundary_nodes);
+  constexpr double stale = std::numeric_limits<double>::quiet_NaN();
+  for (std::int32_t node : _stale_nodes)
+    global[2 * node] = global[2 * node + 1] = stale;
 }
 
 void Ownership::share_nodes(std::span<double> global,

@@ -15,14 +15,15 @@ namespace softpack::parallel
 /// Which MPI rank owns each body, and the collectives that make the owners'
 /// per-body results known to every rank (docs/mpi_design.md).
 ///
-/// Every rank holds the whole mesh and the global displacement and velocity
-/// (replicated, whole at each step's end); a rank assembles, factorizes and
-/// computes the compliance of its own bodies only, and the per-body results
-/// that the rest of the step needs everywhere (the velocity once per step,
-/// free velocities at contact nodes, Delassus blocks) are exchanged through
-/// the calls below. Each exchanged entry has exactly one nonzero
-/// contributor, so a sum over ranks reproduces the serial value bit for
-/// bit.
+/// Every rank holds the whole mesh and global displacement and velocity
+/// vectors; a rank assembles, factorizes and computes the compliance of its
+/// own bodies only, and the per-body results that the rest of the step
+/// needs everywhere are exchanged through the calls below: the velocity at
+/// the bodies' boundaries once per step (share_boundaries; the interiors
+/// stay with their owners until share() makes a vector whole, at outputs),
+/// free velocities at contact nodes, Delassus blocks. Each exchanged entry
+/// has exactly one nonzero contributor, so a sum over ranks reproduces the
+/// serial value bit for bit.
 ///
 /// The default object is serial: one rank owning every body, and every
 /// call a no-op (no MPI call at all).
@@ -38,21 +39,28 @@ public:
   /// @throws std::invalid_argument if comm has more ranks than bodies
   Ownership(MPI_Comm comm, bodies::BodySet& bodies);
 
-  /// Split the bodies again, by recursive coordinate bisection of their
-  /// current centres with the given weights, when the split in force has
-  /// drifted from it (split_has_drifted: uneven work, or many more
-  /// contacts cut between ranks). Every rank decides alike from the same
-  /// data, with no message. When the owners change, `bodies` is restricted
-  /// to the new ones (BodySet::set_owned); the caller moves its own
-  /// per-body state.
+  /// A new split of the bodies, by recursive coordinate bisection of
+  /// their current centres with the given weights, when the split in force
+  /// has drifted from it (split_has_drifted: uneven work, or many more
+  /// contacts cut between ranks); else empty. Every rank decides alike
+  /// from the same data (the centres are summed over the ranks, each from
+  /// its owner: x is read at the owned bodies' nodes only). Apart from
+  /// move_to, so that a caller can make its vectors whole while the old
+  /// owners still hold them.
   /// @param[in] x Current node coordinates (global, interleaved)
   /// @param[in] weights Work of each body, > 0
   /// @param[in] links The body pairs of the contacts between bodies
   /// @param[in] tolerance Relative drift allowed (e.g. 0.1)
-  /// @return Whether the owners changed
-  bool rebalance(bodies::BodySet& bodies, std::span<const double> x,
-                 std::span<const double> weights,
-                 std::span<const std::array<int, 2>> links, double tolerance);
+  /// @return The rank of each body, or empty
+  std::vector<int> drifted_split(const bodies::BodySet& bodies,
+                                 std::span<const double> x,
+                                 std::span<const double> weights,
+                                 std::span<const std::array<int, 2>> links,
+                                 double tolerance) const;
+  /// Give the bodies to the ranks of a drifted_split (counted as a
+  /// rebalance) and restrict `bodies` to this rank's (BodySet::set_owned);
+  /// the caller moves its own per-body state
+  void move_to(std::vector<int> split, bodies::BodySet& bodies);
   /// Rebalances done, and the bodies they gave to another rank
   int rebalances() const { return _rebalances; }
   long bodies_moved() const { return _moved; }
@@ -73,6 +81,16 @@ public:
   /// Make a global nodal vector whole on every rank: the entries of each
   /// body's nodes become those its owner holds (others' are dropped).
   void share(std::span<double> global) const;
+  /// Make the entries read between outputs current on every rank: the
+  /// boundary nodes of every body (detection, the contact operator, areas,
+  /// overlaps) and every node of a rigid body (moved by every rank). The
+  /// entries must be zero on the ranks that do not own them (a vector
+  /// filled by owners only). The other ranks' bodies' interior entries
+  /// become NaN: stale until share() makes the vector whole, and a read of
+  /// one shows in the results instead of passing for a value.
+  void share_boundaries(std::span<double> global) const;
+  /// 1 for each global node of an owned body (empty when serial: all)
+  const std::vector<char>& node_owned() const { return _node_owned; }
   /// share() restricted to the given global nodes, whose entries must be
   /// zero on the ranks that do not own them (a vector filled by owners
   /// only): the message is as small as the list.
@@ -138,8 +156,12 @@ private:
   int _rank = 0, _size = 1;
   std::vector<int> _body_rank;
   std::vector<char> _owned;
-  /// Global nodes of the bodies this rank does not own
-  std::vector<std::int32_t> _foreign_nodes;
+  /// Global nodes of the bodies this rank does not own; of these, the
+  /// interior ones (stale between outputs, share_boundaries)
+  std::vector<std::int32_t> _foreign_nodes, _stale_nodes;
+  /// The nodes share_boundaries makes current (the same on every rank)
+  std::vector<std::int32_t> _boundary_nodes;
+  std::vector<char> _node_owned;
   mutable std::size_t _bytes = 0, _calls = 0;
   int _rebalances = 0;
   long _moved = 0;

@@ -277,6 +277,8 @@ private:
                                        std::optional<double> now)
   {
     const bool output_step = step % _p.output.every_steps == 0;
+    if (output_step) // the equilibrium test reads the energies
+      _scheme.make_whole();
     const StageCheck check = _program.check(_scheme, _bodies, now, output_step);
     const int label = _program.start().index;
     const std::string name = _program.stage().name;
@@ -284,6 +286,8 @@ private:
                             {"stage_name", name},
                             {"stages", _program.size()},
                             {"complete", true}};
+    if (check.timed_out || !check.met.empty())
+      _scheme.make_whole(); // the energies, and the next stage's start
     if (check.timed_out)
     {
       const std::string why = _program.missed(_scheme, _bodies, now);
@@ -405,6 +409,9 @@ private:
   void output(long step, const dynamics::StepReport& r,
               std::optional<double> now, int stage = 0)
   {
+    // Rank 0 writes what every body's interior gives (energies, stresses,
+    // fields, the state): every rank shares its bodies' first.
+    _scheme.make_whole();
     const double depth = check_overlap(step);
     if (_raw)
     {
