@@ -1,0 +1,93 @@
+"""Every small example (examples/small.toml and examples/*_small.toml) runs
+to its end with today's defaults, serially, through the Python API.
+
+Each takes a few seconds. A run must exit with status 0 (``run`` returns 0,
+raises RunError otherwise), write raw/done.json, count no step whose Newton
+iterations did not converge, compact the assembly (its largest Phi above
+its first) and stay quasi-static: its kinetic energy at the written steps
+below MAX_KINETIC_ENERGY (a run that goes through a jam "by luck" does not
+pass). The contact solver may miss its tolerance on some steps (the
+rigid-body examples do: docs/materials.md); those are counted, not failed.
+"""
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+
+from driver_required import require_driver
+from softpack.scene import config as cfg
+from softpack.simulation.run import RunError, run
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+SMALL = sorted([EXAMPLES / "small.toml", *EXAMPLES.glob("*_small.toml")])
+
+# mixture_small.toml, 7 rigid and 7 soft disks pushed by a velocity-driven
+# wall, forms a chain of rigid disks from the left to the right wall (left
+# wall, rigid 6, 13, 12, 7, right wall, every contact inside its friction
+# cone) at t = 0.029-0.031 s whatever the contact solver's order or the time
+# step: the right wall's force jumps from 2.8e3 to 6e5-2.5e7 N/m in one or
+# two steps and the kinetic energy from 0.4 to 6-80 J. With the defaults
+# the contact problems of that step are not solved by any NLGS variant
+# (their reactions grow with every sweep), Newton fails at step 309 and an
+# element inverts; with nlgs_order = "contact" or time_step = 5e-5 the runs
+# go through the same jump and finish (and fail MAX_KINETIC_ENERGY). Not a
+# solver defect: the example's loading jams its rigid skeleton. The
+# reactions of step 309's problem grow along a self-stress d of the rigid
+# chain (inside every friction cone, |W d| = 1.5e-5 |W| |d|, q.d < 0) in
+# either sweep order, relaxed or not.
+
+# The largest kinetic energy written (raw/steps.csv, every output step) of
+# each example that runs through is 0.19-0.84 J (2026-12-02); the jam of
+# mixture_small launches its rigid disks: 6-80 J.
+MAX_KINETIC_ENERGY = 2.0
+
+KNOWN_FAILURES = {
+    "mixture_small.toml": "a chain of rigid disks jams between the left and "
+                          "the velocity-driven right wall at t ~ 0.03 s; "
+                          "with the defaults Newton fails at step 309",
+}
+
+
+def params():
+    for path in SMALL:
+        marks = ()
+        if path.name in KNOWN_FAILURES:
+            marks = pytest.mark.xfail(reason=KNOWN_FAILURES[path.name],
+                                      strict=True)
+        yield pytest.param(path, id=path.stem, marks=marks)
+
+
+def test_every_small_example_is_listed():
+    names = {p.name for p in SMALL}
+    assert "small.toml" in names and "mixture_small.toml" in names
+    assert len(names) >= 10
+
+
+@pytest.mark.parametrize("example", params())
+def test_small_example_runs_to_its_end(example, tmp_path):
+    require_driver()
+    config = cfg.load_config(example, {"output.fields": False})
+    out = tmp_path / example.stem
+    try:
+        status = run(config, out, verbose=False)
+    except RunError as err:
+        pytest.fail(f"{example.name}: {err}")
+    assert status == 0
+    done_path = out / "raw" / "done.json"
+    assert done_path.is_file(), f"{example.name}: no raw/done.json"
+    done = json.loads(done_path.read_text())
+    assert done["steps"] > 0
+    assert done.get("newton_unconverged_steps", 0) == 0, (
+        f"{example.name}: {done['newton_unconverged_steps']} steps whose "
+        "Newton iterations did not converge")
+    with open(out / "raw" / "steps.csv") as f:
+        rows = list(csv.DictReader(f))
+    phi = [float(row["phi"]) for row in rows]
+    kinetic = max(float(row["kinetic_energy"]) for row in rows)
+    assert all(p == p for p in phi), f"{example.name}: Phi is NaN"
+    assert max(phi) > phi[0], f"{example.name}: Phi never rose above {phi[0]}"
+    assert kinetic < MAX_KINETIC_ENERGY, (
+        f"{example.name}: kinetic energy up to {kinetic:.3g} J: not "
+        "quasi-static (a jam or a blow-up)")
