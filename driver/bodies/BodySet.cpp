@@ -1,6 +1,6 @@
 #include "BodySet.h"
 
-#include "parallel_residual.h"
+#include "body_assembly.h"
 #include <algorithm>
 #include <body.h>
 #include <dolfinx/fem/assembler.h>
@@ -103,18 +103,19 @@ BodySet::BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
       throw std::invalid_argument("BodySet: body material " +
                                   std::to_string(k) + " out of range");
   build_forms();
-  build_mass();
-  std::vector<const fem::Form<double>*> residuals;
+  std::vector<BodyForms> forms;
   std::vector<int> body_form(_bodies.size(), 0);
   for (std::size_t f = 0; f < _forms.size(); ++f)
   {
-    residuals.push_back(_forms[f].residual.get());
+    const MaterialForms& m = _forms[f];
+    forms.push_back(
+        {m.residual.get(), m.tangent.get(), m.mass.get(), m.lumped_mass.get()});
     for (std::size_t b = 0; b < _bodies.size(); ++b)
-      if (_body_material[b] == _forms[f].material)
+      if (_body_material[b] == m.material)
         body_form[b] = static_cast<int>(f);
   }
-  _parallel_residual =
-      std::make_unique<ParallelResidual>(residuals, body_form, _u, _bodies);
+  _assembly = std::make_unique<BodyAssembly>(forms, body_form, _u);
+  build_mass();
 }
 
 void BodySet::build_forms()
@@ -189,7 +190,8 @@ void BodySet::build_bodies()
           ? 0
           : *std::max_element(_cell_body.begin(), _cell_body.end()) + 1;
   _bodies.assign(num_bodies, Body{});
-  _node_body.assign(num_nodes, -1);
+  // Body and local number of each global node (for the bodies' lists)
+  std::vector<std::int32_t> node_body(num_nodes, -1), node_local(num_nodes, -1);
   for (std::int32_t c = 0; c < static_cast<std::int32_t>(_cell_body.size());
        ++c)
   {
@@ -197,11 +199,11 @@ void BodySet::build_bodies()
     _bodies[b].cells.push_back(c);
     for (std::int32_t node : dofmap.cell_dofs(c))
     {
-      if (_node_body[node] != -1 && _node_body[node] != b)
+      if (node_body[node] != -1 && node_body[node] != b)
         throw std::runtime_error("bodies " + std::to_string(b) + " and " +
-                                 std::to_string(_node_body[node]) +
+                                 std::to_string(node_body[node]) +
                                  " share a node: bodies must be disjoint");
-      _node_body[node] = b;
+      node_body[node] = b;
     }
   }
   for (int b = 0; b < num_bodies; ++b)
@@ -209,19 +211,27 @@ void BodySet::build_bodies()
       throw std::runtime_error("body " + std::to_string(b) + " has no cells");
 
   // Local numbering: increasing global node index within each body.
-  _node_local.assign(num_nodes, -1);
   for (std::int32_t node = 0; node < num_nodes; ++node)
   {
-    if (_node_body[node] < 0)
+    if (node_body[node] < 0)
       continue;
-    Body& body = _bodies[_node_body[node]];
-    _node_local[node] = static_cast<std::int32_t>(body.nodes.size());
+    Body& body = _bodies[node_body[node]];
+    node_local[node] = static_cast<std::int32_t>(body.nodes.size());
     body.nodes.push_back(node);
   }
 
   rank_input_order();
   for (Body& body : _bodies)
-    trace_boundary(body, dofmap, _node_local, _reference_x);
+  {
+    trace_boundary(body, dofmap, node_local, _reference_x);
+    body.cell_nodes.reserve(body.cells.size());
+    for (std::int32_t c : body.cells)
+    {
+      auto d = dofmap.cell_dofs(c);
+      body.cell_nodes.push_back(
+          {node_local[d[0]], node_local[d[1]], node_local[d[2]]});
+    }
+  }
 }
 
 void BodySet::rank_input_order()
@@ -231,7 +241,7 @@ void BodySet::rank_input_order()
   const fem::DofMap& dofmap = *_V->dofmap();
   const mesh::Geometry& geometry = _mesh->geometry();
   const std::vector<std::int64_t>& input = geometry.input_global_indices();
-  std::vector<std::int64_t> node_input(_node_body.size(), -1);
+  std::vector<std::int64_t> node_input(_reference_x.size() / 2, -1);
   for (std::int32_t c = 0; c < static_cast<std::int32_t>(_cell_body.size());
        ++c)
   {
@@ -268,29 +278,15 @@ void BodySet::internal_force(std::span<double> f) const
   if (f.size() != num_dofs())
     throw std::invalid_argument("internal_force: wrong vector size");
   std::fill(f.begin(), f.end(), 0.0);
-  if (_parallel_residual->supported())
-    _parallel_residual->assemble(f, _bodies);
-  else
-    for (const MaterialForms& form : _forms)
-      fem::assemble_vector(f, *form.residual);
+  _assembly->residual(f, _bodies, _reference_x, _u->x()->array());
 }
 
 void BodySet::owned_internal_force(std::span<double> f) const
 {
-  if (_owned.empty() || !_parallel_residual->supported())
-  {
-    internal_force(f); // serial, or dolfinx's assembler: every body
-    return;
-  }
   if (f.size() != num_dofs())
     throw std::invalid_argument("internal_force: wrong vector size");
   std::fill(f.begin(), f.end(), 0.0);
-  _parallel_residual->assemble(f, _bodies, _owned);
-}
-
-bool BodySet::parallel_residual() const
-{
-  return _parallel_residual->supported();
+  _assembly->residual(f, _bodies, _reference_x, _u->x()->array(), _owned);
 }
 
 double BodySet::strain_energy() const

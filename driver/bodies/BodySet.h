@@ -18,7 +18,7 @@
 /// Deformable bodies: finite-strain hyperelastic FEM, one DOF block per body.
 namespace softpack::bodies
 {
-class ParallelResidual;
+class BodyAssembly;
 
 /// Sparse symmetric matrix of one body, in the body's local DOF numbering
 /// (2 per node: x then y), of which only the lower triangle (row >= col) is
@@ -47,8 +47,11 @@ struct Body
 {
   /// Global node (DOF block) index of each local node
   std::vector<std::int32_t> nodes;
-  /// Cells of the body (dolfinx local cell indices)
+  /// Cells of the body (dolfinx local cell indices, increasing)
   std::vector<std::int32_t> cells;
+  /// The same cells as their three local nodes, in the order dolfinx lists
+  /// a cell's DOFs: what the body assembly reads (body_assembly.h)
+  std::vector<std::array<std::int32_t, 3>> cell_nodes;
   /// Local indices of the nodes on the boundary (sorted)
   std::vector<std::int32_t> boundary_nodes;
   /// Boundary segments as pairs of local node indices, oriented
@@ -213,10 +216,6 @@ public:
   /// @throws std::invalid_argument if the size is not the number of bodies
   void set_owned(std::vector<char> owned);
 
-  /// Whether internal_force runs body by body on all cores
-  /// (ParallelResidual) rather than through dolfinx's serial assembler
-  bool parallel_residual() const;
-
 private:
   /// The forms of one material in use, over its bodies' cells (all cells
   /// when every body is of this material)
@@ -225,9 +224,6 @@ private:
     int material;
     std::shared_ptr<dolfinx::fem::Form<double>> energy, residual, tangent,
         energy_density, mass, lumped_mass;
-    /// The tangent over all the material's bodies, which set_owned
-    /// restricts (null until the first set_owned)
-    std::shared_ptr<dolfinx::fem::Form<double>> all_tangent;
   };
   void build_forms();
   void build_bodies();
@@ -237,9 +233,6 @@ private:
   /// Free the masses of the bodies not flagged; assemble those flagged
   /// whose mass was freed before
   void keep_masses(std::span<const char> kept);
-  /// The cells of the flagged bodies that form f runs over, sorted
-  std::vector<std::int32_t> cells_of(std::span<const char> flags,
-                                     const MaterialForms& f) const;
   std::vector<double> sum_per_body(const std::vector<double>& per_cell) const;
   std::vector<double>
   assemble_cellwise(const dolfinx::fem::Form<double>& L) const;
@@ -255,11 +248,10 @@ private:
   std::shared_ptr<dolfinx::fem::Form<double>> _current_area, _reference_area;
   std::vector<Body> _bodies;
   std::vector<double> _reference_x;
-  /// body and local node of each global node
-  std::vector<std::int32_t> _node_body, _node_local;
   std::vector<BodyMatrix> _mass;
   std::vector<Eigen::VectorXd> _lumped_mass;
-  std::unique_ptr<ParallelResidual> _parallel_residual;
+  /// The per-body forms' kernels, run body by body
+  std::unique_ptr<BodyAssembly> _assembly;
   /// The bodies whose forces and tangents are computed (empty: all)
   std::vector<char> _owned;
 };

@@ -2,19 +2,15 @@
 // into it, and the masses a rank keeps (its own bodies and every rigid one).
 #include "BodySet.h"
 
-#include "body_materials.h"
-#include <algorithm>
-#include <dolfinx/fem/assembler.h>
+#include "body_assembly.h"
 #include <stdexcept>
 
 namespace softpack::bodies
 {
-using namespace dolfinx;
 
 std::vector<BodyMatrix>
 BodySet::create_matrices(std::span<const char> only) const
 {
-  const fem::DofMap& dofmap = *_V->dofmap();
   std::vector<BodyMatrix> matrices;
   matrices.reserve(_bodies.size());
   for (std::size_t b = 0; b < _bodies.size(); ++b)
@@ -27,14 +23,13 @@ BodySet::create_matrices(std::span<const char> only) const
     }
     std::vector<Eigen::Triplet<double>> pattern;
     pattern.reserve(36 * body.cells.size());
-    for (std::int32_t c : body.cells)
-      for (std::int32_t ni : dofmap.cell_dofs(c))
-        for (std::int32_t nj : dofmap.cell_dofs(c))
+    for (const std::array<std::int32_t, 3>& cell : body.cell_nodes)
+      for (std::int32_t ni : cell)
+        for (std::int32_t nj : cell)
           for (int ci = 0; ci < 2; ++ci)
             for (int cj = 0; cj < 2; ++cj)
             {
-              const int row = 2 * _node_local[ni] + ci,
-                        col = 2 * _node_local[nj] + cj;
+              const int row = 2 * ni + ci, col = 2 * nj + cj;
               if (stored_entry(row, col))
                 pattern.emplace_back(row, col, 0.0);
             }
@@ -47,64 +42,16 @@ BodySet::create_matrices(std::span<const char> only) const
   return matrices;
 }
 
-namespace
-{
-/// Zero the values of per-body matrices, keeping their patterns
-void zero(std::vector<BodyMatrix>& matrices)
-{
-  for (BodyMatrix& A : matrices)
-    std::fill_n(A.valuePtr(), A.nonZeros(), 0.0);
-}
-
-/// Add a bilinear form into per-body matrices holding its pattern.
-void assemble_by_body(const fem::Form<double>& a,
-                      const std::vector<std::int32_t>& node_body,
-                      const std::vector<std::int32_t>& node_local,
-                      std::vector<BodyMatrix>& matrices)
-{
-  auto add = [&](std::span<const std::int32_t> rows,
-                 std::span<const std::int32_t> cols,
-                 std::span<const double> values)
-  {
-    BodyMatrix& A = matrices[node_body[rows[0]]];
-    const std::size_t ncols = 2 * cols.size();
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      for (int ci = 0; ci < 2; ++ci)
-        for (std::size_t j = 0; j < cols.size(); ++j)
-          for (int cj = 0; cj < 2; ++cj)
-          {
-            const int row = 2 * node_local[rows[i]] + ci,
-                      col = 2 * node_local[cols[j]] + cj;
-            if (stored_entry(row, col))
-              A.coeffRef(row, col) += values[(2 * i + ci) * ncols + 2 * j + cj];
-          }
-    return 0;
-  };
-  fem::assemble_matrix(add, a, {});
-}
-} // namespace
-
 void BodySet::tangent(std::vector<BodyMatrix>& K) const
 {
-  zero(K);
-  for (const MaterialForms& f : _forms)
-    assemble_by_body(*f.tangent, _node_body, _node_local, K);
+  _assembly->tangent(K, _bodies, _reference_x, _u->x()->array(), _owned);
 }
 
 void BodySet::build_mass()
 {
   _mass = create_matrices();
-  std::vector<BodyMatrix> lumped = create_matrices();
-  zero(_mass);
-  zero(lumped);
-  for (const MaterialForms& f : _forms)
-  {
-    assemble_by_body(*f.mass, _node_body, _node_local, _mass);
-    assemble_by_body(*f.lumped_mass, _node_body, _node_local, lumped);
-  }
-  _lumped_mass.clear();
-  for (const BodyMatrix& A : lumped)
-    _lumped_mass.push_back(A.diagonal());
+  _assembly->mass(_mass, _bodies, _reference_x);
+  _lumped_mass = _assembly->lumped_mass(_bodies, _reference_x);
 }
 
 void BodySet::set_owned(std::vector<char> owned)
@@ -113,14 +60,6 @@ void BodySet::set_owned(std::vector<char> owned)
     throw std::invalid_argument(
         "BodySet::set_owned: " + std::to_string(owned.size()) + " flags for " +
         std::to_string(_bodies.size()) + " bodies");
-  // The tangent is the expensive assembly: its forms run over the owned
-  // bodies' cells only (each material's over its own owned bodies).
-  for (MaterialForms& f : _forms)
-  {
-    if (!f.all_tangent)
-      f.all_tangent = f.tangent;
-    f.tangent = restrict_to_cells(*f.all_tangent, cells_of(owned, f));
-  }
   keep_masses(kept_masses(owned));
   _owned = std::move(owned);
 }
@@ -132,18 +71,6 @@ std::vector<char> BodySet::kept_masses(std::span<const char> owned) const
     for (std::size_t b = 0; b < kept.size(); ++b)
       kept[b] = owned[b] || rigid(static_cast<int>(b));
   return kept;
-}
-
-std::vector<std::int32_t> BodySet::cells_of(std::span<const char> flags,
-                                            const MaterialForms& f) const
-{
-  std::vector<std::int32_t> cells;
-  for (std::size_t b = 0; b < _bodies.size(); ++b)
-    if (flags[b] && (_forms.size() == 1 || _body_material[b] == f.material))
-      cells.insert(cells.end(), _bodies[b].cells.begin(),
-                   _bodies[b].cells.end());
-  std::sort(cells.begin(), cells.end());
-  return cells;
 }
 
 void BodySet::keep_masses(std::span<const char> kept)
@@ -170,11 +97,9 @@ void BodySet::keep_masses(std::span<const char> kept)
   if (!any)
     return;
   // Bodies that came to this rank (a rebalanced run): their masses are
-  // assembled again, over their cells only.
+  // assembled again.
   std::vector<BodyMatrix> fresh = create_matrices(missing);
-  for (const MaterialForms& f : _forms)
-    assemble_by_body(*restrict_to_cells(*f.mass, cells_of(missing, f)),
-                     _node_body, _node_local, fresh);
+  _assembly->mass(fresh, _bodies, _reference_x, missing);
   for (std::size_t b = 0; b < _bodies.size(); ++b)
     if (missing[b])
       _mass[b].swap(fresh[b]); // no copy (Eigen 3.4 has no sparse move)

@@ -1,0 +1,199 @@
+#include "body_assembly.h"
+
+#include "body_materials.h"
+#include <dolfinx/fem/utils.h>
+#include <stdexcept>
+
+namespace softpack::bodies
+{
+using namespace dolfinx;
+
+namespace
+{
+/// Why a form is not of the kind the loops handle (empty: it is)
+std::string unsupported(const fem::Form<double>& a, int rank,
+                        const std::shared_ptr<const fem::Function<double>>& u)
+{
+  if (a.rank() != rank)
+    return "rank " + std::to_string(a.rank()) + ", not " + std::to_string(rank);
+  if (a.integral_ids(fem::IntegralType::cell).size() != 1 ||
+      !a.integral_ids(fem::IntegralType::exterior_facet).empty() ||
+      !a.integral_ids(fem::IntegralType::interior_facet).empty())
+    return "not one cell integral";
+  if (a.coefficients().size() > 1 ||
+      (a.coefficients().size() == 1 && a.coefficients()[0] != u))
+    return "a coefficient other than the displacement";
+  for (const auto& V : a.function_spaces())
+    if (V->element()->needs_dof_transformations() || V->dofmap()->bs() != 2 ||
+        V->dofmap()->cell_dofs(0).size() != 3 ||
+        V->dofmap() != u->function_space()->dofmap())
+      return "a space other than the displacement's (P1 vectors)";
+  if (a.mesh()->geometry().dofmap().num_links(0) != 3)
+    return "a geometry other than straight triangles";
+  return "";
+}
+
+CellKernel cell_kernel(const fem::Form<double>& a, int rank, const char* name,
+                       const std::shared_ptr<const fem::Function<double>>& u)
+{
+  const std::string why = unsupported(a, rank, u);
+  if (!why.empty())
+    throw std::invalid_argument(std::string("BodyAssembly: the ") + name +
+                                " form has " + why +
+                                ": the body assembly handles P1 vector "
+                                "triangles with the displacement as the only "
+                                "coefficient");
+  return {a.kernel(fem::IntegralType::cell, cell_integral_id(a)),
+          fem::pack_constants(a)};
+}
+
+/// Call `kernel` on each cell of `body`, in order, with its coordinates and
+/// displacement, and hand the element tensor to add(cell nodes, tensor)
+template <int N, typename Add>
+void for_each_cell(const Body& body, const CellKernel& kernel,
+                   std::span<const double> x, std::span<const double> u,
+                   Add&& add)
+{
+  double coordinates[9] = {}; // z stays 0: the geometry's third component
+  double w[6] = {}, tensor[N];
+  for (const std::array<std::int32_t, 3>& cell : body.cell_nodes)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      const std::int32_t g = body.nodes[cell[i]];
+      for (int k = 0; k < 2; ++k)
+      {
+        coordinates[3 * i + k] = x[2 * g + k];
+        if (!u.empty())
+          w[2 * i + k] = u[2 * g + k];
+      }
+    }
+    std::fill_n(tensor, N, 0.0);
+    kernel.tabulate(tensor, w, kernel.constants.data(), coordinates, nullptr,
+                    nullptr);
+    add(cell, tensor);
+  }
+}
+
+/// Add a 6x6 element matrix into a body's matrix (its lower triangle), in
+/// the order of dolfinx's matrix assembler
+void add_element(BodyMatrix& A, const std::array<std::int32_t, 3>& cell,
+                 const double* Ae)
+{
+  for (int i = 0; i < 3; ++i)
+    for (int ci = 0; ci < 2; ++ci)
+      for (int j = 0; j < 3; ++j)
+        for (int cj = 0; cj < 2; ++cj)
+        {
+          const int row = 2 * cell[i] + ci, col = 2 * cell[j] + cj;
+          if (stored_entry(row, col))
+            A.coeffRef(row, col) += Ae[(2 * i + ci) * 6 + 2 * j + cj];
+        }
+}
+
+/// Whether body b is flagged (all are when `only` is empty)
+bool flagged(std::span<const char> only, int b)
+{
+  return only.empty() || only[b];
+}
+} // namespace
+
+BodyAssembly::BodyAssembly(
+    const std::vector<BodyForms>& forms, std::vector<int> body_forms,
+    const std::shared_ptr<const fem::Function<double>>& u)
+    : _body_forms(std::move(body_forms))
+{
+  for (const BodyForms& f : forms)
+    _kernels.push_back({cell_kernel(*f.residual, 1, "residual", u),
+                        cell_kernel(*f.tangent, 2, "tangent", u),
+                        cell_kernel(*f.mass, 2, "mass", u),
+                        cell_kernel(*f.lumped_mass, 2, "lumped mass", u)});
+}
+
+void BodyAssembly::residual(std::span<double> b,
+                            const std::vector<Body>& bodies,
+                            std::span<const double> x,
+                            std::span<const double> u,
+                            std::span<const char> only) const
+{
+  const int nb = static_cast<int>(bodies.size());
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int k = 0; k < nb; ++k)
+  {
+    if (!flagged(only, k))
+      continue;
+    const Body& body = bodies[k];
+    for_each_cell<6>(
+        body, _kernels[_body_forms[k]].residual, x, u,
+        [&](const std::array<std::int32_t, 3>& cell, const double* be)
+        {
+          for (int i = 0; i < 3; ++i)
+            for (int c = 0; c < 2; ++c)
+              b[2 * body.nodes[cell[i]] + c] += be[2 * i + c];
+        });
+  }
+}
+
+void BodyAssembly::tangent(std::vector<BodyMatrix>& K,
+                           const std::vector<Body>& bodies,
+                           std::span<const double> x, std::span<const double> u,
+                           std::span<const char> only) const
+{
+  const int nb = static_cast<int>(bodies.size());
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int k = 0; k < nb; ++k)
+  {
+    if (!flagged(only, k))
+      continue;
+    BodyMatrix& A = K[k];
+    std::fill_n(A.valuePtr(), A.nonZeros(), 0.0);
+    for_each_cell<36>(bodies[k], _kernels[_body_forms[k]].tangent, x, u,
+                      [&](const std::array<std::int32_t, 3>& cell,
+                          const double* Ae) { add_element(A, cell, Ae); });
+  }
+}
+
+void BodyAssembly::mass(std::vector<BodyMatrix>& M,
+                        const std::vector<Body>& bodies,
+                        std::span<const double> x,
+                        std::span<const char> only) const
+{
+  const int nb = static_cast<int>(bodies.size());
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int k = 0; k < nb; ++k)
+  {
+    if (!flagged(only, k))
+      continue;
+    BodyMatrix& A = M[k];
+    std::fill_n(A.valuePtr(), A.nonZeros(), 0.0);
+    for_each_cell<36>(bodies[k], _kernels[_body_forms[k]].mass, x, {},
+                      [&](const std::array<std::int32_t, 3>& cell,
+                          const double* Ae) { add_element(A, cell, Ae); });
+  }
+}
+
+std::vector<Eigen::VectorXd>
+BodyAssembly::lumped_mass(const std::vector<Body>& bodies,
+                          std::span<const double> x) const
+{
+  const int nb = static_cast<int>(bodies.size());
+  std::vector<Eigen::VectorXd> lumped(nb);
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int k = 0; k < nb; ++k)
+  {
+    Eigen::VectorXd& m = lumped[k];
+    m = Eigen::VectorXd::Zero(bodies[k].num_dofs());
+    // The diagonal of the form's matrix, summed as the matrix's entries are
+    for_each_cell<36>(
+        bodies[k], _kernels[_body_forms[k]].lumped_mass, x, {},
+        [&](const std::array<std::int32_t, 3>& cell, const double* Ae)
+        {
+          for (int i = 0; i < 3; ++i)
+            for (int c = 0; c < 2; ++c)
+              m[2 * cell[i] + c] += Ae[(2 * i + c) * 6 + 2 * i + c];
+        });
+  }
+  return lumped;
+}
+
+} // namespace softpack::bodies

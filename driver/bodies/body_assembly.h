@@ -1,0 +1,98 @@
+#pragma once
+
+#include "BodySet.h"
+#include <dolfinx/fem/Form.h>
+#include <dolfinx/fem/Function.h>
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace softpack::bodies
+{
+
+/// One cell integral of a form, callable without the form: the FFCx
+/// kernel and the form's constants, packed (a material's constants are
+/// fixed for a run).
+struct CellKernel
+{
+  std::function<void(double*, const double*, const double*, const double*,
+                     const int*, const std::uint8_t*)>
+      tabulate;
+  std::vector<double> constants;
+};
+
+/// The forms of one material that run body by body: the internal force,
+/// the tangent and the two masses.
+struct BodyForms
+{
+  const dolfinx::fem::Form<double>* residual;
+  const dolfinx::fem::Form<double>* tangent;
+  const dolfinx::fem::Form<double>* mass;
+  const dolfinx::fem::Form<double>* lumped_mass;
+};
+
+/// Assembly of the per-body forms body by body, on all cores.
+///
+/// dolfinx's assemblers run on one core, over the cells of the whole mesh,
+/// and pack every coefficient into a separate array first; these loops call
+/// the same FFCx kernels cell by cell, read the node coordinates and the
+/// displacement straight from their global arrays through each body's
+/// cells (Body::cell_nodes), and give whole bodies to the threads (bodies
+/// share no node, so no two threads write the same entry). Each entry sums
+/// its cells' contributions in the order dolfinx's assemblers do (a body's
+/// cells in increasing order). The coordinates are the BodySet's reference
+/// coordinates (tabulated for the DOFs, what detection, areas and the
+/// state file read), which differ from the mesh geometry dolfinx's
+/// assemblers read by rounding: the results agree with theirs to ~1e-14
+/// of the largest entry (tests/cpp/bodies/test_body_assembly.cpp). The
+/// kernels need nothing of the mesh after construction: a rank can
+/// assemble a body from the body's cells and coordinates alone.
+///
+/// The forms must be of the kind the materials produce (P1 vector
+/// triangles, one cell integral, the displacement as the only coefficient
+/// or none, no DOF transformations); anything else is refused.
+class BodyAssembly
+{
+public:
+  /// @param[in] forms The forms of each material in use
+  /// @param[in] body_forms Index in `forms` of each body's material
+  /// @param[in] u The displacement, the only coefficient of the forms
+  /// @throws std::invalid_argument naming the form and what it lacks, for
+  /// a form of another kind
+  BodyAssembly(const std::vector<BodyForms>& forms, std::vector<int> body_forms,
+               const std::shared_ptr<const dolfinx::fem::Function<double>>& u);
+
+  /// b += F_int(u) of the flagged bodies (all when `only` is empty)
+  /// @param[in] x Reference coordinates (global, interleaved x, y)
+  /// @param[in] u Displacement (global, interleaved)
+  void residual(std::span<double> b, const std::vector<Body>& bodies,
+                std::span<const double> x, std::span<const double> u,
+                std::span<const char> only = {}) const;
+
+  /// K(u) of each flagged body into K[b] (its pattern, create_matrices;
+  /// the values overwritten)
+  void tangent(std::vector<BodyMatrix>& K, const std::vector<Body>& bodies,
+               std::span<const double> x, std::span<const double> u,
+               std::span<const char> only = {}) const;
+
+  /// The consistent mass of each flagged body into M[b] (its pattern; the
+  /// values overwritten)
+  void mass(std::vector<BodyMatrix>& M, const std::vector<Body>& bodies,
+            std::span<const double> x, std::span<const char> only = {}) const;
+
+  /// The lumped (vertex-quadrature) mass of every body, one per DOF: the
+  /// diagonal of the lumped mass form's matrix
+  std::vector<Eigen::VectorXd> lumped_mass(const std::vector<Body>& bodies,
+                                           std::span<const double> x) const;
+
+private:
+  struct Kernels
+  {
+    CellKernel residual, tangent, mass, lumped_mass;
+  };
+  std::vector<Kernels> _kernels;
+  std::vector<int> _body_forms;
+};
+
+} // namespace softpack::bodies

@@ -1,0 +1,155 @@
+// The per-body forms assembled body by body on all cores (BodyAssembly)
+// are dolfinx's: the internal force, the tangent and both masses, against
+// dolfinx's assemblers over the same forms, to the rounding of the node
+// coordinates (the body assembly reads those dolfinx tabulates for the
+// DOFs, the assemblers the mesh geometry: they differ in the last bits).
+#include <bodies/BodySet.h>
+#include <bodies/body_materials.h>
+#include <bodies/material_parameters.h>
+#include <body.h>
+#include <dolfinx/fem/assembler.h>
+#include <dolfinx/fem/utils.h>
+#include <gtest/gtest.h>
+#include <map>
+#include <material_registry.h>
+#include <mesh_fixtures.h>
+#include <cmath>
+#include <random>
+
+using namespace softpack;
+
+namespace
+{
+/// 20 bodies: more than the 16 from which the loops are threaded; a random
+/// displacement (a fifth of the rings' spacing: no cell inverted)
+bodies::BodySet random_bodies(const forms::MaterialForms& law)
+{
+  std::vector<test::Triangulation> parts;
+  for (int i = 0; i < 20; ++i)
+    parts.push_back(test::disk(0.03 * (i % 5), 0.03 * (i / 5), 0.01, 4));
+  bodies::BodySet bodies(test::bodies_mesh(parts), law,
+                         bodies::plane_strain_parameters(0.15e6), 1180);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> d(-5e-4, 5e-4);
+  for (double& u : bodies.displacement())
+    u = d(rng);
+  return bodies;
+}
+
+/// dolfinx's assembly of a bilinear form over the bodies' mesh, as
+/// (global row DOF, global column DOF) -> value
+std::map<std::pair<int, int>, double>
+dolfinx_matrix(const bodies::BodySet& bodies, const ufcx_form& form,
+               const forms::MaterialForms& law)
+{
+  auto u = bodies.displacement_function();
+  auto V = u->function_space();
+  const bodies::ConstantMap constants = bodies::material_constants(
+      {&law, bodies::plane_strain_parameters(0.15e6), 1180});
+  const auto a = dolfinx::fem::create_form<double>(form, {V, V}, {{"u", u}},
+                                                   constants, {}, nullptr);
+  std::map<std::pair<int, int>, double> A;
+  auto add = [&](std::span<const std::int32_t> rows,
+                 std::span<const std::int32_t> cols,
+                 std::span<const double> values)
+  {
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      for (int ci = 0; ci < 2; ++ci)
+        for (std::size_t j = 0; j < cols.size(); ++j)
+          for (int cj = 0; cj < 2; ++cj)
+            A[{2 * rows[i] + ci, 2 * cols[j] + cj}] +=
+                values[(2 * i + ci) * 2 * cols.size() + 2 * j + cj];
+    return 0;
+  };
+  dolfinx::fem::assemble_matrix(add, a, {});
+  return A;
+}
+
+/// Relative difference allowed: a few roundings of the coordinates
+constexpr double rounding = 1e-13;
+
+/// Every stored entry of the per-body matrices equals dolfinx's global
+/// entry to rounding; returns the number compared
+int expect_same(const bodies::BodySet& bodies,
+                const std::vector<bodies::BodyMatrix>& per_body,
+                const std::map<std::pair<int, int>, double>& reference)
+{
+  double scale = 0;
+  for (const auto& [key, value] : reference)
+    scale = std::max(scale, std::abs(value));
+  int compared = 0;
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+  {
+    const bodies::Body& body = bodies.body(b);
+    const bodies::BodyMatrix& A = per_body[b];
+    for (int col = 0; col < A.outerSize(); ++col)
+      for (bodies::BodyMatrix::InnerIterator it(A, col); it; ++it)
+      {
+        const int gr = 2 * body.nodes[it.row() / 2] + it.row() % 2,
+                  gc = 2 * body.nodes[col / 2] + col % 2;
+        EXPECT_TRUE(std::isfinite(it.value()));
+        EXPECT_NEAR(it.value(), reference.at({gr, gc}), rounding * scale)
+            << "body " << b << " entry " << it.row() << ", " << col;
+        ++compared;
+      }
+  }
+  return compared;
+}
+} // namespace
+
+class BodyAssembly : public ::testing::TestWithParam<const char*>
+{
+};
+
+TEST_P(BodyAssembly, InternalForceIsDolfinxs)
+{
+  const bodies::BodySet bodies =
+      random_bodies(forms::find_material(GetParam()));
+  std::vector<double> f(bodies.num_dofs()), reference(bodies.num_dofs(), 0.0);
+  bodies.internal_force(f);
+  dolfinx::fem::assemble_vector(std::span<double>(reference),
+                                bodies.residual_form());
+  double scale = 0;
+  for (std::size_t i = 0; i < f.size(); ++i)
+  {
+    scale = std::max(scale, std::abs(reference[i]));
+    ASSERT_TRUE(std::isfinite(f[i])) << "entry " << i;
+  }
+  ASSERT_GT(scale, 0.0);
+  for (std::size_t i = 0; i < f.size(); ++i)
+    EXPECT_NEAR(f[i], reference[i], rounding * scale) << "entry " << i;
+}
+
+TEST_P(BodyAssembly, TangentIsDolfinxs)
+{
+  const forms::MaterialForms& law = forms::find_material(GetParam());
+  const bodies::BodySet bodies = random_bodies(law);
+  std::vector<bodies::BodyMatrix> K = bodies.create_matrices();
+  bodies.tangent(K);
+  EXPECT_GT(expect_same(bodies, K, dolfinx_matrix(bodies, *law.tangent, law)),
+            1000);
+}
+
+TEST_P(BodyAssembly, MassesAreDolfinxs)
+{
+  const forms::MaterialForms& law = forms::find_material(GetParam());
+  const bodies::BodySet bodies = random_bodies(law);
+  EXPECT_GT(expect_same(bodies, bodies.consistent_mass(),
+                        dolfinx_matrix(bodies, *form_body_mass, law)),
+            1000);
+  const auto lumped = dolfinx_matrix(bodies, *form_body_lumped_mass, law);
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+  {
+    const bodies::Body& body = bodies.body(b);
+    for (int i = 0; i < body.num_dofs(); ++i)
+    {
+      const int g = 2 * body.nodes[i / 2] + i % 2;
+      EXPECT_NEAR(bodies.lumped_mass()[b][i], lumped.at({g, g}),
+                  rounding * lumped.at({g, g}));
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Materials, BodyAssembly,
+                         ::testing::Values("neo_hookean",
+                                           "saint_venant_kirchhoff"));
