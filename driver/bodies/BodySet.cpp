@@ -103,31 +103,53 @@ BodySet::BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
       throw std::invalid_argument("BodySet: body material " +
                                   std::to_string(k) + " out of range");
   build_forms();
+  build_assembly();
+  build_mass();
+}
+
+std::shared_ptr<fem::Form<double>> BodySet::make_form(
+    const ConstantMap& constants, const ufcx_form& form,
+    const std::vector<std::shared_ptr<const fem::FunctionSpace>>& spaces) const
+{
+  const std::map<std::string, std::shared_ptr<const fem::Function<double>>>
+      coefficients = {{"u", _u}};
+  return std::make_shared<fem::Form<double>>(fem::create_form<double>(
+      form, spaces, coefficients, constants, {}, _mesh));
+}
+
+void BodySet::build_assembly()
+{
+  // The per-body forms lend their kernels and constants to the body
+  // assembly, and go: nothing else reads them (kept, they would hold a list
+  // of every cell each).
+  const std::vector<std::shared_ptr<const fem::FunctionSpace>> v = {_V},
+                                                               vv = {_V, _V};
+  std::vector<std::shared_ptr<fem::Form<double>>> made;
   std::vector<BodyForms> forms;
   std::vector<int> body_form(_bodies.size(), 0);
   for (std::size_t f = 0; f < _forms.size(); ++f)
   {
-    const MaterialForms& m = _forms[f];
-    forms.push_back(
-        {m.residual.get(), m.tangent.get(), m.mass.get(), m.lumped_mass.get()});
+    const int k = _forms[f].material;
+    const forms::MaterialForms& law = *_materials[k].law;
+    const ConstantMap& c = _constants[k];
+    for (const auto& [form, rank] :
+         {std::pair{law.residual, 1}, std::pair{law.tangent, 2},
+          std::pair{form_body_mass, 2}, std::pair{form_body_lumped_mass, 2}})
+      made.push_back(make_form(c, *form, rank == 1 ? v : vv));
+    forms.push_back({made[made.size() - 4].get(), made[made.size() - 3].get(),
+                     made[made.size() - 2].get(), made.back().get()});
     for (std::size_t b = 0; b < _bodies.size(); ++b)
-      if (_body_material[b] == m.material)
+      if (_body_material[b] == k)
         body_form[b] = static_cast<int>(f);
   }
   _assembly = std::make_unique<BodyAssembly>(forms, body_form, _u);
-  build_mass();
 }
 
 void BodySet::build_forms()
 {
-  const std::map<std::string, std::shared_ptr<const fem::Function<double>>>
-      coefficients = {{"u", _u}};
   auto make = [&](const ConstantMap& constants, const ufcx_form& f,
                   std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces)
-  {
-    return std::make_shared<fem::Form<double>>(fem::create_form<double>(
-        f, spaces, coefficients, constants, {}, _mesh));
-  };
+  { return make_form(constants, f, spaces); };
   // One material in use: its forms over all cells, exactly as with one
   // material; several: each material's forms over its own bodies' cells.
   std::vector<int> used(_body_material.begin(), _body_material.end());
@@ -139,13 +161,8 @@ void BodySet::build_forms()
   {
     const forms::MaterialForms& law = *_materials[k].law;
     const ConstantMap& c = _constants[k];
-    MaterialForms f{k,
-                    make(c, *law.energy, {}),
-                    make(c, *law.residual, {_V}),
-                    make(c, *law.tangent, {_V, _V}),
-                    make(c, *law.energy_density, {_Q}),
-                    make(c, *form_body_mass, {_V, _V}),
-                    make(c, *form_body_lumped_mass, {_V, _V})};
+    MaterialForms f{k, make(c, *law.energy, {}),
+                    make(c, *law.energy_density, {_Q})};
     if (used.size() > 1)
     {
       std::vector<std::int32_t> cells;
@@ -154,8 +171,7 @@ void BodySet::build_forms()
           cells.insert(cells.end(), _bodies[b].cells.begin(),
                        _bodies[b].cells.end());
       std::sort(cells.begin(), cells.end());
-      for (auto* form : {&f.energy, &f.residual, &f.tangent, &f.energy_density,
-                         &f.mass, &f.lumped_mass})
+      for (auto* form : {&f.energy, &f.energy_density})
         *form = restrict_to_cells(**form, cells);
     }
     _forms.push_back(std::move(f));

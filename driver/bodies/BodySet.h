@@ -200,13 +200,6 @@ public:
   /// The mesh of all bodies
   std::shared_ptr<const dolfinx::mesh::Mesh> mesh() const { return _mesh; }
 
-  /// The internal force form (for checks against dolfinx's assembler) of
-  /// the first material in use (with one material: of every body)
-  const dolfinx::fem::Form<double>& residual_form() const
-  {
-    return *_forms.front().residual;
-  }
-
   /// Restrict the per-body work of owned_internal_force and tangent to the
   /// bodies whose entry is nonzero (the bodies a rank of a distributed run
   /// owns, parallel::Ownership); the others' entries are left zero. The
@@ -217,15 +210,20 @@ public:
   void set_owned(std::vector<char> owned);
 
 private:
-  /// The forms of one material in use, over its bodies' cells (all cells
-  /// when every body is of this material)
+  /// The energy forms of one material in use (for the outputs), over its
+  /// bodies' cells (all cells when every body is of this material)
   struct MaterialForms
   {
     int material;
-    std::shared_ptr<dolfinx::fem::Form<double>> energy, residual, tangent,
-        energy_density, mass, lumped_mass;
+    std::shared_ptr<dolfinx::fem::Form<double>> energy, energy_density;
   };
   void build_forms();
+  /// The body assembly, from the per-body forms of each material in use
+  void build_assembly();
+  std::shared_ptr<dolfinx::fem::Form<double>> make_form(
+      const ConstantMap& constants, const ufcx_form& form,
+      const std::vector<std::shared_ptr<const dolfinx::fem::FunctionSpace>>&
+          spaces) const;
   void build_bodies();
   /// Fill each Body::input_rank
   void rank_input_order();

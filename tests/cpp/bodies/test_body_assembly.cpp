@@ -7,13 +7,13 @@
 #include <bodies/body_materials.h>
 #include <bodies/material_parameters.h>
 #include <body.h>
+#include <cmath>
 #include <dolfinx/fem/assembler.h>
 #include <dolfinx/fem/utils.h>
 #include <gtest/gtest.h>
 #include <map>
 #include <material_registry.h>
 #include <mesh_fixtures.h>
-#include <cmath>
 #include <random>
 
 using namespace softpack;
@@ -36,18 +36,29 @@ bodies::BodySet random_bodies(const forms::MaterialForms& law)
   return bodies;
 }
 
+/// A form of the material over the bodies' mesh, on the displacement's
+/// space (`rank` times), as dolfinx makes it
+dolfinx::fem::Form<double> dolfinx_form(const bodies::BodySet& bodies,
+                                        const ufcx_form& form, int rank,
+                                        const forms::MaterialForms& law)
+{
+  auto u = bodies.displacement_function();
+  const std::vector<std::shared_ptr<const dolfinx::fem::FunctionSpace>> spaces(
+      rank, u->function_space());
+  return dolfinx::fem::create_form<double>(
+      form, spaces, {{"u", u}},
+      bodies::material_constants(
+          {&law, bodies::plane_strain_parameters(0.15e6), 1180}),
+      {}, nullptr);
+}
+
 /// dolfinx's assembly of a bilinear form over the bodies' mesh, as
 /// (global row DOF, global column DOF) -> value
 std::map<std::pair<int, int>, double>
 dolfinx_matrix(const bodies::BodySet& bodies, const ufcx_form& form,
                const forms::MaterialForms& law)
 {
-  auto u = bodies.displacement_function();
-  auto V = u->function_space();
-  const bodies::ConstantMap constants = bodies::material_constants(
-      {&law, bodies::plane_strain_parameters(0.15e6), 1180});
-  const auto a = dolfinx::fem::create_form<double>(form, {V, V}, {{"u", u}},
-                                                   constants, {}, nullptr);
+  const auto a = dolfinx_form(bodies, form, 2, law);
   std::map<std::pair<int, int>, double> A;
   auto add = [&](std::span<const std::int32_t> rows,
                  std::span<const std::int32_t> cols,
@@ -103,12 +114,12 @@ class BodyAssembly : public ::testing::TestWithParam<const char*>
 
 TEST_P(BodyAssembly, InternalForceIsDolfinxs)
 {
-  const bodies::BodySet bodies =
-      random_bodies(forms::find_material(GetParam()));
+  const forms::MaterialForms& law = forms::find_material(GetParam());
+  const bodies::BodySet bodies = random_bodies(law);
   std::vector<double> f(bodies.num_dofs()), reference(bodies.num_dofs(), 0.0);
   bodies.internal_force(f);
   dolfinx::fem::assemble_vector(std::span<double>(reference),
-                                bodies.residual_form());
+                                dolfinx_form(bodies, *law.residual, 1, law));
   double scale = 0;
   for (std::size_t i = 0; i < f.size(); ++i)
   {
