@@ -284,6 +284,14 @@ StepReport MoreauJean::step()
         report.newton_converged && report.unsolved_contact_solves == 0;
     if (solved || !_step_size.retry())
     {
+      if (report.newton_diverged) // nothing to take: the state is not finite
+        throw std::runtime_error(
+            "step " + std::to_string(_steps + 1) +
+            " (t = " + std::to_string(_time + _h) +
+            " s): a Newton iterate of the " + "velocity is not finite after " +
+            std::to_string(report.newton_iterations) +
+            " iterations (an element inverted, or the time step too large "
+            "for the loading); the step is not taken");
       finish_step(a.sc, a.start, report);
       std::vector<double>().swap(_retry_u); // freed: whole vectors
       std::vector<double>().swap(_retry_v);

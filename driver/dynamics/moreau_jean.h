@@ -90,6 +90,9 @@ struct StepReport
   bool refactorized = false;
   int newton_iterations = 0;
   bool newton_converged = false;
+  /// A Newton iterate was not finite (an inverted element, a step too
+  /// large): the iterations stopped there, the step is not taken
+  bool newton_diverged = false;
   int nlgs_iterations = 0; ///< sweeps, summed over the Newton iterations
   double nlgs_error = 0;   ///< error of the last contact solve
   bool nlgs_converged = true;

@@ -5,16 +5,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace softpack::dynamics
 {
 namespace
 {
+/// The largest |entry|, or infinity if an entry is not finite (std::max
+/// would pass over a NaN)
 double max_abs(const std::vector<double>& v)
 {
   double m = 0;
   for (double x : v)
+  {
+    if (!std::isfinite(x))
+      return std::numeric_limits<double>::infinity();
     m = std::max(m, std::abs(x));
+  }
   return m;
 }
 } // namespace
@@ -168,7 +175,12 @@ double MoreauJean::newton_iteration(int k, const StepContacts& sc,
   double change = 0;
   for (int b = 0; b < nb; ++b)
     if (v_new[b].size() > 0)
-      change = std::max(change, (v_new[b] - vk_b[b]).lpNorm<Eigen::Infinity>());
+    {
+      const double c = (v_new[b] - vk_b[b]).lpNorm<Eigen::Infinity>();
+      // A NaN would pass std::max unseen, and the step with it
+      change = std::isfinite(c) ? std::max(change, c)
+                                : std::numeric_limits<double>::infinity();
+    }
   std::fill(vk.begin(), vk.end(), 0.0);
   scatter(v_new, vk);
   report.seconds.solves += seconds_since(t0);
@@ -190,6 +202,11 @@ void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
     _own.max(largest);
     const double change = largest[0];
     report.newton_iterations = k + 1;
+    if (!std::isfinite(change) || !std::isfinite(largest[1]))
+    {
+      report.newton_diverged = true;
+      break;
+    }
     // The iterations contract at the rate rho = change / previous change;
     // the distance of vk to the converged velocity is then at most
     // change * rho / (1 - rho) (Banach), which is what the tolerance bounds.

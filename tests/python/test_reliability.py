@@ -441,3 +441,33 @@ def test_resume_with_the_real_driver_is_bit_for_bit(tmp_path):
         if column != "seconds":
             np.testing.assert_array_equal(a[column], b[column],
                                           err_msg=column)
+
+
+def test_a_non_finite_newton_iterate_stops_the_run_before_its_step(tmp_path):
+    """examples/mixture_small.toml with its old packing (seed 0) and the
+    right wall pushed at 200 kPa (a servo wall starting at rest hits the
+    packing at ~6 m/s): an element inverts at step 45 and the velocity
+    becomes NaN. The run must stop there, naming the step, and write no
+    row or state past the last finite step (std::max passed over the NaN
+    and the step was taken, written and resumed from, before the check)."""
+    from driver_required import require_driver
+    from softpack.analysis.tables import read_table
+    require_driver()
+    text = (ROOT / "examples" / "mixture_small.toml").read_text()
+    text = text.replace("seed = 8", "seed = 0").replace(
+        "velocity = [-0.5, 0.0]", 'control = "pressure"\npressure = 2.0e5')
+    assert "seed = 0" in text and "pressure = 2.0e5" in text
+    config = tmp_path / "jam.toml"
+    config.write_text(text)
+    out = tmp_path / "run"
+    p = _softpack_cli(["run", str(config), "--out", str(out),
+                       "--set", "output.every_steps=1",
+                       "--set", "output.fields=false"])
+    assert p.returncode == 1
+    log = (out / "run.log").read_text()
+    assert "a Newton iterate of the velocity is not finite" in log
+    steps = read_table(out / "raw" / "steps.csv")
+    assert np.all(np.isfinite(steps["phi"]))
+    assert np.all(np.isfinite(steps["kinetic_energy"]))
+    assert f"step {int(steps['step'][-1]) + 1} " in log
+    assert not (out / "raw" / "done.json").exists()
