@@ -22,9 +22,8 @@ void require_whole(bool whole, const char* what)
 const EnergyBalance& MoreauJean::energy() const
 {
   if (_energy_stale)
-    require_whole(_whole, "energy");
-  if (_energy_stale)
   {
+    require_whole(_whole, "energy");
     _energy.strain = _bodies.strain_energy();
     _energy.kinetic = _body_kinetic + walls_kinetic_energy(_walls);
     if (!_started)
