@@ -134,10 +134,12 @@ void BodyAssembly::residual(std::span<double> b,
   }
 }
 
-void BodyAssembly::tangent(std::vector<BodyMatrix>& K,
-                           const std::vector<Body>& bodies,
-                           std::span<const double> x, std::span<const double> u,
-                           std::span<const char> only) const
+void BodyAssembly::matrices(CellKernel Kernels::*form,
+                            std::vector<BodyMatrix>& A,
+                            const std::vector<Body>& bodies,
+                            std::span<const double> x,
+                            std::span<const double> u,
+                            std::span<const char> only) const
 {
   const int nb = static_cast<int>(bodies.size());
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
@@ -145,12 +147,20 @@ void BodyAssembly::tangent(std::vector<BodyMatrix>& K,
   {
     if (!flagged(only, k))
       continue;
-    BodyMatrix& A = K[k];
-    std::fill_n(A.valuePtr(), A.nonZeros(), 0.0);
-    for_each_cell<36>(bodies[k], _kernels[_body_forms[k]].tangent, x, u,
+    BodyMatrix& Ak = A[k];
+    std::fill_n(Ak.valuePtr(), Ak.nonZeros(), 0.0);
+    for_each_cell<36>(bodies[k], _kernels[_body_forms[k]].*form, x, u,
                       [&](const std::array<std::int32_t, 3>& cell,
-                          const double* Ae) { add_element(A, cell, Ae); });
+                          const double* Ae) { add_element(Ak, cell, Ae); });
   }
+}
+
+void BodyAssembly::tangent(std::vector<BodyMatrix>& K,
+                           const std::vector<Body>& bodies,
+                           std::span<const double> x, std::span<const double> u,
+                           std::span<const char> only) const
+{
+  matrices(&Kernels::tangent, K, bodies, x, u, only);
 }
 
 void BodyAssembly::mass(std::vector<BodyMatrix>& M,
@@ -158,18 +168,7 @@ void BodyAssembly::mass(std::vector<BodyMatrix>& M,
                         std::span<const double> x,
                         std::span<const char> only) const
 {
-  const int nb = static_cast<int>(bodies.size());
-#pragma omp parallel for schedule(dynamic) if (nb >= 16)
-  for (int k = 0; k < nb; ++k)
-  {
-    if (!flagged(only, k))
-      continue;
-    BodyMatrix& A = M[k];
-    std::fill_n(A.valuePtr(), A.nonZeros(), 0.0);
-    for_each_cell<36>(bodies[k], _kernels[_body_forms[k]].mass, x, {},
-                      [&](const std::array<std::int32_t, 3>& cell,
-                          const double* Ae) { add_element(A, cell, Ae); });
-  }
+  matrices(&Kernels::mass, M, bodies, x, {}, only);
 }
 
 std::vector<Eigen::VectorXd>

@@ -91,6 +91,11 @@ private:
   {
     CellKernel residual, tangent, mass, lumped_mass;
   };
+  /// One bilinear form (a member of Kernels) of each flagged body into
+  /// A[b] (its pattern; the values overwritten)
+  void matrices(CellKernel Kernels::*form, std::vector<BodyMatrix>& A,
+                const std::vector<Body>& bodies, std::span<const double> x,
+                std::span<const double> u, std::span<const char> only) const;
   std::vector<Kernels> _kernels;
   std::vector<int> _body_forms;
 };
