@@ -3,7 +3,6 @@
 #include "body_assembly.h"
 #include <algorithm>
 #include <body.h>
-#include <dolfinx/fem/assembler.h>
 #include <dolfinx/fem/utils.h>
 #include <numeric>
 #include <stdexcept>
@@ -78,20 +77,16 @@ BodySet::BodySet(BodyMesh mesh, const forms::MaterialForms& material,
 
 BodySet::BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
                  std::vector<int> body_material)
-    : _mesh(mesh.mesh), _cell_body(std::move(mesh.cell_body)),
-      _materials(std::move(materials)), _body_material(std::move(body_material))
+    : _cell_body(std::move(mesh.cell_body)), _materials(std::move(materials)),
+      _body_material(std::move(body_material))
 {
   if (_materials.empty())
     throw std::invalid_argument("BodySet: no material");
-  for (const BodyMaterial& m : _materials)
-    _constants.push_back(material_constants(m));
-  _V = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(
-      _materials.front().law->function_space, "v", _mesh));
-  _Q = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(
-      functionspace_form_body_current_area, "q", _mesh));
-  _u = std::make_shared<fem::Function<double>>(_V);
-
-  build_bodies();
+  // The space and mesh live until the constructor returns (see the class).
+  const auto V =
+      std::make_shared<const fem::FunctionSpace>(fem::create_functionspace(
+          _materials.front().law->function_space, "v", mesh.mesh));
+  build_bodies(*V);
   if (_body_material.empty())
     _body_material.assign(_bodies.size(), 0);
   if (_body_material.size() != _bodies.size())
@@ -102,98 +97,55 @@ BodySet::BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
     if (k < 0 || k >= static_cast<int>(_materials.size()))
       throw std::invalid_argument("BodySet: body material " +
                                   std::to_string(k) + " out of range");
-  build_forms();
-  build_assembly();
+  _u.assign(_reference_x.size(), 0.0);
+  build_assembly(V);
   build_mass();
 }
 
-std::shared_ptr<fem::Form<double>> BodySet::make_form(
-    const ConstantMap& constants, const ufcx_form& form,
-    const std::vector<std::shared_ptr<const fem::FunctionSpace>>& spaces) const
+void BodySet::build_assembly(const std::shared_ptr<const fem::FunctionSpace>& V)
 {
-  const std::map<std::string, std::shared_ptr<const fem::Function<double>>>
-      coefficients = {{"u", _u}};
-  return std::make_shared<fem::Form<double>>(fem::create_form<double>(
-      form, spaces, coefficients, constants, {}, _mesh));
-}
-
-void BodySet::build_assembly()
-{
-  // The per-body forms lend their kernels and constants to the body
-  // assembly, and go: nothing else reads them (kept, they would hold a list
-  // of every cell each).
-  const std::vector<std::shared_ptr<const fem::FunctionSpace>> v = {_V},
-                                                               vv = {_V, _V};
+  // The forms of each material in use lend their kernels and constants to
+  // the body assembly, and go with the space: nothing else reads them.
+  const auto u = std::make_shared<const fem::Function<double>>(V);
+  const std::vector<std::shared_ptr<const fem::FunctionSpace>> none,
+      v = {V}, vv = {V, V};
+  std::vector<int> used(_body_material.begin(), _body_material.end());
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
   std::vector<std::shared_ptr<fem::Form<double>>> made;
   std::vector<BodyForms> forms;
   std::vector<int> body_form(_bodies.size(), 0);
-  for (std::size_t f = 0; f < _forms.size(); ++f)
+  for (std::size_t f = 0; f < used.size(); ++f)
   {
-    const int k = _forms[f].material;
+    const int k = used[f];
     const forms::MaterialForms& law = *_materials[k].law;
-    const ConstantMap& c = _constants[k];
-    for (const auto& [form, rank] :
-         {std::pair{law.residual, 1}, std::pair{law.tangent, 2},
-          std::pair{form_body_mass, 2}, std::pair{form_body_lumped_mass, 2}})
-      made.push_back(make_form(c, *form, rank == 1 ? v : vv));
-    forms.push_back({made[made.size() - 4].get(), made[made.size() - 3].get(),
-                     made[made.size() - 2].get(), made.back().get()});
+    const ConstantMap constants = material_constants(_materials[k]);
+    for (const auto& [form, spaces] :
+         {std::pair{law.energy, &none}, std::pair{law.residual, &v},
+          std::pair{law.tangent, &vv}, std::pair{form_body_mass, &vv},
+          std::pair{form_body_lumped_mass, &vv}})
+      made.push_back(
+          std::make_shared<fem::Form<double>>(fem::create_form<double>(
+              *form, *spaces, {{"u", u}}, constants, {}, V->mesh())));
+    const auto* m = made.data() + made.size() - 5;
+    forms.push_back(
+        {m[0].get(), m[1].get(), m[2].get(), m[3].get(), m[4].get()});
     for (std::size_t b = 0; b < _bodies.size(); ++b)
       if (_body_material[b] == k)
         body_form[b] = static_cast<int>(f);
   }
-  _assembly = std::make_unique<BodyAssembly>(forms, body_form, _u);
-}
-
-void BodySet::build_forms()
-{
-  auto make = [&](const ConstantMap& constants, const ufcx_form& f,
-                  std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces)
-  { return make_form(constants, f, spaces); };
-  // One material in use: its forms over all cells, exactly as with one
-  // material; several: each material's forms over its own bodies' cells.
-  std::vector<int> used(_body_material.begin(), _body_material.end());
-  std::sort(used.begin(), used.end());
-  used.erase(std::unique(used.begin(), used.end()), used.end());
-  if (used.empty())
-    used.push_back(0);
-  for (int k : used)
-  {
-    const forms::MaterialForms& law = *_materials[k].law;
-    const ConstantMap& c = _constants[k];
-    MaterialForms f{k, make(c, *law.energy, {}),
-                    make(c, *law.energy_density, {_Q})};
-    if (used.size() > 1)
-    {
-      std::vector<std::int32_t> cells;
-      for (std::size_t b = 0; b < _bodies.size(); ++b)
-        if (_body_material[b] == k)
-          cells.insert(cells.end(), _bodies[b].cells.begin(),
-                       _bodies[b].cells.end());
-      std::sort(cells.begin(), cells.end());
-      for (auto* form : {&f.energy, &f.energy_density})
-        *form = restrict_to_cells(**form, cells);
-    }
-    _forms.push_back(std::move(f));
-  }
-  _current_area = make(_constants.front(), *form_body_current_area, {_Q});
-  _reference_area = make(_constants.front(), *form_body_reference_area, {_Q});
+  _assembly = std::make_unique<BodyAssembly>(forms, body_form, u);
 }
 
 BodySet::BodySet(BodySet&&) noexcept = default;
 BodySet::~BodySet() = default;
 
-std::span<double> BodySet::displacement()
+void BodySet::build_bodies(const fem::FunctionSpace& V)
 {
-  return _u->x()->mutable_array();
-}
-
-void BodySet::build_bodies()
-{
-  const fem::DofMap& dofmap = *_V->dofmap();
+  const fem::DofMap& dofmap = *V.dofmap();
   const std::int32_t num_nodes =
       dofmap.index_map->size_local() + dofmap.index_map->num_ghosts();
-  const std::vector<double> dof_x = _V->tabulate_dof_coordinates(false);
+  const std::vector<double> dof_x = V.tabulate_dof_coordinates(false);
   _reference_x.resize(2 * num_nodes);
   for (std::int32_t i = 0; i < num_nodes; ++i)
   {
@@ -236,7 +188,7 @@ void BodySet::build_bodies()
     body.nodes.push_back(node);
   }
 
-  rank_input_order();
+  rank_input_order(V);
   for (Body& body : _bodies)
   {
     trace_boundary(body, dofmap, node_local, _reference_x);
@@ -250,12 +202,12 @@ void BodySet::build_bodies()
   }
 }
 
-void BodySet::rank_input_order()
+void BodySet::rank_input_order(const fem::FunctionSpace& V)
 {
   // A P1 cell lists its DOF blocks as its geometry nodes (both follow the
   // reference cell's vertices), which carry the input file's indices.
-  const fem::DofMap& dofmap = *_V->dofmap();
-  const mesh::Geometry& geometry = _mesh->geometry();
+  const fem::DofMap& dofmap = *V.dofmap();
+  const mesh::Geometry& geometry = V.mesh()->geometry();
   const std::vector<std::int64_t>& input = geometry.input_global_indices();
   std::vector<std::int64_t> node_input(_reference_x.size() / 2, -1);
   for (std::int32_t c = 0; c < static_cast<std::int32_t>(_cell_body.size());
@@ -282,10 +234,9 @@ void BodySet::rank_input_order()
 
 std::vector<double> BodySet::current_coordinates() const
 {
-  const std::span<const double> u = _u->x()->array();
   std::vector<double> x(_reference_x);
   for (std::size_t i = 0; i < x.size(); ++i)
-    x[i] += u[i];
+    x[i] += _u[i];
   return x;
 }
 
@@ -294,7 +245,7 @@ void BodySet::internal_force(std::span<double> f) const
   if (f.size() != num_dofs())
     throw std::invalid_argument("internal_force: wrong vector size");
   std::fill(f.begin(), f.end(), 0.0);
-  _assembly->residual(f, _bodies, _reference_x, _u->x()->array());
+  _assembly->residual(f, _bodies, _reference_x, _u);
 }
 
 void BodySet::owned_internal_force(std::span<double> f) const
@@ -302,65 +253,50 @@ void BodySet::owned_internal_force(std::span<double> f) const
   if (f.size() != num_dofs())
     throw std::invalid_argument("internal_force: wrong vector size");
   std::fill(f.begin(), f.end(), 0.0);
-  _assembly->residual(f, _bodies, _reference_x, _u->x()->array(), _owned);
+  _assembly->residual(f, _bodies, _reference_x, _u, _owned);
 }
 
 double BodySet::strain_energy() const
 {
-  double e = 0;
-  for (const MaterialForms& f : _forms)
-    e += fem::assemble_scalar(*f.energy);
-  return e;
-}
-
-std::vector<double> BodySet::assemble_cellwise(const fem::Form<double>& L) const
-{
-  const fem::DofMap& dofmap = *_Q->dofmap();
-  std::vector<double> b(dofmap.index_map->size_local() +
-                        dofmap.index_map->num_ghosts());
-  fem::assemble_vector(std::span<double>(b), L);
-  std::vector<double> per_cell(_cell_body.size());
-  for (std::size_t c = 0; c < per_cell.size(); ++c)
-    per_cell[c] = b[dofmap.cell_dofs(c)[0]];
-  return per_cell;
-}
-
-std::vector<double>
-BodySet::sum_per_body(const std::vector<double>& per_cell) const
-{
-  std::vector<double> sums(_bodies.size(), 0.0);
-  for (std::size_t c = 0; c < per_cell.size(); ++c)
-    sums[_cell_body[c]] += per_cell[c];
-  return sums;
+  const std::vector<double> per_body = body_strain_energy();
+  return std::accumulate(per_body.begin(), per_body.end(), 0.0);
 }
 
 std::vector<double> BodySet::cell_strain_energy() const
 {
-  std::vector<double> e = assemble_cellwise(*_forms.front().energy_density);
-  for (std::size_t k = 1; k < _forms.size(); ++k)
-  {
-    // Each material's form is zero on the other materials' cells.
-    const std::vector<double> more =
-        assemble_cellwise(*_forms[k].energy_density);
-    for (std::size_t c = 0; c < e.size(); ++c)
-      e[c] += more[c];
-  }
+  std::vector<double> e(_cell_body.size(), 0.0);
+  _assembly->cell_energy(e, _bodies, _reference_x, _u);
   return e;
 }
 
 std::vector<double> BodySet::body_strain_energy() const
 {
-  return sum_per_body(cell_strain_energy());
+  const std::vector<double> per_cell = cell_strain_energy();
+  std::vector<double> sums(_bodies.size(), 0.0);
+  for (std::size_t b = 0; b < _bodies.size(); ++b)
+    for (std::int32_t c : _bodies[b].cells)
+      sums[b] += per_cell[c];
+  return sums;
+}
+
+std::vector<std::array<std::int32_t, 3>> BodySet::cell_global_nodes() const
+{
+  std::vector<std::array<std::int32_t, 3>> nodes(_cell_body.size());
+  for (const Body& body : _bodies)
+    for (std::size_t k = 0; k < body.cells.size(); ++k)
+      for (int i = 0; i < 3; ++i)
+        nodes[body.cells[k]][i] = body.nodes[body.cell_nodes[k][i]];
+  return nodes;
 }
 
 std::vector<double> BodySet::cell_reference_area() const
 {
-  return assemble_cellwise(*_reference_area);
-}
-
-std::vector<double> BodySet::cell_current_area() const
-{
-  return assemble_cellwise(*_current_area);
+  const std::vector<std::array<std::int32_t, 3>> nodes = cell_global_nodes();
+  std::vector<double> area(nodes.size());
+  for (std::size_t c = 0; c < nodes.size(); ++c)
+    area[c] = 0.5 * std::abs(signed_area2(_reference_x, nodes[c][0],
+                                          nodes[c][1], nodes[c][2]));
+  return area;
 }
 
 std::vector<double> BodySet::body_current_area() const
@@ -368,7 +304,7 @@ std::vector<double> BodySet::body_current_area() const
   // The integral of det F over a P1 body is the signed area of its
   // deformed boundary polygon (shoelace): a pass over the boundary instead
   // of an assembly over every cell, cheap enough for every time step.
-  const std::span<const double> u = _u->x()->array();
+  const std::span<const double> u = _u;
   std::vector<double> area(_bodies.size(), 0.0);
   for (std::size_t b = 0; b < _bodies.size(); ++b)
   {

@@ -4,9 +4,6 @@
 #include "body_mesh.h"
 #include <Eigen/SparseCore>
 #include <array>
-#include <dolfinx/fem/Constant.h>
-#include <dolfinx/fem/Form.h>
-#include <dolfinx/fem/Function.h>
 #include <dolfinx/fem/FunctionSpace.h>
 #include <map>
 #include <material_registry.h>
@@ -74,13 +71,19 @@ struct Body
   int num_dofs() const { return 2 * static_cast<int>(nodes.size()); }
 };
 
-/// All deformable bodies of a simulation, in one dolfinx mesh, with per-body
-/// DOF blocks; each body is made of one of the set's materials.
+/// All deformable bodies of a simulation, read from one dolfinx mesh, with
+/// per-body DOF blocks; each body is made of one of the set's materials.
 ///
-/// State is kept in one global displacement vector (dolfinx ordering, two
-/// interleaved components per node); every per-body quantity is gathered
-/// from it through Body::nodes. Bodies never share a node, so every
-/// operator is block-diagonal by body.
+/// State is kept in one global displacement vector (dolfinx's DOF ordering
+/// of the mesh, two interleaved components per node); every per-body
+/// quantity is gathered from it through Body::nodes. Bodies never share a
+/// node, so every operator is block-diagonal by body.
+///
+/// The mesh, its function spaces and the forms serve the construction
+/// only (the bodies' cells, nodes and boundaries, the DOF coordinates, the
+/// forms' kernels) and are dropped: every later computation runs the
+/// kernels over Body::cell_nodes (BodyAssembly), so a run holds no whole
+/// dolfinx mesh (a rank of a distributed run, only what its bodies need).
 class BodySet
 {
 public:
@@ -92,9 +95,8 @@ public:
   BodySet(BodyMesh mesh, const forms::MaterialForms& material,
           const std::map<std::string, double>& parameters, double density);
   /// Bodies of several materials: body b is made of
-  /// materials[body_material[b]]. With one material (or every body of the
-  /// same one) the forms are those of the constructor above, unchanged;
-  /// otherwise each material's forms run over its bodies' cells only.
+  /// materials[body_material[b]]: each body's cells run its material's
+  /// kernels.
   /// @throws std::invalid_argument naming the material (BodyMaterial::name)
   /// and key at fault, or a body_material of the wrong size or range
   BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
@@ -118,7 +120,8 @@ public:
   std::size_t num_dofs() const { return _reference_x.size(); }
 
   /// Global displacement vector (interleaved x, y per node); writable
-  std::span<double> displacement();
+  std::span<double> displacement() { return _u; }
+  std::span<const double> displacement() const { return _u; }
 
   /// Reference coordinates of the nodes (interleaved x, y per node)
   std::span<const double> reference_coordinates() const { return _reference_x; }
@@ -162,7 +165,8 @@ public:
     return _lumped_mass;
   }
 
-  /// Total strain energy \f$\int \Psi\,dx\f$ over all bodies
+  /// Total strain energy \f$\int \Psi\,dx\f$ over all bodies (the sum of
+  /// body_strain_energy)
   double strain_energy() const;
 
   /// Strain energy of each cell (integral of Psi over the cell)
@@ -174,78 +178,46 @@ public:
   /// Reference area of each cell
   std::vector<double> cell_reference_area() const;
 
-  /// The cell-wise constant (DG0) space, for cell fields in outputs
-  std::shared_ptr<const dolfinx::fem::FunctionSpace> cell_space() const
-  {
-    return _Q;
-  }
-
   /// Current (deformed) area of each body, \f$\int \det F\,dX\f$,
   /// from its boundary polygon
   std::vector<double> body_current_area() const;
 
-  /// Current area of each cell (assembled from the UFL form)
-  std::vector<double> cell_current_area() const;
-
-  /// Body id of each cell
+  /// Body id of each cell (cells numbered as Body::cells)
   const std::vector<int>& cell_body() const { return _cell_body; }
 
-  /// The displacement as a dolfinx Function (for output)
-  std::shared_ptr<const dolfinx::fem::Function<double>>
-  displacement_function() const
-  {
-    return _u;
-  }
-
-  /// The mesh of all bodies
-  std::shared_ptr<const dolfinx::mesh::Mesh> mesh() const { return _mesh; }
+  /// Each cell's three nodes (global node indices), cells numbered as
+  /// Body::cells: the mesh, for outputs
+  std::vector<std::array<std::int32_t, 3>> cell_global_nodes() const;
 
   /// Restrict the per-body work of owned_internal_force and tangent to the
   /// bodies whose entry is nonzero (the bodies a rank of a distributed run
   /// owns, parallel::Ownership); the others' entries are left zero. The
   /// consistent masses of the bodies kept_masses leaves out are freed.
-  /// internal_force, energies, areas and outputs still cover every body.
+  /// internal_force, energies and areas still cover every body.
   /// May be called again (a rebalanced run) with other flags.
   /// @throws std::invalid_argument if the size is not the number of bodies
   void set_owned(std::vector<char> owned);
 
 private:
-  /// The energy forms of one material in use (for the outputs), over its
-  /// bodies' cells (all cells when every body is of this material)
-  struct MaterialForms
-  {
-    int material;
-    std::shared_ptr<dolfinx::fem::Form<double>> energy, energy_density;
-  };
-  void build_forms();
-  /// The body assembly, from the per-body forms of each material in use
-  void build_assembly();
-  std::shared_ptr<dolfinx::fem::Form<double>> make_form(
-      const ConstantMap& constants, const ufcx_form& form,
-      const std::vector<std::shared_ptr<const dolfinx::fem::FunctionSpace>>&
-          spaces) const;
-  void build_bodies();
+  /// The body assembly, from the per-body forms of each material in use,
+  /// made on the displacement's space V and dropped
+  void
+  build_assembly(const std::shared_ptr<const dolfinx::fem::FunctionSpace>& V);
+  void build_bodies(const dolfinx::fem::FunctionSpace& V);
   /// Fill each Body::input_rank
-  void rank_input_order();
+  void rank_input_order(const dolfinx::fem::FunctionSpace& V);
   void build_mass();
   /// Free the masses of the bodies not flagged; assemble those flagged
   /// whose mass was freed before
   void keep_masses(std::span<const char> kept);
-  std::vector<double> sum_per_body(const std::vector<double>& per_cell) const;
-  std::vector<double>
-  assemble_cellwise(const dolfinx::fem::Form<double>& L) const;
 
-  std::shared_ptr<dolfinx::mesh::Mesh> _mesh;
   std::vector<int> _cell_body;
   std::vector<BodyMaterial> _materials;
   std::vector<int> _body_material;
-  std::shared_ptr<dolfinx::fem::FunctionSpace> _V, _Q;
-  std::shared_ptr<dolfinx::fem::Function<double>> _u;
-  std::vector<ConstantMap> _constants;
-  std::vector<MaterialForms> _forms;
-  std::shared_ptr<dolfinx::fem::Form<double>> _current_area, _reference_area;
   std::vector<Body> _bodies;
   std::vector<double> _reference_x;
+  /// The displacement (interleaved x, y per node)
+  std::vector<double> _u;
   std::vector<BodyMatrix> _mass;
   std::vector<Eigen::VectorXd> _lumped_mass;
   /// The per-body forms' kernels, run body by body

@@ -47,34 +47,6 @@ CellKernel cell_kernel(const fem::Form<double>& a, int rank, const char* name,
           fem::pack_constants(a)};
 }
 
-/// Call `kernel` on each cell of `body`, in order, with its coordinates and
-/// displacement, and hand the element tensor to add(cell nodes, tensor)
-template <int N, typename Add>
-void for_each_cell(const Body& body, const CellKernel& kernel,
-                   std::span<const double> x, std::span<const double> u,
-                   Add&& add)
-{
-  double coordinates[9] = {}; // z stays 0: the geometry's third component
-  double w[6] = {}, tensor[N];
-  for (const std::array<std::int32_t, 3>& cell : body.cell_nodes)
-  {
-    for (int i = 0; i < 3; ++i)
-    {
-      const std::int32_t g = body.nodes[cell[i]];
-      for (int k = 0; k < 2; ++k)
-      {
-        coordinates[3 * i + k] = x[2 * g + k];
-        if (!u.empty())
-          w[2 * i + k] = u[2 * g + k];
-      }
-    }
-    std::fill_n(tensor, N, 0.0);
-    kernel.tabulate(tensor, w, kernel.constants.data(), coordinates, nullptr,
-                    nullptr);
-    add(cell, tensor);
-  }
-}
-
 /// Add a 6x6 element matrix into a body's matrix (its lower triangle), in
 /// the order of dolfinx's matrix assembler
 void add_element(BodyMatrix& A, const std::array<std::int32_t, 3>& cell,
@@ -104,10 +76,30 @@ BodyAssembly::BodyAssembly(
     : _body_forms(std::move(body_forms))
 {
   for (const BodyForms& f : forms)
-    _kernels.push_back({cell_kernel(*f.residual, 1, "residual", u),
+    _kernels.push_back({cell_kernel(*f.energy, 0, "energy", u),
+                        cell_kernel(*f.residual, 1, "residual", u),
                         cell_kernel(*f.tangent, 2, "tangent", u),
                         cell_kernel(*f.mass, 2, "mass", u),
                         cell_kernel(*f.lumped_mass, 2, "lumped mass", u)});
+}
+
+void BodyAssembly::cell_energy(std::span<double> per_cell,
+                               const std::vector<Body>& bodies,
+                               std::span<const double> x,
+                               std::span<const double> u,
+                               std::span<const char> only) const
+{
+  const int nb = static_cast<int>(bodies.size());
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int k = 0; k < nb; ++k)
+  {
+    if (!flagged(only, k))
+      continue;
+    const Body& body = bodies[k];
+    for_each_cell<1>(body, _kernels[_body_forms[k]].energy, x, u,
+                     [&](std::size_t c, const double* e)
+                     { per_cell[body.cells[c]] = e[0]; });
+  }
 }
 
 void BodyAssembly::residual(std::span<double> b,
@@ -123,14 +115,15 @@ void BodyAssembly::residual(std::span<double> b,
     if (!flagged(only, k))
       continue;
     const Body& body = bodies[k];
-    for_each_cell<6>(
-        body, _kernels[_body_forms[k]].residual, x, u,
-        [&](const std::array<std::int32_t, 3>& cell, const double* be)
-        {
-          for (int i = 0; i < 3; ++i)
-            for (int c = 0; c < 2; ++c)
-              b[2 * body.nodes[cell[i]] + c] += be[2 * i + c];
-        });
+    for_each_cell<6>(body, _kernels[_body_forms[k]].residual, x, u,
+                     [&](std::size_t c, const double* be)
+                     {
+                       const std::array<std::int32_t, 3>& cell =
+                           body.cell_nodes[c];
+                       for (int i = 0; i < 3; ++i)
+                         for (int c = 0; c < 2; ++c)
+                           b[2 * body.nodes[cell[i]] + c] += be[2 * i + c];
+                     });
   }
 }
 
@@ -149,9 +142,10 @@ void BodyAssembly::matrices(CellKernel Kernels::*form,
       continue;
     BodyMatrix& Ak = A[k];
     std::fill_n(Ak.valuePtr(), Ak.nonZeros(), 0.0);
-    for_each_cell<36>(bodies[k], _kernels[_body_forms[k]].*form, x, u,
-                      [&](const std::array<std::int32_t, 3>& cell,
-                          const double* Ae) { add_element(Ak, cell, Ae); });
+    const Body& body = bodies[k];
+    for_each_cell<36>(body, _kernels[_body_forms[k]].*form, x, u,
+                      [&](std::size_t c, const double* Ae)
+                      { add_element(Ak, body.cell_nodes[c], Ae); });
   }
 }
 
@@ -183,14 +177,17 @@ BodyAssembly::lumped_mass(const std::vector<Body>& bodies,
     Eigen::VectorXd& m = lumped[k];
     m = Eigen::VectorXd::Zero(bodies[k].num_dofs());
     // The diagonal of the form's matrix, summed as the matrix's entries are
-    for_each_cell<36>(
-        bodies[k], _kernels[_body_forms[k]].lumped_mass, x, {},
-        [&](const std::array<std::int32_t, 3>& cell, const double* Ae)
-        {
-          for (int i = 0; i < 3; ++i)
-            for (int c = 0; c < 2; ++c)
-              m[2 * cell[i] + c] += Ae[(2 * i + c) * 6 + 2 * i + c];
-        });
+    const Body& body = bodies[k];
+    for_each_cell<36>(body, _kernels[_body_forms[k]].lumped_mass, x, {},
+                      [&](std::size_t c, const double* Ae)
+                      {
+                        const std::array<std::int32_t, 3>& cell =
+                            body.cell_nodes[c];
+                        for (int i = 0; i < 3; ++i)
+                          for (int c = 0; c < 2; ++c)
+                            m[2 * cell[i] + c] +=
+                                Ae[(2 * i + c) * 6 + 2 * i + c];
+                      });
   }
   return lumped;
 }

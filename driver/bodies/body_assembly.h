@@ -22,15 +22,47 @@ struct CellKernel
   std::vector<double> constants;
 };
 
-/// The forms of one material that run body by body: the internal force,
-/// the tangent and the two masses.
+/// The forms of one material that run body by body: the strain energy,
+/// the internal force, the tangent and the two masses.
 struct BodyForms
 {
+  const dolfinx::fem::Form<double>* energy;
   const dolfinx::fem::Form<double>* residual;
   const dolfinx::fem::Form<double>* tangent;
   const dolfinx::fem::Form<double>* mass;
   const dolfinx::fem::Form<double>* lumped_mass;
 };
+
+/// Call `kernel` on each cell of `body`, in order, with the cell's node
+/// coordinates (x, global interleaved; z = 0) and displacement (u, global
+/// interleaved; none when empty), and hand (k, element tensor of N values)
+/// to add, k the cell's index in body.cell_nodes and body.cells.
+template <int N, typename Add>
+void for_each_cell(const Body& body, const CellKernel& kernel,
+                   std::span<const double> x, std::span<const double> u,
+                   Add&& add)
+{
+  double coordinates[9] = {}; // z stays 0: the geometry's third component
+  double w[6] = {}, tensor[N];
+  for (std::size_t k = 0; k < body.cell_nodes.size(); ++k)
+  {
+    const std::array<std::int32_t, 3>& cell = body.cell_nodes[k];
+    for (int i = 0; i < 3; ++i)
+    {
+      const std::int32_t g = body.nodes[cell[i]];
+      for (int c = 0; c < 2; ++c)
+      {
+        coordinates[3 * i + c] = x[2 * g + c];
+        if (!u.empty())
+          w[2 * i + c] = u[2 * g + c];
+      }
+    }
+    std::fill_n(tensor, N, 0.0);
+    kernel.tabulate(tensor, w, kernel.constants.data(), coordinates, nullptr,
+                    nullptr);
+    add(k, static_cast<const double*>(tensor));
+  }
+}
 
 /// Assembly of the per-body forms body by body, on all cores.
 ///
@@ -51,7 +83,8 @@ struct BodyForms
 ///
 /// The forms must be of the kind the materials produce (P1 vector
 /// triangles, one cell integral, the displacement as the only coefficient
-/// or none, no DOF transformations); anything else is refused.
+/// or none, no DOF transformations); anything else is refused. Built, the
+/// assembly holds no dolfinx object: the forms, spaces and mesh may go.
 class BodyAssembly
 {
 public:
@@ -62,6 +95,13 @@ public:
   /// a form of another kind
   BodyAssembly(const std::vector<BodyForms>& forms, std::vector<int> body_forms,
                const std::shared_ptr<const dolfinx::fem::Function<double>>& u);
+
+  /// The strain energy of each cell of the flagged bodies (the integral of
+  /// Psi over it) into per_cell[c], c the cell's index (Body::cells); the
+  /// others' entries are left as they are
+  void cell_energy(std::span<double> per_cell, const std::vector<Body>& bodies,
+                   std::span<const double> x, std::span<const double> u,
+                   std::span<const char> only = {}) const;
 
   /// b += F_int(u) of the flagged bodies (all when `only` is empty)
   /// @param[in] x Reference coordinates (global, interleaved x, y)
@@ -89,7 +129,7 @@ public:
 private:
   struct Kernels
   {
-    CellKernel residual, tangent, mass, lumped_mass;
+    CellKernel energy, residual, tangent, mass, lumped_mass;
   };
   /// One bilinear form (a member of Kernels) of each flagged body into
   /// A[b] (its pattern; the values overwritten)

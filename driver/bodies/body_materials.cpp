@@ -1,7 +1,6 @@
 #include "body_materials.h"
 
 #include <algorithm>
-#include <dolfinx/mesh/MeshTags.h>
 #include <stdexcept>
 
 namespace softpack::bodies
@@ -47,30 +46,6 @@ int cell_integral_id(const fem::Form<double>& a)
   if (ids.size() != 1)
     throw std::logic_error("a material form must have one cell integral");
   return ids[0];
-}
-
-std::shared_ptr<fem::Form<double>>
-restrict_to_cells(const fem::Form<double>& a,
-                  const std::vector<std::int32_t>& cells)
-{
-  using Kernel =
-      std::function<void(double*, const double*, const double*, const double*,
-                         const int*, const std::uint8_t*)>;
-  if (!a.integral_ids(fem::IntegralType::exterior_facet).empty() ||
-      !a.integral_ids(fem::IntegralType::interior_facet).empty())
-    throw std::logic_error("restrict_to_cells: facet integrals");
-  const Kernel kernel = a.kernel(fem::IntegralType::cell, cell_integral_id(a));
-  const std::shared_ptr<const mesh::Mesh> mesh = a.mesh();
-  // The tags are read by the Form's constructor, not kept.
-  const mesh::MeshTags<int> tags(mesh, mesh->topology().dim(), cells,
-                                 std::vector<int>(cells.size(), 0));
-  std::map<fem::IntegralType, std::pair<std::vector<std::pair<int, Kernel>>,
-                                        const mesh::MeshTags<int>*>>
-      integrals;
-  integrals[fem::IntegralType::cell] = {{{0, kernel}}, &tags};
-  return std::make_shared<fem::Form<double>>(
-      a.function_spaces(), integrals, a.coefficients(), a.constants(),
-      a.needs_facet_permutations(), mesh);
 }
 
 } // namespace softpack::bodies

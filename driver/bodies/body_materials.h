@@ -22,15 +22,6 @@ using ConstantMap =
 /// @throws std::invalid_argument naming `material.name`.parameters.KEY
 ConstantMap material_constants(const BodyMaterial& material);
 
-/// A copy of form `a` whose cell integral runs over `cells` only (sorted
-/// local cell indices), as integral id 0. The forms of a material apply to
-/// the bodies made of it; dolfinx's default integral would cover all cells.
-/// @pre `a` has one cell integral (the default one, id -1) and no facet
-/// integrals
-std::shared_ptr<dolfinx::fem::Form<double>>
-restrict_to_cells(const dolfinx::fem::Form<double>& a,
-                  const std::vector<std::int32_t>& cells);
-
 /// The one cell integral of a form (default or restricted) and its id.
 int cell_integral_id(const dolfinx::fem::Form<double>& a);
 

@@ -44,7 +44,7 @@ BodySet::create_matrices(std::span<const char> only) const
 
 void BodySet::tangent(std::vector<BodyMatrix>& K) const
 {
-  _assembly->tangent(K, _bodies, _reference_x, _u->x()->array(), _owned);
+  _assembly->tangent(K, _bodies, _reference_x, _u, _owned);
 }
 
 void BodySet::build_mass()

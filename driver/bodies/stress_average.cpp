@@ -1,20 +1,17 @@
 #include "stress_average.h"
 
-#include <dolfinx/fem/DofMap.h>
-#include <dolfinx/mesh/Mesh.h>
+#include "body_assembly.h"
 #include <stdexcept>
 
 namespace softpack::bodies
 {
-using namespace dolfinx;
 
 std::vector<CauchyIntegral> cauchy_integrals(const BodySet& bodies)
 {
   std::vector<double> f(bodies.num_dofs());
   bodies.internal_force(f);
   const std::span<const double> X = bodies.reference_coordinates();
-  const std::span<const double> u =
-      bodies.displacement_function()->x()->array();
+  const std::span<const double> u = bodies.displacement();
   std::vector<CauchyIntegral> out(bodies.num_bodies(), {0, 0, 0, 0});
   for (int b = 0; b < bodies.num_bodies(); ++b)
     for (std::int32_t n : bodies.body(b).nodes)
@@ -58,31 +55,17 @@ CauchyIntegralForm::CauchyIntegralForm(
 
 std::vector<CauchyIntegral> CauchyIntegralForm::evaluate() const
 {
-  const fem::Function<double>& u_function = *_bodies.displacement_function();
-  const fem::DofMap& dofmap = *u_function.function_space()->dofmap();
-  const mesh::Geometry& geometry = _bodies.mesh()->geometry();
-  const graph::AdjacencyList<std::int32_t>& x_dofmap = geometry.dofmap();
-  const std::span<const double> x_g = geometry.x();
-  const std::span<const double> u = u_function.x()->array();
+  const CellKernel kernel{_kernel, _constants};
+  const std::span<const double> x = _bodies.reference_coordinates(),
+                                u = _bodies.displacement();
   std::vector<CauchyIntegral> out(_bodies.num_bodies(), {0, 0, 0, 0});
-  double coordinates[9], w[6], integral[4];
   for (int b = 0; b < _bodies.num_bodies(); ++b)
-    for (std::int32_t c : _bodies.body(b).cells)
-    {
-      const auto x_dofs = x_dofmap.links(c);
-      const auto dofs = dofmap.cell_dofs(c);
-      for (int i = 0; i < 3; ++i)
-      {
-        for (int k = 0; k < 3; ++k)
-          coordinates[3 * i + k] = x_g[3 * x_dofs[i] + k];
-        for (int k = 0; k < 2; ++k)
-          w[2 * i + k] = u[2 * dofs[i] + k];
-      }
-      std::fill(integral, integral + 4, 0.0);
-      _kernel(integral, w, _constants.data(), coordinates, nullptr, nullptr);
-      for (int k = 0; k < 4; ++k)
-        out[b][k] += integral[k];
-    }
+    for_each_cell<4>(_bodies.body(b), kernel, x, u,
+                     [&](std::size_t, const double* integral)
+                     {
+                       for (int k = 0; k < 4; ++k)
+                         out[b][k] += integral[k];
+                     });
   return out;
 }
 

@@ -46,16 +46,14 @@ OpenVector open_vector(hid_t loc, const std::string& path, bool integer_only)
   return {std::move(set), static_cast<std::size_t>(count)};
 }
 //-----------------------------------------------------------------------------
-hid_t create_vector_space(std::size_t n)
+/// Write n values as a vector (columns 0) or a table of n / columns rows
+void write_array(hid_t loc, const std::string& path, hid_t file_type,
+                 hid_t mem_type, const void* data, std::size_t n,
+                 std::size_t columns = 0)
 {
-  const hsize_t dims[1] = {static_cast<hsize_t>(n)};
-  return H5Screate_simple(1, dims, nullptr);
-}
-//-----------------------------------------------------------------------------
-void write_vector(hid_t loc, const std::string& path, hid_t file_type,
-                  hid_t mem_type, const void* data, std::size_t n)
-{
-  Handle space(create_vector_space(n), H5Sclose);
+  const hsize_t dims[2] = {static_cast<hsize_t>(columns ? n / columns : n),
+                           static_cast<hsize_t>(columns)};
+  Handle space(H5Screate_simple(columns ? 2 : 1, dims, nullptr), H5Sclose);
   Handle set(H5Dcreate2(loc, path.c_str(), file_type, space.get(), H5P_DEFAULT,
                         H5P_DEFAULT, H5P_DEFAULT),
              H5Dclose);
@@ -158,15 +156,29 @@ void h5::create_group(hid_t loc, const std::string& path)
 void h5::write_integers(hid_t loc, const std::string& path,
                         std::span<const std::int32_t> values)
 {
-  write_vector(loc, path, H5T_STD_I32LE, H5T_NATIVE_INT32, values.data(),
-               values.size());
+  write_array(loc, path, H5T_STD_I32LE, H5T_NATIVE_INT32, values.data(),
+              values.size());
 }
 //-----------------------------------------------------------------------------
 void h5::write_doubles(hid_t loc, const std::string& path,
                        std::span<const double> values)
 {
-  write_vector(loc, path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, values.data(),
-               values.size());
+  write_array(loc, path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, values.data(),
+              values.size());
+}
+//-----------------------------------------------------------------------------
+void h5::write_table(hid_t loc, const std::string& path,
+                     std::span<const double> values, std::size_t columns)
+{
+  write_array(loc, path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, values.data(),
+              values.size(), columns);
+}
+//-----------------------------------------------------------------------------
+void h5::write_table(hid_t loc, const std::string& path,
+                     std::span<const std::int64_t> values, std::size_t columns)
+{
+  write_array(loc, path, H5T_STD_I64LE, H5T_NATIVE_INT64, values.data(),
+              values.size(), columns);
 }
 //-----------------------------------------------------------------------------
 void h5::write_string(hid_t loc, const std::string& path, const std::string& s)

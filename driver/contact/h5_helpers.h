@@ -1,6 +1,7 @@
 #pragma once
 
-// Small RAII layer over the HDF5 C API for fclib_io.cpp (internal header).
+// Small RAII layer over the HDF5 C API for fclib_io.cpp and
+// io/field_output.cpp. Failures throw FclibError (a std::runtime_error).
 
 #include <hdf5.h>
 
@@ -88,6 +89,12 @@ void write_integers(hid_t loc, const std::string& path,
 /// Write a 1-D float64 dataset.
 void write_doubles(hid_t loc, const std::string& path,
                    std::span<const double> values);
+
+/// Write a 2-D dataset of values.size() / columns rows (row-major).
+void write_table(hid_t loc, const std::string& path,
+                 std::span<const double> values, std::size_t columns);
+void write_table(hid_t loc, const std::string& path,
+                 std::span<const std::int64_t> values, std::size_t columns);
 
 /// Write a fixed-length string dataset.
 void write_string(hid_t loc, const std::string& path, const std::string& s);

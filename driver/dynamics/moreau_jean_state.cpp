@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace softpack::dynamics
 {
@@ -39,8 +40,7 @@ SchemeState MoreauJean::state() const
   SchemeState s;
   s.time = _time;
   s.steps = _steps;
-  const std::span<const double> u =
-      _bodies.displacement_function()->x()->array();
+  const std::span<const double> u = std::as_const(_bodies).displacement();
   s.u.assign(u.begin(), u.end());
   s.v = _v;
   for (const Wall& w : _walls)

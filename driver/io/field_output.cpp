@@ -2,7 +2,6 @@
 
 #include <cstdio>
 #include <fstream>
-#include <hdf5.h>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -24,23 +23,6 @@ std::string time_key(double t)
   return key;
 }
 
-/// Write every open HDF5 file's buffers and metadata to disk. dolfinx's
-/// XDMFFile keeps fields.h5 open for the whole run, and a file killed before
-/// its close is unreadable (HDF5's metadata lives in a cache): flushed after
-/// each frame, a killed run keeps the frames its fields.xdmf lists.
-void flush_open_hdf5_files()
-{
-  const ssize_t n = H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_FILE);
-  if (n <= 0)
-    return;
-  std::vector<hid_t> ids(static_cast<std::size_t>(n));
-  const ssize_t found =
-      H5Fget_obj_ids(H5F_OBJ_ALL, H5F_OBJ_FILE, ids.size(), ids.data());
-  for (ssize_t k = 0; k < found; ++k)
-    if (H5Fflush(ids[k], H5F_SCOPE_GLOBAL) < 0)
-      throw std::runtime_error("cannot flush fields.h5 to disk");
-}
-
 std::string data_item(const std::string& dims, const std::string& dataset,
                       const char* number_type = "Float")
 {
@@ -50,33 +32,38 @@ std::string data_item(const std::string& dims, const std::string& dataset,
 }
 } // namespace
 
-FieldOutput::FieldOutput(MPI_Comm comm, const std::filesystem::path& directory,
+FieldOutput::FieldOutput(const std::filesystem::path& directory,
                          const bodies::BodySet& bodies)
-    : _xdmf(directory / "fields.xdmf"), _mesh_name(bodies.mesh()->name),
-      _num_nodes(bodies.mesh()->geometry().x().size() / 3),
+    : _xdmf(directory / "fields.xdmf"), _num_nodes(bodies.num_dofs() / 2),
       _num_cells(bodies.cell_body().size()),
-      _cell_area(bodies.cell_reference_area())
+      _cell_area(bodies.cell_reference_area()),
+      _particle(bodies.cell_body().begin(), bodies.cell_body().end())
 {
-  auto Q =
-      std::const_pointer_cast<dolfinx::fem::FunctionSpace>(bodies.cell_space());
-  _psi = std::make_shared<dolfinx::fem::Function<double>>(Q);
-  _psi->name = "Psi";
-  _particle = std::make_shared<dolfinx::fem::Function<double>>(Q);
-  _particle->name = "particle";
-  const auto& dofmap = *Q->dofmap();
-  std::span<double> id = _particle->x()->mutable_array();
-  for (std::size_t c = 0; c < bodies.cell_body().size(); ++c)
-    id[dofmap.cell_dofs(c)[0]] = bodies.cell_body()[c];
-
-  _file = std::make_unique<dolfinx::io::XDMFFile>(comm, _xdmf, "w");
-  _file->write_mesh(*bodies.mesh());
-  flush_open_hdf5_files();
+  namespace h5 = contact::h5;
+  const std::filesystem::path path = directory / "fields.h5";
+  _file = std::make_unique<h5::Handle>(
+      H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+      H5Fclose);
+  if (!_file->valid())
+    throw std::runtime_error(path.string() + ": cannot be created");
+  const hid_t f = _file->get();
+  for (const char* group :
+       {"/Mesh", "/Mesh/mesh", "/Function", "/Function/displacement",
+        "/Function/Psi", "/Function/particle"})
+    h5::create_group(f, group);
+  h5::write_table(f, "/Mesh/mesh/geometry", bodies.reference_coordinates(), 2);
+  std::vector<std::int64_t> topology;
+  topology.reserve(3 * _num_cells);
+  for (const auto& cell : bodies.cell_global_nodes())
+    topology.insert(topology.end(), cell.begin(), cell.end());
+  h5::write_table(f, "/Mesh/mesh/topology",
+                  std::span<const std::int64_t>(topology), 3);
+  flush();
 }
 
 FieldOutput::~FieldOutput()
 {
-  if (_file)
-    _file->close();
+  _file.reset();
   try
   {
     write_xml();
@@ -87,20 +74,29 @@ FieldOutput::~FieldOutput()
   }
 }
 
+void FieldOutput::flush() const
+{
+  if (H5Fflush(_file->get(), H5F_SCOPE_GLOBAL) < 0)
+    throw std::runtime_error("cannot flush fields.h5 to disk");
+}
+
 void FieldOutput::write(const bodies::BodySet& bodies, double t)
 {
-  const std::vector<double> energy = bodies.cell_strain_energy();
-  const auto& dofmap = *_psi->function_space()->dofmap();
-  std::span<double> psi = _psi->x()->mutable_array();
-  for (std::size_t c = 0; c < energy.size(); ++c)
-    psi[dofmap.cell_dofs(c)[0]] = energy[c] / _cell_area[c];
-  auto u = std::const_pointer_cast<dolfinx::fem::Function<double>>(
-      bodies.displacement_function());
-  u->name = "displacement";
-  _file->write_function(*u, t);
-  _file->write_function(*_psi, t);
-  _file->write_function(*_particle, t);
-  flush_open_hdf5_files();
+  namespace h5 = contact::h5;
+  const hid_t f = _file->get();
+  const std::string key = time_key(t);
+  const std::span<const double> u = bodies.displacement();
+  std::vector<double> u3(3 * _num_nodes, 0.0); // XDMF vectors have 3 parts
+  for (std::size_t n = 0; n < _num_nodes; ++n)
+    for (int c = 0; c < 2; ++c)
+      u3[3 * n + c] = u[2 * n + c];
+  h5::write_table(f, "/Function/displacement/" + key, u3, 3);
+  std::vector<double> psi = bodies.cell_strain_energy();
+  for (std::size_t c = 0; c < psi.size(); ++c)
+    psi[c] /= _cell_area[c];
+  h5::write_table(f, "/Function/Psi/" + key, psi, 1);
+  h5::write_table(f, "/Function/particle/" + key, _particle, 1);
+  flush();
   _times.push_back(t);
   write_xml();
 }
@@ -109,7 +105,7 @@ void FieldOutput::write_xml() const
 {
   const std::string nodes = std::to_string(_num_nodes);
   const std::string cells = std::to_string(_num_cells);
-  const std::string mesh = "/Mesh/" + _mesh_name;
+  const std::string mesh = "/Mesh/mesh";
   std::ostringstream x;
   x << "<?xml version=\"1.0\"?>\n"
        "<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n"

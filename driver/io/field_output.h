@@ -1,32 +1,38 @@
 #pragma once
 
 #include <bodies/BodySet.h>
-#include <dolfinx/io/XDMFFile.h>
 #include <filesystem>
+#include <h5_helpers.h>
 #include <memory>
+#include <string>
+#include <vector>
 
 namespace softpack::io
 {
 
 /// Fields for ParaView and meshio: `fields.xdmf` + `fields.h5` holding the
-/// mesh, the displacement (P1, "displacement"), the strain-energy density
-/// (DG0, "Psi", J/m^3, per reference volume) and the particle id (DG0,
-/// "particle") at each written time.
+/// mesh, the displacement ("displacement", at the nodes), the strain-energy
+/// density ("Psi", J/m^3 per reference volume, by cell) and the particle id
+/// ("particle", by cell) at each written time.
 ///
-/// dolfinx writes the HDF5 datasets (/Mesh/<mesh>/geometry, topology,
-/// /Function/<name>/<time>, read by python/softpack/analysis/fields.py),
-/// but its XML holds one temporal collection per function, which meshio's
-/// TimeSeriesReader cannot follow (it reads only the last one). The XML is
-/// therefore replaced after each write by one temporal collection whose
-/// grids hold every field at their time, the first grid holding the mesh
-/// and the others including it.
+/// The HDF5 datasets keep the layout dolfinx's XDMFFile gave them (read by
+/// python/softpack/analysis/fields.py): /Mesh/mesh/geometry (nodes x 2),
+/// /Mesh/mesh/topology (cells x 3, int64), /Function/<name>/<time> (nodes x
+/// 3 or cells x 1), the time written with 17 digits, '.' as '_'. They are
+/// written from the BodySet's arrays (nodes in its DOF order, cells as
+/// Body::cells numbers them): the run holds no dolfinx mesh to hand to
+/// XDMFFile. The XML holds one temporal collection whose grids hold every
+/// field at their time (meshio's TimeSeriesReader follows only one), the
+/// first grid holding the mesh and the others including it; it is replaced
+/// atomically after each write, and fields.h5 flushed, so that a killed run
+/// keeps the frames its fields.xdmf lists.
 class FieldOutput
 {
 public:
-  /// @param[in] comm The communicator of the bodies' mesh
   /// @param[in] directory Output directory
-  /// @param[in] bodies The bodies (mesh, spaces)
-  FieldOutput(MPI_Comm comm, const std::filesystem::path& directory,
+  /// @param[in] bodies The bodies (nodes, cells, reference coordinates)
+  /// @throws std::runtime_error if fields.h5 cannot be created
+  FieldOutput(const std::filesystem::path& directory,
               const bodies::BodySet& bodies);
   ~FieldOutput();
 
@@ -36,14 +42,14 @@ public:
 private:
   /// Write fields.xdmf (atomically) for the times written so far.
   void write_xml() const;
+  /// Flush fields.h5's buffers and metadata to disk
+  void flush() const;
 
   std::filesystem::path _xdmf;
-  std::string _mesh_name;
   std::size_t _num_nodes = 0, _num_cells = 0;
   std::vector<double> _times;
-  std::unique_ptr<dolfinx::io::XDMFFile> _file;
-  std::shared_ptr<dolfinx::fem::Function<double>> _psi, _particle;
-  std::vector<double> _cell_area;
+  std::unique_ptr<contact::h5::Handle> _file;
+  std::vector<double> _cell_area, _particle;
 };
 
 } // namespace softpack::io

@@ -206,8 +206,7 @@ public:
       return;
     io::write_setup(_raw_dir, io::setup_json(config, _bodies));
     if (_p.output.fields)
-      _fields = std::make_unique<io::FieldOutput>(MPI_COMM_SELF,
-                                                  config.directory, _bodies);
+      _fields = std::make_unique<io::FieldOutput>(config.directory, _bodies);
   }
 
   /// Step until a stop criterion holds; the step that meets it is an

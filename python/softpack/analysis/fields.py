@@ -1,7 +1,8 @@
 """The one reader of ``fields.h5`` (the driver's field output).
 
-The driver writes ``fields.h5`` with dolfinx's XDMFFile
-(``driver/io/field_output.cpp``) and its own ``fields.xdmf`` (one temporal
+The driver writes ``fields.h5`` in the layout of dolfinx's XDMFFile
+(``driver/io/field_output.cpp``, from its own arrays: nodes in the DOF
+order, cells as the mesh numbers them) and its own ``fields.xdmf`` (one temporal
 collection, read by ParaView and ``meshio.xdmf.TimeSeriesReader``; this
 module does not read it); in the HDF5 file:
 

@@ -1,5 +1,6 @@
 // The per-body forms assembled body by body on all cores (BodyAssembly)
-// are dolfinx's: the internal force, the tangent and both masses, against
+// are dolfinx's: the strain energy, the internal force, the tangent and both
+// masses, against
 // dolfinx's assemblers over the same forms, to the rounding of the node
 // coordinates (the body assembly reads those dolfinx tabulates for the
 // DOFs, the assemblers the mesh geometry: they differ in the last bits).
@@ -21,44 +22,56 @@ using namespace softpack;
 namespace
 {
 /// 20 bodies: more than the 16 from which the loops are threaded; a random
-/// displacement (a fifth of the rings' spacing: no cell inverted)
-bodies::BodySet random_bodies(const forms::MaterialForms& law)
+/// displacement (a fifth of the rings' spacing: no cell inverted), and the
+/// mesh they were built from (the BodySet keeps none)
+struct RandomBodies
 {
-  std::vector<test::Triangulation> parts;
-  for (int i = 0; i < 20; ++i)
-    parts.push_back(test::disk(0.03 * (i % 5), 0.03 * (i / 5), 0.01, 4));
-  bodies::BodySet bodies(test::bodies_mesh(parts), law,
-                         bodies::plane_strain_parameters(0.15e6), 1180);
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> d(-5e-4, 5e-4);
-  for (double& u : bodies.displacement())
-    u = d(rng);
-  return bodies;
-}
+  explicit RandomBodies(const forms::MaterialForms& law)
+      : mesh(make_mesh()), bodies({mesh, cell_body, 20}, law,
+                                  bodies::plane_strain_parameters(0.15e6), 1180)
+  {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> d(-5e-4, 5e-4);
+    for (double& u : bodies.displacement())
+      u = d(rng);
+  }
+  std::shared_ptr<dolfinx::mesh::Mesh> make_mesh()
+  {
+    std::vector<test::Triangulation> parts;
+    for (int i = 0; i < 20; ++i)
+      parts.push_back(test::disk(0.03 * (i % 5), 0.03 * (i / 5), 0.01, 4));
+    bodies::BodyMesh m = test::bodies_mesh(parts);
+    cell_body = m.cell_body;
+    return m.mesh;
+  }
+  std::vector<int> cell_body;
+  std::shared_ptr<dolfinx::mesh::Mesh> mesh;
+  bodies::BodySet bodies;
+};
 
 /// A form of the material over the bodies' mesh, on the displacement's
 /// space (`rank` times), as dolfinx makes it
-dolfinx::fem::Form<double> dolfinx_form(const bodies::BodySet& bodies,
+dolfinx::fem::Form<double> dolfinx_form(const RandomBodies& set,
                                         const ufcx_form& form, int rank,
                                         const forms::MaterialForms& law)
 {
-  auto u = bodies.displacement_function();
+  auto u = test::dolfinx_displacement(set.mesh, law, set.bodies);
   const std::vector<std::shared_ptr<const dolfinx::fem::FunctionSpace>> spaces(
       rank, u->function_space());
   return dolfinx::fem::create_form<double>(
       form, spaces, {{"u", u}},
       bodies::material_constants(
           {&law, bodies::plane_strain_parameters(0.15e6), 1180}),
-      {}, nullptr);
+      {}, set.mesh);
 }
 
 /// dolfinx's assembly of a bilinear form over the bodies' mesh, as
 /// (global row DOF, global column DOF) -> value
 std::map<std::pair<int, int>, double>
-dolfinx_matrix(const bodies::BodySet& bodies, const ufcx_form& form,
+dolfinx_matrix(const RandomBodies& set, const ufcx_form& form,
                const forms::MaterialForms& law)
 {
-  const auto a = dolfinx_form(bodies, form, 2, law);
+  const auto a = dolfinx_form(set, form, 2, law);
   std::map<std::pair<int, int>, double> A;
   auto add = [&](std::span<const std::int32_t> rows,
                  std::span<const std::int32_t> cols,
@@ -112,14 +125,36 @@ class BodyAssembly : public ::testing::TestWithParam<const char*>
 {
 };
 
+TEST_P(BodyAssembly, StrainEnergyIsDolfinxs)
+{
+  const forms::MaterialForms& law = forms::find_material(GetParam());
+  const RandomBodies set(law);
+  const double reference =
+      dolfinx::fem::assemble_scalar(dolfinx_form(set, *law.energy, 0, law));
+  ASSERT_GT(reference, 0.0);
+  EXPECT_NEAR(set.bodies.strain_energy(), reference, rounding * reference);
+  // Each cell's own: the body sums are the cells'
+  const std::vector<double> cells = set.bodies.cell_strain_energy();
+  const std::vector<double> per_body = set.bodies.body_strain_energy();
+  for (int b = 0; b < set.bodies.num_bodies(); ++b)
+  {
+    double sum = 0;
+    for (std::int32_t c : set.bodies.body(b).cells)
+      sum += cells[c];
+    EXPECT_GT(sum, 0.0);
+    EXPECT_EQ(per_body[b], sum) << "body " << b;
+  }
+}
+
 TEST_P(BodyAssembly, InternalForceIsDolfinxs)
 {
   const forms::MaterialForms& law = forms::find_material(GetParam());
-  const bodies::BodySet bodies = random_bodies(law);
+  const RandomBodies set(law);
+  const bodies::BodySet& bodies = set.bodies;
   std::vector<double> f(bodies.num_dofs()), reference(bodies.num_dofs(), 0.0);
   bodies.internal_force(f);
   dolfinx::fem::assemble_vector(std::span<double>(reference),
-                                dolfinx_form(bodies, *law.residual, 1, law));
+                                dolfinx_form(set, *law.residual, 1, law));
   double scale = 0;
   for (std::size_t i = 0; i < f.size(); ++i)
   {
@@ -134,21 +169,22 @@ TEST_P(BodyAssembly, InternalForceIsDolfinxs)
 TEST_P(BodyAssembly, TangentIsDolfinxs)
 {
   const forms::MaterialForms& law = forms::find_material(GetParam());
-  const bodies::BodySet bodies = random_bodies(law);
-  std::vector<bodies::BodyMatrix> K = bodies.create_matrices();
-  bodies.tangent(K);
-  EXPECT_GT(expect_same(bodies, K, dolfinx_matrix(bodies, *law.tangent, law)),
+  const RandomBodies set(law);
+  std::vector<bodies::BodyMatrix> K = set.bodies.create_matrices();
+  set.bodies.tangent(K);
+  EXPECT_GT(expect_same(set.bodies, K, dolfinx_matrix(set, *law.tangent, law)),
             1000);
 }
 
 TEST_P(BodyAssembly, MassesAreDolfinxs)
 {
   const forms::MaterialForms& law = forms::find_material(GetParam());
-  const bodies::BodySet bodies = random_bodies(law);
+  const RandomBodies set(law);
+  const bodies::BodySet& bodies = set.bodies;
   EXPECT_GT(expect_same(bodies, bodies.consistent_mass(),
-                        dolfinx_matrix(bodies, *form_body_mass, law)),
+                        dolfinx_matrix(set, *form_body_mass, law)),
             1000);
-  const auto lumped = dolfinx_matrix(bodies, *form_body_lumped_mass, law);
+  const auto lumped = dolfinx_matrix(set, *form_body_lumped_mass, law);
   for (int b = 0; b < bodies.num_bodies(); ++b)
   {
     const bodies::Body& body = bodies.body(b);

@@ -2,7 +2,10 @@
 #include "mesh_fixtures.h"
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
+#include <body.h>
 #include <cmath>
+#include <dolfinx/fem/assembler.h>
+#include <dolfinx/fem/utils.h>
 #include <gtest/gtest.h>
 #include <material_registry.h>
 #include <numbers>
@@ -19,14 +22,38 @@ struct DiskSpec
 };
 const std::vector<DiskSpec> disks = {{0, 0, 0.01}, {0.05, 0.01, 0.015}};
 
-bodies::BodySet two_disks()
+/// The two disks; their mesh in `mesh` if given (the BodySet keeps none)
+bodies::BodySet two_disks(std::shared_ptr<dolfinx::mesh::Mesh>* mesh = nullptr)
 {
   std::vector<test::Triangulation> parts;
   for (const DiskSpec& d : disks)
     parts.push_back(test::disk(d.cx, d.cy, d.R, rings));
-  return bodies::BodySet(test::bodies_mesh(parts),
-                         forms::find_material("neo_hookean"),
+  bodies::BodyMesh m = test::bodies_mesh(parts);
+  if (mesh)
+    *mesh = m.mesh;
+  return bodies::BodySet(std::move(m), forms::find_material("neo_hookean"),
                          bodies::plane_strain_parameters(mu), rho);
+}
+
+/// The current area of each cell, by dolfinx's assembly of the UFL form
+/// int det F q dx (forms/body.py) over the bodies' mesh
+std::vector<double>
+dolfinx_cell_current_area(const std::shared_ptr<dolfinx::mesh::Mesh>& mesh,
+                          const bodies::BodySet& bodies)
+{
+  auto u = test::dolfinx_displacement(mesh, forms::find_material("neo_hookean"),
+                                      bodies);
+  auto Q = std::make_shared<const dolfinx::fem::FunctionSpace>(
+      dolfinx::fem::create_functionspace(functionspace_form_body_current_area,
+                                         "q", mesh));
+  const auto a = dolfinx::fem::create_form<double>(*form_body_current_area, {Q},
+                                                   {{"u", u}}, {}, {}, mesh);
+  std::vector<double> b(Q->dofmap()->index_map->size_local());
+  dolfinx::fem::assemble_vector(std::span<double>(b), a);
+  std::vector<double> per_cell(bodies.cell_body().size());
+  for (std::size_t c = 0; c < per_cell.size(); ++c)
+    per_cell[c] = b[Q->dofmap()->cell_dofs(c)[0]];
+  return per_cell;
 }
 
 /// Area of the regular polygon inscribed in the disk (the meshed domain).
@@ -82,11 +109,22 @@ TEST(BodySet, BoundaryIsTheOuterRingOrientedOutward)
 
 TEST(BodySet, AreasAreThePolygonAreasAndFollowTheDeformation)
 {
-  bodies::BodySet bodies = two_disks();
+  std::shared_ptr<dolfinx::mesh::Mesh> mesh;
+  bodies::BodySet bodies = two_disks(&mesh);
+  const std::vector<double> cell_area = bodies.cell_reference_area();
   for (int b = 0; b < 2; ++b)
+  {
     EXPECT_NEAR(bodies.body(b).reference_area /
                     polygon_area(disks[b].R, 6 * rings),
                 1.0, 1e-13);
+    double sum = 0;
+    for (std::int32_t c : bodies.body(b).cells)
+    {
+      EXPECT_GT(cell_area[c], 0.0);
+      sum += cell_area[c];
+    }
+    EXPECT_NEAR(sum / bodies.body(b).reference_area, 1.0, 1e-13);
+  }
 
   // Body 1 stretched by F = diag(1.2, 0.9): area times det F = 1.08.
   std::span<const double> X = bodies.reference_coordinates();
@@ -103,7 +141,7 @@ TEST(BodySet, AreasAreThePolygonAreasAndFollowTheDeformation)
   // also under a non-affine deformation.
   for (std::size_t i = 0; i < u.size(); ++i)
     u[i] += 1e-4 * std::sin(1e3 * X[i] + i);
-  const std::vector<double> per_cell = bodies.cell_current_area();
+  const std::vector<double> per_cell = dolfinx_cell_current_area(mesh, bodies);
   std::vector<double> from_cells(2, 0.0);
   for (std::size_t c = 0; c < per_cell.size(); ++c)
     from_cells[bodies.cell_body()[c]] += per_cell[c];

@@ -33,7 +33,7 @@ Eigen::Vector2d position(const bodies::BodySet& set, int b, std::size_t i)
 {
   const std::int32_t g = set.body(b).nodes[i];
   const auto X = set.reference_coordinates();
-  const auto u = set.displacement_function()->x()->array();
+  const auto u = set.displacement();
   return {X[2 * g] + u[2 * g], X[2 * g + 1] + u[2 * g + 1]};
 }
 

@@ -1,10 +1,13 @@
 #include "mesh_fixtures.h"
 
+#include <algorithm>
 #include <cmath>
+#include <dolfinx/fem/utils.h>
 #include <dolfinx/io/XDMFFile.h>
 #include <dolfinx/mesh/MeshTags.h>
 #include <numbers>
 #include <numeric>
+#include <stdexcept>
 
 namespace softpack::test
 {
@@ -99,6 +102,22 @@ void write_body_mesh(const bodies::BodyMesh& mesh,
   file.write_mesh(*mesh.mesh);
   file.write_meshtags(tags, "/Xdmf/Domain/Grid[@Name='" + mesh.mesh->name +
                                 "']/Geometry");
+}
+
+std::shared_ptr<dolfinx::fem::Function<double>>
+dolfinx_displacement(const std::shared_ptr<dolfinx::mesh::Mesh>& mesh,
+                     const forms::MaterialForms& law,
+                     const bodies::BodySet& bodies)
+{
+  auto V = std::make_shared<dolfinx::fem::FunctionSpace>(
+      dolfinx::fem::create_functionspace(law.function_space, "v", mesh));
+  auto u = std::make_shared<dolfinx::fem::Function<double>>(V);
+  const std::span<const double> values = bodies.displacement();
+  std::span<double> x = u->x()->mutable_array();
+  if (x.size() != values.size())
+    throw std::logic_error("dolfinx_displacement: not the bodies' mesh");
+  std::copy(values.begin(), values.end(), x.begin());
+  return u;
 }
 
 } // namespace softpack::test

@@ -1,7 +1,11 @@
 #pragma once
 
+#include <bodies/BodySet.h>
 #include <bodies/body_mesh.h>
+#include <dolfinx/fem/Function.h>
 #include <filesystem>
+#include <material_registry.h>
+#include <memory>
 #include <vector>
 
 /// Small meshes built in memory for the body tests (no gmsh needed).
@@ -34,5 +38,14 @@ bodies::BodyMesh bodies_mesh(const std::vector<Triangulation>& parts,
 /// the mesh "mesh" and the cell tags "bodies" (what read_body_mesh reads).
 void write_body_mesh(const bodies::BodyMesh& mesh,
                      const std::filesystem::path& xdmf);
+
+/// The displacement of `bodies` as a dolfinx Function on `law`'s space over
+/// `mesh`, the mesh the BodySet was built from (a BodySet keeps no mesh:
+/// tests that compare with dolfinx's assemblers keep their own). The space
+/// is made as the BodySet makes it, so its DOFs number the nodes alike.
+std::shared_ptr<dolfinx::fem::Function<double>>
+dolfinx_displacement(const std::shared_ptr<dolfinx::mesh::Mesh>& mesh,
+                     const forms::MaterialForms& law,
+                     const bodies::BodySet& bodies);
 
 } // namespace softpack::test
