@@ -159,7 +159,9 @@ public:
   /// every body when `owned` is empty. The one place of the rule.
   std::vector<char> kept_masses(std::span<const char> owned) const;
 
-  /// Lumped (vertex-quadrature, row-sum) mass of each body, one per DOF
+  /// Lumped (vertex-quadrature, row-sum) mass of each body whose mass this
+  /// rank keeps (kept_masses, as consistent_mass), one per DOF; the others'
+  /// are empty
   const std::vector<Eigen::VectorXd>& lumped_mass() const
   {
     return _lumped_mass;
@@ -192,7 +194,8 @@ public:
   /// Restrict the per-body work of owned_internal_force and tangent to the
   /// bodies whose entry is nonzero (the bodies a rank of a distributed run
   /// owns, parallel::Ownership); the others' entries are left zero. The
-  /// consistent masses of the bodies kept_masses leaves out are freed.
+  /// masses (consistent and lumped) of the bodies kept_masses leaves out
+  /// are freed.
   /// internal_force, energies and areas still cover every body.
   /// May be called again (a rebalanced run) with other flags.
   /// @throws std::invalid_argument if the size is not the number of bodies
@@ -207,8 +210,8 @@ private:
   /// Fill each Body::input_rank
   void rank_input_order(const dolfinx::fem::FunctionSpace& V);
   void build_mass();
-  /// Free the masses of the bodies not flagged; assemble those flagged
-  /// whose mass was freed before
+  /// Free the masses (consistent and lumped) of the bodies not flagged;
+  /// assemble those flagged whose masses were freed before
   void keep_masses(std::span<const char> kept);
 
   std::vector<int> _cell_body;

@@ -167,13 +167,16 @@ void BodyAssembly::mass(std::vector<BodyMatrix>& M,
 
 std::vector<Eigen::VectorXd>
 BodyAssembly::lumped_mass(const std::vector<Body>& bodies,
-                          std::span<const double> x) const
+                          std::span<const double> x,
+                          std::span<const char> only) const
 {
   const int nb = static_cast<int>(bodies.size());
   std::vector<Eigen::VectorXd> lumped(nb);
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int k = 0; k < nb; ++k)
   {
+    if (!flagged(only, k))
+      continue;
     Eigen::VectorXd& m = lumped[k];
     m = Eigen::VectorXd::Zero(bodies[k].num_dofs());
     // The diagonal of the form's matrix, summed as the matrix's entries are

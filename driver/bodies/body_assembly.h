@@ -121,10 +121,12 @@ public:
   void mass(std::vector<BodyMatrix>& M, const std::vector<Body>& bodies,
             std::span<const double> x, std::span<const char> only = {}) const;
 
-  /// The lumped (vertex-quadrature) mass of every body, one per DOF: the
-  /// diagonal of the lumped mass form's matrix
-  std::vector<Eigen::VectorXd> lumped_mass(const std::vector<Body>& bodies,
-                                           std::span<const double> x) const;
+  /// The lumped (vertex-quadrature) mass of each flagged body, one per
+  /// DOF: the diagonal of the lumped mass form's matrix (the others' are
+  /// empty)
+  std::vector<Eigen::VectorXd>
+  lumped_mass(const std::vector<Body>& bodies, std::span<const double> x,
+              std::span<const char> only = {}) const;
 
 private:
   struct Kernels

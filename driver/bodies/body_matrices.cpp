@@ -87,6 +87,7 @@ void BodySet::keep_masses(std::span<const char> kept)
       // the old storage allocated.
       BodyMatrix empty(_bodies[b].num_dofs(), _bodies[b].num_dofs());
       _mass[b].swap(empty);
+      Eigen::VectorXd().swap(_lumped_mass[b]);
     }
     else if (_mass[b].nonZeros() == 0)
     {
@@ -100,9 +101,14 @@ void BodySet::keep_masses(std::span<const char> kept)
   // assembled again.
   std::vector<BodyMatrix> fresh = create_matrices(missing);
   _assembly->mass(fresh, _bodies, _reference_x, missing);
+  std::vector<Eigen::VectorXd> lumped =
+      _assembly->lumped_mass(_bodies, _reference_x, missing);
   for (std::size_t b = 0; b < _bodies.size(); ++b)
     if (missing[b])
+    {
       _mass[b].swap(fresh[b]); // no copy (Eigen 3.4 has no sparse move)
+      _lumped_mass[b].swap(lumped[b]);
+    }
 }
 
 } // namespace softpack::bodies

@@ -186,7 +186,9 @@ TEST(BodySet, ARankKeepsTheMassesOfItsOwnBodies)
 {
   bodies::BodySet bodies = two_disks();
   const std::vector<bodies::BodyMatrix> all = bodies.consistent_mass();
+  const std::vector<Eigen::VectorXd> lumped = bodies.lumped_mass();
   bodies.set_owned({1, 0});
+  EXPECT_EQ(bodies.lumped_mass()[1].size(), 0);
   EXPECT_EQ(bodies.consistent_mass()[1].nonZeros(), 0);
   // ... and its storage is released (an empty sparse matrix can keep it).
   EXPECT_EQ(bodies.consistent_mass()[1].data().allocatedSize(), 0);
@@ -200,8 +202,11 @@ TEST(BodySet, ARankKeepsTheMassesOfItsOwnBodies)
   const bodies::BodyMatrix& M = bodies.consistent_mass()[1];
   ASSERT_EQ(M.nonZeros(), all[1].nonZeros());
   EXPECT_EQ(Eigen::MatrixXd(M - all[1]).norm(), 0.0);
-  // The lumped masses stay for every body (one vector each).
-  EXPECT_GT(bodies.lumped_mass()[0].minCoeff(), 0.0);
+  // The lumped masses follow the consistent ones
+  EXPECT_EQ(bodies.lumped_mass()[0].size(), 0);
+  ASSERT_EQ(bodies.lumped_mass()[1].size(), lumped[1].size());
+  EXPECT_EQ((bodies.lumped_mass()[1] - lumped[1]).norm(), 0.0);
+  EXPECT_GT(lumped[1].minCoeff(), 0.0);
   EXPECT_EQ(bodies.kept_masses(std::vector<char>{0, 1}),
             (std::vector<char>{0, 1}));
   EXPECT_EQ(bodies.kept_masses({}), (std::vector<char>{1, 1}));
