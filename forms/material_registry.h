@@ -21,8 +21,6 @@ struct MaterialForms
   ufcx_form* residual;
   /// Tangent stiffness, \f$\partial^2 E/\partial u^2\f$ (rank 2)
   ufcx_form* tangent;
-  /// Cell integrals of \f$\Psi\f$ tested against DG0 (rank 1)
-  ufcx_form* energy_density;
   /// Cell integrals of the Cauchy stress, \f$\int P F^T dX\f$ (= \f$\int
   /// \sigma\,da\f$), tested against a DG0 4-vector: components xx, yy, xy,
   /// yx (rank 1; derived from `energy` by forms/cauchy_integral.py)

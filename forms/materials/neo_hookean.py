@@ -9,22 +9,20 @@
 #
 # Material file contract (read by forms/CMakeLists.txt, forms/registry.py and
 # the driver's material registry): P1 vector displacement `u`, test `v`, trial
-# `du`, DG0 test `q`, and the four forms below under these exact names. Each
+# `du`, and the three forms below under these exact names. Each
 # UFL Constant is a material parameter, named by its Python variable (the one
 # name used in the TOML file, driver.json and the outputs; bind each Constant
 # to one name only) and declared in the dict `parameters` (unit, range,
 # default, doc; docs/contract.md section 3).
 from ufl import (Constant, Identity, TestFunction, TrialFunction,
-                 Coefficient, FiniteElement, VectorElement, derivative, det,
+                 Coefficient, VectorElement, derivative, det,
                  dx, grad, ln, tr, triangle)
 
 element = VectorElement("Lagrange", triangle, 1)
-cell_element = FiniteElement("DG", triangle, 0)
 
 u = Coefficient(element)
 v = TestFunction(element)
 du = TrialFunction(element)
-q = TestFunction(cell_element)
 
 shear_modulus = Constant(triangle)
 lame_lambda = Constant(triangle)
@@ -48,6 +46,5 @@ psi = (shear_modulus / 2 * (I1 - 3) - shear_modulus * ln(J)
 energy = psi * dx
 residual = derivative(energy, u, v)
 tangent = derivative(residual, u, du)
-energy_density = psi * q * dx
 
-forms = [energy, residual, tangent, energy_density]
+forms = [energy, residual, tangent]

@@ -8,16 +8,14 @@
 # same linear elasticity as neo-Hookean; it stiffens differently (and loses
 # stability in strong compression), which makes it a useful contrast.
 from ufl import (Constant, Identity, TestFunction, TrialFunction,
-                 Coefficient, FiniteElement, VectorElement, derivative, dx,
+                 Coefficient, VectorElement, derivative, dx,
                  grad, inner, tr, triangle)
 
 element = VectorElement("Lagrange", triangle, 1)
-cell_element = FiniteElement("DG", triangle, 0)
 
 u = Coefficient(element)
 v = TestFunction(element)
 du = TrialFunction(element)
-q = TestFunction(cell_element)
 
 shear_modulus = Constant(triangle)
 lame_lambda = Constant(triangle)
@@ -39,6 +37,5 @@ psi = lame_lambda / 2 * tr(E) ** 2 + shear_modulus * inner(E, E)
 energy = psi * dx
 residual = derivative(energy, u, v)
 tangent = derivative(residual, u, du)
-energy_density = psi * q * dx
 
-forms = [energy, residual, tangent, energy_density]
+forms = [energy, residual, tangent]

@@ -27,15 +27,13 @@ ROOT = Path(os.environ.get("SOFTPACK_ROOT", Path(__file__).resolve().parents[2])
 NEW_MATERIAL = '''
 # A test law: neo-Hookean plus a second-invariant term (plane strain).
 from ufl import (Constant, Identity, TestFunction, TrialFunction, Coefficient,
-                 FiniteElement, VectorElement, derivative, det, dx, grad, ln,
+                 VectorElement, derivative, det, dx, grad, ln,
                  tr, triangle)
 
 element = VectorElement("Lagrange", triangle, 1)
-cell_element = FiniteElement("DG", triangle, 0)
 u = Coefficient(element)
 v = TestFunction(element)
 du = TrialFunction(element)
-q = TestFunction(cell_element)
 shear_modulus = Constant(triangle)
 lame_lambda = Constant(triangle)
 c2 = Constant(triangle)
@@ -60,8 +58,7 @@ psi = (shear_modulus / 2 * (I1 - 3) + c2 * (I2 - 3) - shear_modulus * ln(J)
 energy = psi * dx
 residual = derivative(energy, u, v)
 tangent = derivative(residual, u, du)
-energy_density = psi * q * dx
-forms = [energy, residual, tangent, energy_density]
+forms = [energy, residual, tangent]
 '''
 
 
