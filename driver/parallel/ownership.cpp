@@ -57,30 +57,55 @@ void Ownership::assign(std::vector<int> body_rank, bodies::BodySet& bodies)
   _body_rank = std::move(body_rank);
   _owned.assign(nb, 0);
   _node_owned.assign(bodies.num_dofs() / 2, 0);
-  _foreign_nodes.clear();
   _stale_nodes.clear();
-  _boundary_nodes.clear();
+  // A rigid body is moved by every rank: all its nodes are shared.
+  std::vector<std::vector<char>> shared(nb);
   for (int b = 0; b < nb; ++b)
   {
     const bodies::Body& body = bodies.body(b);
     _owned[b] = _body_rank[b] == _rank;
-    // A rigid body is moved by every rank: all its nodes are shared.
-    std::vector<char> shared(body.nodes.size(), bodies.rigid(b));
+    shared[b].assign(body.nodes.size(), bodies.rigid(b));
     for (std::int32_t local : body.boundary_nodes)
-      shared[local] = 1;
+      shared[b][local] = 1;
     for (std::size_t k = 0; k < body.nodes.size(); ++k)
     {
-      const std::int32_t g = body.nodes[k];
-      _node_owned[g] = _owned[b];
-      if (shared[k])
-        _boundary_nodes.push_back(g);
-      if (!_owned[b])
-        _foreign_nodes.push_back(g);
-      if (!_owned[b] && !shared[k])
-        _stale_nodes.push_back(g);
+      _node_owned[body.nodes[k]] = _owned[b];
+      if (!_owned[b] && !shared[b][k])
+        _stale_nodes.push_back(body.nodes[k]);
     }
   }
+  _all_nodes = nodes_by_owner(bodies, [](int, std::size_t) { return true; });
+  _boundary_nodes = nodes_by_owner(bodies, [&](int b, std::size_t k)
+                                   { return shared[b][k] != 0; });
   bodies.set_owned(_owned);
+}
+
+template <typename Take>
+Ownership::NodesByOwner Ownership::nodes_by_owner(const bodies::BodySet& bodies,
+                                                  Take&& take) const
+{
+  NodesByOwner list;
+  list.counts.assign(_size, 0);
+  list.offsets.assign(_size + 1, 0);
+  for (int r = 0; r < _size; ++r)
+  {
+    for (int b = 0; b < bodies.num_bodies(); ++b)
+    {
+      if (_body_rank[b] != r)
+        continue;
+      const std::vector<std::int32_t>& nodes = bodies.body(b).nodes;
+      for (std::size_t k = 0; k < nodes.size(); ++k)
+        if (take(b, k))
+          list.nodes.push_back(nodes[k]);
+    }
+    const std::size_t end = 2 * list.nodes.size();
+    if (end > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+      throw std::runtime_error("Ownership: " + std::to_string(end) +
+                               " entries to share, above MPI's int count");
+    list.offsets[r + 1] = static_cast<int>(end);
+    list.counts[r] = list.offsets[r + 1] - list.offsets[r];
+  }
+  return list;
 }
 
 std::vector<int> Ownership::drifted_split(
@@ -113,19 +138,31 @@ void Ownership::share(std::span<double> global) const
 {
   if (_size == 1)
     return;
-  for (std::int32_t node : _foreign_nodes)
-    global[2 * node] = global[2 * node + 1] = 0;
-  sum(global);
+  gather_nodes(global, _all_nodes);
 }
 
 void Ownership::share_boundaries(std::span<double> global) const
 {
   if (_size == 1)
     return;
-  share_nodes(global, _boundary_nodes);
+  gather_nodes(global, _boundary_nodes);
   constexpr double stale = std::numeric_limits<double>::quiet_NaN();
   for (std::int32_t node : _stale_nodes)
     global[2 * node] = global[2 * node + 1] = stale;
+}
+
+void Ownership::gather_nodes(std::span<double> global,
+                             const NodesByOwner& list) const
+{
+  std::vector<double> all(list.offsets.back());
+  for (int k = list.offsets[_rank]; k < list.offsets[_rank + 1]; ++k)
+    all[k] = global[2 * list.nodes[k / 2] + k % 2];
+  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, all.data(),
+                 list.counts.data(), list.offsets.data(), MPI_DOUBLE, _comm);
+  for (std::size_t k = 0; k < all.size(); ++k)
+    global[2 * list.nodes[k / 2] + k % 2] = all[k];
+  _bytes += list.counts[_rank] * sizeof(double);
+  ++_calls;
 }
 
 void Ownership::share_nodes(std::span<double> global,

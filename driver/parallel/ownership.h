@@ -15,15 +15,16 @@ namespace softpack::parallel
 /// Which MPI rank owns each body, and the collectives that make the owners'
 /// per-body results known to every rank (docs/mpi_design.md).
 ///
-/// Every rank holds the whole mesh and global displacement and velocity
-/// vectors; a rank assembles, factorizes and computes the compliance of its
-/// own bodies only, and the per-body results that the rest of the step
-/// needs everywhere are exchanged through the calls below: the velocity at
-/// the bodies' boundaries once per step (share_boundaries; the interiors
-/// stay with their owners until share() makes a vector whole, at outputs),
-/// free velocities at contact nodes, Delassus blocks. Each exchanged entry
-/// has exactly one nonzero contributor, so a sum over ranks reproduces the
-/// serial value bit for bit.
+/// Every rank holds whole-length global displacement and velocity vectors;
+/// a rank assembles, factorizes and computes the compliance of its own
+/// bodies only, and the per-body results that the rest of the step needs
+/// everywhere are exchanged through the calls below: the velocity at the
+/// bodies' boundaries once per step (share_boundaries; the interiors stay
+/// with their owners until share() makes a vector whole, at outputs), free
+/// velocities at contact nodes, Delassus blocks. share and share_boundaries
+/// gather each owner's entries (an allgatherv: each rank sends its own);
+/// the other exchanges are sums with exactly one nonzero contributor per
+/// entry. Either way every rank gets the owner's bits.
 ///
 /// The default object is serial: one rank owning every body, and every
 /// call a no-op (no MPI call at all).
@@ -83,9 +84,8 @@ public:
   void share(std::span<double> global) const;
   /// Make the entries read between outputs current on every rank: the
   /// boundary nodes of every body (detection, the contact operator, areas,
-  /// overlaps) and every node of a rigid body (moved by every rank). The
-  /// entries must be zero on the ranks that do not own them (a vector
-  /// filled by owners only). The other ranks' bodies' interior entries
+  /// overlaps) and every node of a rigid body (moved by every rank), as
+  /// their owners hold them. The other ranks' bodies' interior entries
   /// become NaN: stale until share() makes the vector whole, and a read of
   /// one shows in the results instead of passing for a value.
   void share_boundaries(std::span<double> global) const;
@@ -144,6 +144,22 @@ public:
   std::size_t messages() const { return _calls; }
 
 private:
+  /// Nodes listed by their owners' ranks (rank 0's first, each rank's in
+  /// body order; the same list on every rank), and each rank's part of it
+  /// in doubles (2 per node): an allgatherv of each owner's entries makes
+  /// them current everywhere, every rank sending its own part only and no
+  /// arithmetic touching a value.
+  struct NodesByOwner
+  {
+    std::vector<std::int32_t> nodes;
+    std::vector<int> counts, offsets;
+  };
+  /// The nodes of every body that `take(body, local node)` accepts, listed
+  /// by owner
+  template <typename Take>
+  NodesByOwner nodes_by_owner(const bodies::BodySet& bodies, Take&& take) const;
+  /// Make the listed nodes' entries their owners' on every rank
+  void gather_nodes(std::span<double> global, const NodesByOwner& list) const;
   /// Give body b to rank body_rank[b] and restrict `bodies` to this rank's
   void assign(std::vector<int> body_rank, bodies::BodySet& bodies);
   /// An allreduce in place with `op`, counted
@@ -156,11 +172,11 @@ private:
   int _rank = 0, _size = 1;
   std::vector<int> _body_rank;
   std::vector<char> _owned;
-  /// Global nodes of the bodies this rank does not own; of these, the
-  /// interior ones (stale between outputs, share_boundaries)
-  std::vector<std::int32_t> _foreign_nodes, _stale_nodes;
-  /// The nodes share_boundaries makes current (the same on every rank)
-  std::vector<std::int32_t> _boundary_nodes;
+  /// Global nodes of the bodies this rank does not own that are interior
+  /// (stale between outputs, share_boundaries)
+  std::vector<std::int32_t> _stale_nodes;
+  /// The nodes share() and share_boundaries make current
+  NodesByOwner _all_nodes, _boundary_nodes;
   std::vector<char> _node_owned;
   mutable std::size_t _bytes = 0, _calls = 0;
   int _rebalances = 0;
