@@ -84,15 +84,16 @@ template <typename Take>
 Ownership::NodesByOwner Ownership::nodes_by_owner(const bodies::BodySet& bodies,
                                                   Take&& take) const
 {
+  std::vector<std::vector<int>> bodies_of(_size);
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+    bodies_of[_body_rank[b]].push_back(b);
   NodesByOwner list;
   list.counts.assign(_size, 0);
   list.offsets.assign(_size + 1, 0);
   for (int r = 0; r < _size; ++r)
   {
-    for (int b = 0; b < bodies.num_bodies(); ++b)
+    for (int b : bodies_of[r])
     {
-      if (_body_rank[b] != r)
-        continue;
       const std::vector<std::int32_t>& nodes = bodies.body(b).nodes;
       for (std::size_t k = 0; k < nodes.size(); ++k)
         if (take(b, k))
