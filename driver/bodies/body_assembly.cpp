@@ -68,6 +68,18 @@ bool flagged(std::span<const char> only, int b)
 {
   return only.empty() || only[b];
 }
+
+/// work(k) for each flagged body k, whole bodies to the threads (bodies
+/// share no node: no two threads write the same entry)
+template <typename Work>
+void for_each_body(std::size_t count, std::span<const char> only, Work&& work)
+{
+  const int nb = static_cast<int>(count);
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int k = 0; k < nb; ++k)
+    if (flagged(only, k))
+      work(k);
+}
 } // namespace
 
 BodyAssembly::BodyAssembly(
@@ -89,17 +101,14 @@ void BodyAssembly::cell_energy(std::span<double> per_cell,
                                std::span<const double> u,
                                std::span<const char> only) const
 {
-  const int nb = static_cast<int>(bodies.size());
-#pragma omp parallel for schedule(dynamic) if (nb >= 16)
-  for (int k = 0; k < nb; ++k)
-  {
-    if (!flagged(only, k))
-      continue;
-    const Body& body = bodies[k];
-    for_each_cell<1>(body, _kernels[_body_forms[k]].energy, x, u,
-                     [&](std::size_t c, const double* e)
-                     { per_cell[body.cells[c]] = e[0]; });
-  }
+  for_each_body(bodies.size(), only,
+                [&](int k)
+                {
+                  const Body& body = bodies[k];
+                  for_each_cell<1>(body, _kernels[_body_forms[k]].energy, x, u,
+                                   [&](std::size_t c, const double* e)
+                                   { per_cell[body.cells[c]] = e[0]; });
+                });
 }
 
 void BodyAssembly::residual(std::span<double> b,
@@ -108,23 +117,20 @@ void BodyAssembly::residual(std::span<double> b,
                             std::span<const double> u,
                             std::span<const char> only) const
 {
-  const int nb = static_cast<int>(bodies.size());
-#pragma omp parallel for schedule(dynamic) if (nb >= 16)
-  for (int k = 0; k < nb; ++k)
-  {
-    if (!flagged(only, k))
-      continue;
-    const Body& body = bodies[k];
-    for_each_cell<6>(body, _kernels[_body_forms[k]].residual, x, u,
-                     [&](std::size_t c, const double* be)
-                     {
-                       const std::array<std::int32_t, 3>& cell =
-                           body.cell_nodes[c];
-                       for (int i = 0; i < 3; ++i)
-                         for (int c = 0; c < 2; ++c)
-                           b[2 * body.nodes[cell[i]] + c] += be[2 * i + c];
-                     });
-  }
+  for_each_body(bodies.size(), only,
+                [&](int k)
+                {
+                  const Body& body = bodies[k];
+                  for_each_cell<6>(
+                      body, _kernels[_body_forms[k]].residual, x, u,
+                      [&](std::size_t c, const double* be)
+                      {
+                        const auto& cell = body.cell_nodes[c];
+                        for (int i = 0; i < 3; ++i)
+                          for (int d = 0; d < 2; ++d)
+                            b[2 * body.nodes[cell[i]] + d] += be[2 * i + d];
+                      });
+                });
 }
 
 void BodyAssembly::matrices(CellKernel Kernels::*form,
@@ -134,19 +140,17 @@ void BodyAssembly::matrices(CellKernel Kernels::*form,
                             std::span<const double> u,
                             std::span<const char> only) const
 {
-  const int nb = static_cast<int>(bodies.size());
-#pragma omp parallel for schedule(dynamic) if (nb >= 16)
-  for (int k = 0; k < nb; ++k)
-  {
-    if (!flagged(only, k))
-      continue;
-    BodyMatrix& Ak = A[k];
-    std::fill_n(Ak.valuePtr(), Ak.nonZeros(), 0.0);
-    const Body& body = bodies[k];
-    for_each_cell<36>(body, _kernels[_body_forms[k]].*form, x, u,
-                      [&](std::size_t c, const double* Ae)
-                      { add_element(Ak, body.cell_nodes[c], Ae); });
-  }
+  for_each_body(bodies.size(), only,
+                [&](int k)
+                {
+                  BodyMatrix& Ak = A[k];
+                  std::fill_n(Ak.valuePtr(), Ak.nonZeros(), 0.0);
+                  const Body& body = bodies[k];
+                  for_each_cell<36>(body, _kernels[_body_forms[k]].*form, x, u,
+                                    [&](std::size_t c, const double* Ae) {
+                                      add_element(Ak, body.cell_nodes[c], Ae);
+                                    });
+                });
 }
 
 void BodyAssembly::tangent(std::vector<BodyMatrix>& K,
@@ -170,28 +174,26 @@ BodyAssembly::lumped_mass(const std::vector<Body>& bodies,
                           std::span<const double> x,
                           std::span<const char> only) const
 {
-  const int nb = static_cast<int>(bodies.size());
-  std::vector<Eigen::VectorXd> lumped(nb);
-#pragma omp parallel for schedule(dynamic) if (nb >= 16)
-  for (int k = 0; k < nb; ++k)
-  {
-    if (!flagged(only, k))
-      continue;
-    Eigen::VectorXd& m = lumped[k];
-    m = Eigen::VectorXd::Zero(bodies[k].num_dofs());
-    // The diagonal of the form's matrix, summed as the matrix's entries are
-    const Body& body = bodies[k];
-    for_each_cell<36>(body, _kernels[_body_forms[k]].lumped_mass, x, {},
-                      [&](std::size_t c, const double* Ae)
-                      {
-                        const std::array<std::int32_t, 3>& cell =
-                            body.cell_nodes[c];
-                        for (int i = 0; i < 3; ++i)
-                          for (int c = 0; c < 2; ++c)
-                            m[2 * cell[i] + c] +=
-                                Ae[(2 * i + c) * 6 + 2 * i + c];
-                      });
-  }
+  std::vector<Eigen::VectorXd> lumped(bodies.size());
+  for_each_body(bodies.size(), only,
+                [&](int k)
+                {
+                  Eigen::VectorXd& m = lumped[k];
+                  m = Eigen::VectorXd::Zero(bodies[k].num_dofs());
+                  // The diagonal of the form's matrix, summed as its entries
+                  // are
+                  const Body& body = bodies[k];
+                  for_each_cell<36>(body, _kernels[_body_forms[k]].lumped_mass,
+                                    x, {},
+                                    [&](std::size_t c, const double* Ae)
+                                    {
+                                      const auto& cell = body.cell_nodes[c];
+                                      for (int i = 0; i < 3; ++i)
+                                        for (int d = 0; d < 2; ++d)
+                                          m[2 * cell[i] + d] +=
+                                              Ae[(2 * i + d) * 6 + 2 * i + d];
+                                    });
+                });
   return lumped;
 }
 

@@ -111,6 +111,28 @@ def test_two_ranks_solve_contacts_domain_by_domain(runs):
     assert (runs[2] / "raw" / "state.bin").is_file()
 
 
+def _serial_and_three_ranks(settings, tmp_path):
+    """small.toml with `settings` on 1 and 3 ranks: both steps.csv tables
+    and the 3-rank run's done.json "mpi" record."""
+    config = cfg.load_config(SMALL, settings)
+    for ranks in (1, 3):
+        assert run(config, tmp_path / f"r{ranks}", verbose=False,
+                   ranks=ranks) == 0
+    one = read_table(tmp_path / "r1" / "raw" / "steps.csv")
+    three = read_table(tmp_path / "r3" / "raw" / "steps.csv")
+    mpi = json.loads((tmp_path / "r3" / "raw" / "done.json").read_text())["mpi"]
+    return one, three, mpi
+
+
+def _expect_the_serial_run(one, other):
+    """The same steps, Phi (1e-6), E (1e-4) and contacts as on 1 rank."""
+    np.testing.assert_array_equal(other["step"], one["step"])
+    np.testing.assert_allclose(other["phi"], one["phi"], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(other["strain_energy"], one["strain_energy"],
+                               rtol=1e-4, atol=1e-4 * one["strain_energy"][-1])
+    np.testing.assert_array_equal(other["contacts"], one["contacts"])
+
+
 def test_a_rebalanced_run_gives_the_serial_run(runs, tmp_path):
     """On 3 ranks with parallel.rebalance_tolerance = 0 the bodies change
     owners during the run (done.json counts it); Phi, E and the contacts
@@ -121,13 +143,8 @@ def test_a_rebalanced_run_gives_the_serial_run(runs, tmp_path):
     mpi = json.loads((tmp_path / "r3" / "raw" / "done.json").read_text())["mpi"]
     assert mpi["rebalances"] > 0 and mpi["bodies_moved"] > 0
     assert sum(mpi["bodies"]) == 14
-    one = read_table(runs[1] / "raw" / "steps.csv")
-    three = read_table(tmp_path / "r3" / "raw" / "steps.csv")
-    np.testing.assert_array_equal(three["step"], one["step"])
-    np.testing.assert_allclose(three["phi"], one["phi"], rtol=0, atol=1e-6)
-    np.testing.assert_allclose(three["strain_energy"], one["strain_energy"],
-                               rtol=1e-4, atol=1e-4 * one["strain_energy"][-1])
-    np.testing.assert_array_equal(three["contacts"], one["contacts"])
+    _expect_the_serial_run(read_table(runs[1] / "raw" / "steps.csv"),
+                           read_table(tmp_path / "r3" / "raw" / "steps.csv"))
 
 
 def test_lumped_masses_move_with_their_bodies(tmp_path):
@@ -137,19 +154,9 @@ def test_lumped_masses_move_with_their_bodies(tmp_path):
     within 1.6e-10 and E within 6e-9 of the 1-rank run)."""
     settings = {"output.fields": False, "time.mass": "lumped",
                 "parallel.rebalance_tolerance": 0.0}
-    config = cfg.load_config(SMALL, settings)
-    for ranks in (1, 3):
-        assert run(config, tmp_path / f"r{ranks}", verbose=False,
-                   ranks=ranks) == 0
-    one = read_table(tmp_path / "r1" / "raw" / "steps.csv")
-    three = read_table(tmp_path / "r3" / "raw" / "steps.csv")
-    mpi = json.loads((tmp_path / "r3" / "raw" / "done.json").read_text())["mpi"]
+    one, three, mpi = _serial_and_three_ranks(settings, tmp_path)
     assert mpi["rebalances"] > 0 and mpi["bodies_moved"] > 0
-    np.testing.assert_array_equal(three["step"], one["step"])
-    np.testing.assert_allclose(three["phi"], one["phi"], rtol=0, atol=1e-6)
-    np.testing.assert_allclose(three["strain_energy"], one["strain_energy"],
-                               rtol=1e-4, atol=1e-4 * one["strain_energy"][-1])
-    np.testing.assert_array_equal(three["contacts"], one["contacts"])
+    _expect_the_serial_run(one, three)
 
 
 def test_a_step_retried_and_rebalanced_gives_the_serial_run(tmp_path):
@@ -167,22 +174,12 @@ def test_a_step_retried_and_rebalanced_gives_the_serial_run(tmp_path):
                 "time.newton_max_iterations": 3,
                 "time.refactor_above_iterations": 50,
                 "parallel.rebalance_tolerance": 0.0}
-    config = cfg.load_config(SMALL, settings)
-    for ranks in (1, 3):
-        assert run(config, tmp_path / f"r{ranks}", verbose=False,
-                   ranks=ranks) == 0
-    one = read_table(tmp_path / "r1" / "raw" / "steps.csv")
-    three = read_table(tmp_path / "r3" / "raw" / "steps.csv")
-    mpi = json.loads((tmp_path / "r3" / "raw" / "done.json").read_text())["mpi"]
+    one, three, mpi = _serial_and_three_ranks(settings, tmp_path)
     assert mpi["rebalances"] > 0 and mpi["bodies_moved"] > 0
     assert one["retried_steps"].sum() > 0
-    np.testing.assert_array_equal(three["step"], one["step"])
     np.testing.assert_array_equal(three["retried_steps"], one["retried_steps"])
     np.testing.assert_array_equal(three["time_step"], one["time_step"])
-    np.testing.assert_allclose(three["phi"], one["phi"], rtol=0, atol=1e-6)
-    np.testing.assert_allclose(three["strain_energy"], one["strain_energy"],
-                               rtol=1e-4, atol=1e-4 * one["strain_energy"][-1])
-    np.testing.assert_array_equal(three["contacts"], one["contacts"])
+    _expect_the_serial_run(one, three)
 
 
 @pytest.mark.parametrize("ranks", [0, 15])
