@@ -271,7 +271,19 @@ std::vector<double> BodySet::cell_strain_energy() const
 
 std::vector<double> BodySet::body_strain_energy() const
 {
-  const std::vector<double> per_cell = cell_strain_energy();
+  return strain_energy_by_body({});
+}
+
+std::vector<double> BodySet::owned_body_strain_energy() const
+{
+  return strain_energy_by_body(_owned);
+}
+
+std::vector<double>
+BodySet::strain_energy_by_body(std::span<const char> only) const
+{
+  std::vector<double> per_cell(_cell_body.size(), 0.0);
+  _assembly->cell_energy(per_cell, _bodies, _reference_x, _u, only);
   std::vector<double> sums(_bodies.size(), 0.0);
   for (std::size_t b = 0; b < _bodies.size(); ++b)
     for (std::int32_t c : _bodies[b].cells)

@@ -177,6 +177,10 @@ public:
   /// Strain energy of each body
   std::vector<double> body_strain_energy() const;
 
+  /// body_strain_energy of the owned bodies (set_owned; all when unset),
+  /// the others' zero: what a rank of a distributed run computes of it
+  std::vector<double> owned_body_strain_energy() const;
+
   /// Reference area of each cell
   std::vector<double> cell_reference_area() const;
 
@@ -191,12 +195,16 @@ public:
   /// Body::cells: the mesh, for outputs
   std::vector<std::array<std::int32_t, 3>> cell_global_nodes() const;
 
+  /// Whether body b is one of the owned bodies (set_owned; every body
+  /// when unset)
+  bool owned(int b) const { return _owned.empty() || _owned[b]; }
+
   /// Restrict the per-body work of owned_internal_force and tangent to the
   /// bodies whose entry is nonzero (the bodies a rank of a distributed run
   /// owns, parallel::Ownership); the others' entries are left zero. The
   /// masses (consistent and lumped) of the bodies kept_masses leaves out
   /// are freed.
-  /// internal_force, energies and areas still cover every body.
+  /// internal_force, body_strain_energy and areas still cover every body.
   /// May be called again (a rebalanced run) with other flags.
   /// @throws std::invalid_argument if the size is not the number of bodies
   void set_owned(std::vector<char> owned);
@@ -210,6 +218,8 @@ private:
   /// Fill each Body::input_rank
   void rank_input_order(const dolfinx::fem::FunctionSpace& V);
   void build_mass();
+  /// Strain energy of the flagged bodies (all when empty), the others' zero
+  std::vector<double> strain_energy_by_body(std::span<const char> only) const;
   /// Free the masses (consistent and lumped) of the bodies not flagged;
   /// assemble those flagged whose masses were freed before
   void keep_masses(std::span<const char> kept);

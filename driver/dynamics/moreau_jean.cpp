@@ -95,6 +95,7 @@ void MoreauJean::set_initial_velocity(std::vector<double> v)
   _v = std::move(v);
   _body_kinetic = body_kinetic_energy();
   _energy_stale = true;
+  _strain_shared = false;
 }
 
 double MoreauJean::body_kinetic_energy() const
@@ -206,7 +207,7 @@ void MoreauJean::factorize_tangent(StepReport* report)
   // Only the owned bodies' entries are current here (within a full Newton
   // method's iterations, or between outputs); the state file, which alone
   // reads the others', takes it after make_whole.
-  _tangent_whole = !_own.distributed();
+  _tangent_whole = _tangent_on_root = !_own.distributed();
   if (report)
     report->seconds.assembly += seconds_since(t0);
   t0 = clock::now();
@@ -417,6 +418,7 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
   }
   _history.record(_contacts, _R);
   _energy_stale = true;
+  _strain_shared = false;
 }
 
 void MoreauJean::update_products(const Vectors& v)

@@ -196,8 +196,16 @@ public:
   /// (parallel::Ownership::share_boundaries); what reads the interiors (the
   /// energies, stresses, fields, the state) is read after this, at outputs.
   void make_whole();
+  /// What an output step reads, made current (a collective: every rank
+  /// calls it at the same point; nothing when serial): each body's strain
+  /// energy, computed by its owner, on every rank (energy(),
+  /// body_strain_energy()), and the displacement, velocity and kept
+  /// tangent's displacement whole on rank 0 only (state(), the fields it
+  /// writes). The other ranks never receive another's interiors for an
+  /// output (make_whole does, for a stage's start and a rebalance).
+  void prepare_output();
   /// Whether every entry of the global vectors is current on this rank
-  bool whole() const { return _whole; }
+  bool whole() const { return _whole || (_on_root && _own.rank() == 0); }
   /// Initial conditions: the global velocity vector before the first step
   /// (collective: every rank of a distributed run gives the same vector)
   /// @throws std::invalid_argument if the size is wrong
@@ -215,9 +223,17 @@ public:
   /// demand: a state function, not needed to step; the kinetic energy is
   /// summed over the ranks where every rank passes, at a step's end, a
   /// restore and the initial velocity, so rank 0 alone may call this)
-  /// @throws std::logic_error when not whole() (the strain energy reads
-  /// every body's interior)
+  /// @throws std::logic_error on a distributed run unless whole on every
+  /// rank (make_whole) or prepare_output() was called since the last step
+  /// (the strain energy reads every body's interior)
   const EnergyBalance& energy() const;
+  /// Each body's strain energy (energy()'s strain is their sum, in body
+  /// order); the same conditions as energy()
+  const std::vector<double>& body_strain_energy() const
+  {
+    energy();
+    return _body_strain;
+  }
   /// The walls (writable: a wall's velocity, control, pressure or force may
   /// be changed between steps; link_walls(walls()) after changing a
   /// control)
@@ -226,7 +242,8 @@ public:
   /// Options
   const MoreauJeanOptions& options() const { return _options; }
   /// The state after the last step
-  /// @throws std::logic_error when not whole()
+  /// @throws std::logic_error when not whole() (on rank 0, prepare_output
+  /// suffices)
   SchemeState state() const;
   /// Continue from a state saved by state() on the same bodies and walls.
   /// @throws std::invalid_argument if the sizes do not match
@@ -388,13 +405,22 @@ private:
   /// The bodies' kinetic energy at the current velocity (collective)
   double body_kinetic_energy() const;
   mutable bool _energy_stale = true;
+  /// Each body's strain energy at the current displacement, when energy()
+  /// was last made current
+  mutable std::vector<double> _body_strain;
+  /// Whether prepare_output shared _body_strain since the displacement
+  /// last changed (the same on every rank)
+  bool _strain_shared = false;
   int _matrix_age = -1; ///< steps since the last factorization (-1: none)
   int _last_iterations = 0;
   /// Displacement at which _K was assembled (saved in the state)
   std::vector<double> _u_tangent;
-  /// Whether the displacement and velocity are whole on this rank, and
-  /// _u_tangent (made whole by make_whole, not at every refactorization)
+  /// Whether the displacement and velocity are whole on every rank, and
+  /// _u_tangent (made whole by make_whole, not at every refactorization);
+  /// whether they are whole on rank 0 (prepare_output). Each flag is the
+  /// same on every rank: the collectives they decide are called alike.
   bool _whole = true, _tangent_whole = true;
+  bool _on_root = true, _tangent_on_root = true;
   /// The step's start (displacement, velocity) while a retry of the step
   /// is possible (StepSize::can_retry); made whole with the others
   std::vector<double> _retry_u, _retry_v;

@@ -223,9 +223,9 @@ void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
       break;
   }
   // The boundaries (what every rank reads between outputs); the interiors
-  // stay with their owners until make_whole.
+  // stay with their owners until make_whole or prepare_output.
   _own.share_boundaries(vk);
-  _whole = !_own.distributed();
+  _whole = _on_root = !_own.distributed();
   _v = std::move(vk);
 }
 

@@ -119,11 +119,32 @@ void MoreauJean::make_whole()
       _own.share(_retry_u);
       _own.share(_retry_v);
     }
-    _whole = true;
+    _whole = _on_root = true;
   }
   if (!_tangent_whole && _matrix_age >= 0)
     _own.share(_u_tangent);
-  _tangent_whole = true;
+  _tangent_whole = _tangent_on_root = true;
+}
+
+void MoreauJean::prepare_output()
+{
+  if (!_own.distributed())
+    return;
+  if (!_strain_shared)
+  {
+    _body_strain = _bodies.owned_body_strain_energy();
+    _own.share_by_body(_body_strain, 1);
+    _strain_shared = true;
+  }
+  if (!_on_root)
+  {
+    _own.share_to_root(_bodies.displacement());
+    _own.share_to_root(_v);
+    _on_root = true;
+  }
+  if (!_tangent_on_root && _matrix_age >= 0)
+    _own.share_to_root(_u_tangent);
+  _tangent_on_root = true;
 }
 
 std::vector<int> MoreauJean::contact_owners() const

@@ -2,6 +2,7 @@
 // from), the energy accounts and the wall forces of the last step.
 #include "moreau_jean.h"
 
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -16,7 +17,7 @@ void require_whole(bool whole, const char* what)
   if (!whole)
     throw std::logic_error(std::string("MoreauJean::") + what +
                            ": the other ranks' bodies' interiors are stale "
-                           "(make_whole first)");
+                           "(make_whole or prepare_output first)");
 }
 } // namespace
 
@@ -24,8 +25,13 @@ const EnergyBalance& MoreauJean::energy() const
 {
   if (_energy_stale)
   {
-    require_whole(_whole, "energy");
-    _energy.strain = _bodies.strain_energy();
+    if (!_strain_shared)
+    {
+      require_whole(_whole, "energy");
+      _body_strain = _bodies.body_strain_energy();
+    }
+    _energy.strain =
+        std::accumulate(_body_strain.begin(), _body_strain.end(), 0.0);
     _energy.kinetic = _body_kinetic + walls_kinetic_energy(_walls);
     if (!_started)
       _energy.kinetic0 = _energy.kinetic;
@@ -36,7 +42,10 @@ const EnergyBalance& MoreauJean::energy() const
 
 SchemeState MoreauJean::state() const
 {
-  require_whole(_whole && _tangent_whole, "state");
+  const bool root = _own.rank() == 0;
+  require_whole((_whole || (root && _on_root)) &&
+                    (_tangent_whole || (root && _tangent_on_root)),
+                "state");
   SchemeState s;
   s.time = _time;
   s.steps = _steps;
@@ -94,7 +103,7 @@ void MoreauJean::restore(const SchemeState& s)
       _walls[w].velocity = s.wall_velocities[w];
   }
   _history.restore(s.reactions);
-  _whole = _tangent_whole = true;
+  _whole = _tangent_whole = _on_root = _tangent_on_root = true;
   _time = s.time;
   _steps = s.steps;
   _bodies.owned_internal_force(_f_int);
@@ -102,6 +111,7 @@ void MoreauJean::restore(const SchemeState& s)
   _energy = s.energy;
   _body_kinetic = body_kinetic_energy();
   _energy_stale = true;
+  _strain_shared = false;
   _started = true;
   _matrix_age = s.matrix_age;
   _last_iterations = s.last_iterations;

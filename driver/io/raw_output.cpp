@@ -1,6 +1,5 @@
 #include "raw_output.h"
 
-#include <bodies/stress_average.h>
 #include <cstdio>
 #include <iomanip>
 #include <nlohmann/json.hpp>
@@ -39,6 +38,7 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
 void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
                       const dynamics::StepReport& r, std::optional<double> phi,
                       double seconds, const bodies::BodySet& bodies,
+                      std::span<const bodies::CauchyIntegral> cauchy,
                       const dynamics::StepTimings& spent,
                       const dynamics::ContactForceAverage& average,
                       const ConvergenceCounts& interval, double overlap_depth)
@@ -69,8 +69,6 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
   // Each body's integral of its Cauchy stress (stress_average.h), summed
   // over the bodies: the finite elements' estimate of the mean stress times
   // the box area, for analysis/stress.py.
-  const std::vector<bodies::CauchyIntegral> cauchy =
-      bodies::cauchy_integrals(bodies);
   for (int k = 0; k < 4; ++k)
   {
     double total = 0;
@@ -80,16 +78,15 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
   }
   _steps << '\n';
   _steps.flush();
-  write_particles(step, bodies, cauchy);
+  write_particles(step, bodies, scheme.body_strain_energy(), cauchy);
   write_contacts(step, average);
 }
 
-void RawOutput::write_particles(
-    long step, const bodies::BodySet& bodies,
-    const std::vector<bodies::CauchyIntegral>& cauchy)
+void RawOutput::write_particles(long step, const bodies::BodySet& bodies,
+                                std::span<const double> energy,
+                                std::span<const bodies::CauchyIntegral> cauchy)
 {
   const std::vector<double> area = bodies.body_current_area();
-  const std::vector<double> energy = bodies.body_strain_energy();
   for (int b = 0; b < bodies.num_bodies(); ++b)
     _particles << step << ',' << b << ',' << area[b] << ',' << energy[b] << ','
                << bodies.body(b).reference_area << ',' << cauchy[b][0] << ','

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <string>
 
 namespace softpack::io
@@ -72,7 +73,10 @@ public:
   /// @param[in] report The step's report
   /// @param[in] phi Packing fraction, if there is a box
   /// @param[in] seconds Wall time since the start
-  /// @param[in] bodies The bodies (areas and energies)
+  /// @param[in] bodies The bodies (areas; their strain energies are the
+  /// scheme's, MoreauJean::body_strain_energy)
+  /// @param[in] cauchy Each body's Cauchy integral (bodies/stress_average.h),
+  /// every body's (on a distributed run, from its owner)
   /// @param[in] spent Wall time per part of the step, summed since the start
   /// @param[in] forces Contact and wall forces averaged since the previous
   /// output step (the forces written)
@@ -81,6 +85,7 @@ public:
   void write(long step, const dynamics::MoreauJean& scheme,
              const dynamics::StepReport& report, std::optional<double> phi,
              double seconds, const bodies::BodySet& bodies,
+             std::span<const bodies::CauchyIntegral> cauchy,
              const dynamics::StepTimings& spent,
              const dynamics::ContactForceAverage& forces,
              const ConvergenceCounts& interval, double overlap_depth);
@@ -97,7 +102,8 @@ public:
 
 private:
   void write_particles(long step, const bodies::BodySet& bodies,
-                       const std::vector<bodies::CauchyIntegral>& cauchy);
+                       std::span<const double> strain_energy,
+                       std::span<const bodies::CauchyIntegral> cauchy);
   void write_contacts(long step, const dynamics::ContactForceAverage& forces);
 
   std::filesystem::path _raw;

@@ -74,6 +74,15 @@ void Ownership::assign(std::vector<int> body_rank, bodies::BodySet& bodies)
         _stale_nodes.push_back(body.nodes[k]);
     }
   }
+  _owner_body_counts.assign(_size, 0);
+  for (int b = 0; b < nb; ++b)
+    ++_owner_body_counts[_body_rank[b]];
+  std::vector<int> next(_size, 0); // rank r's bodies start after r - 1's
+  for (int r = 1; r < _size; ++r)
+    next[r] = next[r - 1] + _owner_body_counts[r - 1];
+  _bodies_by_owner.resize(nb);
+  for (int b = 0; b < nb; ++b)
+    _bodies_by_owner[next[_body_rank[b]]++] = b;
   _all_nodes = nodes_by_owner(bodies, [](int, std::size_t) { return true; });
   _boundary_nodes = nodes_by_owner(bodies, [&](int b, std::size_t k)
                                    { return shared[b][k] != 0; });
@@ -142,6 +151,34 @@ void Ownership::share(std::span<double> global) const
   gather_nodes(global, _all_nodes);
 }
 
+void Ownership::share_to_root(std::span<double> global) const
+{
+  if (_size == 1)
+    return;
+  gather_nodes(global, _all_nodes, true);
+}
+
+void Ownership::share_by_body(std::span<double> values, int width) const
+{
+  if (_size == 1)
+    return;
+  std::vector<int> counts(_size), offsets(_size + 1, 0);
+  for (int r = 0; r < _size; ++r)
+  {
+    counts[r] = width * _owner_body_counts[r];
+    offsets[r + 1] = offsets[r] + counts[r];
+  }
+  std::vector<double> all(offsets.back());
+  for (int k = offsets[_rank]; k < offsets[_rank + 1]; ++k)
+    all[k] = values[width * _bodies_by_owner[k / width] + k % width];
+  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, all.data(), counts.data(),
+                 offsets.data(), MPI_DOUBLE, _comm);
+  for (std::size_t k = 0; k < all.size(); ++k)
+    values[width * _bodies_by_owner[k / width] + k % width] = all[k];
+  _bytes += counts[_rank] * sizeof(double);
+  ++_calls;
+}
+
 void Ownership::share_boundaries(std::span<double> global) const
 {
   if (_size == 1)
@@ -152,17 +189,37 @@ void Ownership::share_boundaries(std::span<double> global) const
     global[2 * node] = global[2 * node + 1] = stale;
 }
 
-void Ownership::gather_nodes(std::span<double> global,
-                             const NodesByOwner& list) const
+void Ownership::gather_nodes(std::span<double> global, const NodesByOwner& list,
+                             bool to_root) const
 {
-  std::vector<double> all(list.offsets.back());
-  for (int k = list.offsets[_rank]; k < list.offsets[_rank + 1]; ++k)
-    all[k] = global[2 * list.nodes[k / 2] + k % 2];
-  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, all.data(),
-                 list.counts.data(), list.offsets.data(), MPI_DOUBLE, _comm);
-  for (std::size_t k = 0; k < all.size(); ++k)
-    global[2 * list.nodes[k / 2] + k % 2] = all[k];
-  _bytes += list.counts[_rank] * sizeof(double);
+  const int begin = list.offsets[_rank], end = list.offsets[_rank + 1];
+  if (to_root && _rank != 0)
+  {
+    // Only this rank's part leaves it
+    std::vector<double> mine(end - begin);
+    for (int k = begin; k < end; ++k)
+      mine[k - begin] = global[2 * list.nodes[k / 2] + k % 2];
+    MPI_Gatherv(mine.data(), end - begin, MPI_DOUBLE, nullptr, nullptr, nullptr,
+                MPI_DOUBLE, 0, _comm);
+  }
+  else
+  {
+    std::vector<double> all(list.offsets.back());
+    for (int k = begin; k < end; ++k)
+      all[k] = global[2 * list.nodes[k / 2] + k % 2];
+    if (to_root)
+      MPI_Gatherv(MPI_IN_PLACE, 0, MPI_DOUBLE, all.data(), list.counts.data(),
+                  list.offsets.data(), MPI_DOUBLE, 0, _comm);
+    else
+      MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, all.data(),
+                     list.counts.data(), list.offsets.data(), MPI_DOUBLE,
+                     _comm);
+    for (std::size_t k = 0; k < all.size(); ++k)
+      global[2 * list.nodes[k / 2] + k % 2] = all[k];
+  }
+  // Root's own part stays with it
+  if (!to_root || _rank != 0)
+    _bytes += list.counts[_rank] * sizeof(double);
   ++_calls;
 }
 

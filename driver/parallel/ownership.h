@@ -82,6 +82,13 @@ public:
   /// Make a global nodal vector whole on every rank: the entries of each
   /// body's nodes become those its owner holds (others' are dropped).
   void share(std::span<double> global) const;
+  /// share() onto rank 0 only (what it writes at outputs: the state file,
+  /// the fields); the other ranks' vectors are left as they are
+  void share_to_root(std::span<double> global) const;
+  /// Make per-body values (`width` per body, body b's at width * b) those
+  /// of each body's owner on every rank: a rank computes its own bodies'
+  /// (energies, stresses) and sends only those
+  void share_by_body(std::span<double> values, int width) const;
   /// Make the entries read between outputs current on every rank: the
   /// boundary nodes of every body (detection, the contact operator, areas,
   /// overlaps) and every node of a rigid body (moved by every rank), as
@@ -158,8 +165,10 @@ private:
   /// by owner
   template <typename Take>
   NodesByOwner nodes_by_owner(const bodies::BodySet& bodies, Take&& take) const;
-  /// Make the listed nodes' entries their owners' on every rank
-  void gather_nodes(std::span<double> global, const NodesByOwner& list) const;
+  /// Make the listed nodes' entries their owners' on every rank (on rank 0
+  /// only when `to_root`)
+  void gather_nodes(std::span<double> global, const NodesByOwner& list,
+                    bool to_root = false) const;
   /// Give body b to rank body_rank[b] and restrict `bodies` to this rank's
   void assign(std::vector<int> body_rank, bodies::BodySet& bodies);
   /// An allreduce in place with `op`, counted
@@ -177,6 +186,8 @@ private:
   std::vector<std::int32_t> _stale_nodes;
   /// The nodes share() and share_boundaries make current
   NodesByOwner _all_nodes, _boundary_nodes;
+  /// The bodies listed by owner (share_by_body), and each rank's count
+  std::vector<int> _bodies_by_owner, _owner_body_counts;
   std::vector<char> _node_owned;
   mutable std::size_t _bytes = 0, _calls = 0;
   int _rebalances = 0;

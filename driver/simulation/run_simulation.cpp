@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bodies/BodySet.h>
 #include <bodies/body_mesh.h>
+#include <bodies/stress_average.h>
 #include <chrono>
 #include <contact/fclib_io.h>
 #include <cstdio>
@@ -277,7 +278,7 @@ private:
   {
     const bool output_step = step % _p.output.every_steps == 0;
     if (output_step) // the equilibrium test reads the energies
-      _scheme.make_whole();
+      _scheme.prepare_output();
     const StageCheck check = _program.check(_scheme, _bodies, now, output_step);
     const int label = _program.start().index;
     const std::string name = _program.stage().name;
@@ -408,15 +409,21 @@ private:
   void output(long step, const dynamics::StepReport& r,
               std::optional<double> now, int stage = 0)
   {
-    // Rank 0 writes what every body's interior gives (energies, stresses,
-    // fields, the state): every rank shares its bodies' first.
-    _scheme.make_whole();
+    // Rank 0 writes what every body's interior gives: the owners compute
+    // their bodies' energies and stresses, rank 0 gets the whole vectors
+    // (fields, the state).
+    _scheme.prepare_output();
+    static_assert(sizeof(bodies::CauchyIntegral) == 4 * sizeof(double));
+    std::vector<bodies::CauchyIntegral> cauchy =
+        bodies::cauchy_integrals(_bodies);
+    _scheme.ownership().share_by_body(
+        std::span<double>(cauchy.front().data(), 4 * cauchy.size()), 4);
     const double depth = check_overlap(step);
     if (_raw)
     {
       _raw->set_stage(stage);
-      _raw->write(step, _scheme, r, now, elapsed(), _bodies, _spent, _average,
-                  _interval, depth);
+      _raw->write(step, _scheme, r, now, elapsed(), _bodies, cauchy, _spent,
+                  _average, _interval, depth);
     }
     _average.reset();
     _interval = {};
