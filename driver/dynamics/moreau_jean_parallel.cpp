@@ -93,8 +93,15 @@ void MoreauJean::rebalance()
                          _options.parallel.rebalance_tolerance);
   if (split.empty())
     return;
-  // The arriving bodies' interiors come from their old owners.
-  make_whole();
+  // The arriving bodies' interiors come from their old owners (u and v;
+  // the kept tangent is assembled again right after, at u).
+  if (!_whole)
+  {
+    std::vector<std::span<double>> moving = {_bodies.displacement(), _v};
+    if (!_retry_u.empty()) // the step's start, should it be retried
+      moving.insert(moving.end(), {_retry_u, _retry_v});
+    _own.hand_over(split, _bodies, moving);
+  }
   _own.move_to(std::move(split), _bodies);
   _kbar.set_owned(_bodies, _own.owned());
   _K = _bodies.create_matrices(_own.owned());

@@ -144,6 +144,36 @@ void Ownership::move_to(std::vector<int> split, bodies::BodySet& bodies)
   assign(std::move(split), bodies);
 }
 
+void Ownership::hand_over(std::span<const int> split,
+                          const bodies::BodySet& bodies,
+                          std::span<const std::span<double>> vectors) const
+{
+  if (_size == 1)
+    return;
+  auto entries = [&](int b, auto&& visit)
+  {
+    for (const std::span<double> v : vectors)
+      for (const std::int32_t node : bodies.body(b).nodes)
+        for (int c = 0; c < 2; ++c)
+          visit(v[2 * node + c]);
+  };
+  std::vector<std::vector<double>> to_rank(_size);
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+    if (_body_rank[b] == _rank && split[b] != _rank)
+      entries(b, [&](double x) { to_rank[split[b]].push_back(x); });
+  // Received in the senders' rank order, each sender's bodies in order
+  const std::vector<double> in = exchange_items(to_rank);
+  std::size_t k = 0;
+  for (int r = 0; r < _size; ++r)
+    for (int b = 0; b < bodies.num_bodies(); ++b)
+      if (_body_rank[b] == r && r != _rank && split[b] == _rank)
+        entries(b, [&](double& x) { x = in[k++]; });
+  if (k != in.size())
+    throw std::logic_error(
+        "Ownership::hand_over: " + std::to_string(in.size()) +
+        " entries received, " + std::to_string(k) + " expected");
+}
+
 void Ownership::share(std::span<double> global) const
 {
   if (_size == 1)

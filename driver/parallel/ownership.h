@@ -58,6 +58,12 @@ public:
                                  std::span<const double> weights,
                                  std::span<const std::array<int, 2>> links,
                                  double tolerance) const;
+  /// Before move_to: send each body that changes rank its entries of the
+  /// given global nodal vectors, from its owner now to its owner in
+  /// `split` (one all-to-all; the bodies that stay send nothing). The
+  /// arriving bodies' interiors, which only their old owners hold.
+  void hand_over(std::span<const int> split, const bodies::BodySet& bodies,
+                 std::span<const std::span<double>> vectors) const;
   /// Give the bodies to the ranks of a drifted_split (counted as a
   /// rebalance) and restrict `bodies` to this rank's (BodySet::set_owned);
   /// the caller moves its own per-body state

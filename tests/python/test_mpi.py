@@ -169,7 +169,7 @@ def test_a_step_retried_and_rebalanced_gives_the_serial_run(tmp_path):
     The same retries, steps, Phi, E and contacts as on 1 rank. Not reached
     here (nor by 12 other settings of the step and Newton tried): a
     rebalance within the attempt that then fails, where the retry's copy of
-    the step's start must have been made whole (MoreauJean::make_whole)."""
+    the step's start must have been handed over (Ownership::hand_over)."""
     settings = {"output.fields": False, "time.max_step_factor": 8.0,
                 "time.newton_max_iterations": 3,
                 "time.refactor_above_iterations": 50,
