@@ -206,7 +206,7 @@ void MoreauJean::factorize_tangent(StepReport* report)
   _u_tangent.assign(u.begin(), u.end());
   // Only the owned bodies' entries are current here (within a full Newton
   // method's iterations, or between outputs); the state file, which alone
-  // reads the others', takes it after make_whole.
+  // reads the others', takes it after prepare_output, on rank 0.
   _tangent_whole = _tangent_on_root = !_own.distributed();
   if (report)
     report->seconds.assembly += seconds_since(t0);

@@ -14,6 +14,7 @@
 #include <bodies/BodySet.h>
 #include <contact/nlgs.h>
 #include <contact/problem.h>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <parallel/contact_domains.h>
@@ -186,26 +187,20 @@ public:
   double time() const { return _time; }
   /// The size of the last step taken (before the first: of the first)
   double time_step() const { return _h; }
-  /// Global velocity vector (distributed: whole after make_whole(); between
-  /// outputs the other ranks' bodies' interior entries are NaN)
+  /// Global velocity vector (distributed: between outputs the other
+  /// ranks' bodies' interior entries are NaN; whole on rank 0 after
+  /// prepare_output)
   std::span<const double> velocity() const { return _v; }
-  /// Make the displacement, the velocity and the kept tangent's
-  /// displacement whole on every rank (a collective: every rank calls it at
-  /// the same point; nothing to do when serial or whole already). A
-  /// distributed step shares the bodies' boundaries only
-  /// (parallel::Ownership::share_boundaries); what reads the interiors (the
-  /// energies, stresses, fields, the state) is read after this, at outputs.
-  void make_whole();
   /// What an output step reads, made current (a collective: every rank
   /// calls it at the same point; nothing when serial): each body's strain
   /// energy, computed by its owner, on every rank (energy(),
   /// body_strain_energy()), and the displacement, velocity and kept
   /// tangent's displacement whole on rank 0 only (state(), the fields it
-  /// writes). The other ranks never receive another's interiors for an
-  /// output (make_whole does, for a stage's start and a rebalance).
+  /// writes). A distributed step shares the bodies' boundaries only
+  /// (parallel::Ownership::share_boundaries); no rank but rank 0 ever
+  /// receives the interiors of bodies it does not own (a rebalance hands
+  /// the moving bodies' to their new owners, Ownership::hand_over).
   void prepare_output();
-  /// Whether every entry of the global vectors is current on this rank
-  bool whole() const { return _whole || (_on_root && _own.rank() == 0); }
   /// Initial conditions: the global velocity vector before the first step
   /// (collective: every rank of a distributed run gives the same vector)
   /// @throws std::invalid_argument if the size is wrong
@@ -223,9 +218,9 @@ public:
   /// demand: a state function, not needed to step; the kinetic energy is
   /// summed over the ranks where every rank passes, at a step's end, a
   /// restore and the initial velocity, so rank 0 alone may call this)
-  /// @throws std::logic_error on a distributed run unless whole on every
-  /// rank (make_whole) or prepare_output() was called since the last step
-  /// (the strain energy reads every body's interior)
+  /// @throws std::logic_error on a distributed run after its first step
+  /// unless prepare_output() was called since the last step (the strain
+  /// energy reads every body's interior)
   const EnergyBalance& energy() const;
   /// Each body's strain energy (energy()'s strain is their sum, in body
   /// order); the same conditions as energy()
@@ -242,12 +237,22 @@ public:
   /// Options
   const MoreauJeanOptions& options() const { return _options; }
   /// The state after the last step
-  /// @throws std::logic_error when not whole() (on rank 0, prepare_output
-  /// suffices)
+  /// @throws std::logic_error on a distributed run after its first step
+  /// but on rank 0 after prepare_output (the other ranks never hold the
+  /// whole vectors)
   SchemeState state() const;
   /// Continue from a state saved by state() on the same bodies and walls.
   /// @throws std::invalid_argument if the sizes do not match
   void restore(const SchemeState& state);
+  /// New drives within a run (a stage's start), taken as a run continued
+  /// from its state file would take them: the walls become `walls` (their
+  /// points and a servo wall's velocity stay the state's) and the scheme
+  /// restores its own state as `edit` changes it. Each rank works on its
+  /// own bodies' entries: no vector is made whole (a collective: the
+  /// kinetic energy is summed); the energies must be current (as for
+  /// energy()).
+  void continue_with(std::vector<Wall> walls,
+                     const std::function<void(SchemeState&)>& edit);
   /// Steps done so far (including those before a restore)
   long steps() const { return _steps; }
   /// Factorizations of the iteration matrix so far
@@ -265,6 +270,9 @@ public:
 
 private:
   using Vectors = BodyVectors;
+  /// state() without its test that the vectors are whole: on a
+  /// distributed run, the other ranks' bodies' interiors are stale
+  SchemeState own_state() const;
   /// The contacts of a step and their data fixed during the step
   struct StepContacts;
   /// What the step knows before its Newton iterations
@@ -416,13 +424,15 @@ private:
   /// Displacement at which _K was assembled (saved in the state)
   std::vector<double> _u_tangent;
   /// Whether the displacement and velocity are whole on every rank, and
-  /// _u_tangent (made whole by make_whole, not at every refactorization);
-  /// whether they are whole on rank 0 (prepare_output). Each flag is the
-  /// same on every rank: the collectives they decide are called alike.
+  /// _u_tangent (at the construction and a restore from a state file,
+  /// until a distributed run's first step or refactorization); whether
+  /// they are whole on rank 0 (prepare_output). Each flag is the same on
+  /// every rank: the collectives they decide are called alike.
   bool _whole = true, _tangent_whole = true;
   bool _on_root = true, _tangent_on_root = true;
   /// The step's start (displacement, velocity) while a retry of the step
-  /// is possible (StepSize::can_retry); made whole with the others
+  /// is possible (StepSize::can_retry); a rebalance hands them over with
+  /// u and v
   std::vector<double> _retry_u, _retry_v;
   /// time.time_step, or adapted up to time.max_step_factor times it
   StepSize _step_size;

@@ -223,7 +223,7 @@ void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
       break;
   }
   // The boundaries (what every rank reads between outputs); the interiors
-  // stay with their owners until make_whole or prepare_output.
+  // stay with their owners (rank 0 receives them at outputs).
   _own.share_boundaries(vk);
   _whole = _on_root = !_own.distributed();
   _v = std::move(vk);

@@ -112,27 +112,6 @@ void MoreauJean::rebalance()
   _rigid.zero(_f_int);
 }
 
-void MoreauJean::make_whole()
-{
-  if (!_own.distributed())
-    return;
-  if (!_whole)
-  {
-    _own.share(_bodies.displacement());
-    _own.share(_v);
-    // A step that may still be retried restarts from here
-    if (!_retry_u.empty())
-    {
-      _own.share(_retry_u);
-      _own.share(_retry_v);
-    }
-    _whole = _on_root = true;
-  }
-  if (!_tangent_whole && _matrix_age >= 0)
-    _own.share(_u_tangent);
-  _tangent_whole = _tangent_on_root = true;
-}
-
 void MoreauJean::prepare_output()
 {
   if (!_own.distributed())

@@ -15,9 +15,10 @@ namespace
 void require_whole(bool whole, const char* what)
 {
   if (!whole)
-    throw std::logic_error(std::string("MoreauJean::") + what +
-                           ": the other ranks' bodies' interiors are stale "
-                           "(make_whole or prepare_output first)");
+    throw std::logic_error(
+        std::string("MoreauJean::") + what +
+        ": the other ranks' bodies' interiors are stale "
+        "(prepare_output first; only rank 0 holds the whole vectors)");
 }
 } // namespace
 
@@ -46,6 +47,11 @@ SchemeState MoreauJean::state() const
   require_whole((_whole || (root && _on_root)) &&
                     (_tangent_whole || (root && _tangent_on_root)),
                 "state");
+  return own_state();
+}
+
+SchemeState MoreauJean::own_state() const
+{
   SchemeState s;
   s.time = _time;
   s.steps = _steps;
@@ -117,6 +123,24 @@ void MoreauJean::restore(const SchemeState& s)
   _last_iterations = s.last_iterations;
   // M v and K v are recomputed at the first step from the restored K and v.
   _products_valid = false;
+}
+
+void MoreauJean::continue_with(std::vector<Wall> walls,
+                               const std::function<void(SchemeState&)>& edit)
+{
+  SchemeState s = own_state();
+  _walls = std::move(walls);
+  edit(s);
+  // The displacement does not change: what was whole or shared stays so
+  // (restore() takes a state file's whole vectors).
+  const bool whole = _whole, tangent_whole = _tangent_whole, on_root = _on_root,
+             tangent_on_root = _tangent_on_root, strain_shared = _strain_shared;
+  restore(s);
+  _whole = whole;
+  _tangent_whole = tangent_whole;
+  _on_root = on_root;
+  _tangent_on_root = tangent_on_root;
+  _strain_shared = strain_shared;
 }
 
 std::vector<std::array<double, 2>> MoreauJean::wall_forces() const

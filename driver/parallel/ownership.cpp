@@ -174,13 +174,6 @@ void Ownership::hand_over(std::span<const int> split,
         " entries received, " + std::to_string(k) + " expected");
 }
 
-void Ownership::share(std::span<double> global) const
-{
-  if (_size == 1)
-    return;
-  gather_nodes(global, _all_nodes);
-}
-
 void Ownership::share_to_root(std::span<double> global) const
 {
   if (_size == 1)

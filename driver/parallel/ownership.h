@@ -20,11 +20,13 @@ namespace softpack::parallel
 /// bodies only, and the per-body results that the rest of the step needs
 /// everywhere are exchanged through the calls below: the velocity at the
 /// bodies' boundaries once per step (share_boundaries; the interiors stay
-/// with their owners until share() makes a vector whole, at outputs), free
-/// velocities at contact nodes, Delassus blocks. share and share_boundaries
-/// gather each owner's entries (an allgatherv: each rank sends its own);
-/// the other exchanges are sums with exactly one nonzero contributor per
-/// entry. Either way every rank gets the owner's bits.
+/// with their owners: rank 0 receives them at outputs, share_to_root, and
+/// a body's new owner at a rebalance, hand_over), free velocities at
+/// contact nodes, Delassus blocks, per-body output values (share_by_body).
+/// share_to_root, share_boundaries and share_by_body gather each owner's
+/// entries (each rank sends its own); the other exchanges are sums with
+/// exactly one nonzero contributor per entry. Either way a rank gets the
+/// owner's bits.
 ///
 /// The default object is serial: one rank owning every body, and every
 /// call a no-op (no MPI call at all).
@@ -85,11 +87,10 @@ public:
   /// The rank of each body (empty when serial)
   const std::vector<int>& body_rank() const { return _body_rank; }
 
-  /// Make a global nodal vector whole on every rank: the entries of each
-  /// body's nodes become those its owner holds (others' are dropped).
-  void share(std::span<double> global) const;
-  /// share() onto rank 0 only (what it writes at outputs: the state file,
-  /// the fields); the other ranks' vectors are left as they are
+  /// Make a global nodal vector whole on rank 0 (what it writes at
+  /// outputs: the state file, the fields): the entries of each body's
+  /// nodes become those its owner holds. The other ranks' vectors are left
+  /// as they are.
   void share_to_root(std::span<double> global) const;
   /// Make per-body values (`width` per body, body b's at width * b) those
   /// of each body's owner on every rank: a rank computes its own bodies'
@@ -99,14 +100,14 @@ public:
   /// boundary nodes of every body (detection, the contact operator, areas,
   /// overlaps) and every node of a rigid body (moved by every rank), as
   /// their owners hold them. The other ranks' bodies' interior entries
-  /// become NaN: stale until share() makes the vector whole, and a read of
-  /// one shows in the results instead of passing for a value.
+  /// become NaN: a read of one shows in the results instead of passing for
+  /// a value.
   void share_boundaries(std::span<double> global) const;
   /// 1 for each global node of an owned body (empty when serial: all)
   const std::vector<char>& node_owned() const { return _node_owned; }
-  /// share() restricted to the given global nodes, whose entries must be
-  /// zero on the ranks that do not own them (a vector filled by owners
-  /// only): the message is as small as the list.
+  /// Make the given global nodes' entries their owners' on every rank;
+  /// they must be zero on the ranks that do not own them (a vector filled
+  /// by owners only): the message is as small as the list.
   void share_nodes(std::span<double> global,
                    std::span<const std::int32_t> nodes) const;
   /// Sum over ranks, in place.
@@ -188,9 +189,9 @@ private:
   std::vector<int> _body_rank;
   std::vector<char> _owned;
   /// Global nodes of the bodies this rank does not own that are interior
-  /// (stale between outputs, share_boundaries)
+  /// (NaN after share_boundaries)
   std::vector<std::int32_t> _stale_nodes;
-  /// The nodes share() and share_boundaries make current
+  /// The nodes share_to_root and share_boundaries make current
   NodesByOwner _all_nodes, _boundary_nodes;
   /// The bodies listed by owner (share_by_body), and each rank's count
   std::vector<int> _bodies_by_owner, _owner_body_counts;

@@ -287,7 +287,7 @@ private:
                             {"stages", _program.size()},
                             {"complete", true}};
     if (check.timed_out || !check.met.empty())
-      _scheme.make_whole(); // the energies, and the next stage's start
+      _scheme.prepare_output(); // the energies of the next stage's start
     if (check.timed_out)
     {
       const std::string why = _program.missed(_scheme, _bodies, now);

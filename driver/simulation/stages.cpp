@@ -167,16 +167,15 @@ void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
   std::vector<dynamics::Wall> walls = scheme.walls();
   const double returned = set_drives(stage, walls);
   if (returned != 0)
-  {
     // The accounts' wall_work is the scheme's: a restore of its own state
     // with that energy taken out (the same arithmetic as a continued run).
-    dynamics::SchemeState s = scheme.state();
-    s.energy.wall_work -= returned;
-    scheme.walls() = walls;
-    for (std::size_t w = 0; w < walls.size(); ++w)
-      s.wall_velocities[w] = walls[w].velocity;
-    scheme.restore(s);
-  }
+    scheme.continue_with(walls,
+                         [&](dynamics::SchemeState& s)
+                         {
+                           s.energy.wall_work -= returned;
+                           for (std::size_t w = 0; w < walls.size(); ++w)
+                             s.wall_velocities[w] = walls[w].velocity;
+                         });
   else
     scheme.walls() = walls;
   _start = {};
