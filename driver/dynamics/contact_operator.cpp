@@ -55,7 +55,8 @@ void ContactOperator::add_impulses(std::span<const double> R,
     const Eigen::Vector2d impulse =
         _frames[a] * Eigen::Vector2d(R[2 * a], R[2 * a + 1]);
     for (const NodeTerm& term : terms(a))
-      per_body[term.body].segment<2>(2 * term.node) += term.weight * impulse;
+      if (per_body[term.body].size() > 0)
+        per_body[term.body].segment<2>(2 * term.node) += term.weight * impulse;
   }
 }
 

@@ -66,7 +66,9 @@ public:
 
   /// Add \f$H R\f$ to per-body force vectors (local numbering).
   /// @param[in] R Impulses, 2 per contact (n, t)
-  /// @param[in,out] per_body One vector per body, sized to its DOFs
+  /// @param[in,out] per_body One vector per body, sized to its DOFs, or
+  /// empty: that body's terms are skipped (a rank of a distributed run
+  /// needs its own bodies' and the rigid ones' only)
   void add_impulses(std::span<const double> R,
                     std::vector<Eigen::VectorXd>& per_body) const;
 

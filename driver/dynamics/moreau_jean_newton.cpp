@@ -108,10 +108,13 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
 
   // v = v_free + Kbar^-1 H R on the bodies that carry a contact.
   t0 = clock::now();
+  // Of the bodies that carry a contact, those this rank moves: its own
+  // and every rigid one (a vector per body of the whole model would grow
+  // with it on every rank).
   Vectors impulse(nb);
   for (int b = 0; b < nb; ++b)
-    impulse[b] = Eigen::VectorXd::Zero(
-        sc.contact_nodes[b].empty() ? 0 : _bodies.body(b).num_dofs());
+    if (!sc.contact_nodes[b].empty() && (_own.owns(b) || _rigid.rigid(b)))
+      impulse[b] = Eigen::VectorXd::Zero(_bodies.body(b).num_dofs());
   sc.H.add_impulses(_R, impulse);
   // Every rank moves every rigid body (three numbers each): they stay
   // replicated.
