@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <body.h>
 #include <dolfinx/fem/utils.h>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <unordered_map>
@@ -187,6 +188,9 @@ void BodySet::build_bodies(const fem::FunctionSpace& V)
     node_local[node] = static_cast<std::int32_t>(body.nodes.size());
     body.nodes.push_back(node);
   }
+  for (Body& body : _bodies)
+    body.global_nodes = body.nodes;
+  _num_global_nodes = num_nodes;
 
   rank_input_order(V);
   for (Body& body : _bodies)
@@ -269,6 +273,13 @@ std::vector<double> BodySet::cell_strain_energy() const
   return e;
 }
 
+std::vector<double> BodySet::owned_cell_strain_energy() const
+{
+  std::vector<double> e(_cell_body.size(), 0.0);
+  _assembly->cell_energy(e, _bodies, _reference_x, _u, _owned);
+  return e;
+}
+
 std::vector<double> BodySet::body_strain_energy() const
 {
   return strain_energy_by_body({});
@@ -297,18 +308,114 @@ std::vector<std::array<std::int32_t, 3>> BodySet::cell_global_nodes() const
   for (const Body& body : _bodies)
     for (std::size_t k = 0; k < body.cells.size(); ++k)
       for (int i = 0; i < 3; ++i)
-        nodes[body.cells[k]][i] = body.nodes[body.cell_nodes[k][i]];
+        nodes[body.cells[k]][i] = body.global_nodes[body.cell_nodes[k][i]];
   return nodes;
 }
 
 std::vector<double> BodySet::cell_reference_area() const
 {
-  const std::vector<std::array<std::int32_t, 3>> nodes = cell_global_nodes();
-  std::vector<double> area(nodes.size());
-  for (std::size_t c = 0; c < nodes.size(); ++c)
-    area[c] = 0.5 * std::abs(signed_area2(_reference_x, nodes[c][0],
-                                          nodes[c][1], nodes[c][2]));
+  std::vector<double> area(_cell_body.size());
+  for (const Body& body : _bodies)
+    for (std::size_t k = 0; k < body.cells.size(); ++k)
+    {
+      const auto& [a, b, c] = body.cell_nodes[k];
+      area[body.cells[k]] =
+          0.5 * std::abs(signed_area2(_reference_x, body.nodes[a],
+                                      body.nodes[b], body.nodes[c]));
+    }
   return area;
+}
+
+void BodySet::keep_storage(std::span<const char> kept)
+{
+  if (kept.size() != _bodies.size())
+    throw std::invalid_argument("keep_storage: one flag per body");
+  // Where each global node is stored now (-1: not)
+  std::vector<std::int32_t> old_index(_num_global_nodes, -1);
+  for (std::size_t s = 0; s < _reference_x.size() / 2; ++s)
+    if (_stored_global.empty())
+      old_index[s] = static_cast<std::int32_t>(s);
+    else if (static_cast<std::int32_t>(s) != _unstored)
+      old_index[_stored_global[s]] = static_cast<std::int32_t>(s);
+  // Every rank reads every boundary and every rigid body (the same
+  // indices everywhere); a kept body's interior is its own.
+  std::vector<char> shared(_num_global_nodes, 0);
+  std::vector<std::int32_t> interior;
+  for (std::size_t b = 0; b < _bodies.size(); ++b)
+  {
+    const Body& body = _bodies[b];
+    for (std::int32_t k : body.boundary_nodes)
+      shared[body.global_nodes[k]] = 1;
+    if (rigid(static_cast<int>(b)))
+      for (std::int32_t g : body.global_nodes)
+        shared[g] = 1;
+  }
+  for (std::size_t b = 0; b < _bodies.size(); ++b)
+    if (kept[b])
+      for (std::int32_t g : _bodies[b].global_nodes)
+        if (!shared[g])
+          interior.push_back(g);
+  std::sort(interior.begin(), interior.end());
+  std::vector<std::int32_t> stored;
+  for (std::size_t g = 0; g < _num_global_nodes; ++g)
+    if (shared[g])
+      stored.push_back(static_cast<std::int32_t>(g));
+  stored.insert(stored.end(), interior.begin(), interior.end());
+  const auto unstored = static_cast<std::int32_t>(stored.size());
+  std::vector<std::int32_t> new_index(_num_global_nodes, unstored);
+  for (std::size_t s = 0; s < stored.size(); ++s)
+    new_index[stored[s]] = static_cast<std::int32_t>(s);
+  for (Body& body : _bodies)
+    for (std::size_t k = 0; k < body.nodes.size(); ++k)
+      body.nodes[k] = new_index[body.global_nodes[k]];
+  _previous.assign(stored.size() + 1, -1);
+  for (std::size_t s = 0; s < stored.size(); ++s)
+    _previous[s] = old_index[stored[s]];
+  _stored_global = std::move(stored);
+  _stored_global.push_back(-1); // the unstored nodes' entry
+  _unstored = unstored;
+  remap(_u);
+  remap(_reference_x);
+}
+
+void BodySet::remap(std::vector<double>& v) const
+{
+  constexpr double none = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> out(2 * _previous.size(), none);
+  for (std::size_t s = 0; s < _previous.size(); ++s)
+    if (_previous[s] >= 0)
+      for (int c = 0; c < 2; ++c)
+        out[2 * s + c] = v[2 * _previous[s] + c];
+  v = std::move(out);
+}
+
+std::vector<double> BodySet::from_global(std::span<const double> global) const
+{
+  if (global.size() != num_global_dofs())
+    throw std::invalid_argument(
+        "a global node vector of " + std::to_string(global.size()) +
+        " entries, " + std::to_string(num_global_dofs()) + " expected");
+  if (_stored_global.empty())
+    return {global.begin(), global.end()};
+  std::vector<double> out(num_dofs(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t s = 0; s < _stored_global.size(); ++s)
+    if (_stored_global[s] >= 0)
+      for (int c = 0; c < 2; ++c)
+        out[2 * s + c] = global[2 * _stored_global[s] + c];
+  return out;
+}
+
+std::vector<double> BodySet::to_global(std::span<const double> stored) const
+{
+  if (_stored_global.empty())
+    return {stored.begin(), stored.end()};
+  std::vector<double> out(num_global_dofs(),
+                          std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t s = 0; s < _stored_global.size(); ++s)
+    if (_stored_global[s] >= 0)
+      for (int c = 0; c < 2; ++c)
+        out[2 * _stored_global[s] + c] = stored[2 * s + c];
+  return out;
 }
 
 std::vector<double> BodySet::body_current_area() const

@@ -42,8 +42,13 @@ inline Eigen::VectorXd symmetric_product(const BodyMatrix& A,
 /// global arrays of its BodySet.
 struct Body
 {
-  /// Global node (DOF block) index of each local node
+  /// Index of each local node in the BodySet's node vectors (its storage:
+  /// the global node index, but on a rank of a distributed run that keeps
+  /// its own bodies' entries only, BodySet::keep_storage)
   std::vector<std::int32_t> nodes;
+  /// Global node (DOF block) index of each local node: the mesh's, the
+  /// state file's and fields.h5's numbering
+  std::vector<std::int32_t> global_nodes;
   /// Cells of the body (dolfinx local cell indices, increasing)
   std::vector<std::int32_t> cells;
   /// The same cells as their three local nodes, in the order dolfinx lists
@@ -74,8 +79,9 @@ struct Body
 /// All deformable bodies of a simulation, read from one dolfinx mesh, with
 /// per-body DOF blocks; each body is made of one of the set's materials.
 ///
-/// State is kept in one global displacement vector (dolfinx's DOF ordering
-/// of the mesh, two interleaved components per node); every per-body
+/// State is kept in one displacement vector of node entries (dolfinx's DOF
+/// ordering of the mesh, two interleaved components per node; on a rank
+/// of a distributed run its storage, keep_storage); every per-body
 /// quantity is gathered from it through Body::nodes. Bodies never share a
 /// node, so every operator is block-diagonal by body.
 ///
@@ -116,21 +122,50 @@ public:
   /// Whether body b is rigid (its material's BodyMaterial::rigid)
   bool rigid(int b) const { return _materials[_body_material[b]].rigid; }
 
-  /// Number of global scalar DOFs (2 per node)
+  /// Length of the node vectors (2 per stored node): the number of global
+  /// scalar DOFs, or after keep_storage this rank's share of them
   std::size_t num_dofs() const { return _reference_x.size(); }
+  /// Number of global scalar DOFs (2 per node of the mesh)
+  std::size_t num_global_dofs() const { return 2 * _num_global_nodes; }
 
-  /// Global displacement vector (interleaved x, y per node); writable
+  /// Keep the node vectors' entries of the flagged bodies' nodes, of every
+  /// body's boundary nodes and of every rigid body's nodes only (what a
+  /// rank of a distributed run reads, docs/mpi_design.md): a storage
+  /// numbering with those nodes' global ones first (in global order: the
+  /// same indices on every rank), then the flagged bodies' interior nodes,
+  /// then one node (NaN) for every other interior node. Body::nodes then
+  /// index the storage. The displacement and reference coordinates are
+  /// remapped (entries new to the storage are NaN: a rebalance's new
+  /// owner receives them); remap() does the same for other node vectors.
+  /// May be called again with other flags.
+  void keep_storage(std::span<const char> kept);
+  /// A node vector of the storage before the last keep_storage in the
+  /// storage after it (entries new to it NaN)
+  void remap(std::vector<double>& v) const;
+  /// The reference coordinates, writable: a rebalance's new owner fills in
+  /// its arriving bodies' interiors (parallel::Ownership::move_to)
+  std::span<double> stored_reference_coordinates() { return _reference_x; }
+  /// A global node vector (2 entries per mesh node) in this storage
+  std::vector<double> from_global(std::span<const double> global) const;
+  /// A node vector of this storage as a global one (the entries not
+  /// stored: NaN)
+  std::vector<double> to_global(std::span<const double> stored) const;
+  /// The storage index that every unstored node maps to (-1 while every
+  /// node is stored)
+  std::int32_t unstored_node() const { return _unstored; }
+
+  /// Displacement (interleaved x, y per stored node); writable
   std::span<double> displacement() { return _u; }
   std::span<const double> displacement() const { return _u; }
 
-  /// Reference coordinates of the nodes (interleaved x, y per node)
+  /// Reference coordinates of the stored nodes (interleaved x, y)
   std::span<const double> reference_coordinates() const { return _reference_x; }
 
   /// Current coordinates X + u of the nodes (interleaved x, y per node)
   std::vector<double> current_coordinates() const;
 
   /// Internal force \f$F_{int}(u) = \partial E/\partial u\f$ of all bodies,
-  /// written (not added) into the global vector f
+  /// written (not added) into the node vector f
   void internal_force(std::span<double> f) const;
 
   /// internal_force of the owned bodies only (set_owned; all when unset):
@@ -174,6 +209,10 @@ public:
   /// Strain energy of each cell (integral of Psi over the cell)
   std::vector<double> cell_strain_energy() const;
 
+  /// cell_strain_energy of the owned bodies' cells (set_owned; all when
+  /// unset), the others' zero
+  std::vector<double> owned_cell_strain_energy() const;
+
   /// Strain energy of each body
   std::vector<double> body_strain_energy() const;
 
@@ -181,7 +220,8 @@ public:
   /// the others' zero: what a rank of a distributed run computes of it
   std::vector<double> owned_body_strain_energy() const;
 
-  /// Reference area of each cell
+  /// Reference area of each cell (NaN for a cell whose nodes are not
+  /// stored, keep_storage)
   std::vector<double> cell_reference_area() const;
 
   /// Current (deformed) area of each body, \f$\int \det F\,dX\f$,
@@ -229,6 +269,12 @@ private:
   std::vector<int> _body_material;
   std::vector<Body> _bodies;
   std::vector<double> _reference_x;
+  std::size_t _num_global_nodes = 0;
+  /// Global node of each stored node (empty: every node stored, in global
+  /// order), the unstored nodes' index, and for each stored node its index
+  /// before the last keep_storage (-1: new)
+  std::vector<std::int32_t> _stored_global, _previous;
+  std::int32_t _unstored = -1;
   /// The displacement (interleaved x, y per node)
   std::vector<double> _u;
   std::vector<BodyMatrix> _mass;

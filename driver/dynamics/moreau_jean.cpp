@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <omp.h>
 #include <stdexcept>
 
@@ -82,7 +83,13 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
   // The internal force is its owners' only: no rank reads another's.
   _bodies.owned_internal_force(_f_int);
   _rigid.zero(_f_int);
-  _energy.strain0 = _bodies.strain_energy();
+  // Each body's from its owner (a rank stores its own bodies' interiors)
+  _body_strain = _bodies.owned_body_strain_energy();
+  _own.share_by_body(_body_strain, 1);
+  // (serial: energy() computes it when asked, from the bodies as they are)
+  _strain_shared = _own.distributed();
+  _energy.strain0 =
+      std::accumulate(_body_strain.begin(), _body_strain.end(), 0.0);
   link_walls(_walls);
 }
 
@@ -90,9 +97,9 @@ void MoreauJean::set_initial_velocity(std::vector<double> v)
 {
   if (_started)
     throw std::logic_error("set_initial_velocity: after the first step");
-  if (v.size() != _v.size())
+  if (v.size() != _bodies.num_global_dofs())
     throw std::invalid_argument("initial velocity: wrong size");
-  _v = std::move(v);
+  _v = _bodies.from_global(v);
   _body_kinetic = body_kinetic_energy();
   _energy_stale = true;
   _strain_shared = false;
@@ -108,9 +115,9 @@ double MoreauJean::body_kinetic_energy() const
 
 void MoreauJean::set_external_force(std::vector<double> f)
 {
-  if (f.size() != _bodies.num_dofs())
+  if (f.size() != _bodies.num_global_dofs())
     throw std::invalid_argument("external force: wrong size");
-  _f_ext = std::move(f);
+  _f_ext = _bodies.from_global(f);
 }
 
 MoreauJean::Vectors MoreauJean::gather(std::span<const double> global) const
@@ -207,7 +214,7 @@ void MoreauJean::factorize_tangent(StepReport* report)
   // Only the owned bodies' entries are current here (within a full Newton
   // method's iterations, or between outputs); the state file, which alone
   // reads the others', takes it after prepare_output, on rank 0.
-  _tangent_whole = _tangent_on_root = !_own.distributed();
+  _tangent_on_root = false;
   if (report)
     report->seconds.assembly += seconds_since(t0);
   t0 = clock::now();
@@ -267,11 +274,16 @@ StepReport MoreauJean::step()
     _energy.kinetic0 = _body_kinetic + walls_kinetic_energy(_walls);
     _started = true;
   }
-  const std::span<double> u = _bodies.displacement();
+  // Rank 0's global copies for the last output go: kept, they would be
+  // the one memory of a rank that grows with the whole model.
+  for (std::vector<double>* copy : {&_root_u, &_root_v, &_root_u_tangent})
+    std::vector<double>().swap(*copy);
+  _on_root = _tangent_on_root = false;
   // The step's start, for a retry: kept only when one is possible (two
-  // whole vectors on every rank, at fixed steps never read).
+  // node vectors, at fixed steps never read).
   if (_step_size.can_retry())
   {
+    const std::span<const double> u = _bodies.displacement();
     _retry_u.assign(u.begin(), u.end());
     _retry_v = _v;
   }
@@ -309,6 +321,8 @@ StepReport MoreauJean::step()
     // matrix with it). Nothing of the attempt was kept but its time.
     // (retry() succeeds only above the base step, where can_retry() held
     // at the step's start too: h only falls within a step.)
+    // (a rebalance in the attempt changed the storage: u is fetched anew)
+    const std::span<double> u = _bodies.displacement();
     if (_retry_u.size() != u.size())
       throw std::logic_error("MoreauJean::step: a retry without the step's "
                              "start (StepSize::retry against can_retry)");
@@ -323,17 +337,18 @@ MoreauJean::Attempt MoreauJean::attempt()
 {
   StepReport report;
   auto t0 = clock::now();
-  const std::span<const double> u = _bodies.displacement();
   // Rigid bodies: V- from the node velocities, which become exactly rigid.
-  _rigid.start_step(u, _v, _f_ext, _h);
+  _rigid.start_step(_bodies.displacement(), _v, _f_ext, _h);
   StepContacts sc = prepare_contacts(_v);
   report.contacts = static_cast<int>(sc.size());
   report.seconds.detection = seconds_since(t0);
   contact::FrictionContactProblem2D problem = prepare_problem(sc, report);
 
   t0 = clock::now();
-  // The step's start after prepare_problem: a rebalance there makes the
-  // arriving bodies' interiors current (u and v are not changed otherwise).
+  // The step's start after prepare_problem: a rebalance there gives the
+  // arriving bodies' interiors and a new storage (u and v are not changed
+  // otherwise).
+  const std::span<const double> u = _bodies.displacement();
   StepStart start = start_step(std::vector<double>(u.begin(), u.end()), _v);
   report.seconds.solves += seconds_since(t0);
   newton(sc, start, problem, report);

@@ -187,26 +187,33 @@ public:
   double time() const { return _time; }
   /// The size of the last step taken (before the first: of the first)
   double time_step() const { return _h; }
-  /// Global velocity vector (distributed: between outputs the other
-  /// ranks' bodies' interior entries are NaN; whole on rank 0 after
-  /// prepare_output)
+  /// Velocity, as the bodies store node vectors (BodySet::keep_storage: a
+  /// distributed run's ranks store their own bodies, every boundary and
+  /// every rigid body; the entry of the others' interiors is NaN)
   std::span<const double> velocity() const { return _v; }
   /// What an output step reads, made current (a collective: every rank
   /// calls it at the same point; nothing when serial): each body's strain
   /// energy, computed by its owner, on every rank (energy(),
-  /// body_strain_energy()), and the displacement, velocity and kept
-  /// tangent's displacement whole on rank 0 only (state(), the fields it
-  /// writes). A distributed step shares the bodies' boundaries only
-  /// (parallel::Ownership::share_boundaries); no rank but rank 0 ever
-  /// receives the interiors of bodies it does not own (a rebalance hands
-  /// the moving bodies' to their new owners, Ownership::hand_over).
+  /// body_strain_energy()), and on rank 0 the global displacement,
+  /// velocity and kept tangent's displacement (state(), output_displacement)
+  /// gathered from their owners. A distributed step shares the bodies'
+  /// boundaries only (parallel::Ownership::share_boundaries); no rank holds
+  /// the interiors of bodies it does not own but rank 0 these copies, at
+  /// outputs (a rebalance moves the moving bodies' entries to their new
+  /// owners, Ownership::move_to).
   void prepare_output();
-  /// Initial conditions: the global velocity vector before the first step
-  /// (collective: every rank of a distributed run gives the same vector)
+  /// The global displacement (2 entries per mesh node): rank 0's after
+  /// prepare_output on a distributed run, the bodies' own when serial
+  /// @throws std::logic_error on another rank, or before prepare_output
+  std::span<const double> output_displacement() const;
+  /// Initial conditions: the global velocity vector (2 entries per mesh
+  /// node) before the first step (collective: every rank of a distributed
+  /// run gives the same vector)
   /// @throws std::invalid_argument if the size is wrong
   /// @throws std::logic_error after the first step
   void set_initial_velocity(std::vector<double> v);
-  /// Constant external nodal forces (global vector; default zero)
+  /// Constant external nodal forces (global vector, 2 entries per mesh
+  /// node; default zero)
   void set_external_force(std::vector<double> f);
 
   /// Contacts of the last step and their impulses (2 per contact, (n, t))
@@ -218,9 +225,9 @@ public:
   /// demand: a state function, not needed to step; the kinetic energy is
   /// summed over the ranks where every rank passes, at a step's end, a
   /// restore and the initial velocity, so rank 0 alone may call this)
-  /// @throws std::logic_error on a distributed run after its first step
-  /// unless prepare_output() was called since the last step (the strain
-  /// energy reads every body's interior)
+  /// @throws std::logic_error on a distributed run unless prepare_output()
+  /// was called since the last step (the strain energy is summed from the
+  /// bodies' owners)
   const EnergyBalance& energy() const;
   /// Each body's strain energy (energy()'s strain is their sum, in body
   /// order); the same conditions as energy()
@@ -236,11 +243,17 @@ public:
   const std::vector<Wall>& walls() const { return _walls; }
   /// Options
   const MoreauJeanOptions& options() const { return _options; }
-  /// The state after the last step
-  /// @throws std::logic_error on a distributed run after its first step
-  /// but on rank 0 after prepare_output (the other ranks never hold the
-  /// whole vectors)
+  /// The state after the last step, its vectors global (2 entries per
+  /// mesh node)
+  /// @throws std::logic_error on a distributed run but on rank 0 after
+  /// prepare_output (no other rank holds every body's interior)
   SchemeState state() const;
+  /// state() for an output that writes it: on a distributed run's rank 0
+  /// its global vectors are prepare_output's copies, handed over (not
+  /// copied: three vectors of the whole model's length), so that neither
+  /// state() nor output_displacement() can follow until the next
+  /// prepare_output after a step
+  SchemeState output_state();
   /// Continue from a state saved by state() on the same bodies and walls.
   /// @throws std::invalid_argument if the sizes do not match
   void restore(const SchemeState& state);
@@ -270,9 +283,12 @@ public:
 
 private:
   using Vectors = BodyVectors;
-  /// state() without its test that the vectors are whole: on a
-  /// distributed run, the other ranks' bodies' interiors are stale
+  /// state() from this rank's own entries: on a distributed run the
+  /// vectors' entries of the other ranks' bodies' interiors are NaN
   SchemeState own_state() const;
+  /// The state's time, steps, walls, reactions, energies and step, without
+  /// its vectors
+  SchemeState scalar_state() const;
   /// The contacts of a step and their data fixed during the step
   struct StepContacts;
   /// What the step knows before its Newton iterations
@@ -423,13 +439,12 @@ private:
   int _last_iterations = 0;
   /// Displacement at which _K was assembled (saved in the state)
   std::vector<double> _u_tangent;
-  /// Whether the displacement and velocity are whole on every rank, and
-  /// _u_tangent (at the construction and a restore from a state file,
-  /// until a distributed run's first step or refactorization); whether
-  /// they are whole on rank 0 (prepare_output). Each flag is the same on
-  /// every rank: the collectives they decide are called alike.
-  bool _whole = true, _tangent_whole = true;
-  bool _on_root = true, _tangent_on_root = true;
+  /// Rank 0's global copies of the displacement, the velocity and the kept
+  /// tangent's displacement for an output (prepare_output; serial runs
+  /// read their own), and whether they are current: the same flag on
+  /// every rank, so that the collectives it decides are called alike
+  std::vector<double> _root_u, _root_v, _root_u_tangent;
+  bool _on_root = false, _tangent_on_root = false;
   /// The step's start (displacement, velocity) while a retry of the step
   /// is possible (StepSize::can_retry); a rebalance hands them over with
   /// u and v

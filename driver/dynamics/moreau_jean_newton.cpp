@@ -228,7 +228,7 @@ void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
   // The boundaries (what every rank reads between outputs); the interiors
   // stay with their owners (rank 0 receives them at outputs).
   _own.share_boundaries(vk);
-  _whole = _on_root = !_own.distributed();
+  _on_root = false;
   _v = std::move(vk);
 }
 

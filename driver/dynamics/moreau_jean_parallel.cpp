@@ -93,16 +93,12 @@ void MoreauJean::rebalance()
                          _options.parallel.rebalance_tolerance);
   if (split.empty())
     return;
-  // The arriving bodies' interiors come from their old owners (u and v;
-  // the kept tangent is assembled again right after, at u).
-  if (!_whole)
-  {
-    std::vector<std::span<double>> moving = {_bodies.displacement(), _v};
-    if (!_retry_u.empty()) // the step's start, should it be retried
-      moving.insert(moving.end(), {_retry_u, _retry_v});
-    _own.hand_over(split, _bodies, moving);
-  }
-  _own.move_to(std::move(split), _bodies);
+  // Every node vector follows the new storage; the arriving bodies'
+  // entries come from their old owners (the retry's copies are empty when
+  // no retry is possible; the kept tangent is assembled again right after).
+  std::vector<double>* const vectors[] = {
+      &_v, &_f_ext, &_f_int, &_v_contact, &_u_tangent, &_retry_u, &_retry_v};
+  _own.move_to(std::move(split), _bodies, vectors);
   _kbar.set_owned(_bodies, _own.owned());
   _K = _bodies.create_matrices(_own.owned());
   _products_valid = false;
@@ -124,13 +120,15 @@ void MoreauJean::prepare_output()
   }
   if (!_on_root)
   {
-    _own.share_to_root(_bodies.displacement());
-    _own.share_to_root(_v);
+    _root_u = _own.gather_to_root(_bodies, _bodies.displacement());
+    _root_v = _own.gather_to_root(_bodies, _v);
     _on_root = true;
   }
   if (!_tangent_on_root && _matrix_age >= 0)
-    _own.share_to_root(_u_tangent);
-  _tangent_on_root = true;
+  {
+    _root_u_tangent = _own.gather_to_root(_bodies, _u_tangent);
+    _tangent_on_root = true;
+  }
 }
 
 std::vector<int> MoreauJean::contact_owners() const

@@ -12,13 +12,13 @@ namespace softpack::dynamics
 
 namespace
 {
-void require_whole(bool whole, const char* what)
+void require_output(bool current, const char* what)
 {
-  if (!whole)
+  if (!current)
     throw std::logic_error(
         std::string("MoreauJean::") + what +
-        ": the other ranks' bodies' interiors are stale "
-        "(prepare_output first; only rank 0 holds the whole vectors)");
+        ": a distributed run's ranks hold their own bodies' interiors only "
+        "(prepare_output first; the global vectors are rank 0's)");
 }
 } // namespace
 
@@ -28,7 +28,7 @@ const EnergyBalance& MoreauJean::energy() const
   {
     if (!_strain_shared)
     {
-      require_whole(_whole, "energy");
+      require_output(!_own.distributed(), "energy");
       _body_strain = _bodies.body_strain_energy();
     }
     _energy.strain =
@@ -41,23 +41,58 @@ const EnergyBalance& MoreauJean::energy() const
   return _energy;
 }
 
+std::span<const double> MoreauJean::output_displacement() const
+{
+  if (!_own.distributed())
+    return _bodies.displacement();
+  require_output(_own.rank() == 0 && _on_root && !_root_u.empty(),
+                 "output_displacement");
+  return _root_u;
+}
+
 SchemeState MoreauJean::state() const
 {
-  const bool root = _own.rank() == 0;
-  require_whole((_whole || (root && _on_root)) &&
-                    (_tangent_whole || (root && _tangent_on_root)),
-                "state");
-  return own_state();
+  if (!_own.distributed())
+    return own_state();
+  require_output(_own.rank() == 0 && _on_root &&
+                     (_tangent_on_root || _matrix_age < 0),
+                 "state");
+  require_output(!_root_u.empty(), "state (after output_state)");
+  SchemeState s = scalar_state();
+  s.u = _root_u;
+  s.v = _root_v;
+  if (_matrix_age >= 0)
+    s.u_tangent = _root_u_tangent;
+  return s;
+}
+
+SchemeState MoreauJean::output_state()
+{
+  if (!_own.distributed())
+    return own_state();
+  SchemeState s = state();
+  // The copies were made for this output: handed over, not copied again
+  s.u = std::exchange(_root_u, {});
+  s.v = std::exchange(_root_v, {});
+  s.u_tangent = std::exchange(_root_u_tangent, {});
+  return s;
 }
 
 SchemeState MoreauJean::own_state() const
 {
+  SchemeState s = scalar_state();
+  s.u = _bodies.to_global(std::as_const(_bodies).displacement());
+  s.v = _bodies.to_global(_v);
+  if (_matrix_age >= 0)
+    s.u_tangent = _bodies.to_global(_u_tangent);
+  return s;
+}
+
+SchemeState MoreauJean::scalar_state() const
+{
   SchemeState s;
   s.time = _time;
   s.steps = _steps;
-  const std::span<const double> u = std::as_const(_bodies).displacement();
-  s.u.assign(u.begin(), u.end());
-  s.v = _v;
   for (const Wall& w : _walls)
   {
     s.wall_points.push_back(w.point);
@@ -67,27 +102,25 @@ SchemeState MoreauJean::own_state() const
   s.energy = energy();
   s.matrix_age = _matrix_age;
   s.last_iterations = _last_iterations;
-  if (_matrix_age >= 0)
-    s.u_tangent = _u_tangent;
   s.step_size = _step_size.state();
   return s;
 }
 
 void MoreauJean::restore(const SchemeState& s)
 {
-  std::span<double> u = _bodies.displacement();
-  if (s.u.size() != u.size() || s.v.size() != _v.size())
+  const std::size_t n = _bodies.num_global_dofs();
+  if (s.u.size() != n || s.v.size() != n)
     throw std::invalid_argument("state: " + std::to_string(s.u.size()) +
-                                " DOFs, the bodies have " +
-                                std::to_string(u.size()));
+                                " DOFs, the bodies have " + std::to_string(n));
   if (s.wall_points.size() != _walls.size())
     throw std::invalid_argument(
         "state: " + std::to_string(s.wall_points.size()) +
         " walls, the run has " + std::to_string(_walls.size()));
-  if (s.matrix_age >= 0 && s.u_tangent.size() != u.size())
-    throw std::invalid_argument(
-        "state: a kept tangent of " + std::to_string(s.u_tangent.size()) +
-        " DOFs, the bodies have " + std::to_string(u.size()));
+  if (s.matrix_age >= 0 && s.u_tangent.size() != n)
+    throw std::invalid_argument("state: a kept tangent of " +
+                                std::to_string(s.u_tangent.size()) +
+                                " DOFs, the bodies have " + std::to_string(n));
+  std::span<double> u = _bodies.displacement();
   // The step first: the kept matrix is rebuilt with the h it was built for.
   _step_size.restore(s.step_size);
   _h = _step_size.current();
@@ -95,11 +128,13 @@ void MoreauJean::restore(const SchemeState& s)
   {
     // The kept iteration matrix, rebuilt where it was assembled: the same
     // arithmetic as the uninterrupted run's refactorization.
-    std::copy(s.u_tangent.begin(), s.u_tangent.end(), u.begin());
+    const std::vector<double> u_tangent = _bodies.from_global(s.u_tangent);
+    std::copy(u_tangent.begin(), u_tangent.end(), u.begin());
     factorize_tangent(nullptr);
   }
-  std::copy(s.u.begin(), s.u.end(), u.begin());
-  _v = s.v;
+  const std::vector<double> u_state = _bodies.from_global(s.u);
+  std::copy(u_state.begin(), u_state.end(), u.begin());
+  _v = _bodies.from_global(s.v);
   for (std::size_t w = 0; w < _walls.size(); ++w)
   {
     _walls[w].point = s.wall_points[w];
@@ -109,7 +144,7 @@ void MoreauJean::restore(const SchemeState& s)
       _walls[w].velocity = s.wall_velocities[w];
   }
   _history.restore(s.reactions);
-  _whole = _tangent_whole = _on_root = _tangent_on_root = true;
+  _on_root = _tangent_on_root = false;
   _time = s.time;
   _steps = s.steps;
   _bodies.owned_internal_force(_f_int);
@@ -131,13 +166,12 @@ void MoreauJean::continue_with(std::vector<Wall> walls,
   SchemeState s = own_state();
   _walls = std::move(walls);
   edit(s);
-  // The displacement does not change: what was whole or shared stays so
-  // (restore() takes a state file's whole vectors).
-  const bool whole = _whole, tangent_whole = _tangent_whole, on_root = _on_root,
-             tangent_on_root = _tangent_on_root, strain_shared = _strain_shared;
+  // The displacement and velocity do not change (the entries of other
+  // ranks' interiors go out and come back NaN): what rank 0 gathered and
+  // the strain energies stay current.
+  const bool on_root = _on_root, tangent_on_root = _tangent_on_root,
+             strain_shared = _strain_shared;
   restore(s);
-  _whole = whole;
-  _tangent_whole = tangent_whole;
   _on_root = on_root;
   _tangent_on_root = tangent_on_root;
   _strain_shared = strain_shared;

@@ -34,12 +34,15 @@ std::string data_item(const std::string& dims, const std::string& dataset,
 
 FieldOutput::FieldOutput(const std::filesystem::path& directory,
                          const bodies::BodySet& bodies)
-    : _xdmf(directory / "fields.xdmf"), _num_nodes(bodies.num_dofs() / 2),
+    : _xdmf(directory / "fields.xdmf"),
+      _num_nodes(bodies.num_global_dofs() / 2),
       _num_cells(bodies.cell_body().size()),
       _cell_area(bodies.cell_reference_area()),
       _particle(bodies.cell_body().begin(), bodies.cell_body().end())
 {
   namespace h5 = contact::h5;
+  if (bodies.unstored_node() >= 0)
+    throw std::logic_error("FieldOutput: the bodies store some nodes only");
   const std::filesystem::path path = directory / "fields.h5";
   _file = std::make_unique<h5::Handle>(
       H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
@@ -80,18 +83,20 @@ void FieldOutput::flush() const
     throw std::runtime_error("cannot flush fields.h5 to disk");
 }
 
-void FieldOutput::write(const bodies::BodySet& bodies, double t)
+void FieldOutput::write(std::span<const double> u,
+                        std::span<const double> cell_energy, double t)
 {
   namespace h5 = contact::h5;
+  if (u.size() != 2 * _num_nodes || cell_energy.size() != _num_cells)
+    throw std::invalid_argument("FieldOutput::write: not the mesh's sizes");
   const hid_t f = _file->get();
   const std::string key = time_key(t);
-  const std::span<const double> u = bodies.displacement();
   std::vector<double> u3(3 * _num_nodes, 0.0); // XDMF vectors have 3 parts
   for (std::size_t n = 0; n < _num_nodes; ++n)
     for (int c = 0; c < 2; ++c)
       u3[3 * n + c] = u[2 * n + c];
   h5::write_table(f, "/Function/displacement/" + key, u3, 3);
-  std::vector<double> psi = bodies.cell_strain_energy();
+  std::vector<double> psi(cell_energy.begin(), cell_energy.end());
   for (std::size_t c = 0; c < psi.size(); ++c)
     psi[c] /= _cell_area[c];
   h5::write_table(f, "/Function/Psi/" + key, psi, 1);

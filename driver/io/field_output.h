@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <h5_helpers.h>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -30,14 +31,19 @@ class FieldOutput
 {
 public:
   /// @param[in] directory Output directory
-  /// @param[in] bodies The bodies (nodes, cells, reference coordinates)
+  /// @param[in] bodies The bodies (nodes, cells, reference coordinates),
+  /// every node stored (before BodySet::keep_storage)
   /// @throws std::runtime_error if fields.h5 cannot be created
+  /// @throws std::logic_error if the bodies store some nodes only
   FieldOutput(const std::filesystem::path& directory,
               const bodies::BodySet& bodies);
   ~FieldOutput();
 
-  /// Write the current state at time t.
-  void write(const bodies::BodySet& bodies, double t);
+  /// Write the fields at time t.
+  /// @param[in] u Global displacement (2 entries per mesh node)
+  /// @param[in] cell_energy Strain energy of each cell
+  void write(std::span<const double> u, std::span<const double> cell_energy,
+             double t);
 
 private:
   /// Write fields.xdmf (atomically) for the times written so far.

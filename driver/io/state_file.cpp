@@ -74,6 +74,12 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
                     const RunChecks& c)
 {
   std::string out(magic);
+  // Sized once: grown by doubling, the buffer would reach twice the state
+  // (rank 0's largest allocation at an output of a distributed run)
+  out.reserve(4096 + sizeof(double) * (s.u.size() + s.v.size() +
+                                       s.u_tangent.size() +
+                                       4 * s.wall_points.size()) +
+              s.reactions.size() * sizeof(dynamics::ImpulseHistory::Entry));
   put(out, id.mesh);
   put(out, id.walls);
   const bool velocities = s.wall_velocities.size() == s.wall_points.size();

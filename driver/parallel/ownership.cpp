@@ -49,6 +49,7 @@ Ownership::Ownership(MPI_Comm comm, bodies::BodySet& bodies) : _comm(comm)
   assign(partition_bodies(body_centres(bodies, bodies.reference_coordinates()),
                           weights, _size),
          bodies);
+  bodies.set_owned(_owned);
 }
 
 void Ownership::assign(std::vector<int> body_rank, bodies::BodySet& bodies)
@@ -56,37 +57,33 @@ void Ownership::assign(std::vector<int> body_rank, bodies::BodySet& bodies)
   const int nb = bodies.num_bodies();
   _body_rank = std::move(body_rank);
   _owned.assign(nb, 0);
+  for (int b = 0; b < nb; ++b)
+    _owned[b] = _body_rank[b] == _rank;
+  // A rank stores its own bodies, every boundary and every rigid body
+  // (moved by every rank); the other interiors share one NaN entry.
+  bodies.keep_storage(_owned);
+  _unstored = bodies.unstored_node();
   _node_owned.assign(bodies.num_dofs() / 2, 0);
-  _stale_nodes.clear();
-  // A rigid body is moved by every rank: all its nodes are shared.
-  std::vector<std::vector<char>> shared(nb);
+  _owner_body_counts.assign(_size, 0);
+  _owner_node_counts.assign(_size, 0);
   for (int b = 0; b < nb; ++b)
   {
     const bodies::Body& body = bodies.body(b);
-    _owned[b] = _body_rank[b] == _rank;
-    shared[b].assign(body.nodes.size(), bodies.rigid(b));
-    for (std::int32_t local : body.boundary_nodes)
-      shared[b][local] = 1;
-    for (std::size_t k = 0; k < body.nodes.size(); ++k)
-    {
-      _node_owned[body.nodes[k]] = _owned[b];
-      if (!_owned[b] && !shared[b][k])
-        _stale_nodes.push_back(body.nodes[k]);
-    }
-  }
-  _owner_body_counts.assign(_size, 0);
-  for (int b = 0; b < nb; ++b)
     ++_owner_body_counts[_body_rank[b]];
+    _owner_node_counts[_body_rank[b]] += body.nodes.size();
+    if (_owned[b])
+      for (std::int32_t node : body.nodes)
+        _node_owned[node] = 1;
+  }
   std::vector<int> next(_size, 0); // rank r's bodies start after r - 1's
   for (int r = 1; r < _size; ++r)
     next[r] = next[r - 1] + _owner_body_counts[r - 1];
   _bodies_by_owner.resize(nb);
   for (int b = 0; b < nb; ++b)
     _bodies_by_owner[next[_body_rank[b]]++] = b;
-  _all_nodes = nodes_by_owner(bodies, [](int, std::size_t) { return true; });
-  _boundary_nodes = nodes_by_owner(bodies, [&](int b, std::size_t k)
-                                   { return shared[b][k] != 0; });
-  bodies.set_owned(_owned);
+  _boundary_nodes = nodes_by_owner(
+      bodies, [&](int b, std::size_t k)
+      { return bodies.rigid(b) || bodies.body(b).segment_from[k] >= 0; });
 }
 
 template <typename Take>
@@ -134,51 +131,92 @@ std::vector<int> Ownership::drifted_split(
   return fresh;
 }
 
-void Ownership::move_to(std::vector<int> split, bodies::BodySet& bodies)
+void Ownership::move_to(std::vector<int> split, bodies::BodySet& bodies,
+                        std::span<std::vector<double>* const> vectors)
 {
   if (split.size() != _body_rank.size())
     throw std::invalid_argument("Ownership::move_to: a rank for each body");
-  for (std::size_t b = 0; b < split.size(); ++b)
-    _moved += split[b] != _body_rank[b];
-  ++_rebalances;
-  assign(std::move(split), bodies);
-}
-
-void Ownership::hand_over(std::span<const int> split,
-                          const bodies::BodySet& bodies,
-                          std::span<const std::span<double>> vectors) const
-{
-  if (_size == 1)
-    return;
+  // The moving bodies' entries (their interiors are their old owners'
+  // only): displacement, reference coordinates, then the given vectors
   auto entries = [&](int b, auto&& visit)
   {
-    for (const std::span<double> v : vectors)
+    std::vector<std::span<double>> all = {
+        bodies.displacement(), bodies.stored_reference_coordinates()};
+    for (std::vector<double>* v : vectors)
+      if (!v->empty())
+        all.emplace_back(*v);
+    for (const std::span<double> v : all)
       for (const std::int32_t node : bodies.body(b).nodes)
         for (int c = 0; c < 2; ++c)
           visit(v[2 * node + c]);
   };
+  const int nb = bodies.num_bodies();
   std::vector<std::vector<double>> to_rank(_size);
-  for (int b = 0; b < bodies.num_bodies(); ++b)
+  for (int b = 0; b < nb; ++b)
     if (_body_rank[b] == _rank && split[b] != _rank)
       entries(b, [&](double x) { to_rank[split[b]].push_back(x); });
   // Received in the senders' rank order, each sender's bodies in order
   const std::vector<double> in = exchange_items(to_rank);
+  const std::vector<int> before = _body_rank;
+  for (int b = 0; b < nb; ++b)
+    _moved += split[b] != before[b];
+  ++_rebalances;
+  assign(std::move(split), bodies);
+  for (std::vector<double>* v : vectors)
+    if (!v->empty())
+      bodies.remap(*v);
   std::size_t k = 0;
   for (int r = 0; r < _size; ++r)
-    for (int b = 0; b < bodies.num_bodies(); ++b)
-      if (_body_rank[b] == r && r != _rank && split[b] == _rank)
+    for (int b = 0; b < nb; ++b)
+      if (before[b] == r && r != _rank && _body_rank[b] == _rank)
         entries(b, [&](double& x) { x = in[k++]; });
   if (k != in.size())
-    throw std::logic_error(
-        "Ownership::hand_over: " + std::to_string(in.size()) +
-        " entries received, " + std::to_string(k) + " expected");
+    throw std::logic_error("Ownership::move_to: " + std::to_string(in.size()) +
+                           " entries received, " + std::to_string(k) +
+                           " expected");
+  // The arriving bodies' masses from their reference coordinates, now here
+  bodies.set_owned(_owned);
 }
 
-void Ownership::share_to_root(std::span<double> global) const
+std::vector<double>
+Ownership::gather_to_root(const bodies::BodySet& bodies,
+                          std::span<const double> stored) const
 {
   if (_size == 1)
-    return;
-  gather_nodes(global, _all_nodes, true);
+    return {stored.begin(), stored.end()};
+  std::vector<int> counts(_size), offsets(_size + 1, 0);
+  for (int r = 0; r < _size; ++r)
+  {
+    counts[r] = 2 * _owner_node_counts[r];
+    offsets[r + 1] = offsets[r] + counts[r];
+  }
+  // Each rank's bodies in order, each body's nodes in order
+  std::vector<double> mine;
+  mine.reserve(counts[_rank]);
+  int begin = 0;
+  for (int r = 0; r < _rank; ++r)
+    begin += _owner_body_counts[r];
+  for (int i = begin; i < begin + _owner_body_counts[_rank]; ++i)
+    for (const std::int32_t node : bodies.body(_bodies_by_owner[i]).nodes)
+      for (int c = 0; c < 2; ++c)
+        mine.push_back(stored[2 * node + c]);
+  std::vector<double> all(_rank == 0 ? offsets.back() : 0);
+  MPI_Gatherv(mine.data(), counts[_rank], MPI_DOUBLE, all.data(), counts.data(),
+              offsets.data(), MPI_DOUBLE, 0, _comm);
+  if (_rank != 0)
+  {
+    _bytes += mine.size() * sizeof(double);
+    ++_calls;
+    return {};
+  }
+  ++_calls;
+  std::vector<double> global(bodies.num_global_dofs());
+  std::size_t k = 0;
+  for (const int b : _bodies_by_owner)
+    for (const std::int32_t g : bodies.body(b).global_nodes)
+      for (int c = 0; c < 2; ++c)
+        global[2 * g + c] = all[k++];
+  return global;
 }
 
 void Ownership::share_by_body(std::span<double> values, int width) const
@@ -207,42 +245,22 @@ void Ownership::share_boundaries(std::span<double> global) const
   if (_size == 1)
     return;
   gather_nodes(global, _boundary_nodes);
+  // What no rank writes: the other bodies' interiors' one entry
   constexpr double stale = std::numeric_limits<double>::quiet_NaN();
-  for (std::int32_t node : _stale_nodes)
-    global[2 * node] = global[2 * node + 1] = stale;
+  global[2 * _unstored] = global[2 * _unstored + 1] = stale;
 }
 
-void Ownership::gather_nodes(std::span<double> global, const NodesByOwner& list,
-                             bool to_root) const
+void Ownership::gather_nodes(std::span<double> global,
+                             const NodesByOwner& list) const
 {
-  const int begin = list.offsets[_rank], end = list.offsets[_rank + 1];
-  if (to_root && _rank != 0)
-  {
-    // Only this rank's part leaves it
-    std::vector<double> mine(end - begin);
-    for (int k = begin; k < end; ++k)
-      mine[k - begin] = global[2 * list.nodes[k / 2] + k % 2];
-    MPI_Gatherv(mine.data(), end - begin, MPI_DOUBLE, nullptr, nullptr, nullptr,
-                MPI_DOUBLE, 0, _comm);
-  }
-  else
-  {
-    std::vector<double> all(list.offsets.back());
-    for (int k = begin; k < end; ++k)
-      all[k] = global[2 * list.nodes[k / 2] + k % 2];
-    if (to_root)
-      MPI_Gatherv(MPI_IN_PLACE, 0, MPI_DOUBLE, all.data(), list.counts.data(),
-                  list.offsets.data(), MPI_DOUBLE, 0, _comm);
-    else
-      MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, all.data(),
-                     list.counts.data(), list.offsets.data(), MPI_DOUBLE,
-                     _comm);
-    for (std::size_t k = 0; k < all.size(); ++k)
-      global[2 * list.nodes[k / 2] + k % 2] = all[k];
-  }
-  // Root's own part stays with it
-  if (!to_root || _rank != 0)
-    _bytes += list.counts[_rank] * sizeof(double);
+  std::vector<double> all(list.offsets.back());
+  for (int k = list.offsets[_rank]; k < list.offsets[_rank + 1]; ++k)
+    all[k] = global[2 * list.nodes[k / 2] + k % 2];
+  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, all.data(),
+                 list.counts.data(), list.offsets.data(), MPI_DOUBLE, _comm);
+  for (std::size_t k = 0; k < all.size(); ++k)
+    global[2 * list.nodes[k / 2] + k % 2] = all[k];
+  _bytes += list.counts[_rank] * sizeof(double);
   ++_calls;
 }
 
@@ -264,6 +282,17 @@ void Ownership::share_nodes(std::span<double> global,
 void Ownership::sum(std::span<double> values) const
 {
   reduce(values, MPI_SUM);
+}
+
+void Ownership::sum_to_root(std::span<double> values) const
+{
+  if (_size == 1)
+    return;
+  MPI_Reduce(_rank == 0 ? MPI_IN_PLACE : values.data(), values.data(),
+             static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM, 0, _comm);
+  if (_rank != 0)
+    _bytes += values.size() * sizeof(double);
+  ++_calls;
 }
 
 void Ownership::max(std::span<double> values) const

@@ -15,15 +15,16 @@ namespace softpack::parallel
 /// Which MPI rank owns each body, and the collectives that make the owners'
 /// per-body results known to every rank (docs/mpi_design.md).
 ///
-/// Every rank holds whole-length global displacement and velocity vectors;
-/// a rank assembles, factorizes and computes the compliance of its own
-/// bodies only, and the per-body results that the rest of the step needs
+/// A rank stores the node vectors' entries of its own bodies, of every
+/// body's boundary and of every rigid body (BodySet::keep_storage); it
+/// assembles, factorizes and computes the compliance of its own bodies
+/// only, and the per-body results that the rest of the step needs
 /// everywhere are exchanged through the calls below: the velocity at the
 /// bodies' boundaries once per step (share_boundaries; the interiors stay
-/// with their owners: rank 0 receives them at outputs, share_to_root, and
-/// a body's new owner at a rebalance, hand_over), free velocities at
+/// with their owners: rank 0 receives them at outputs, gather_to_root, and
+/// a body's new owner at a rebalance, move_to), free velocities at
 /// contact nodes, Delassus blocks, per-body output values (share_by_body).
-/// share_to_root, share_boundaries and share_by_body gather each owner's
+/// gather_to_root, share_boundaries and share_by_body gather each owner's
 /// entries (each rank sends its own); the other exchanges are sums with
 /// exactly one nonzero contributor per entry. Either way a rank gets the
 /// owner's bits.
@@ -38,7 +39,8 @@ public:
   /// The bodies split over the ranks of `comm` by recursive coordinate
   /// bisection of their reference centres, weighted by their DOFs
   /// (partition_bodies); restricts `bodies` to its owned ones
-  /// (BodySet::set_owned).
+  /// (BodySet::set_owned) and its storage to them (BodySet::keep_storage)
+  /// when there are several ranks.
   /// @throws std::invalid_argument if comm has more ranks than bodies
   Ownership(MPI_Comm comm, bodies::BodySet& bodies);
 
@@ -47,10 +49,8 @@ public:
   /// has drifted from it (split_has_drifted: uneven work, or many more
   /// contacts cut between ranks); else empty. Every rank decides alike
   /// from the same data (the centres are summed over the ranks, each from
-  /// its owner: x is read at the owned bodies' nodes only). Apart from
-  /// move_to, so that a caller can make its vectors whole while the old
-  /// owners still hold them.
-  /// @param[in] x Current node coordinates (global, interleaved)
+  /// its owner: x is read at the owned bodies' nodes only).
+  /// @param[in] x Current node coordinates (the storage, interleaved)
   /// @param[in] weights Work of each body, > 0
   /// @param[in] links The body pairs of the contacts between bodies
   /// @param[in] tolerance Relative drift allowed (e.g. 0.1)
@@ -60,16 +60,15 @@ public:
                                  std::span<const double> weights,
                                  std::span<const std::array<int, 2>> links,
                                  double tolerance) const;
-  /// Before move_to: send each body that changes rank its entries of the
-  /// given global nodal vectors, from its owner now to its owner in
-  /// `split` (one all-to-all; the bodies that stay send nothing). The
-  /// arriving bodies' interiors, which only their old owners hold.
-  void hand_over(std::span<const int> split, const bodies::BodySet& bodies,
-                 std::span<const std::span<double>> vectors) const;
   /// Give the bodies to the ranks of a drifted_split (counted as a
-  /// rebalance) and restrict `bodies` to this rank's (BodySet::set_owned);
-  /// the caller moves its own per-body state
-  void move_to(std::vector<int> split, bodies::BodySet& bodies);
+  /// rebalance): each body that changes rank sends its entries of the
+  /// displacement, the reference coordinates and the given node vectors
+  /// (the empty ones skipped) from its old owner to its new one (one
+  /// all-to-all: its interior is its old owner's only); `bodies` is
+  /// restricted to this rank's (BodySet::set_owned) and its storage to
+  /// them (BodySet::keep_storage), and the given vectors remapped to it.
+  void move_to(std::vector<int> split, bodies::BodySet& bodies,
+               std::span<std::vector<double>* const> vectors);
   /// Rebalances done, and the bodies they gave to another rank
   int rebalances() const { return _rebalances; }
   long bodies_moved() const { return _moved; }
@@ -87,11 +86,12 @@ public:
   /// The rank of each body (empty when serial)
   const std::vector<int>& body_rank() const { return _body_rank; }
 
-  /// Make a global nodal vector whole on rank 0 (what it writes at
-  /// outputs: the state file, the fields): the entries of each body's
-  /// nodes become those its owner holds. The other ranks' vectors are left
-  /// as they are.
-  void share_to_root(std::span<double> global) const;
+  /// A node vector of this rank's storage made global on rank 0 (what it
+  /// writes at outputs: the state file, the fields), each body's entries
+  /// from its owner (an MPI_Gatherv); empty on the other ranks. A
+  /// collective.
+  std::vector<double> gather_to_root(const bodies::BodySet& bodies,
+                                     std::span<const double> stored) const;
   /// Make per-body values (`width` per body, body b's at width * b) those
   /// of each body's owner on every rank: a rank computes its own bodies'
   /// (energies, stresses) and sends only those
@@ -103,15 +103,20 @@ public:
   /// become NaN: a read of one shows in the results instead of passing for
   /// a value.
   void share_boundaries(std::span<double> global) const;
-  /// 1 for each global node of an owned body (empty when serial: all)
+  /// 1 for each stored node of an owned body (empty when serial: all)
   const std::vector<char>& node_owned() const { return _node_owned; }
-  /// Make the given global nodes' entries their owners' on every rank;
+  /// Make the given stored nodes' entries their owners' on every rank
+  /// (boundary nodes: the same storage indices on every rank);
   /// they must be zero on the ranks that do not own them (a vector filled
   /// by owners only): the message is as small as the list.
   void share_nodes(std::span<double> global,
                    std::span<const std::int32_t> nodes) const;
   /// Sum over ranks, in place.
   void sum(std::span<double> values) const;
+  /// Sum over ranks onto rank 0, in place (the other ranks' values are
+  /// left as they are): per-cell values of which each rank computed its
+  /// own bodies', the others zero (exact: x + 0 = x)
+  void sum_to_root(std::span<double> values) const;
   /// Largest over ranks, in place (exact: every rank gets the same bits).
   void max(std::span<double> values) const;
   /// All ranks' vectors concatenated in rank order, on every rank.
@@ -172,11 +177,11 @@ private:
   /// by owner
   template <typename Take>
   NodesByOwner nodes_by_owner(const bodies::BodySet& bodies, Take&& take) const;
-  /// Make the listed nodes' entries their owners' on every rank (on rank 0
-  /// only when `to_root`)
-  void gather_nodes(std::span<double> global, const NodesByOwner& list,
-                    bool to_root = false) const;
-  /// Give body b to rank body_rank[b] and restrict `bodies` to this rank's
+  /// Make the listed nodes' entries their owners' on every rank
+  void gather_nodes(std::span<double> global, const NodesByOwner& list) const;
+  /// Give body b to rank body_rank[b] and keep this rank's storage
+  /// (BodySet::keep_storage); the caller restricts `bodies` to this rank's
+  /// (BodySet::set_owned: their masses) once their entries are in place
   void assign(std::vector<int> body_rank, bodies::BodySet& bodies);
   /// An allreduce in place with `op`, counted
   void reduce(std::span<double> values, MPI_Op op) const;
@@ -188,13 +193,15 @@ private:
   int _rank = 0, _size = 1;
   std::vector<int> _body_rank;
   std::vector<char> _owned;
-  /// Global nodes of the bodies this rank does not own that are interior
-  /// (NaN after share_boundaries)
-  std::vector<std::int32_t> _stale_nodes;
-  /// The nodes share_to_root and share_boundaries make current
-  NodesByOwner _all_nodes, _boundary_nodes;
-  /// The bodies listed by owner (share_by_body), and each rank's count
-  std::vector<int> _bodies_by_owner, _owner_body_counts;
+  /// The storage index of the interiors this rank does not store (NaN
+  /// after share_boundaries)
+  std::int32_t _unstored = -1;
+  /// The nodes share_boundaries makes current (storage indices: the same
+  /// on every rank)
+  NodesByOwner _boundary_nodes;
+  /// The bodies listed by owner (share_by_body, gather_to_root), and each
+  /// rank's count of bodies and of their nodes
+  std::vector<int> _bodies_by_owner, _owner_body_counts, _owner_node_counts;
   std::vector<char> _node_owned;
   mutable std::size_t _bytes = 0, _calls = 0;
   int _rebalances = 0;

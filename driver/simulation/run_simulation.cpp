@@ -178,6 +178,12 @@ public:
       : _config(config), _p(config.parameters),
         _raw_dir(config.directory / "raw"), _root(rank_of(comm) == 0),
         _quiet(quiet || !_root), _bodies(make_bodies(MPI_COMM_SELF, config)),
+        // The state's identity and fields.h5's mesh from every node, before
+        // a rank keeps its own bodies' interiors only
+        _identity(io::state_identity(_bodies, config.walls)),
+        _fields(_root && _p.output.fields ? std::make_unique<io::FieldOutput>(
+                                                config.directory, _bodies)
+                                          : nullptr),
         _own(comm, _bodies),
         _scheme(_bodies, config.walls,
                 {_p.time, _p.contact, _p.damping, config.velocity_scale,
@@ -186,7 +192,7 @@ public:
         _raw(_root ? std::make_unique<io::RawOutput>(config.directory,
                                                      config.walls)
                    : nullptr),
-        _identity(io::state_identity(_bodies, config.walls)), _program(config)
+        _program(config)
   {
     if (config.initial_state)
     {
@@ -206,8 +212,6 @@ public:
     if (!_root)
       return;
     io::write_setup(_raw_dir, io::setup_json(config, _bodies));
-    if (_p.output.fields)
-      _fields = std::make_unique<io::FieldOutput>(config.directory, _bodies);
   }
 
   /// Step until a stop criterion holds; the step that meets it is an
@@ -427,16 +431,23 @@ private:
     }
     _average.reset();
     _interval = {};
+    if (_p.output.fields && _outputs % _p.output.fields_every == 0)
+    {
+      // Each cell's energy from its body's owner, onto rank 0 (before the
+      // state, which takes rank 0's copy of the displacement)
+      std::vector<double> psi = _bodies.owned_cell_strain_energy();
+      _scheme.ownership().sum_to_root(psi);
+      if (_fields)
+        _fields->write(_scheme.output_displacement(), psi, _scheme.time());
+    }
     if (_root && _p.output.state)
     {
-      io::write_state(_raw_dir / "state.bin", _scheme.state(), _identity,
+      io::write_state(_raw_dir / "state.bin", _scheme.output_state(), _identity,
                       _checks);
       if (!_program.empty())
         write_stage_record(stage_record_path(_raw_dir / "state.bin"), step,
                            _program.start(), _program.stage().name);
     }
-    if (_fields && _outputs % _p.output.fields_every == 0)
-      _fields->write(_bodies, _scheme.time());
     ++_outputs;
     if (!_quiet)
       print_progress(progress(step, now), step, _scheme, now, r, elapsed());
@@ -450,13 +461,14 @@ private:
   const bool _quiet;
   const clock::time_point _start = clock::now();
   bodies::BodySet _bodies;
+  const io::StateIdentity _identity;
+  /// Rank 0's (the other ranks write nothing), when fields are written
+  std::unique_ptr<io::FieldOutput> _fields;
   parallel::Ownership _own;
   dynamics::MoreauJean _scheme;
   /// Rank 0's: the other ranks write nothing
   std::unique_ptr<io::RawOutput> _raw;
-  const io::StateIdentity _identity;
   StageProgram _program;
-  std::unique_ptr<io::FieldOutput> _fields;
   dynamics::StepTimings _spent;
   dynamics::ContactForceAverage _average;
   io::ConvergenceCounts _interval;
