@@ -432,8 +432,9 @@ private:
   /// Each body's strain energy at the current displacement, when energy()
   /// was last made current
   mutable std::vector<double> _body_strain;
-  /// Whether prepare_output shared _body_strain since the displacement
-  /// last changed (the same on every rank)
+  /// Whether _body_strain was shared (a distributed run's construction,
+  /// prepare_output) since the displacement last changed (the same on
+  /// every rank)
   bool _strain_shared = false;
   int _matrix_age = -1; ///< steps since the last factorization (-1: none)
   int _last_iterations = 0;

@@ -28,6 +28,34 @@ std::vector<double> body_centres(const bodies::BodySet& bodies,
   }
   return centres;
 }
+
+/// A count (bytes or doubles) as MPI's int, refused above it
+int int_count(std::size_t count, const char* what)
+{
+  if (count > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw std::runtime_error(std::string(what) + ": " + std::to_string(count) +
+                             " items from one rank, above MPI's int count");
+  return static_cast<int>(count);
+}
+
+/// Offsets of consecutive blocks of the given sizes, refusing a total above
+/// MPI's int count
+std::vector<int> int_offsets(std::span<const int> counts, const char* what)
+{
+  constexpr std::size_t limit = std::numeric_limits<int>::max();
+  std::vector<int> offsets(counts.size() + 1, 0);
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < counts.size(); ++r)
+  {
+    total += counts[r];
+    if (total > limit)
+      throw std::runtime_error(std::string(what) + ": " +
+                               std::to_string(total) +
+                               " items in all, above MPI's int count");
+    offsets[r + 1] = static_cast<int>(total);
+  }
+  return offsets;
+}
 } // namespace
 
 Ownership::Ownership(MPI_Comm comm, bodies::BodySet& bodies) : _comm(comm)
@@ -184,12 +212,12 @@ Ownership::gather_to_root(const bodies::BodySet& bodies,
 {
   if (_size == 1)
     return {stored.begin(), stored.end()};
-  std::vector<int> counts(_size), offsets(_size + 1, 0);
+  std::vector<int> counts(_size);
   for (int r = 0; r < _size; ++r)
-  {
-    counts[r] = 2 * _owner_node_counts[r];
-    offsets[r + 1] = offsets[r] + counts[r];
-  }
+    counts[r] =
+        int_count(2 * _owner_node_counts[r], "Ownership::gather_to_root");
+  const std::vector<int> offsets =
+      int_offsets(counts, "Ownership::gather_to_root");
   // Each rank's bodies in order, each body's nodes in order
   std::vector<double> mine;
   mine.reserve(counts[_rank]);
@@ -309,37 +337,6 @@ void Ownership::reduce(std::span<double> values, MPI_Op op) const
   _bytes += values.size() * sizeof(double);
   ++_calls;
 }
-
-namespace
-{
-/// A byte count as MPI's int, refused above it
-int int_count(std::size_t bytes, const char* what)
-{
-  if (bytes > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    throw std::runtime_error(std::string(what) + ": " + std::to_string(bytes) +
-                             " bytes from one rank, above MPI's int count");
-  return static_cast<int>(bytes);
-}
-
-/// Offsets of consecutive blocks of the given sizes, refusing a total above
-/// MPI's int count
-std::vector<int> int_offsets(std::span<const int> counts, const char* what)
-{
-  constexpr std::size_t limit = std::numeric_limits<int>::max();
-  std::vector<int> offsets(counts.size() + 1, 0);
-  std::size_t total = 0;
-  for (std::size_t r = 0; r < counts.size(); ++r)
-  {
-    total += counts[r];
-    if (total > limit)
-      throw std::runtime_error(std::string(what) + ": " +
-                               std::to_string(total) +
-                               " bytes in all, above MPI's int count");
-    offsets[r + 1] = static_cast<int>(total);
-  }
-  return offsets;
-}
-} // namespace
 
 std::vector<std::byte> Ownership::exchange_bytes(
     std::span<const std::span<const std::byte>> to_rank) const

@@ -201,7 +201,8 @@ private:
   NodesByOwner _boundary_nodes;
   /// The bodies listed by owner (share_by_body, gather_to_root), and each
   /// rank's count of bodies and of their nodes
-  std::vector<int> _bodies_by_owner, _owner_body_counts, _owner_node_counts;
+  std::vector<int> _bodies_by_owner, _owner_body_counts;
+  std::vector<std::size_t> _owner_node_counts;
   std::vector<char> _node_owned;
   mutable std::size_t _bytes = 0, _calls = 0;
   int _rebalances = 0;

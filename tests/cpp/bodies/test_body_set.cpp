@@ -211,3 +211,85 @@ TEST(BodySet, ARankKeepsTheMassesOfItsOwnBodies)
             (std::vector<char>{0, 1}));
   EXPECT_EQ(bodies.kept_masses({}), (std::vector<char>{1, 1}));
 }
+
+TEST(BodySet, ARankStoresItsOwnBodiesAndEveryBoundary)
+{
+  bodies::BodySet bodies = two_disks();
+  const std::size_t n = bodies.num_global_dofs();
+  ASSERT_EQ(bodies.num_dofs(), n);
+  EXPECT_EQ(bodies.unstored_node(), -1);
+  // A displacement that tells every global entry apart
+  std::vector<double> global(n);
+  for (std::size_t i = 0; i < n; ++i)
+    global[i] = 1e-4 * std::sin(0.37 * i);
+  std::copy(global.begin(), global.end(), bodies.displacement().begin());
+  const std::vector<double> X(bodies.reference_coordinates().begin(),
+                              bodies.reference_coordinates().end());
+  const std::vector<double> strain = bodies.body_strain_energy();
+  const bodies::Body& kept = bodies.body(0);
+  const bodies::Body& other = bodies.body(1);
+  const std::size_t stored = kept.nodes.size() + other.boundary_nodes.size();
+
+  bodies.keep_storage(std::vector<char>{1, 0});
+  // Body 0 whole, body 1's boundary, and one entry for body 1's interior
+  ASSERT_EQ(bodies.num_dofs(), 2 * (stored + 1));
+  const std::int32_t unstored = bodies.unstored_node();
+  EXPECT_EQ(unstored, static_cast<std::int32_t>(stored));
+  const std::span<const double> u = bodies.displacement();
+  const std::span<const double> Xs = bodies.reference_coordinates();
+  for (const bodies::Body* body : {&kept, &other})
+    for (std::size_t k = 0; k < body->nodes.size(); ++k)
+    {
+      const std::int32_t s = body->nodes[k], g = body->global_nodes[k];
+      const bool boundary = body->segment_from[k] >= 0;
+      if (body == &other && !boundary)
+      {
+        EXPECT_EQ(s, unstored);
+        continue;
+      }
+      for (int c = 0; c < 2; ++c)
+      {
+        EXPECT_EQ(u[2 * s + c], global[2 * g + c]);
+        EXPECT_EQ(Xs[2 * s + c], X[2 * g + c]);
+      }
+    }
+  EXPECT_TRUE(std::isnan(u[2 * unstored]) && std::isnan(Xs[2 * unstored]));
+  // The kept body's energy is its own, to the bit; a global vector goes in
+  // and out of the storage unchanged where stored, NaN elsewhere
+  bodies.set_owned({1, 0});
+  EXPECT_EQ(bodies.owned_body_strain_energy()[0], strain[0]);
+  const std::vector<double> back = bodies.to_global(bodies.from_global(global));
+  ASSERT_EQ(back.size(), n);
+  for (std::size_t k = 0; k < kept.global_nodes.size(); ++k)
+    EXPECT_EQ(back[2 * kept.global_nodes[k]], global[2 * kept.global_nodes[k]]);
+  int interior = 0;
+  for (std::size_t k = 0; k < other.global_nodes.size(); ++k)
+  {
+    const double x = back[2 * other.global_nodes[k]];
+    if (other.segment_from[k] >= 0)
+      EXPECT_EQ(x, global[2 * other.global_nodes[k]]);
+    else
+      interior += std::isnan(x);
+  }
+  EXPECT_EQ(interior,
+            static_cast<int>(other.nodes.size() - other.boundary_nodes.size()));
+  EXPECT_GT(interior, 0);
+
+  // The bodies change owners: what stays stored keeps its value, what is
+  // new is NaN until the old owner's entries arrive (Ownership::move_to)
+  std::vector<double> v(u.begin(), u.end());
+  bodies.keep_storage(std::vector<char>{0, 1});
+  bodies.remap(v);
+  ASSERT_EQ(v.size(), bodies.num_dofs());
+  for (std::size_t k = 0; k < other.nodes.size(); ++k)
+  {
+    const std::int32_t s = other.nodes[k], g = other.global_nodes[k];
+    const bool boundary = other.segment_from[k] >= 0;
+    EXPECT_EQ(std::isnan(v[2 * s]), !boundary);
+    if (boundary)
+      EXPECT_EQ(v[2 * s], global[2 * g]);
+  }
+  for (std::size_t k = 0; k < kept.nodes.size(); ++k)
+    EXPECT_EQ(kept.nodes[k] == bodies.unstored_node(),
+              kept.segment_from[k] < 0);
+}
