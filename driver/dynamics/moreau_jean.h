@@ -289,6 +289,8 @@ private:
   /// The state's time, steps, walls, reactions, energies and step, without
   /// its vectors
   SchemeState scalar_state() const;
+  /// Throw unless this is rank 0 holding prepare_output's copies
+  void require_root_copies(const char* what) const;
   /// The contacts of a step and their data fixed during the step
   struct StepContacts;
   /// What the step knows before its Newton iterations

@@ -50,14 +50,19 @@ std::span<const double> MoreauJean::output_displacement() const
   return _root_u;
 }
 
+void MoreauJean::require_root_copies(const char* what) const
+{
+  require_output(_own.rank() == 0 && _on_root &&
+                     (_tangent_on_root || _matrix_age < 0),
+                 what);
+  require_output(!_root_u.empty(), "state after output_state");
+}
+
 SchemeState MoreauJean::state() const
 {
   if (!_own.distributed())
     return own_state();
-  require_output(_own.rank() == 0 && _on_root &&
-                     (_tangent_on_root || _matrix_age < 0),
-                 "state");
-  require_output(!_root_u.empty(), "state (after output_state)");
+  require_root_copies("state");
   SchemeState s = scalar_state();
   s.u = _root_u;
   s.v = _root_v;
@@ -70,11 +75,14 @@ SchemeState MoreauJean::output_state()
 {
   if (!_own.distributed())
     return own_state();
-  SchemeState s = state();
+  require_root_copies("output_state");
   // The copies were made for this output: handed over, not copied again
+  SchemeState s = scalar_state();
   s.u = std::exchange(_root_u, {});
   s.v = std::exchange(_root_v, {});
-  s.u_tangent = std::exchange(_root_u_tangent, {});
+  std::vector<double> u_tangent = std::exchange(_root_u_tangent, {});
+  if (_matrix_age >= 0)
+    s.u_tangent = std::move(u_tangent);
   return s;
 }
 
