@@ -172,8 +172,9 @@ std::string stop_reason(const io::DriverConfig& config,
 class Run
 {
 public:
-  /// Every rank holds every body's mesh (on its own MPI_COMM_SELF) and
-  /// computes its own bodies (parallel::Ownership); rank 0 alone writes.
+  /// Every rank reads every body's mesh (on its own MPI_COMM_SELF), then
+  /// keeps and computes its own bodies and every boundary
+  /// (parallel::Ownership); rank 0 alone writes.
   Run(MPI_Comm comm, const io::DriverConfig& config, bool quiet)
       : _config(config), _p(config.parameters),
         _raw_dir(config.directory / "raw"), _root(rank_of(comm) == 0),
@@ -414,8 +415,8 @@ private:
               std::optional<double> now, int stage = 0)
   {
     // Rank 0 writes what every body's interior gives: the owners compute
-    // their bodies' energies and stresses, rank 0 gets the whole vectors
-    // (fields, the state).
+    // their bodies' energies and stresses, rank 0 gets global copies of
+    // the vectors (fields, the state).
     _scheme.prepare_output();
     static_assert(sizeof(bodies::CauchyIntegral) == 4 * sizeof(double));
     std::vector<bodies::CauchyIntegral> cauchy =
