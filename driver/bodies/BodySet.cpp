@@ -268,16 +268,12 @@ double BodySet::strain_energy() const
 
 std::vector<double> BodySet::cell_strain_energy() const
 {
-  std::vector<double> e(_cell_body.size(), 0.0);
-  _assembly->cell_energy(e, _bodies, _reference_x, _u);
-  return e;
+  return strain_energy_by_cell({});
 }
 
 std::vector<double> BodySet::owned_cell_strain_energy() const
 {
-  std::vector<double> e(_cell_body.size(), 0.0);
-  _assembly->cell_energy(e, _bodies, _reference_x, _u, _owned);
-  return e;
+  return strain_energy_by_cell(_owned);
 }
 
 std::vector<double> BodySet::body_strain_energy() const
@@ -291,10 +287,17 @@ std::vector<double> BodySet::owned_body_strain_energy() const
 }
 
 std::vector<double>
+BodySet::strain_energy_by_cell(std::span<const char> only) const
+{
+  std::vector<double> e(_cell_body.size(), 0.0);
+  _assembly->cell_energy(e, _bodies, _reference_x, _u, only);
+  return e;
+}
+
+std::vector<double>
 BodySet::strain_energy_by_body(std::span<const char> only) const
 {
-  std::vector<double> per_cell(_cell_body.size(), 0.0);
-  _assembly->cell_energy(per_cell, _bodies, _reference_x, _u, only);
+  const std::vector<double> per_cell = strain_energy_by_cell(only);
   std::vector<double> sums(_bodies.size(), 0.0);
   for (std::size_t b = 0; b < _bodies.size(); ++b)
     for (std::int32_t c : _bodies[b].cells)

@@ -258,7 +258,9 @@ private:
   /// Fill each Body::input_rank
   void rank_input_order(const dolfinx::fem::FunctionSpace& V);
   void build_mass();
-  /// Strain energy of the flagged bodies (all when empty), the others' zero
+  /// Strain energy of the flagged bodies' cells and of the flagged bodies
+  /// (all when empty), the others' zero
+  std::vector<double> strain_energy_by_cell(std::span<const char> only) const;
   std::vector<double> strain_energy_by_body(std::span<const char> only) const;
   /// Free the masses (consistent and lumped) of the bodies not flagged;
   /// assemble those flagged whose masses were freed before
