@@ -13,61 +13,6 @@ namespace softpack::bodies
 {
 using namespace dolfinx;
 
-namespace
-{
-/// Twice the signed area of triangle (a, b, c).
-double signed_area2(std::span<const double> x, std::int32_t a, std::int32_t b,
-                    std::int32_t c)
-{
-  return (x[2 * b] - x[2 * a]) * (x[2 * c + 1] - x[2 * a + 1]) -
-         (x[2 * b + 1] - x[2 * a + 1]) * (x[2 * c] - x[2 * a]);
-}
-
-/// The body's reference area, boundary segments and boundary nodes
-/// (body-local numbers)
-void trace_boundary(Body& body, const fem::DofMap& dofmap,
-                    std::span<const std::int32_t> node_local,
-                    std::span<const double> x)
-{
-  // An edge on the boundary belongs to one cell only; orienting each
-  // cell's edges counter-clockwise orients boundary edges outward-right.
-  std::unordered_map<std::int64_t, std::pair<int, std::array<std::int32_t, 2>>>
-      edges;
-  const std::int64_t n = body.nodes.size();
-  for (std::int32_t c : body.cells)
-  {
-    auto d = dofmap.cell_dofs(c);
-    std::array<std::int32_t, 3> v = {node_local[d[0]], node_local[d[1]],
-                                     node_local[d[2]]};
-    const double a2 = signed_area2(x, d[0], d[1], d[2]);
-    if (a2 < 0)
-      std::swap(v[1], v[2]);
-    body.reference_area += 0.5 * std::abs(a2);
-    for (int e = 0; e < 3; ++e)
-    {
-      const std::int32_t p = v[e], q = v[(e + 1) % 3];
-      auto& [count, edge] = edges[std::min(p, q) * n + std::max(p, q)];
-      ++count;
-      edge = {p, q};
-    }
-  }
-  for (const auto& [key, entry] : edges)
-    if (entry.first == 1)
-      body.boundary_segments.push_back(entry.second);
-  std::sort(body.boundary_segments.begin(), body.boundary_segments.end());
-  body.segment_from.assign(body.nodes.size(), -1);
-  body.segment_to.assign(body.nodes.size(), -1);
-  for (std::size_t k = 0; k < body.boundary_segments.size(); ++k)
-  {
-    const auto& s = body.boundary_segments[k];
-    body.boundary_nodes.push_back(s[0]);
-    body.segment_from[s[0]] = static_cast<std::int32_t>(k);
-    body.segment_to[s[1]] = static_cast<std::int32_t>(k);
-  }
-  std::sort(body.boundary_nodes.begin(), body.boundary_nodes.end());
-}
-} // namespace
-
 BodySet::BodySet(BodyMesh mesh, const forms::MaterialForms& material,
                  const std::map<std::string, double>& parameters,
                  double density)
@@ -76,18 +21,35 @@ BodySet::BodySet(BodyMesh mesh, const forms::MaterialForms& material,
 {
 }
 
+namespace
+{
+/// The first material's space function (every material's space is P1
+/// vectors: any one numbers the nodes alike)
+auto first_space(const std::vector<BodyMaterial>& materials)
+{
+  if (materials.empty())
+    throw std::invalid_argument("BodySet: no material");
+  return materials.front().law->function_space;
+}
+} // namespace
+
 BodySet::BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
                  std::vector<int> body_material)
-    : _cell_body(std::move(mesh.cell_body)), _materials(std::move(materials)),
-      _body_material(std::move(body_material))
+    : BodySet(body_geometry(mesh, first_space(materials)), materials,
+              std::move(body_material))
+{
+}
+
+BodySet::BodySet(BodyGeometry geometry, std::vector<BodyMaterial> materials,
+                 std::vector<int> body_material)
+    : _materials(std::move(materials)), _body_material(std::move(body_material))
 {
   if (_materials.empty())
     throw std::invalid_argument("BodySet: no material");
-  // The space and mesh live until the constructor returns (see the class).
-  const auto V =
-      std::make_shared<const fem::FunctionSpace>(fem::create_functionspace(
-          _materials.front().law->function_space, "v", mesh.mesh));
-  build_bodies(*V);
+  _bodies = build_bodies(geometry);
+  _cell_body = std::move(geometry.cell_body);
+  _reference_x = std::move(geometry.x);
+  _num_global_nodes = _reference_x.size() / 2;
   if (_body_material.empty())
     _body_material.assign(_bodies.size(), 0);
   if (_body_material.size() != _bodies.size())
@@ -99,14 +61,23 @@ BodySet::BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
       throw std::invalid_argument("BodySet: body material " +
                                   std::to_string(k) + " out of range");
   _u.assign(_reference_x.size(), 0.0);
-  build_assembly(V);
+  build_assembly();
   build_mass();
 }
 
-void BodySet::build_assembly(const std::shared_ptr<const fem::FunctionSpace>& V)
+void BodySet::build_assembly()
 {
   // The forms of each material in use lend their kernels and constants to
-  // the body assembly, and go with the space: nothing else reads them.
+  // the body assembly, and go with the space: nothing else reads them. A
+  // kernel reads one cell's coordinates and displacement, which the
+  // assembly passes: one triangle's mesh carries the forms.
+  const double x[] = {0, 0, 1, 0, 0, 1};
+  const std::int64_t cell[] = {0, 1, 2};
+  const int body[] = {0};
+  const auto V =
+      std::make_shared<const fem::FunctionSpace>(fem::create_functionspace(
+          _materials.front().law->function_space, "v",
+          create_body_mesh(MPI_COMM_SELF, x, cell, body).mesh));
   const auto u = std::make_shared<const fem::Function<double>>(V);
   const std::vector<std::shared_ptr<const fem::FunctionSpace>> none,
       v = {V}, vv = {V, V};
@@ -140,101 +111,6 @@ void BodySet::build_assembly(const std::shared_ptr<const fem::FunctionSpace>& V)
 
 BodySet::BodySet(BodySet&&) noexcept = default;
 BodySet::~BodySet() = default;
-
-void BodySet::build_bodies(const fem::FunctionSpace& V)
-{
-  const fem::DofMap& dofmap = *V.dofmap();
-  const std::int32_t num_nodes =
-      dofmap.index_map->size_local() + dofmap.index_map->num_ghosts();
-  const std::vector<double> dof_x = V.tabulate_dof_coordinates(false);
-  _reference_x.resize(2 * num_nodes);
-  for (std::int32_t i = 0; i < num_nodes; ++i)
-  {
-    _reference_x[2 * i] = dof_x[3 * i];
-    _reference_x[2 * i + 1] = dof_x[3 * i + 1];
-  }
-
-  const int num_bodies =
-      _cell_body.empty()
-          ? 0
-          : *std::max_element(_cell_body.begin(), _cell_body.end()) + 1;
-  _bodies.assign(num_bodies, Body{});
-  // Body and local number of each global node (for the bodies' lists)
-  std::vector<std::int32_t> node_body(num_nodes, -1), node_local(num_nodes, -1);
-  for (std::int32_t c = 0; c < static_cast<std::int32_t>(_cell_body.size());
-       ++c)
-  {
-    const int b = _cell_body[c];
-    _bodies[b].cells.push_back(c);
-    for (std::int32_t node : dofmap.cell_dofs(c))
-    {
-      if (node_body[node] != -1 && node_body[node] != b)
-        throw std::runtime_error("bodies " + std::to_string(b) + " and " +
-                                 std::to_string(node_body[node]) +
-                                 " share a node: bodies must be disjoint");
-      node_body[node] = b;
-    }
-  }
-  for (int b = 0; b < num_bodies; ++b)
-    if (_bodies[b].cells.empty())
-      throw std::runtime_error("body " + std::to_string(b) + " has no cells");
-
-  // Local numbering: increasing global node index within each body.
-  for (std::int32_t node = 0; node < num_nodes; ++node)
-  {
-    if (node_body[node] < 0)
-      continue;
-    Body& body = _bodies[node_body[node]];
-    node_local[node] = static_cast<std::int32_t>(body.nodes.size());
-    body.nodes.push_back(node);
-  }
-  for (Body& body : _bodies)
-    body.global_nodes = body.nodes;
-  _num_global_nodes = num_nodes;
-
-  rank_input_order(V);
-  for (Body& body : _bodies)
-  {
-    trace_boundary(body, dofmap, node_local, _reference_x);
-    body.cell_nodes.reserve(body.cells.size());
-    for (std::int32_t c : body.cells)
-    {
-      auto d = dofmap.cell_dofs(c);
-      body.cell_nodes.push_back(
-          {node_local[d[0]], node_local[d[1]], node_local[d[2]]});
-    }
-  }
-}
-
-void BodySet::rank_input_order(const fem::FunctionSpace& V)
-{
-  // A P1 cell lists its DOF blocks as its geometry nodes (both follow the
-  // reference cell's vertices), which carry the input file's indices.
-  const fem::DofMap& dofmap = *V.dofmap();
-  const mesh::Geometry& geometry = V.mesh()->geometry();
-  const std::vector<std::int64_t>& input = geometry.input_global_indices();
-  std::vector<std::int64_t> node_input(_reference_x.size() / 2, -1);
-  for (std::int32_t c = 0; c < static_cast<std::int32_t>(_cell_body.size());
-       ++c)
-  {
-    auto dofs = dofmap.cell_dofs(c);
-    auto x = geometry.dofmap().links(c);
-    for (std::size_t i = 0; i < dofs.size(); ++i)
-      node_input[dofs[i]] = input[x[i]];
-  }
-  for (Body& body : _bodies)
-  {
-    std::vector<std::int32_t> order(body.nodes.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(),
-              [&](std::int32_t a, std::int32_t b) {
-                return node_input[body.nodes[a]] < node_input[body.nodes[b]];
-              });
-    body.input_rank.assign(order.size(), 0);
-    for (std::size_t r = 0; r < order.size(); ++r)
-      body.input_rank[order[r]] = static_cast<std::int32_t>(r);
-  }
-}
 
 std::vector<double> BodySet::current_coordinates() const
 {

@@ -1,10 +1,10 @@
 #pragma once
 
+#include "body_geometry.h"
 #include "body_materials.h"
 #include "body_mesh.h"
 #include <Eigen/SparseCore>
 #include <array>
-#include <dolfinx/fem/FunctionSpace.h>
 #include <map>
 #include <material_registry.h>
 #include <memory>
@@ -38,46 +38,9 @@ inline Eigen::VectorXd symmetric_product(const BodyMatrix& A,
   return A.selfadjointView<Eigen::Lower>() * v;
 }
 
-/// One deformable body: its nodes, cells and boundary, as indices into the
-/// global arrays of its BodySet.
-struct Body
-{
-  /// Index of each local node in the BodySet's node vectors (its storage:
-  /// the global node index, but on a rank of a distributed run that keeps
-  /// its own bodies' entries only, BodySet::keep_storage)
-  std::vector<std::int32_t> nodes;
-  /// Global node (DOF block) index of each local node: the mesh's, the
-  /// state file's and fields.h5's numbering
-  std::vector<std::int32_t> global_nodes;
-  /// Cells of the body (dolfinx local cell indices, increasing)
-  std::vector<std::int32_t> cells;
-  /// The same cells as their three local nodes, in the order dolfinx lists
-  /// a cell's DOFs: what the body assembly reads (body_assembly.h)
-  std::vector<std::array<std::int32_t, 3>> cell_nodes;
-  /// Local indices of the nodes on the boundary (sorted)
-  std::vector<std::int32_t> boundary_nodes;
-  /// Boundary segments as pairs of local node indices, oriented
-  /// counter-clockwise (the body lies on the left of a -> b), so that the
-  /// outward normal is the tangent rotated clockwise
-  std::vector<std::array<std::int32_t, 2>> boundary_segments;
-  /// For each local node: index in boundary_segments of the segment that
-  /// starts at it and of the one that ends at it (-1 off the boundary)
-  std::vector<std::int32_t> segment_from, segment_to;
-  /// Area of the body in the reference configuration
-  double reference_area = 0;
-  /// For each local node, its rank within the body in the input mesh
-  /// file's node order. Bodies copied from one template mesh list their
-  /// nodes alike in that file, so in this order their matrices have one
-  /// sparsity pattern (which lets them share a symbolic factorization),
-  /// whatever order dolfinx gave the nodes.
-  std::vector<std::int32_t> input_rank;
-
-  /// Number of scalar DOFs of the body (2 per node)
-  int num_dofs() const { return 2 * static_cast<int>(nodes.size()); }
-};
-
-/// All deformable bodies of a simulation, read from one dolfinx mesh, with
-/// per-body DOF blocks; each body is made of one of the set's materials.
+/// All deformable bodies of a simulation, built from the arrays of one
+/// mesh (BodyGeometry), with per-body DOF blocks; each body is made of one
+/// of the set's materials.
 ///
 /// State is kept in one displacement vector of node entries (dolfinx's DOF
 /// ordering of the mesh, two interleaved components per node; on a rank
@@ -85,11 +48,11 @@ struct Body
 /// quantity is gathered from it through Body::nodes. Bodies never share a
 /// node, so every operator is block-diagonal by body.
 ///
-/// The mesh, its function spaces and the forms serve the construction
-/// only (the bodies' cells, nodes and boundaries, the DOF coordinates, the
-/// forms' kernels) and are dropped: every later computation runs the
-/// kernels over Body::cell_nodes (BodyAssembly), so a run holds no whole
-/// dolfinx mesh (a rank of a distributed run, only what its bodies need).
+/// No dolfinx mesh is kept: the bodies' cells, nodes and boundaries come
+/// from the geometry's arrays (read from a mesh by rank 0 of a distributed
+/// run alone, parallel::broadcast_geometry), and the forms, made on a
+/// one-triangle mesh, lend their kernels only: every computation runs the
+/// kernels over Body::cell_nodes (BodyAssembly).
 class BodySet
 {
 public:
@@ -105,6 +68,10 @@ public:
   /// kernels.
   /// @throws std::invalid_argument naming the material (BodyMaterial::name)
   /// and key at fault, or a body_material of the wrong size or range
+  BodySet(BodyGeometry geometry, std::vector<BodyMaterial> materials,
+          std::vector<int> body_material);
+  /// The same from a mesh (numbered by the first material's space,
+  /// body_geometry)
   BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
           std::vector<int> body_material);
   BodySet(BodySet&&) noexcept;
@@ -250,13 +217,10 @@ public:
   void set_owned(std::vector<char> owned);
 
 private:
-  /// The body assembly, from the per-body forms of each material in use,
-  /// made on the displacement's space V and dropped
-  void
-  build_assembly(const std::shared_ptr<const dolfinx::fem::FunctionSpace>& V);
-  void build_bodies(const dolfinx::fem::FunctionSpace& V);
-  /// Fill each Body::input_rank
-  void rank_input_order(const dolfinx::fem::FunctionSpace& V);
+  /// The body assembly, from the per-body forms of each material in use
+  /// (made on a one-triangle mesh and dropped: their kernels and constants
+  /// are what it keeps)
+  void build_assembly();
   void build_mass();
   /// Strain energy of the flagged bodies' cells and of the flagged bodies
   /// (all when empty), the others' zero

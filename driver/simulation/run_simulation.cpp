@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <bodies/BodySet.h>
-#include <bodies/body_mesh.h>
+#include <bodies/body_geometry.h>
 #include <bodies/stress_average.h>
 #include <chrono>
 #include <contact/fclib_io.h>
@@ -14,6 +14,7 @@
 #include <io/state_file.h>
 #include <material_registry.h>
 #include <numeric>
+#include <parallel/geometry_broadcast.h>
 #include <simulation/overlap_check.h>
 #include <simulation/stages.h>
 #include <sys/resource.h>
@@ -94,29 +95,35 @@ void write_unsolved_problem(const std::filesystem::path& raw, long step,
                         r.unsolved_start);
 }
 
-/// The bodies of driver.json's mesh and materials; errors in a material
-/// name driver.json and the key (material.parameters.KEY,
-/// materials[0].parameters.KEY).
+int rank_of(MPI_Comm comm)
+{
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  return rank;
+}
+
+/// The bodies of driver.json's mesh and materials (a collective: rank 0
+/// alone reads the mesh and sends its arrays to the others,
+/// parallel::broadcast_geometry); errors in a material name driver.json and
+/// the key (material.parameters.KEY, materials[0].parameters.KEY).
 bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
 {
-  bodies::BodyMesh mesh = bodies::read_body_mesh(comm, config.mesh);
-  io::check_body_count(config, mesh.num_bodies);
+  bodies::BodyGeometry geometry;
+  if (rank_of(comm) == 0)
+    geometry = bodies::read_body_geometry(
+        config.mesh,
+        config.body_materials.materials.front().law->function_space);
+  parallel::broadcast_geometry(comm, geometry);
+  io::check_body_count(config, geometry.num_bodies());
   try
   {
-    return bodies::BodySet(std::move(mesh), config.body_materials.materials,
+    return bodies::BodySet(std::move(geometry), config.body_materials.materials,
                            config.body_materials.body_material);
   }
   catch (const std::invalid_argument& e)
   {
     throw std::runtime_error(config.file.string() + ": " + e.what());
   }
-}
-
-int rank_of(MPI_Comm comm)
-{
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  return rank;
 }
 
 /// Per rank (a collective: every rank calls it): its bodies, the bytes it
@@ -172,13 +179,13 @@ std::string stop_reason(const io::DriverConfig& config,
 class Run
 {
 public:
-  /// Every rank reads every body's mesh (on its own MPI_COMM_SELF), then
+  /// Rank 0 reads the mesh and sends its arrays to every rank; a rank then
   /// keeps and computes its own bodies and every boundary
   /// (parallel::Ownership); rank 0 alone writes.
   Run(MPI_Comm comm, const io::DriverConfig& config, bool quiet)
       : _config(config), _p(config.parameters),
         _raw_dir(config.directory / "raw"), _root(rank_of(comm) == 0),
-        _quiet(quiet || !_root), _bodies(make_bodies(MPI_COMM_SELF, config)),
+        _quiet(quiet || !_root), _bodies(make_bodies(comm, config)),
         // The state's identity and fields.h5's mesh from every node, before
         // a rank keeps its own bodies' interiors only
         _identity(io::state_identity(_bodies, config.walls)),

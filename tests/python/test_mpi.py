@@ -243,6 +243,29 @@ def test_a_failing_rank_stops_all_and_nothing_looks_complete(runs, tmp_path):
     assert not (out / "series.csv").exists()
 
 
+def test_a_mesh_rank_0_cannot_read_stops_every_rank(runs, tmp_path):
+    # Rank 0 alone reads the mesh while the others wait for its arrays
+    # (parallel::broadcast_geometry): its error must reach the user and
+    # stop them, not leave them waiting.
+    from softpack.simulation import driver
+    doc = json.loads((runs[2] / "driver.json").read_text())
+    doc["directory"] = str(tmp_path)
+    doc["scene"]["bodies"]["mesh"] = str(tmp_path / "missing.xdmf")
+    (tmp_path / "driver.json").write_text(json.dumps(doc))
+    with open(tmp_path / "run.log", "w") as log:
+        proc = driver.start(tmp_path / "driver.json", log, quiet=True, ranks=2)
+        try:
+            proc.wait(timeout=120)
+        except subprocess.TimeoutExpired:
+            driver.stop(proc)
+            pytest.fail("the other ranks kept waiting for rank 0's mesh")
+    assert proc.returncode == 1
+    text = (tmp_path / "run.log").read_text()
+    assert f"rank 0 of 2: mesh file {tmp_path / 'missing.xdmf'} does not exist" \
+        in text
+    assert not (tmp_path / "raw" / "done.json").exists()
+
+
 def test_a_state_restarts_on_another_number_of_ranks(runs, tmp_path):
     """The 1-rank run's last state continued on 2 ranks is the same run as
     continued on 1 rank: the state file is global."""
