@@ -183,6 +183,7 @@ BodySet::strain_energy_by_body(std::span<const char> only) const
 
 std::vector<std::array<std::int32_t, 3>> BodySet::cell_global_nodes() const
 {
+  require_every_cell("cell_global_nodes");
   std::vector<std::array<std::int32_t, 3>> nodes(_cell_body.size());
   for (const Body& body : _bodies)
     for (std::size_t k = 0; k < body.cells.size(); ++k)
@@ -193,6 +194,7 @@ std::vector<std::array<std::int32_t, 3>> BodySet::cell_global_nodes() const
 
 std::vector<double> BodySet::cell_reference_area() const
 {
+  require_every_cell("cell_reference_area");
   std::vector<double> area(_cell_body.size());
   for (const Body& body : _bodies)
     for (std::size_t k = 0; k < body.cells.size(); ++k)

@@ -188,7 +188,7 @@ public:
   std::vector<double> owned_body_strain_energy() const;
 
   /// Reference area of each cell (NaN for a cell whose nodes are not
-  /// stored, keep_storage)
+  /// stored, keep_storage). Before set_owned only (every body's cells).
   std::vector<double> cell_reference_area() const;
 
   /// Current (deformed) area of each body, \f$\int \det F\,dX\f$,
@@ -199,7 +199,8 @@ public:
   const std::vector<int>& cell_body() const { return _cell_body; }
 
   /// Each cell's three nodes (global node indices), cells numbered as
-  /// Body::cells: the mesh, for outputs
+  /// Body::cells: the mesh, for outputs. Before set_owned only (every
+  /// body's cells).
   std::vector<std::array<std::int32_t, 3>> cell_global_nodes() const;
 
   /// Whether body b is one of the owned bodies (set_owned; every body
@@ -209,12 +210,22 @@ public:
   /// Restrict the per-body work of owned_internal_force and tangent to the
   /// bodies whose entry is nonzero (the bodies a rank of a distributed run
   /// owns, parallel::Ownership); the others' entries are left zero. The
-  /// masses (consistent and lumped) of the bodies kept_masses leaves out
-  /// are freed.
-  /// internal_force, body_strain_energy and areas still cover every body.
-  /// May be called again (a rebalanced run) with other flags.
+  /// masses (consistent and lumped) and the cell lists (Body::cells,
+  /// cell_nodes, input_rank) of the bodies kept_masses leaves out are
+  /// freed; internal_force and body_strain_energy then cover the bodies
+  /// whose cells are kept, areas every body. May be called again (a
+  /// rebalanced run) with other flags: a body that comes to this rank must
+  /// have been given its cell lists first (take_cell_lists).
   /// @throws std::invalid_argument if the size is not the number of bodies
+  /// @throws std::logic_error if a body kept now has no cell lists
   void set_owned(std::vector<char> owned);
+
+  /// Body b's cells, their nodes and its input order as one list: what a
+  /// rebalance sends with a body to its new owner (Ownership::move_to)
+  std::vector<std::int32_t> cell_lists(int b) const;
+  /// Give body b the cell lists written by cell_lists at the start of
+  /// `in`; returns how many entries it read
+  std::size_t take_cell_lists(int b, std::span<const std::int32_t> in);
 
 private:
   /// The body assembly, from the per-body forms of each material in use
@@ -229,6 +240,11 @@ private:
   /// Free the masses (consistent and lumped) of the bodies not flagged;
   /// assemble those flagged whose masses were freed before
   void keep_masses(std::span<const char> kept);
+  /// Free the cell lists of the bodies not flagged
+  void keep_cell_lists(std::span<const char> kept);
+  /// Throw unless every body's cell lists are here (what the per-cell
+  /// outputs of the whole mesh read)
+  void require_every_cell(const char* what) const;
 
   std::vector<int> _cell_body;
   std::vector<BodyMaterial> _materials;

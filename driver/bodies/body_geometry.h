@@ -25,7 +25,9 @@ struct Body
   /// state file's and fields.h5's numbering
   std::vector<std::int32_t> global_nodes;
   /// Cells of the body (indices into BodyGeometry::cells, the mesh's cell
-  /// order; increasing)
+  /// order; increasing). This, cell_nodes and input_rank are empty on a
+  /// rank of a distributed run that keeps neither the body nor its mass
+  /// (BodySet::set_owned).
   std::vector<std::int32_t> cells;
   /// The same cells as their three local nodes, in the order dolfinx lists
   /// a cell's DOFs: what the body assembly reads (body_assembly.h)

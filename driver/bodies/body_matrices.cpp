@@ -60,7 +60,9 @@ void BodySet::set_owned(std::vector<char> owned)
     throw std::invalid_argument(
         "BodySet::set_owned: " + std::to_string(owned.size()) + " flags for " +
         std::to_string(_bodies.size()) + " bodies");
-  keep_masses(kept_masses(owned));
+  const std::vector<char> kept = kept_masses(owned);
+  keep_masses(kept);
+  keep_cell_lists(kept);
   _owned = std::move(owned);
 }
 
@@ -76,11 +78,22 @@ std::vector<char> BodySet::kept_masses(std::span<const char> owned) const
 void BodySet::keep_masses(std::span<const char> kept)
 {
   // A body that was not kept has an empty matrix (every kept one has
-  // entries: its diagonal).
+  // entries: its diagonal). Those that came to this rank (a rebalanced
+  // run) are assembled again, over the cells they brought: checked
+  // before anything is freed.
   std::vector<char> missing(_bodies.size(), 0);
   bool any = false;
   for (std::size_t b = 0; b < _bodies.size(); ++b)
-  {
+    if (kept[b] && _mass[b].nonZeros() == 0)
+    {
+      if (_bodies[b].cells.empty())
+        throw std::logic_error("BodySet::set_owned: body " + std::to_string(b) +
+                               " came to this rank without its cells "
+                               "(take_cell_lists)");
+      missing[b] = 1;
+      any = true;
+    }
+  for (std::size_t b = 0; b < _bodies.size(); ++b)
     if (!kept[b])
     {
       // Swapped out, not assigned: Eigen 3.4's sparse assignment keeps
@@ -89,16 +102,8 @@ void BodySet::keep_masses(std::span<const char> kept)
       _mass[b].swap(empty);
       Eigen::VectorXd().swap(_lumped_mass[b]);
     }
-    else if (_mass[b].nonZeros() == 0)
-    {
-      missing[b] = 1;
-      any = true;
-    }
-  }
   if (!any)
     return;
-  // Bodies that came to this rank (a rebalanced run): their masses are
-  // assembled again.
   std::vector<BodyMatrix> fresh = create_matrices(missing);
   _assembly->mass(fresh, _bodies, _reference_x, missing);
   std::vector<Eigen::VectorXd> lumped =
@@ -109,6 +114,61 @@ void BodySet::keep_masses(std::span<const char> kept)
       _mass[b].swap(fresh[b]); // no copy (Eigen 3.4 has no sparse move)
       _lumped_mass[b].swap(lumped[b]);
     }
+}
+
+void BodySet::keep_cell_lists(std::span<const char> kept)
+{
+  for (std::size_t b = 0; b < _bodies.size(); ++b)
+    if (!kept[b])
+    {
+      Body& body = _bodies[b];
+      std::vector<std::int32_t>().swap(body.cells);
+      std::vector<std::array<std::int32_t, 3>>().swap(body.cell_nodes);
+      std::vector<std::int32_t>().swap(body.input_rank);
+    }
+}
+
+std::vector<std::int32_t> BodySet::cell_lists(int b) const
+{
+  const Body& body = _bodies[b];
+  std::vector<std::int32_t> out;
+  out.reserve(1 + 4 * body.cells.size() + body.input_rank.size());
+  out.push_back(static_cast<std::int32_t>(body.cells.size()));
+  out.insert(out.end(), body.cells.begin(), body.cells.end());
+  for (const std::array<std::int32_t, 3>& cell : body.cell_nodes)
+    out.insert(out.end(), cell.begin(), cell.end());
+  out.insert(out.end(), body.input_rank.begin(), body.input_rank.end());
+  return out;
+}
+
+std::size_t BodySet::take_cell_lists(int b, std::span<const std::int32_t> in)
+{
+  Body& body = _bodies[b];
+  const std::size_t nc = in.empty() ? 0 : in[0];
+  const std::size_t n = 1 + 4 * nc + body.nodes.size();
+  if (in.size() < n)
+    throw std::invalid_argument("BodySet::take_cell_lists: body " +
+                                std::to_string(b) + " needs " +
+                                std::to_string(n) + " entries, " +
+                                std::to_string(in.size()) + " given");
+  auto at = in.begin() + 1;
+  body.cells.assign(at, at + nc);
+  at += nc;
+  body.cell_nodes.resize(nc);
+  for (std::array<std::int32_t, 3>& cell : body.cell_nodes)
+    for (std::int32_t& node : cell)
+      node = *at++;
+  body.input_rank.assign(at, at + body.nodes.size());
+  return n;
+}
+
+void BodySet::require_every_cell(const char* what) const
+{
+  for (std::size_t b = 0; b < _bodies.size(); ++b)
+    if (_bodies[b].cells.empty())
+      throw std::logic_error(std::string("BodySet::") + what + ": body " +
+                             std::to_string(b) +
+                             "'s cells are another rank's (set_owned)");
 }
 
 } // namespace softpack::bodies

@@ -79,10 +79,13 @@ BodyFactors::BodyFactors(const bodies::BodySet& bodies,
   std::multimap<std::uint64_t, std::pair<int, bodies::BodyMatrix>> seen;
   for (int b = 0; b < bodies.num_bodies(); ++b)
   {
-    const Permutation to_input = input_order(bodies.body(b));
-    _perm[b] = to_input;
     if (!owned.empty() && !owned[b])
+    {
+      // Its size only (rows): the input order is its owner's
+      _perm[b].setIdentity(bodies.body(b).num_dofs());
       continue;
+    }
+    const Permutation to_input = input_order(bodies.body(b));
     bodies::BodyMatrix canonical = permuted(patterns[b], to_input);
     const std::uint64_t h = pattern_hash(canonical);
     int g = -1;

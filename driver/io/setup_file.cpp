@@ -25,12 +25,15 @@ json walls_json(const DriverConfig& config)
 
 json bodies_json(const DriverConfig& config, const bodies::BodySet& bodies)
 {
-  json area = json::array(), nodes = json::array(), triangles = json::array();
+  json area = json::array(), nodes = json::array();
+  // From the cells' bodies: a rank keeps its own bodies' cell lists only
+  std::vector<long> triangles(bodies.num_bodies(), 0);
+  for (int b : bodies.cell_body())
+    ++triangles[b];
   for (int b = 0; b < bodies.num_bodies(); ++b)
   {
     area.push_back(bodies.body(b).reference_area);
     nodes.push_back(bodies.body(b).nodes.size());
-    triangles.push_back(bodies.body(b).cells.size());
   }
   return {{"count", bodies.num_bodies()},
           {"species", config.body_species},

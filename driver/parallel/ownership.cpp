@@ -179,12 +179,25 @@ void Ownership::move_to(std::vector<int> split, bodies::BodySet& bodies,
           visit(v[2 * node + c]);
   };
   const int nb = bodies.num_bodies();
+  // With them, their cell lists (a rigid body's are on every rank)
+  auto leaving = [&](int b)
+  { return _body_rank[b] == _rank && split[b] != _rank; };
   std::vector<std::vector<double>> to_rank(_size);
+  std::vector<std::vector<std::int32_t>> lists_to_rank(_size);
   for (int b = 0; b < nb; ++b)
-    if (_body_rank[b] == _rank && split[b] != _rank)
+    if (leaving(b))
+    {
       entries(b, [&](double x) { to_rank[split[b]].push_back(x); });
+      if (!bodies.rigid(b))
+      {
+        const std::vector<std::int32_t> lists = bodies.cell_lists(b);
+        std::vector<std::int32_t>& out = lists_to_rank[split[b]];
+        out.insert(out.end(), lists.begin(), lists.end());
+      }
+    }
   // Received in the senders' rank order, each sender's bodies in order
   const std::vector<double> in = exchange_items(to_rank);
+  const std::vector<std::int32_t> lists_in = exchange_items(lists_to_rank);
   const std::vector<int> before = _body_rank;
   for (int b = 0; b < nb; ++b)
     _moved += split[b] != before[b];
@@ -193,15 +206,20 @@ void Ownership::move_to(std::vector<int> split, bodies::BodySet& bodies,
   for (std::vector<double>* v : vectors)
     if (!v->empty())
       bodies.remap(*v);
-  std::size_t k = 0;
+  std::size_t k = 0, l = 0;
   for (int r = 0; r < _size; ++r)
     for (int b = 0; b < nb; ++b)
       if (before[b] == r && r != _rank && _body_rank[b] == _rank)
+      {
         entries(b, [&](double& x) { x = in[k++]; });
-  if (k != in.size())
+        if (!bodies.rigid(b))
+          l += bodies.take_cell_lists(b, std::span(lists_in).subspan(l));
+      }
+  if (k != in.size() || l != lists_in.size())
     throw std::logic_error("Ownership::move_to: " + std::to_string(in.size()) +
-                           " entries received, " + std::to_string(k) +
-                           " expected");
+                           " entries and " + std::to_string(lists_in.size()) +
+                           " list entries received, " + std::to_string(k) +
+                           " and " + std::to_string(l) + " expected");
   // The arriving bodies' masses from their reference coordinates, now here
   bodies.set_owned(_owned);
 }

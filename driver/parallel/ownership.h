@@ -63,8 +63,9 @@ public:
   /// Give the bodies to the ranks of a drifted_split (counted as a
   /// rebalance): each body that changes rank sends its entries of the
   /// displacement, the reference coordinates and the given node vectors
-  /// (the empty ones skipped) from its old owner to its new one (one
-  /// all-to-all: its interior is its old owner's only); `bodies` is
+  /// (the empty ones skipped), and its cell lists (BodySet::cell_lists),
+  /// from its old owner to its new one (two all-to-alls: its interior and
+  /// cells are its old owner's only); `bodies` is
   /// restricted to this rank's (BodySet::set_owned) and its storage to
   /// them (BodySet::keep_storage), and the given vectors remapped to it.
   void move_to(std::vector<int> split, bodies::BodySet& bodies,

@@ -187,16 +187,31 @@ TEST(BodySet, ARankKeepsTheMassesOfItsOwnBodies)
   bodies::BodySet bodies = two_disks();
   const std::vector<bodies::BodyMatrix> all = bodies.consistent_mass();
   const std::vector<Eigen::VectorXd> lumped = bodies.lumped_mass();
+  const bodies::Body whole = bodies.body(1);
+  const std::vector<std::int32_t> lists = bodies.cell_lists(1);
   bodies.set_owned({1, 0});
+  // Body 1's cells are its owner's now (Ownership::move_to brings them)
+  EXPECT_TRUE(bodies.body(1).cells.empty());
+  EXPECT_TRUE(bodies.body(1).cell_nodes.empty());
+  EXPECT_TRUE(bodies.body(1).input_rank.empty());
+  EXPECT_EQ(bodies.body(1).boundary_segments, whole.boundary_segments);
+  EXPECT_THROW(bodies.set_owned({0, 1}), std::logic_error);
+  EXPECT_THROW(bodies.cell_reference_area(), std::logic_error);
   EXPECT_EQ(bodies.lumped_mass()[1].size(), 0);
   EXPECT_EQ(bodies.consistent_mass()[1].nonZeros(), 0);
   // ... and its storage is released (an empty sparse matrix can keep it).
   EXPECT_EQ(bodies.consistent_mass()[1].data().allocatedSize(), 0);
   EXPECT_EQ(bodies.consistent_mass()[1].rows(), all[1].rows());
   EXPECT_EQ(Eigen::MatrixXd(bodies.consistent_mass()[0] - all[0]).norm(), 0.0);
-  // Body 1 comes to this rank (a rebalanced run), body 0 leaves: body 1's
-  // mass is assembled again, over its own cells, to the last bit.
+  // Body 1 comes to this rank (a rebalanced run) with its cells, body 0
+  // leaves: body 1's mass is assembled again, over its own cells, to the
+  // last bit.
+  EXPECT_EQ(bodies.take_cell_lists(1, lists), lists.size());
+  EXPECT_EQ(bodies.body(1).cells, whole.cells);
+  EXPECT_EQ(bodies.body(1).cell_nodes, whole.cell_nodes);
+  EXPECT_EQ(bodies.body(1).input_rank, whole.input_rank);
   bodies.set_owned({0, 1});
+  EXPECT_TRUE(bodies.body(0).cells.empty());
   EXPECT_EQ(bodies.consistent_mass()[0].nonZeros(), 0);
   EXPECT_EQ(bodies.consistent_mass()[0].data().allocatedSize(), 0);
   const bodies::BodyMatrix& M = bodies.consistent_mass()[1];
