@@ -41,7 +41,7 @@ BodySet::BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
 }
 
 BodySet::BodySet(BodyGeometry geometry, std::vector<BodyMaterial> materials,
-                 std::vector<int> body_material)
+                 std::vector<int> body_material, bool masses)
     : _materials(std::move(materials)), _body_material(std::move(body_material))
 {
   if (_materials.empty())
@@ -62,7 +62,7 @@ BodySet::BodySet(BodyGeometry geometry, std::vector<BodyMaterial> materials,
                                   std::to_string(k) + " out of range");
   _u.assign(_reference_x.size(), 0.0);
   build_assembly();
-  build_mass();
+  build_mass(masses);
 }
 
 void BodySet::build_assembly()

@@ -66,10 +66,13 @@ public:
   /// Bodies of several materials: body b is made of
   /// materials[body_material[b]]: each body's cells run its material's
   /// kernels.
+  /// @param[in] masses Assemble every body's masses now; false: none until
+  /// set_owned assembles those a rank keeps (a distributed run's ranks,
+  /// which would hold every body's for a moment otherwise)
   /// @throws std::invalid_argument naming the material (BodyMaterial::name)
   /// and key at fault, or a body_material of the wrong size or range
   BodySet(BodyGeometry geometry, std::vector<BodyMaterial> materials,
-          std::vector<int> body_material);
+          std::vector<int> body_material, bool masses = true);
   /// The same from a mesh (numbered by the first material's space,
   /// body_geometry)
   BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
@@ -232,7 +235,8 @@ private:
   /// (made on a one-triangle mesh and dropped: their kernels and constants
   /// are what it keeps)
   void build_assembly();
-  void build_mass();
+  /// Every body's masses (all = false: empty ones, of each body's size)
+  void build_mass(bool all);
   /// Strain energy of the flagged bodies' cells and of the flagged bodies
   /// (all when empty), the others' zero
   std::vector<double> strain_energy_by_cell(std::span<const char> only) const;

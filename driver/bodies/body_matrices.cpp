@@ -47,8 +47,14 @@ void BodySet::tangent(std::vector<BodyMatrix>& K) const
   _assembly->tangent(K, _bodies, _reference_x, _u, _owned);
 }
 
-void BodySet::build_mass()
+void BodySet::build_mass(bool all)
 {
+  if (!all)
+  {
+    _mass = create_matrices(std::vector<char>(_bodies.size(), 0));
+    _lumped_mass.assign(_bodies.size(), Eigen::VectorXd());
+    return;
+  }
   _mass = create_matrices();
   _assembly->mass(_mass, _bodies, _reference_x);
   _lumped_mass = _assembly->lumped_mass(_bodies, _reference_x);

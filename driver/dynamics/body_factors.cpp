@@ -71,20 +71,17 @@ bool same_pattern(const bodies::BodyMatrix& A, const bodies::BodyMatrix& B)
 BodyFactors::BodyFactors(const bodies::BodySet& bodies,
                          const std::vector<bodies::BodyMatrix>& patterns,
                          std::span<const char> owned)
-    : _patterns(&patterns), _pattern_of(bodies.num_bodies(), -1),
-      _perm(bodies.num_bodies()), _values(bodies.num_bodies()),
-      _inverse_d(bodies.num_bodies())
+    : _patterns(&patterns), _rows(bodies.num_bodies(), 0),
+      _pattern_of(bodies.num_bodies(), -1), _perm(bodies.num_bodies()),
+      _values(bodies.num_bodies()), _inverse_d(bodies.num_bodies())
 {
   // Patterns met so far, by hash: (symbolic index, its canonical matrix)
   std::multimap<std::uint64_t, std::pair<int, bodies::BodyMatrix>> seen;
   for (int b = 0; b < bodies.num_bodies(); ++b)
   {
+    _rows[b] = bodies.body(b).num_dofs();
     if (!owned.empty() && !owned[b])
-    {
-      // Its size only (rows): the input order is its owner's
-      _perm[b].setIdentity(bodies.body(b).num_dofs());
-      continue;
-    }
+      continue; // its input order is its owner's
     const Permutation to_input = input_order(bodies.body(b));
     bodies::BodyMatrix canonical = permuted(patterns[b], to_input);
     const std::uint64_t h = pattern_hash(canonical);

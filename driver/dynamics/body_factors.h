@@ -57,7 +57,7 @@ public:
   Eigen::VectorXd solve(int b, const Eigen::VectorXd& y) const;
 
   /// Number of DOFs of body b
-  int rows(int b) const { return static_cast<int>(_perm[b].size()); }
+  int rows(int b) const { return _rows[b]; }
 
   /// Number of distinct symbolic factorizations
   int num_patterns() const { return static_cast<int>(_symbolic.size()); }
@@ -84,9 +84,10 @@ private:
 
   const std::vector<bodies::BodyMatrix>* _patterns;
   std::vector<Symbolic> _symbolic;
-  /// Per body: its pattern, the permutation from its local DOFs to the
-  /// factor's order, L's values (Symbolic::destination), D's inverse
-  std::vector<int> _pattern_of;
+  /// Per body: its DOFs, its pattern, the permutation from its local DOFs
+  /// to the factor's order (owned bodies only), L's values
+  /// (Symbolic::destination), D's inverse
+  std::vector<int> _rows, _pattern_of;
   std::vector<Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>>
       _perm;
   std::vector<std::vector<float>> _values;

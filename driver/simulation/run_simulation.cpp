@@ -117,8 +117,12 @@ bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
   io::check_body_count(config, geometry.num_bodies());
   try
   {
+    // A distributed run's ranks assemble the masses they keep only
+    // (parallel::Ownership's set_owned)
+    int ranks = 1;
+    MPI_Comm_size(comm, &ranks);
     return bodies::BodySet(std::move(geometry), config.body_materials.materials,
-                           config.body_materials.body_material);
+                           config.body_materials.body_material, ranks == 1);
   }
   catch (const std::invalid_argument& e)
   {

@@ -1,6 +1,7 @@
 // Per-body blocks of a multi-body mesh: topology, boundary, areas, masses.
 #include "mesh_fixtures.h"
 #include <bodies/BodySet.h>
+#include <bodies/body_geometry.h>
 #include <bodies/material_parameters.h>
 #include <body.h>
 #include <cmath>
@@ -225,6 +226,34 @@ TEST(BodySet, ARankKeepsTheMassesOfItsOwnBodies)
   EXPECT_EQ(bodies.kept_masses(std::vector<char>{0, 1}),
             (std::vector<char>{0, 1}));
   EXPECT_EQ(bodies.kept_masses({}), (std::vector<char>{1, 1}));
+}
+
+TEST(BodySet, ARankOfADistributedRunAssemblesTheMassesItKeepsOnly)
+{
+  // Built without masses (a distributed run's ranks), then given its
+  // bodies: their masses are those of a set built with every mass, to
+  // the bit, and no other body's is assembled.
+  const bodies::BodySet all = two_disks();
+  std::vector<test::Triangulation> parts;
+  for (const DiskSpec& d : disks)
+    parts.push_back(test::disk(d.cx, d.cy, d.R, rings));
+  const forms::MaterialForms& law = forms::find_material("neo_hookean");
+  bodies::BodySet bodies(
+      bodies::body_geometry(test::bodies_mesh(parts), law.function_space),
+      {{&law, bodies::plane_strain_parameters(mu), rho}}, {}, false);
+  for (int b = 0; b < 2; ++b)
+  {
+    EXPECT_EQ(bodies.consistent_mass()[b].nonZeros(), 0);
+    EXPECT_EQ(bodies.consistent_mass()[b].rows(), all.body(b).num_dofs());
+    EXPECT_EQ(bodies.lumped_mass()[b].size(), 0);
+  }
+  bodies.set_owned({0, 1});
+  EXPECT_EQ(bodies.consistent_mass()[0].nonZeros(), 0);
+  const bodies::BodyMatrix& M = bodies.consistent_mass()[1];
+  ASSERT_EQ(M.nonZeros(), all.consistent_mass()[1].nonZeros());
+  EXPECT_EQ(Eigen::MatrixXd(M - all.consistent_mass()[1]).norm(), 0.0);
+  ASSERT_EQ(bodies.lumped_mass()[1].size(), all.lumped_mass()[1].size());
+  EXPECT_EQ((bodies.lumped_mass()[1] - all.lumped_mass()[1]).norm(), 0.0);
 }
 
 TEST(BodySet, ARankStoresItsOwnBodiesAndEveryBoundary)
