@@ -180,12 +180,10 @@ void Ownership::move_to(std::vector<int> split, bodies::BodySet& bodies,
   };
   const int nb = bodies.num_bodies();
   // With them, their cell lists (a rigid body's are on every rank)
-  auto leaving = [&](int b)
-  { return _body_rank[b] == _rank && split[b] != _rank; };
   std::vector<std::vector<double>> to_rank(_size);
   std::vector<std::vector<std::int32_t>> lists_to_rank(_size);
   for (int b = 0; b < nb; ++b)
-    if (leaving(b))
+    if (_body_rank[b] == _rank && split[b] != _rank)
     {
       entries(b, [&](double x) { to_rank[split[b]].push_back(x); });
       if (!bodies.rigid(b))
@@ -220,7 +218,8 @@ void Ownership::move_to(std::vector<int> split, bodies::BodySet& bodies,
                            " entries and " + std::to_string(lists_in.size()) +
                            " list entries received, " + std::to_string(k) +
                            " and " + std::to_string(l) + " expected");
-  // The arriving bodies' masses from their reference coordinates, now here
+  // The arriving bodies' masses from their reference coordinates and
+  // cells, now here
   bodies.set_owned(_owned);
 }
 
