@@ -154,9 +154,9 @@ public:
   create_matrices(std::span<const char> only = {}) const;
 
   /// Consistent mass matrix of each body whose mass this rank keeps
-  /// (kept_masses of set_owned's flags: every body until set_owned); the
-  /// others' are empty. Computed once, and for a body that comes to this
-  /// rank when it does.
+  /// (kept_masses of set_owned's flags: every body until set_owned, none
+  /// if built without masses); the others' are empty. Computed once, and
+  /// for a body that comes to this rank when it does.
   const std::vector<BodyMatrix>& consistent_mass() const { return _mass; }
 
   /// The bodies whose masses a rank with the given owned flags keeps: its
