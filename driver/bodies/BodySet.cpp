@@ -21,21 +21,9 @@ BodySet::BodySet(BodyMesh mesh, const forms::MaterialForms& material,
 {
 }
 
-namespace
-{
-/// The first material's space function (every material's space is P1
-/// vectors: any one numbers the nodes alike)
-auto first_space(const std::vector<BodyMaterial>& materials)
-{
-  if (materials.empty())
-    throw std::invalid_argument("BodySet: no material");
-  return materials.front().law->function_space;
-}
-} // namespace
-
 BodySet::BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
                  std::vector<int> body_material)
-    : BodySet(body_geometry(mesh, first_space(materials)), materials,
+    : BodySet(body_geometry(mesh, displacement_space(materials)), materials,
               std::move(body_material))
 {
 }
@@ -76,7 +64,7 @@ void BodySet::build_assembly()
   const int body[] = {0};
   const auto V =
       std::make_shared<const fem::FunctionSpace>(fem::create_functionspace(
-          _materials.front().law->function_space, "v",
+          displacement_space(_materials), "v",
           create_body_mesh(MPI_COMM_SELF, x, cell, body).mesh));
   const auto u = std::make_shared<const fem::Function<double>>(V);
   const std::vector<std::shared_ptr<const fem::FunctionSpace>> none,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <dolfinx/fem/FunctionSpace.h>
 #include <dolfinx/fem/utils.h>
+#include <material_registry.h>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -97,6 +98,13 @@ double signed_area2(std::span<const double> x, std::int32_t a, std::int32_t b,
          (x[2 * b + 1] - x[2 * a + 1]) * (x[2 * c] - x[2 * a]);
 }
 
+SpaceFunction displacement_space(const std::vector<BodyMaterial>& materials)
+{
+  if (materials.empty())
+    throw std::invalid_argument("BodySet: no material");
+  return materials.front().law->function_space;
+}
+
 int BodyGeometry::num_bodies() const
 {
   return cell_body.empty()
@@ -104,8 +112,7 @@ int BodyGeometry::num_bodies() const
              : *std::max_element(cell_body.begin(), cell_body.end()) + 1;
 }
 
-BodyGeometry body_geometry(const BodyMesh& mesh,
-                           ufcx_function_space* (*function_space)(const char*))
+BodyGeometry body_geometry(const BodyMesh& mesh, SpaceFunction function_space)
 {
   const fem::FunctionSpace V =
       fem::create_functionspace(function_space, "v", mesh.mesh);
@@ -143,9 +150,8 @@ BodyGeometry body_geometry(const BodyMesh& mesh,
   return g;
 }
 
-BodyGeometry
-read_body_geometry(const std::filesystem::path& xdmf,
-                   ufcx_function_space* (*function_space)(const char*))
+BodyGeometry read_body_geometry(const std::filesystem::path& xdmf,
+                                SpaceFunction function_space)
 {
   return body_geometry(read_body_mesh(MPI_COMM_SELF, xdmf), function_space);
 }

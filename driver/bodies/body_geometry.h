@@ -1,5 +1,6 @@
 #pragma once
 
+#include "body_material.h"
 #include "body_mesh.h"
 #include <array>
 #include <cstdint>
@@ -12,6 +13,9 @@ struct ufcx_function_space;
 /// The bodies' geometry as plain arrays, and the bodies built from it.
 namespace softpack::bodies
 {
+
+/// A compiled space (forms::MaterialForms::function_space)
+using SpaceFunction = ufcx_function_space* (*)(const char*);
 
 /// One deformable body: its nodes, cells and boundary, as indices into the
 /// node vectors and cells of its BodySet.
@@ -79,19 +83,22 @@ struct BodyGeometry
   int num_bodies() const;
 };
 
+/// The displacement space of a set of materials: the first one's (every
+/// material's space is P1 vectors, so any one numbers the nodes alike)
+/// @throws std::invalid_argument if there is no material
+SpaceFunction displacement_space(const std::vector<BodyMaterial>& materials);
+
 /// The geometry of a body mesh, numbered as the displacement space the
 /// compiled forms declare (a material's `function_space`: every
 /// material's is P1 vectors, so any one numbers the nodes alike)
 /// @throws std::runtime_error if two cells of different bodies share a
 /// node
-BodyGeometry body_geometry(const BodyMesh& mesh,
-                           ufcx_function_space* (*function_space)(const char*));
+BodyGeometry body_geometry(const BodyMesh& mesh, SpaceFunction function_space);
 
 /// The mesh file's geometry (read_body_mesh, then body_geometry), read on
 /// the calling process alone: the mesh lives during the call only
-BodyGeometry
-read_body_geometry(const std::filesystem::path& xdmf,
-                   ufcx_function_space* (*function_space)(const char*));
+BodyGeometry read_body_geometry(const std::filesystem::path& xdmf,
+                                SpaceFunction function_space);
 
 /// The bodies of a geometry: their nodes (global numbers), cells and
 /// their nodes, boundaries, reference areas and input order

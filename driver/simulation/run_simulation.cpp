@@ -112,7 +112,7 @@ bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
   if (rank_of(comm) == 0)
     geometry = bodies::read_body_geometry(
         config.mesh,
-        config.body_materials.materials.front().law->function_space);
+        bodies::displacement_space(config.body_materials.materials));
   parallel::broadcast_geometry(comm, geometry);
   io::check_body_count(config, geometry.num_bodies());
   try
