@@ -134,7 +134,7 @@ def read_run(directory, table="series"):
     FileNotFoundError
         The run is not complete (no ``series.csv``).
     """
-    from softpack.analysis.tables import read_table
+    from softpack.contract.tables import read_table
 
     if table not in ("series", "particles"):
         raise ValueError(f"table {table!r}: expected 'series' or"

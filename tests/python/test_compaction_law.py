@@ -94,7 +94,7 @@ def test_a_stages_shear_counts_its_strains_from_the_stage_start():
 def test_plot_loading_writes_the_figures_and_the_fit(tmp_path):
     pytest.importorskip("matplotlib")
     from softpack.analysis import stress as stress_module
-    from softpack.analysis.tables import write_table
+    from softpack.contract.tables import write_table
     from softpack.plots import loading
 
     phi, p = synthetic(p_max=4 * TRUE["kappa"], rows=80)

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from softpack.analysis.tables import read_table
+from softpack.contract.tables import read_table
 from softpack.scene import config as cfg
 from softpack.scene.packing import Packing
 from softpack.simulation.run import RunError, run

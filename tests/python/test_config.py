@@ -14,7 +14,7 @@ from softpack import paths
 from softpack.scene import materials
 from softpack.scene.config import (ConfigError, initial_packing_fraction,
                                    load_config, to_toml, validate)
-from softpack.scene.schema import load_schema, markdown, parse_range
+from softpack.contract.schema import load_schema, markdown, parse_range
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 #: The piston of the paper's case, as examples/paper.toml sets it.
@@ -358,8 +358,8 @@ def test_docs_parameters_md_is_current():
     committed = (paths.ROOT / "docs" / "parameters.md").read_text()
     assert committed == markdown(), (
         "docs/parameters.md is stale: regenerate it with /usr/bin/python3 -m"
-        " softpack.scene.schema --markdown > docs/parameters.md")
-    out = subprocess.run([sys.executable, "-m", "softpack.scene.schema",
+        " softpack.contract.schema --markdown > docs/parameters.md")
+    out = subprocess.run([sys.executable, "-m", "softpack.contract.schema",
                           "--markdown"], capture_output=True, text=True,
                          check=True).stdout
     assert out == committed

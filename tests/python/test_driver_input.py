@@ -10,7 +10,7 @@ import pytest
 from material_registry import use_registry
 from softpack.scene.build import scene_record
 from softpack.scene.config import load_config, validate
-from softpack.scene.schema import load_schema
+from softpack.contract.schema import load_schema
 from softpack.scene.species import particle_table
 from softpack.scene.walls import BOX_WALLS, box_geometry, scene_walls
 from softpack.simulation.driver_input import driver_document, write_driver_json

@@ -120,7 +120,7 @@ def test_rules_of_a_run_before_the_readings_take_the_defaults(tmp_path):
     (tmp_path / "config.toml").write_text(
         "[observables]\nunbalanced_threshold = 0.001\n"
         "contact_force_threshold = 0.0001\ntwo_node_rule = \"loaded_nodes\"\n")
-    from softpack.scene.schema import load_schema
+    from softpack.contract.schema import load_schema
     spec = load_schema()["observables"].parameters
     r = read_rules(tmp_path)
     assert r.unbalanced_reference == spec["unbalanced_reference"].default

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from softpack.analysis import fields
-from softpack.analysis.tables import read_table
+from softpack.contract.tables import read_table
 from softpack.scene import config as cfg
 from softpack.simulation.run import run
 from driver_required import require_driver

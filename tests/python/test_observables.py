@@ -11,7 +11,7 @@ from softpack.analysis import connectivity as net_
 from softpack.analysis import observables as obs
 from softpack.analysis.setup import Rules, read_setup
 from softpack.analysis.strain import cumulative_strain
-from softpack.analysis.tables import read_table
+from softpack.contract.tables import read_table
 
 # the hand-built contacts below exercise the piston-force reading with the
 # excluded particles' contacts dropped (test_exclusion_rule.py: all readings)

@@ -152,7 +152,7 @@ def test_growth_jams_in_an_overfull_box():
     old = preparation.STALL_SWEEPS
     preparation.STALL_SWEEPS = 50
     try:
-        with pytest.raises(PackingError, match="growth jammed at 0.9"):
+        with pytest.raises(preparation.Jammed, match="growth jammed at 0.9"):
             grow(centres, radii, 0.039, 0.039, _padded(1e-4), 0.9,
                  np.random.default_rng(0))
     finally:

@@ -6,8 +6,8 @@ import pytest
 from fake_runs import write_fields, write_setup
 from softpack.analysis import fits
 from softpack.analysis.observables import SERIES_COLUMNS
-from softpack.analysis.tables import write_table
-from softpack.plots import paper as plots
+from softpack.contract.tables import write_table
+from softpack.plots import curves, paper as plots
 
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -40,10 +40,10 @@ def fake_run(directory, friction, seed, phi_t=0.79, fields=False, top=0.17):
 
 def test_mean_over_seeds_uses_the_common_range():
     x1, x2 = np.linspace(0, 1, 11), np.linspace(0.2, 1.5, 7)[::-1]
-    grid, mean, std = plots.mean_over_seeds([(x1, x1), (x2, x2 + 2)], 5)
+    grid, mean, std = curves.mean_over_seeds([(x1, x1), (x2, x2 + 2)], 5)
     assert np.allclose(grid, np.linspace(0.2, 1.0, 5))
     assert np.allclose(mean, grid + 1) and np.allclose(std, 1.0)
-    empty = plots.mean_over_seeds([(x1, x1), (x1 + 5, x1)])
+    empty = curves.mean_over_seeds([(x1, x1), (x1 + 5, x1)])
     assert all(len(a) == 0 for a in empty)
 
 

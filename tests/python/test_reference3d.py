@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("dolfinx")
-from softpack.analysis.tables import read_table  # noqa: E402
+from softpack.contract.tables import read_table  # noqa: E402
 from softpack.references import cylinder3d as r3d  # noqa: E402  (python/ on sys.path: conftest.py)
 
 CI_MESH = dict(element_size=0.002, max_strain=0.15, n_steps=15)

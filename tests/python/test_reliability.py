@@ -365,7 +365,7 @@ def test_import_softpack_is_light_and_reference3d_is_a_command():
 def test_resume_gives_the_uninterrupted_series(tmp_path, fake_bin,
                                                fake_mesh, monkeypatch,
                                                capsys, api):
-    from softpack.analysis.tables import read_table
+    from softpack.contract.tables import read_table
 
     whole, part = tmp_path / "whole", tmp_path / "part"
     assert run.main([str(SMALL), "--out", str(whole)]) == 0
@@ -416,7 +416,7 @@ def test_resume_with_the_real_driver_is_bit_for_bit(tmp_path):
     and does the same arithmetic. The run goes past step 50, where the
     matrix of step 1 reaches the reuse limit after the resume."""
     pytest.importorskip("dolfinx")
-    from softpack.analysis.tables import read_table
+    from softpack.contract.tables import read_table
     from softpack.scene.config import load_config
     try:
         run.driver_executable()
@@ -451,7 +451,7 @@ def test_a_non_finite_newton_iterate_stops_the_run_before_its_step(tmp_path):
     row or state past the last finite step (std::max passed over the NaN
     and the step was taken, written and resumed from, before the check)."""
     from driver_required import require_driver
-    from softpack.analysis.tables import read_table
+    from softpack.contract.tables import read_table
     require_driver()
     text = (ROOT / "examples" / "mixture_small.toml").read_text()
     text = text.replace("seed = 8", "seed = 0").replace(

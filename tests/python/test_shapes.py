@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import softpack.scene.mesh as mesh_module
-from softpack.scene import shapes
+from softpack.scene import shapes, triangulation
 from softpack.scene.shapes import ShapeError
 
 D, H = 0.02, 1.065e-3
@@ -125,7 +125,7 @@ def test_geo_file_scaled_and_centred(tmp_path):
     assert t.area == pytest.approx(math.pi * D**2 / 4, rel=1e-9)
     # the L's area centroid is at (5/6, 5/6) of a unit cell: centred
     centroid = (t.points[t.triangles].mean(axis=1)
-                * shapes._signed_areas(t.points, t.triangles)[:, None]).sum(0)
+                * triangulation.signed_areas(t.points, t.triangles)[:, None]).sum(0)
     assert np.allclose(centroid / t.area, 0, atol=1e-12)
     # six straight sides: the boundary is the L of three squares of side c
     c = math.sqrt(t.area / 3)
@@ -153,7 +153,7 @@ def write_msh(path, geo_text, h):
     import gmsh
     geo = path.with_suffix(".geo")
     geo.write_text(geo_text)
-    mesh_module.initialize_gmsh(gmsh)
+    triangulation.initialize_gmsh(gmsh)
     try:
         gmsh.open(str(geo))
         gmsh.option.setNumber("Mesh.MeshSizeMax", h)
@@ -173,7 +173,7 @@ def test_msh_file_keeps_its_triangles(tmp_path):
     assert len(t.triangles) == n
     assert t.area == pytest.approx(math.pi * D**2 / 4, rel=1e-12)
     centroid = (t.points[t.triangles].mean(axis=1)
-                * shapes._signed_areas(t.points, t.triangles)[:, None]).sum(0)
+                * triangulation.signed_areas(t.points, t.triangles)[:, None]).sum(0)
     assert np.allclose(centroid / t.area, 0, atol=1e-12)
     assert t.bounding_radius == pytest.approx(
         math.sqrt(t.area / 2), rel=1e-9)  # half the square's diagonal

@@ -53,7 +53,7 @@ def test_config_loads_symmetrically_and_stops_past_the_target(registry,
                                                               tmp_path):
     """The protocol's overrides on top of the production defaults, through
     the one driver.json writer."""
-    from softpack.scene.schema import load_schema
+    from softpack.contract.schema import load_schema
     from softpack.simulation.driver_input import driver_document
 
     p = sd.Params()

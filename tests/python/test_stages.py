@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from softpack.analysis.tables import read_table
+from softpack.contract.tables import read_table
 from softpack.scene import config as cfg
 from softpack.simulation.run import RunError, run
 from driver_required import require_driver

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from softpack.analysis import stress
-from softpack.analysis.tables import read_table
+from softpack.contract.tables import read_table
 from driver_required import require_driver
 
 ROOT = Path(os.environ.get("SOFTPACK_ROOT",

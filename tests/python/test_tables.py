@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from softpack.analysis.strain import approach, cumulative_strain
-from softpack.analysis.tables import read_table, write_table
+from softpack.contract.tables import read_table, write_table
 
 
 def test_round_trip_keeps_integers_and_nan(tmp_path):

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from softpack.analysis.stress import NAME, write_stress
-from softpack.analysis.tables import read_table
+from softpack.contract.tables import read_table
 from softpack.scene import config as cfg
 from softpack.scene.species import total_area
 from softpack.simulation.run import run

@@ -55,7 +55,7 @@ from pathlib import Path
 import numpy as np
 
 from softpack.analysis.setup import Rules
-from softpack.analysis.tables import read_table
+from softpack.contract.tables import read_table
 
 RULES = ("loaded_nodes", "candidate_nodes")
 #: Readings of the paper's f in f_p* (``unbalanced_reference``).

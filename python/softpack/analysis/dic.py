@@ -39,7 +39,7 @@ import numpy as np
 
 from softpack.analysis import fields as fields_io
 from softpack.analysis.setup import read_setup
-from softpack.analysis.tables import read_table
+from softpack.contract.tables import read_table
 
 #: Paper Fig. 5's packing fractions.
 FIG5_PHI = (0.79, 0.84, 0.88)

@@ -60,7 +60,7 @@ from softpack.analysis.setup import (PISTON, RunSetup, read_rules,
                                      read_setup)
 from softpack.analysis.strain import cumulative_strain
 from softpack.analysis.stress import write_stress
-from softpack.analysis.tables import read_table, write_table
+from softpack.contract.tables import read_table, write_table
 
 ENERGY_COLUMNS = ("strain_energy", "kinetic_energy", "wall_work",
                   "external_work", "damping", "friction", "contact_normal",

@@ -133,7 +133,7 @@ class Rules:
     excluded_contacts: str = None
 
     def __post_init__(self):
-        from softpack.scene.schema import load_schema
+        from softpack.contract.schema import load_schema
 
         spec = load_schema()["observables"].parameters
         for name in ("unbalanced_reference", "excluded_contacts"):
@@ -252,7 +252,7 @@ def read_rules(run_dir) -> Rules:
 
 def _check_against_schema(path, section) -> None:
     """Types, ranges and choices of the rules, from schema/parameters.toml."""
-    from softpack.scene.schema import load_schema
+    from softpack.contract.schema import load_schema
 
     for key, spec in load_schema()["observables"].parameters.items():
         if key not in section:

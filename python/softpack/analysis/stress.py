@@ -71,7 +71,7 @@ import numpy as np
 from softpack.analysis import fields as fields_h5
 from softpack.analysis.connectivity import contacts_path, read_contacts
 from softpack.analysis.setup import read_setup
-from softpack.analysis.tables import read_table, write_table
+from softpack.contract.tables import read_table, write_table
 
 #: The file name in the run directory.
 NAME = "stress.csv"

@@ -4,7 +4,7 @@
 
 ``dic_series.csv``
     :func:`softpack.analysis.dic.dic_series` at every stored field time
-    (through :mod:`softpack.analysis.tables`).
+    (through :mod:`softpack.contract.tables`).
 ``dic_energy.png``
     E_DIC/(W H L mu) and the finite-element E/(W H L mu) against Phi (as the
     paper's Fig. 6), and their ratio.
@@ -31,7 +31,7 @@ import numpy as np
 from softpack.analysis import dic
 from softpack.analysis import fields as fields_io
 from softpack.analysis.setup import read_setup
-from softpack.analysis.tables import write_table
+from softpack.contract.tables import write_table
 from softpack.plots import write_figure
 
 #: Packing fractions at which the summary states E_DIC / E_FE.

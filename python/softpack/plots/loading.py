@@ -35,7 +35,7 @@ import numpy as np
 
 from softpack.analysis import compaction_law
 from softpack.analysis.stress import NAME as STRESS_NAME
-from softpack.analysis.tables import read_table
+from softpack.contract.tables import read_table
 from softpack.cli import positive_float
 from softpack.plots import write_figure
 

@@ -1,10 +1,11 @@
 """``./softpack plot DIR... [--out FIGDIR]``: the paper's Figs. 4, 6, 7, 8, 9.
 
 (``--export-seeds SEEDDIR DIR...`` and ``--seeds SEEDDIR``: docs/paper's
-figures and tables from small per-seed CSVs, :mod:`.paper_seeds`.)
+figures and tables from small per-seed CSVs, :mod:`.paper_seeds`.) The
+curves averaged over seeds are :mod:`.curves`'.
 
 Only draws. Reads each run directory written by ``./softpack run`` through
-the analysis stage: ``series.csv`` (:mod:`softpack.analysis.tables`), the
+the analysis stage: ``series.csv`` (:mod:`softpack.contract.tables`), the
 run's identity (friction, seed, mu, L, W) from ``raw/setup.json``
 (:mod:`softpack.analysis.setup`), the fields for Fig. 7
 (:mod:`softpack.analysis.fields`) and the Eq. 14 fit
@@ -35,48 +36,21 @@ from __future__ import annotations
 
 import argparse
 import sys
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from softpack.analysis import fits
 from softpack.analysis.fields import read_snapshot
 from softpack.analysis.setup import SetupError, read_setup
-from softpack.analysis.tables import read_table
+from softpack.contract.run_directory import RunDirectory
+from softpack.contract.tables import read_table
 from softpack.plots import write_figure
+from softpack.plots.curves import Run, plot_connectivity, plot_curves
 
 #: Packing fractions of the paper's snapshots (Fig. 7).
 SNAPSHOT_PHIS = (0.78, 0.83, 0.88)
 #: A snapshot is drawn only if an output step is this close in Phi.
 SNAPSHOT_TOLERANCE = 0.01
-GRID_POINTS = 25
-
-
-@dataclass(frozen=True)
-class Run:
-    """One run directory's series and what identifies it.
-
-    Attributes
-    ----------
-    path : Path
-    friction : float
-    seed : int
-    shear_modulus : float
-        NaN when the material law has none (Fig. 7 then draws Psi in Pa).
-    length, width : float
-        The initial box (m).
-    series : dict of ndarray
-        Columns of ``series.csv``.
-    """
-
-    path: Path
-    friction: float
-    seed: int
-    shear_modulus: float
-    length: float
-    width: float
-    series: dict
 
 
 def load_runs(directories) -> list[Run]:
@@ -86,7 +60,8 @@ def load_runs(directories) -> list[Run]:
     """
     runs = []
     for d in map(Path, directories):
-        if not (d / "series.csv").is_file():
+        series = RunDirectory(d).series_csv
+        if not series.is_file():
             print(f"softpack plot: {d}: no series.csv (not a complete run);"
                   " skipped", file=sys.stderr)
             continue
@@ -97,7 +72,7 @@ def load_runs(directories) -> list[Run]:
             continue
         runs.append(Run(d, setup.friction, setup.seed, setup.shear_modulus,
                         setup.length, setup.width,
-                        read_table(d / "series.csv")))
+                        read_table(series)))
     return runs
 
 
@@ -110,121 +85,9 @@ def group_by_friction(runs) -> dict:
             for mu in sorted(groups)}
 
 
-def mean_over_seeds(curves, points=GRID_POINTS):
-    """Mean and standard deviation of curves on a common grid.
-
-    Parameters
-    ----------
-    curves : list of (x, y) array pairs
-        One curve per seed; NaN points are dropped, x need not be sorted.
-    points : int
-        Grid size; the grid spans the x range that every curve covers.
-
-    Returns
-    -------
-    (grid, mean, std) : ndarrays
-        Empty arrays when the curves have no common range.
-    """
-    cleaned = []
-    for x, y in curves:
-        x, y = np.asarray(x, float), np.asarray(y, float)
-        ok = np.isfinite(x) & np.isfinite(y)
-        order = np.argsort(x[ok], kind="stable")
-        if ok.sum() >= 2:
-            cleaned.append((x[ok][order], y[ok][order]))
-    if not cleaned:
-        return np.zeros(0), np.zeros(0), np.zeros(0)
-    lo = max(x[0] for x, _ in cleaned)
-    hi = min(x[-1] for x, _ in cleaned)
-    if not hi > lo:
-        return np.zeros(0), np.zeros(0), np.zeros(0)
-    grid = np.linspace(lo, hi, points)
-    values = np.array([np.interp(grid, x, y) for x, y in cleaned])
-    return grid, values.mean(axis=0), values.std(axis=0)
-
-
-def _style(index):
-    """Marker and colour of the index-th friction group."""
-    markers, colours = "osD^v", ("tab:blue", "tab:red", "tab:green",
-                                 "tab:purple", "tab:orange")
-    return dict(marker=markers[index % 5], color=colours[index % 5])
-
-
-def _label(mu, runs):
-    """Legend text of a friction group (or of a group named by a text)."""
-    seeds = f"{len(runs)} seeds" if len(runs) > 1 else f"seed {runs[0].seed}"
-    name = mu if isinstance(mu, str) else f"mu_f = {mu:g}"
-    return f"{name} ({seeds})"
-
-
-def plot_curves(groups, x_name, y_name, xlabel, ylabel, path, extra=None):
-    """Mean +- std over seeds of ``y(x)`` for each friction group."""
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    for i, (mu, runs) in enumerate(groups.items()):
-        grid, mean, std = mean_over_seeds(
-            [(r.series[x_name], r.series[y_name]) for r in runs])
-        if len(grid):
-            ax.errorbar(grid, mean, yerr=std if len(runs) > 1 else None,
-                        ms=4, mfc="none", lw=1, capsize=2,
-                        label=_label(mu, runs), **_style(i))
-    if extra is not None:
-        extra(ax)
-    return _save(fig, ax, xlabel, ylabel, path, legend_size=8)
-
-
-def _save(fig, ax, xlabel, ylabel, path, legend_size):
-    """Label, grid and legend one plot, write it as PNG and close it."""
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=legend_size)
-    write_figure(fig, path)
-    return path
-
-
-def plot_connectivity(groups, path) -> list[str]:
-    """Fig. 8 with each group's fit; returns the fit report lines."""
-    import matplotlib.pyplot as plt
-
-    lines = [f"paper: Phi_T = {fits.PAPER_PHI_T} +- {fits.PAPER_PHI_T_ERROR}"
-             f" (Z_T = {fits.Z_T:g}, Z_1 = {fits.Z_1:g},"
-             f" Phi_1 = {fits.PHI_1:g})"]
-    fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    for i, (mu, runs) in enumerate(groups.items()):
-        style = _style(i)
-        for column, filled in (("z", True), ("z_without_walls", False)):
-            grid, mean, std = mean_over_seeds(
-                [(r.series["phi"], r.series[column]) for r in runs])
-            if not len(grid):
-                continue
-            ax.errorbar(grid, mean, yerr=std if len(runs) > 1 else None,
-                        ms=4, lw=0, elinewidth=1, capsize=2,
-                        mfc=style["color"] if filled else "none",
-                        label=_label(mu, runs) + ("" if filled else
-                                                  ", no wall contacts"),
-                        **style)
-        fit = fits.fit_runs([(r.series["phi"], r.series["z"])
-                             for r in runs])
-        name = mu if isinstance(mu, str) else f"mu_f = {mu:g}"
-        lines.append(f"{name}: {fit.summary()}; {len(runs)} run(s)")
-        if fit.ok:
-            x = np.linspace(fit.phi_t, np.nanmax(
-                np.concatenate([r.series["phi"] for r in runs])), 100)
-            ax.plot(x, fits.connectivity_law(x, fit.phi_t),
-                    color=style["color"], lw=1,
-                    label=f"fit, Phi_T = {fit.phi_t:.3f}")
-    x = np.linspace(fits.PAPER_PHI_T, 0.89, 100)
-    ax.plot(x, fits.connectivity_law(x, fits.PAPER_PHI_T), "k--", lw=1,
-            label=f"paper, Phi_T = {fits.PAPER_PHI_T}")
-    _save(fig, ax, "Phi", "Z", path, legend_size=7)
-    return lines
-
-
 def plot_snapshots(run: Run, path) -> str:
     """Fig. 7 for one run; returns a message saying what was drawn."""
-    h5 = run.path / "fields.h5"
+    h5 = RunDirectory(run.path).fields_h5
     if not h5.is_file():
         return f"fig7: {h5} missing (run with [output] fields = true); skipped"
     phi, time = run.series["phi"], run.series["time"]

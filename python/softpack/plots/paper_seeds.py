@@ -33,7 +33,7 @@ from softpack.analysis import connectivity as net_
 from softpack.analysis import fits
 from softpack.analysis.observables import piston_force
 from softpack.analysis.setup import read_rules, read_setup
-from softpack.analysis.tables import read_table, write_table
+from softpack.contract.tables import read_table, write_table
 
 #: series.csv columns kept per seed.
 SERIES = ("step", "time", "eps", "phi", "E_over_WHLmu", "cv_psi", "z",
@@ -187,7 +187,7 @@ def load_seeds(seed_dir) -> dict:
 
 def default_element_size() -> float:
     """``[mesh] element_size``'s default: the paper's mesh (m)."""
-    from softpack.scene.schema import load_schema
+    from softpack.contract.schema import load_schema
 
     return float(load_schema()["mesh"].parameters["element_size"].default)
 
@@ -293,26 +293,26 @@ def _fit_text(seeds, column) -> str:
 
 def regenerate(seed_dir, out) -> list[Path]:
     """Every figure and table of docs/paper that the seeds give."""
-    from softpack.plots import paper
+    from softpack.plots import curves
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     groups = load_seeds(seed_dir)
     if not groups:
         raise FileNotFoundError(f"{seed_dir}/runs.csv: no seeds")
-    runs = {f"Phi0 = {label}": [paper.Run(Path(s.name), 0.3, s.seed,
+    runs = {f"Phi0 = {label}": [curves.Run(Path(s.name), 0.3, s.seed,
                                           s.shear_modulus, s.length,
                                           s.width, s.series) for s in seeds]
             for label, seeds in groups.items()}
     written = [
-        paper.plot_curves(runs, "eps", "phi", "eps = -ln(1 - delta / L0)",
+        curves.plot_curves(runs, "eps", "phi", "eps = -ln(1 - delta / L0)",
                           "Phi", out / "fig4_phi_eps.png"),
-        paper.plot_curves(runs, "phi", "E_over_WHLmu", "Phi",
+        curves.plot_curves(runs, "phi", "E_over_WHLmu", "Phi",
                           "E / (W H L mu), L = the run's initial length",
                           out / "fig6_energy.png"),
-        paper.plot_curves(runs, "phi", "cv_psi", "Phi", "c_v(Psi_p)",
+        curves.plot_curves(runs, "phi", "cv_psi", "Phi", "c_v(Psi_p)",
                           out / "fig9_cv_psi.png")]
-    fit = paper.plot_connectivity(runs, out / "fig8_connectivity.png")
+    fit = curves.plot_connectivity(runs, out / "fig8_connectivity.png")
     written.append(out / "fig8_connectivity.png")
     (out / "fig8_fit.txt").write_text("\n".join(fit) + "\n")
     written.append(_write(out / "summary.md", [

@@ -170,7 +170,7 @@ def plates_figures(directories, out) -> None:
 
     import matplotlib.pyplot as plt
 
-    from softpack.analysis.tables import read_table
+    from softpack.contract.tables import read_table
     from softpack.references.plates import refinement
 
     runs = []

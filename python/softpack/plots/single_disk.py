@@ -16,7 +16,7 @@ import sys
 
 import numpy as np
 
-from softpack.analysis.tables import read_table
+from softpack.contract.tables import read_table
 from softpack.plots import write_figure
 
 FORCE_FILES = (  # file, label, style (2D: markers, 3D: lines)

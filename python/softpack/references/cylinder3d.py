@@ -63,7 +63,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from softpack.analysis import strain
-from softpack.analysis.tables import write_table
+from softpack.contract.tables import write_table
 
 log = logging.getLogger("softpack.references.cylinder3d")
 

@@ -64,12 +64,13 @@ import sys
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from types import SimpleNamespace
 
 import numpy as np
 
-from softpack.references import single_disk as sd
-from softpack.scene.config import to_toml, validate
+from softpack.contract.run_directory import RunDirectory
+from softpack.contract.tables import read_table, write_table
+from softpack.references import between_plates
+from softpack.scene.config import validate
 
 #: shape name -> (sides, angle): the orientation of the polygon between the
 #: plates (at angle 0 a vertex points along +y, docs/parameters.md).
@@ -113,7 +114,7 @@ def config_data(params: Params, y_bottom: float, y_top: float,
                 height: float) -> dict:
     """single_disk's overrides with a polygon instead of the disk; the stop
     time is that of the approach delta_max = H0 (1 - exp(-max_strain))."""
-    data = sd.config_data(sd.Params(
+    data = between_plates.config_data(between_plates.Params(
         diameter=params.diameter, element_size=params.element_size,
         max_strain=params.max_strain, speed=params.speed,
         time_step=params.time_step, alpha=params.alpha, theta=params.theta,
@@ -138,46 +139,19 @@ def plates_config(params: Params, y_bottom=None, y_top=None, height=None):
 
 
 def simulate(params: Params, sim_dir) -> dict:
-    """Scene, driver.json and softpack-simulate in ``sim_dir``."""
-    from softpack.scene.build import build_scene
-    from softpack.simulation import driver
-    from softpack.simulation.driver_input import write_driver_json
-
-    sim_dir = Path(sim_dir)
-    sim_dir.mkdir(parents=True, exist_ok=True)
-    for stale in ("raw/done.json", "raw/steps.csv", "fields.h5",
-                  "fields.xdmf"):
-        (sim_dir / stale).unlink(missing_ok=True)
-    scene = build_scene(plates_config(params), sim_dir / "mesh" / "body")
-    nodes = sd.reference_nodes(scene.mesh.h5)
-    y_bottom, y_top = float(nodes[:, 1].min()), float(nodes[:, 1].max())
-    config = plates_config(params, y_bottom, y_top)
-    (sim_dir / "config.toml").write_text(to_toml(config))
-    write_driver_json(config, scene.record(), sim_dir)
-    sd.driver_executable()
-    started = time.time()
-    (sim_dir / "driver.log").unlink(missing_ok=True)
-    status, _ = driver.simulate(sim_dir / "driver.json",
-                                sim_dir / "driver.log")
-    seconds = time.time() - started
-    if status != 0 or not (sim_dir / "raw" / "done.json").exists():
-        tail = (sim_dir / "driver.log").read_text().splitlines()[-15:]
-        raise sd.SingleDiskError(
-            f"softpack-simulate failed (exit status {status}); last lines of"
-            f" {sim_dir / 'driver.log'}:\n" + "\n".join(tail))
-    return {"config": config, "mesh_h5": str(scene.mesh.h5),
-            "triangles": scene.mesh.n_triangles, "nodes": int(len(nodes)),
-            "y_bottom0": y_bottom, "y_top0": y_top,
-            "driver_seconds": seconds}
+    """Scene, driver.json and softpack-simulate in ``sim_dir``
+    (:func:`softpack.references.between_plates.simulate`)."""
+    return between_plates.simulate(plates_config, params, sim_dir, "body")
 
 
 def softpack_curve(steps, meta) -> dict:
-    """eps and f_norm = f/(H0 mu) of the driver's plates (single_disk's
-    :func:`~softpack.references.single_disk.force_curve` with D -> H0)."""
+    """eps and f_norm = f/(H0 mu) of the driver's plates
+    (:func:`~softpack.references.between_plates.force_curve` with
+    D -> H0)."""
     height = meta["y_top0"] - meta["y_bottom0"]
     mu = meta["config"]["material"]["parameters"]["shear_modulus"]
-    return sd.force_curve(steps, SimpleNamespace(diameter=height),
-                          meta["y_bottom0"], meta["y_top0"], mu)
+    return between_plates.force_curve(steps, height, meta["y_bottom0"],
+                                      meta["y_top0"], mu)
 
 
 # ---------------------------------------------------------------- dolfinx
@@ -375,12 +349,12 @@ def _predict(ref, eps_old, eps_new, height, middle):
 def run(params: Params, out_dir) -> dict:
     """Both computations; writes the CSVs and plates.json (module doc)."""
     from softpack.analysis.fields import read_mesh
-    from softpack.analysis.tables import write_table
     from softpack.references.p1_fields import rigid_rotation
 
     out_dir = Path(out_dir)
-    meta = simulate(params, out_dir / "sim")
-    steps = sd.read_steps(out_dir / "sim" / "raw" / "steps.csv")
+    sim = RunDirectory(out_dir / "sim")
+    meta = simulate(params, sim.path)
+    steps = read_table(sim.raw.steps_csv)
     curve = softpack_curve(steps, meta)
     material = meta["config"]["material"]["parameters"]
     points, cells = read_mesh(meta["mesh_h5"])
@@ -396,7 +370,7 @@ def run(params: Params, out_dir) -> dict:
                 {"eps": curve["eps"][keep], "f_norm": curve["f_norm"][keep]})
     write_table(out_dir / "force_dolfinx.csv",
                 {k: v for k, v in ref.items() if k != "energy"})
-    x, fcells, snaps = sd.read_fields(out_dir / "sim" / "fields.h5")
+    x, fcells, snaps = between_plates.read_fields(sim.fields_h5)
     rotation = max(abs(rigid_rotation(x, fcells, u)) for _, u in snaps)
     comparison = compare(curve, ref, params.max_strain)
     loaded = curve["f_norm"] > 0
@@ -465,8 +439,6 @@ def refinement(directories, strains=(0.02, 0.05, 0.10, 0.15, 0.20)) -> list:
     (f_2 - f_3)), and f_h / f_0 - 1; NaN when the two differences have
     opposite signs (no asymptotic convergence visible).
     """
-    from softpack.analysis.tables import read_table
-
     runs = []
     for d in map(Path, directories):
         doc = json.loads((d / "plates.json").read_text())
@@ -555,7 +527,7 @@ def _parser():
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
     params = Params(**{k: v for k, v in vars(args).items() if k != "out"})
-    if sd.refused(params, plates_config, args.out):
+    if between_plates.refused(params, plates_config, args.out):
         return 2
     print(f"softpack single-disk: {params.shape}, D = {params.diameter:g} m,"
           f" corner radius {params.corner_radius:g} m, h ="
@@ -563,7 +535,7 @@ def main(argv=None) -> int:
           f" -> {args.out}", flush=True)
     try:
         result = run(params, args.out)
-    except (sd.SingleDiskError, RuntimeError) as err:
+    except RuntimeError as err:  # RunError, SingleDiskError, dolfinx's
         print(f"softpack single-disk: {err}", file=sys.stderr)
         return 1
     doc = result["doc"]

@@ -101,15 +101,20 @@ import json
 import math
 import sys
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
 
-from softpack.analysis.strain import approach, cumulative_strain
+from softpack.contract.run_directory import RunDirectory, RunError
+from softpack.contract.tables import read_table, write_table
+from softpack.references import between_plates
+from softpack.references.between_plates import (Params, SingleDiskError,
+                                                config_data, force_curve,
+                                                read_fields, refused)
 from softpack.references.p1_fields import (interpolate, line_interpolator,
                                            rigid_rotation)
-from softpack.scene.config import ConfigError, to_toml, validate
+from softpack.scene.config import validate
 
 #: Strains of the Fig. 3 profiles.
 PROFILE_STRAINS = (0.05, 0.10, 0.15, 0.20)
@@ -119,68 +124,7 @@ PROFILE_W = np.round(np.linspace(-1.0, 1.0, 41), 10)
 SOURCE = "single-disk"
 
 
-@dataclass
-class Params:
-    """What the single-disk protocol sets (SI units); the rest of the
-    configuration is the production default (module doc)."""
-
-    diameter: float = 0.020
-    element_size: float = 1.065e-3
-    max_strain: float = 0.25
-    speed: float = 0.01          # each plate, m/s (approach speed 2 speed)
-    time_step: float = 1e-4
-    alpha: float = 200.0
-    theta: float = 0.5
-    friction: float = 1e-2       # pins the rolling mode (module doc)
-    every: int = 10              # output every this many steps
-    orientation: str = "node_up"  # or "as_meshed" (see put_node_up)
-
-    @property
-    def radius(self) -> float:
-        return 0.5 * self.diameter
-
-    @property
-    def max_approach(self) -> float:
-        """delta_max = D (1 - exp(-max_strain))."""
-        return float(approach(self.max_strain, self.diameter))
-
-    @property
-    def duration(self) -> float:
-        """Time for the two plates to approach by delta_max."""
-        return self.max_approach / (2.0 * self.speed)
-
-
-class SingleDiskError(RuntimeError):
-    """The driver failed or its output is unusable."""
-
-
 # ---------------------------------------------------------------- set-up
-
-def config_data(params: Params, y_bottom: float, y_top: float) -> dict:
-    """The protocol's overrides as TOML data (module doc), plates at
-    ``y_bottom`` and ``y_top``."""
-    v = params.speed
-    # a few steps beyond the target so that the last output passes it
-    max_time = params.duration + 2 * params.every * params.time_step
-    return {
-        "box": {"enabled": False},
-        "species": [{"name": "disk", "shape": "disk",
-                     "diameter": params.diameter, "count": 1}],
-        "mesh": {"element_size": params.element_size},
-        "walls": {"bottom": {"point": [0.0, y_bottom], "normal": [0.0, 1.0],
-                             "velocity": [0.0, v]},
-                  "top": {"point": [0.0, y_top], "normal": [0.0, -1.0],
-                          "velocity": [0.0, -v]}},
-        "stop": {"packing_fraction": 0.0, "max_time": max_time},
-        "contact": {"friction": params.friction},
-        # Fixed steps: the reference is compared at its own step.
-        "time": {"time_step": params.time_step, "theta": params.theta,
-                 "max_step_factor": 1.0},
-        "damping": {"alpha": params.alpha},
-        "output": {"every_steps": params.every, "fields": True,
-                   "fields_every": 1, "state": False},
-    }
-
 
 def single_disk_config(params: Params, y_bottom=None, y_top=None):
     """The validated configuration (plates at +-R unless given).
@@ -194,57 +138,22 @@ def single_disk_config(params: Params, y_bottom=None, y_top=None):
     return validate(config_data(params, y_bottom, y_top), SOURCE)
 
 
-def driver_executable() -> Path:
-    """The driver's executable (raises SingleDiskError when not built)."""
-    from softpack.simulation.driver import DriverError, executable
-
-    try:
-        return executable()
-    except DriverError as err:
-        raise SingleDiskError(str(err)) from None
-
-
 def simulate(params: Params, sim_dir, quiet=True) -> dict:
-    """Scene, driver.json and softpack-simulate in ``sim_dir``.
+    """Scene, driver.json and softpack-simulate in ``sim_dir``
+    (:func:`softpack.references.between_plates.simulate`), the mesh turned
+    node-up unless ``params.orientation`` says otherwise.
 
     Returns a dict with the configuration, the mesh size, the plates'
     initial positions and the driver's wall time.
     """
-    from softpack.scene.build import build_scene
-    from softpack.simulation import driver
-    from softpack.simulation.driver_input import write_driver_json
-
-    sim_dir = Path(sim_dir)
-    sim_dir.mkdir(parents=True, exist_ok=True)
-    for stale in ("raw/done.json", "raw/steps.csv", "fields.h5",
-                  "fields.xdmf"):
-        (sim_dir / stale).unlink(missing_ok=True)
-    scene = build_scene(single_disk_config(params), sim_dir / "mesh" / "disk")
-    rotation = 0.0
+    turn = None
     if params.orientation == "node_up":
-        rotation = put_node_up(scene.mesh.h5, params.radius)
-    nodes = reference_nodes(scene.mesh.h5)
-    y_bottom, y_top = float(nodes[:, 1].min()), float(nodes[:, 1].max())
-    config = single_disk_config(params, y_bottom, y_top)
-    (sim_dir / "config.toml").write_text(to_toml(config))
-    write_driver_json(config, scene.record(), sim_dir)
-    driver_executable()
-    started = time.time()
-    (sim_dir / "driver.log").unlink(missing_ok=True)
-    status, _ = driver.simulate(sim_dir / "driver.json",
-                                sim_dir / "driver.log")
-    seconds = time.time() - started
-    if status != 0 or not (sim_dir / "raw" / "done.json").exists():
-        tail = (sim_dir / "driver.log").read_text().splitlines()[-15:]
-        raise SingleDiskError(
-            f"softpack-simulate failed (exit status {status}); last lines of"
-            f" {sim_dir / 'driver.log'}:\n" + "\n".join(tail))
-    return {"config": config, "triangles": scene.mesh.n_triangles,
-            "nodes": int(len(nodes)),
-            "boundary_nodes": int(np.sum(on_circle(nodes, params.radius))),
-            "mesh_rotation_rad": rotation,
-            "y_bottom0": y_bottom, "y_top0": y_top,
-            "driver_seconds": seconds}
+        turn = lambda mesh_h5: put_node_up(mesh_h5, params.radius)  # noqa: E731
+    meta = between_plates.simulate(single_disk_config, params, sim_dir,
+                                   "disk", turn)
+    meta["boundary_nodes"] = int(np.sum(on_circle(
+        meta.pop("node_coordinates"), params.radius)))
+    return meta
 
 
 def on_circle(x, radius) -> np.ndarray:
@@ -280,48 +189,6 @@ def put_node_up(mesh_h5, radius) -> float:
 
 
 # ---------------------------------------------------------------- reading
-
-def reference_nodes(mesh_h5) -> np.ndarray:
-    """Node coordinates (n, 2) of a mesh written by mesh_disks."""
-    from softpack.analysis.fields import read_mesh
-
-    return read_mesh(mesh_h5)[0]
-
-
-def read_steps(path) -> dict:
-    """``raw/steps.csv`` as a dict of float arrays keyed by column."""
-    from softpack.analysis.tables import read_table
-
-    return read_table(path)
-
-
-def force_curve(steps: dict, params: Params, y_bottom0, y_top0,
-                shear_modulus) -> dict:
-    """eps, f_norm (mean of the plates), and each plate's f_norm.
-
-    The driver's wall forces are averages over the steps since the previous
-    output row (docs/driver_io.md); the plates move at constant speed, so
-    they belong to the approach midway between the two rows.
-    """
-    end = (y_top0 - steps["top_y"]) + (steps["bottom_y"] - y_bottom0)
-    delta = end.copy()
-    delta[1:] = 0.5 * (end[1:] + end[:-1])
-    delta[np.abs(delta) < 1e-12 * params.diameter] = 0.0  # round-off at t = 0
-    eps = cumulative_strain(delta, params.diameter)
-    scale = params.diameter * shear_modulus
-    top = steps["top_fy"] / scale          # the disk pushes the top plate up
-    bottom = -steps["bottom_fy"] / scale   # ... and the bottom plate down
-    return {"eps": eps, "delta": delta, "f_norm": 0.5 * (top + bottom),
-            "f_norm_top": top, "f_norm_bottom": bottom}
-
-
-def read_fields(fields_h5):
-    """Geometry (n, 2), triangles (k, 3), and [(time, u (n, 2))] by time."""
-    from softpack.analysis.fields import read_displacements, read_mesh
-
-    x, cells = read_mesh(fields_h5)
-    return x, cells, read_displacements(fields_h5)
-
 
 def transverse_profiles(fields_h5, steps, curve, params: Params,
                         strains=PROFILE_STRAINS, w=PROFILE_W) -> dict:
@@ -365,14 +232,14 @@ def transverse_profiles(fields_h5, steps, curve, params: Params,
 def run(params: Params, out_dir, quiet=True) -> dict:
     """Simulate and write force_2d.csv, profile_2d.csv, run_2d.json."""
     out_dir = Path(out_dir)
-    sim_dir = out_dir / "sim"
+    sim = RunDirectory(out_dir / "sim")
     started = time.time()
-    meta = simulate(params, sim_dir, quiet)
-    steps = read_steps(sim_dir / "raw" / "steps.csv")
+    meta = simulate(params, sim.path, quiet)
+    steps = read_table(sim.raw.steps_csv)
     mu = meta["config"]["material"]["parameters"]["shear_modulus"]
-    curve = force_curve(steps, params, meta["y_bottom0"], meta["y_top0"], mu)
-    profiles = transverse_profiles(sim_dir / "fields.h5", steps, curve,
-                                   params)
+    curve = force_curve(steps, params.diameter, meta["y_bottom0"],
+                        meta["y_top0"], mu)
+    profiles = transverse_profiles(sim.fields_h5, steps, curve, params)
     write_outputs(out_dir, params, steps, curve, profiles, meta,
                   time.time() - started)
     return {"curve": curve, "profiles": profiles, "meta": meta,
@@ -381,8 +248,6 @@ def run(params: Params, out_dir, quiet=True) -> dict:
 
 def write_outputs(out_dir, params, steps, curve, profiles, meta, seconds):
     """force_2d.csv, profile_2d.csv, run_2d.json into out_dir."""
-    from softpack.analysis.tables import write_table
-
     out_dir = Path(out_dir)
     # every row up to the first at or beyond max_strain
     last = int(np.searchsorted(curve["eps"], params.max_strain - 1e-12))
@@ -425,27 +290,6 @@ def write_outputs(out_dir, params, steps, curve, profiles, meta, seconds):
 def value_at(curve, eps) -> np.ndarray:
     """f_norm interpolated at the given strains."""
     return np.interp(eps, curve["eps"], curve["f_norm"])
-
-
-def refused(params, config_of, out) -> bool:
-    """Whether ``softpack single-disk`` refuses to start (exit status 2),
-    having printed why: ``--max-strain`` outside (0, 1), what the schema
-    refuses in ``config_of(params)``, an unusable ``out`` (made, writable).
-    Nothing is meshed before; shared with :mod:`.plates`."""
-    from softpack.simulation.run_directory import (UsageError,
-                                                   check_out_directory)
-
-    if not 0 < params.max_strain < 1:
-        print("softpack single-disk: --max-strain must be in (0, 1)",
-              file=sys.stderr)
-        return True
-    try:
-        config_of(params)
-        check_out_directory(out)
-    except (ConfigError, UsageError) as err:
-        print(f"softpack single-disk: {err}", file=sys.stderr)
-        return True
-    return False
 
 
 def _parser():
@@ -517,7 +361,7 @@ def main(argv=None) -> int:
           f" {args.out}", flush=True)
     try:
         result = run(params, args.out)
-    except SingleDiskError as err:
+    except (SingleDiskError, RunError) as err:
         print(f"softpack single-disk: {err}", file=sys.stderr)
         return 1
     curve, meta = result["curve"], result["meta"]

@@ -18,7 +18,7 @@ import numpy as np
 from softpack.scene import shapes
 from softpack.scene.mesh import MeshInfo, mesh_particles
 from softpack.scene.packing import Packing, scene_packing
-from softpack.scene.schema import load_schema
+from softpack.contract.schema import load_schema
 from softpack.scene.species import orientations, particle_table
 from softpack.scene.walls import scene_walls
 

@@ -1,7 +1,7 @@
 """The run configuration: one TOML file, validated before any computation.
 
 The sections and keys, their types, ranges, choices, defaults and units
-are those of ``schema/parameters.toml`` (:mod:`softpack.scene.schema`); the
+are those of ``schema/parameters.toml`` (:mod:`softpack.contract.schema`); the
 material laws and the keys of ``[material.parameters]`` are those of the
 registry built from ``forms/materials/`` (:mod:`softpack.scene.materials`).
 Nothing here restates a range, a default or a name.
@@ -36,7 +36,7 @@ from pathlib import Path
 
 from softpack.scene import consistency, species as species_rules, stages
 from softpack.scene.materials import RegistryError, load_registry, resolve
-from softpack.scene.schema import MATERIAL_CHOICES, load_schema
+from softpack.contract.schema import MATERIAL_CHOICES, load_schema
 from softpack.scene.walls import BOX_WALLS, box_geometry, unit
 
 #: The sub-table of [material] that holds the law's own parameters.

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from softpack import paths
-from softpack.scene.schema import Parameter, make_parameter
+from softpack.contract.schema import Parameter, make_parameter
 
 #: The registry layout this code reads.
 REGISTRY_VERSION = 2

@@ -38,12 +38,15 @@ from pathlib import Path
 
 import numpy as np
 
-from softpack.paths import MESHES
-from softpack.scene.schema import load_schema
-from softpack.scene.packing import (DEFAULT_GAP, PAPER_COUNTS, PAPER_DIAMETERS,
-                              PAPER_LENGTH, PAPER_WIDTH, Packing, PackingError,
-                              random_packing)
-from softpack.scene.shapes import mesh_geometry, shape_file
+from softpack.contract.schema import load_schema
+from softpack.contract.tables import read_table
+from softpack.scene.packing import (DEFAULT_GAP, PAPER_COUNTS,
+                                    PAPER_DIAMETERS, PAPER_LENGTH,
+                                    PAPER_WIDTH, Packing, PackingError,
+                                    random_packing)
+from softpack.scene.shapes import Template, rotated, shape_file
+from softpack.scene.triangulation import (initialize_gmsh, mesh_geometry,
+                                          signed_areas)
 
 #: The paper's element size (m): kappa = h / (D2 / 2) = 0.071 (the
 #: schema's default).
@@ -162,46 +165,6 @@ def disk_triangulation(radii, element_size, shape="disk") -> dict:
         gmsh.finalize()
 
 
-def initialize_gmsh(gmsh) -> None:
-    """``gmsh.initialize`` that writes nothing outside the run (issue 16).
-
-    gmsh's option defaults set FLTK's tooltip option, and FLTK then reads
-    and rewrites its preference files, ``/etc/fltk/fltk.org/fltk.prefs``
-    and ``~/.fltk/fltk.org/fltk.prefs``, even without a GUI and with
-    ``readConfigFiles=False``. FLTK reads them only once per process (flag
-    ``Fl::options_read_``): setting the flag first leaves both untouched.
-    """
-    import ctypes
-
-    try:
-        fltk = ctypes.CDLL("libfltk.so.1.3")
-        ctypes.c_bool.in_dll(fltk, "_ZN2Fl13options_read_E").value = True
-    except (OSError, ValueError):
-        pass  # a gmsh built without FLTK writes no preferences
-    gmsh.initialize(readConfigFiles=False)
-    gmsh.option.setNumber("General.Terminal", 0)
-
-
-def _mesh_options(gmsh, element_size) -> None:
-    """One absolute element size, Frontal-Delaunay, linear triangles."""
-    for name, value in (("Mesh.MeshSizeMin", element_size),
-                        ("Mesh.MeshSizeMax", element_size),
-                        ("Mesh.MeshSizeFromPoints", 0),
-                        ("Mesh.MeshSizeFromCurvature", 0),
-                        ("Mesh.MeshSizeExtendFromBoundary", 0),
-                        ("Mesh.Algorithm", 6),  # Frontal-Delaunay
-                        ("Mesh.ElementOrder", 1)):
-        gmsh.option.setNumber(name, value)
-
-
-def signed_areas(points, triangles) -> np.ndarray:
-    """Signed areas of triangles; positive when counter-clockwise."""
-    p = np.asarray(points)[:, :2]
-    a = p[triangles[:, 1]] - p[triangles[:, 0]]
-    b = p[triangles[:, 2]] - p[triangles[:, 0]]
-    return 0.5 * (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
-
-
 def mesh_disks(centres, radii, element_size, out_stem) -> MeshInfo:
     """Mesh disks and write them as one dolfinx mesh with body tags.
 
@@ -221,8 +184,6 @@ def mesh_disks(centres, radii, element_size, out_stem) -> MeshInfo:
     -------
     MeshInfo
     """
-    from softpack.scene.shapes import Template
-
     centres, radii = check_disks(centres, radii, element_size)
     meshes = disk_triangulation(radii, element_size)
     templates = {r: Template(points=p, triangles=t,
@@ -253,8 +214,6 @@ def mesh_particles(bodies, centres, angles, out_stem) -> MeshInfo:
     -------
     MeshInfo
     """
-    from softpack.scene.shapes import rotated
-
     centres = np.asarray(centres, dtype=float).reshape(-1, 2)
     angles = np.asarray(angles, dtype=float).reshape(-1)
     xdmf, h5, bodies_csv = output_paths(out_stem)
@@ -358,8 +317,6 @@ def _write_outputs(xdmf, mesh, bodies_csv, rows) -> None:
 
 def read_bodies(path) -> dict:
     """Read ``NAME.bodies.csv``: a dict of arrays keyed by column name."""
-    from softpack.analysis.tables import read_table
-
     table = read_table(path)
     table["body"] = table["body"].astype(int)
     return table

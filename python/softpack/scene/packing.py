@@ -28,7 +28,7 @@ import numpy as np
 
 from softpack.scene.placement import (HEXAGONAL_FRACTION, PackingError,
                                       _fraction, _padded, place)
-from softpack.scene.schema import load_schema
+from softpack.contract.schema import load_schema
 
 
 

@@ -30,6 +30,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from softpack.scene.preparation import Jammed, grow
+
 #: Relaxation sweeps over which the largest overlap must shrink by 10 %.
 STALL_SWEEPS = 500
 #: Packing fraction of the shrunken circles placed by plain RSA before
@@ -110,13 +112,11 @@ def place(radii, length, width, gap, rng, *, relax=True, trials=200,
 def _grown(radii, start, length, width, gap, rng, trials, failure):
     """The growth protocol (:mod:`.preparation`) from a plain RSA of the
     shrunken circles, for a box too full for the inflation."""
-    from softpack.scene.preparation import grow
-
     try:
         placed, _ = _sequential(radii * start, length, width, gap, rng,
                                 trials, relax=False)
         return grow(placed, radii, length, width, _padded(gap), start, rng)
-    except PackingError as err:
+    except (PackingError, Jammed) as err:
         raise PackingError(f"{failure}; then {err}") from None
 
 

@@ -21,8 +21,8 @@ Lubachevsky-Stillinger-like protocol, hard-disk Monte Carlo with growth:
    when ``s_max >= 1`` the circles take their full size and the
    preparation ends (every clearance >= the padded gap > ``gap``);
 4. when the scale has grown by less than ``STALL_GROWTH`` (relative) over
-   ``STALL_SWEEPS`` sweeps, the circles are jammed:
-   :class:`~softpack.scene.placement.PackingError` names the scale reached.
+   ``STALL_SWEEPS`` sweeps, the circles are jammed: :class:`Jammed` names
+   the scale reached (:mod:`.placement` turns it into its PackingError).
 
 The random motion lets the circles find room that a quench does not. The
 result depends only on the generator's state.
@@ -41,6 +41,10 @@ STALL_SWEEPS = 2000
 ACCEPTANCE = 0.35
 #: Fraction of the room taken by each growth.
 GROWTH = 0.05
+
+
+class Jammed(RuntimeError):
+    """The circles jammed before reaching their full size."""
 
 
 def grow(centres, radii, length, width, padded_gap, start, rng):
@@ -68,11 +72,9 @@ def grow(centres, radii, length, width, padded_gap, start, rng):
 
     Raises
     ------
-    softpack.scene.placement.PackingError
+    Jammed
         When the circles jam before full size.
     """
-    from softpack.scene.placement import PackingError
-
     x = np.array(centres, dtype=float)
     radii = np.asarray(radii, dtype=float)
     scale, step = float(start), 0.1 * radii.min()
@@ -80,7 +82,7 @@ def grow(centres, radii, length, width, padded_gap, start, rng):
     for sweep in range(MAX_SWEEPS):
         room = _room(x, radii, length, width, padded_gap)
         if room < scale * (1 - 1e-12):
-            raise PackingError("growth lost admissibility (a bug)")
+            raise Jammed("growth lost admissibility (a bug)")
         if room >= 1.0:
             return x
         scale += GROWTH * (room - scale)
@@ -92,7 +94,7 @@ def grow(centres, radii, length, width, padded_gap, start, rng):
             if scale < checkpoint * (1 + STALL_GROWTH):
                 break
             checkpoint = scale
-    raise PackingError(
+    raise Jammed(
         f"growth jammed at {scale:.5f} of the particles' size (packing"
         f" fraction {scale**2 * _fraction(radii, length, width):.4f} of"
         f" {_fraction(radii, length, width):.4f}) after {sweep + 1} Monte"

@@ -44,6 +44,9 @@ import numpy as np
 
 from softpack.paths import MESHES
 from softpack.scene.packing import PackingError
+from softpack.scene.triangulation import (MeshingError, initialize_gmsh,
+                                          mesh_geometry, oriented,
+                                          signed_areas)
 
 #: Fewest boundary edges of a particle's mesh.
 MIN_BOUNDARY_ELEMENTS = 8
@@ -133,6 +136,34 @@ def shape_file(shape: str = "disk") -> Path:
     return path
 
 
+def user_file(spec, where, base=None) -> Path:
+    """The ``file`` of a geo/msh species: as given, next to the TOML file
+    (``base``), then in ``meshes/``.
+
+    Raises
+    ------
+    ShapeError
+        When it is not found or has the wrong suffix.
+    """
+    name = spec["file"]
+    suffix = "." + spec["shape"]
+    if not name:
+        raise ShapeError(f"{where} file: missing; shape = {spec['shape']!r}"
+                         f" needs a gmsh {suffix} file")
+    path = Path(name).expanduser()
+    tried = [path] if path.is_absolute() else [
+        *([Path(base) / path] if base is not None else []), path,
+        MESHES / path]
+    for candidate in tried:
+        if candidate.is_file():
+            if candidate.suffix.lower() != suffix:
+                raise ShapeError(f"{where} file = {name!r}: shape ="
+                                 f" {spec['shape']!r} needs a {suffix} file")
+            return candidate.resolve()
+    raise ShapeError(f"{where} file = {name!r}: not found (looked in: "
+                     + ", ".join(str(p) for p in tried) + ")")
+
+
 def templates(species, diameters, index, element_size, base=None) -> dict:
     """Mesh every distinct (shape, size) of a scene once.
 
@@ -153,8 +184,6 @@ def templates(species, diameters, index, element_size, base=None) -> dict:
         :func:`shape_key` -> :class:`Template`.
     """
     import gmsh
-
-    from softpack.scene.mesh import initialize_gmsh
 
     wanted = {}
     for d, s in zip(np.asarray(diameters, float).tolist(),
@@ -198,11 +227,12 @@ def _template(gmsh, spec, s, diameter, h, base) -> Template:
                 {"semi_major": a, "semi_minor": b}, h)
         elif shape in ("geo", "msh"):
             exact = False
-            from softpack.scene.user_shapes import user_file, user_mesh
+            from softpack.scene.user_shapes import user_mesh
 
             path = user_file(spec, where, base)
             where = f"{where} file = {str(path)!r}"
-            points, triangles = user_mesh(shape, path, diameter, h)
+            points, triangles = user_mesh(shape, path, exact_area(diameter),
+                                          h)
         else:
             raise ShapeError(f"{where} shape = {shape!r}: unknown")
     except MeshingError as err:
@@ -218,100 +248,6 @@ def _template(gmsh, spec, s, diameter, h, base) -> Template:
                             triangles=template.triangles, area=template.area,
                             bounding_radius=diameter / 2)
     return template
-
-
-class MeshingError(RuntimeError):
-    """gmsh failed or returned something other than one triangulated
-    surface."""
-
-
-def mesh_geometry(gmsh, geometry, parameters, element_size):
-    """Mesh a geometry file with ONELAB parameters; points and triangles.
-
-    Raises
-    ------
-    MeshingError
-        When gmsh fails or the file defines other than one plane surface.
-    """
-    from softpack.scene.mesh import _mesh_options
-
-    for name, value in parameters.items():
-        gmsh.onelab.setNumber(f"Parameters/{name}", [float(value)])
-    try:
-        gmsh.open(str(geometry))  # a new model, the geometry file's
-    except Exception as err:  # gmsh raises plain Exception
-        raise MeshingError(_gmsh_errors(gmsh, err)) from None
-    try:
-        _mesh_options(gmsh, element_size)
-        surfaces = gmsh.model.getEntities(2)
-        if len(surfaces) != 1:
-            raise MeshingError(f"{len(surfaces)} plane surfaces, a particle"
-                               " is one (a closed curve loop and a Plane"
-                               " Surface)")
-        try:
-            gmsh.model.mesh.generate(2)
-        except Exception as err:
-            raise MeshingError(_gmsh_errors(gmsh, err)) from None
-        return _oriented(*_surface_mesh(gmsh, surfaces[0][1]))
-    finally:
-        gmsh.model.remove()
-
-
-def _gmsh_errors(gmsh, err) -> str:
-    """gmsh's logged errors (its exception text is often only the last)."""
-    lines = [line for line in gmsh.logger.get() if "rror" in line]
-    return "; ".join(lines[-3:]) or str(err)
-
-
-def _surface_mesh(gmsh, surface):
-    """Nodes (m, 2) and triangles (k, 3) of one meshed surface (or of all
-    surfaces, ``surface = -1``)."""
-    tags, coords, _ = gmsh.model.mesh.getNodes(
-        2, surface, includeBoundary=True, returnParametricCoord=False)
-    types, _, nodes = gmsh.model.mesh.getElements(2, surface)
-    if list(types) != [2]:  # gmsh type 2: 3-node triangle
-        raise MeshingError(f"element types {list(types)}, expected only"
-                           " 3-node triangles")
-    return _compact(tags, coords.reshape(-1, 3)[:, :2], nodes[0])
-
-
-def _compact(tags, points, element_nodes):
-    """Local numbering of the nodes the triangles use."""
-    tags = np.asarray(tags, dtype=np.int64)
-    local = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
-    local[tags] = np.arange(len(tags))
-    triangles = local[np.asarray(element_nodes, dtype=np.int64)].reshape(-1, 3)
-    if np.any(triangles < 0):
-        raise MeshingError("triangles use unknown nodes")
-    used, triangles = np.unique(triangles, return_inverse=True)
-    return points[used], triangles.reshape(-1, 3)
-
-
-def _oriented(points, triangles):
-    """Triangles made counter-clockwise."""
-    triangles = triangles.copy()
-    flip = _signed_areas(points, triangles) < 0
-    triangles[flip] = triangles[flip][:, [0, 2, 1]]
-    return points, triangles
-
-
-def _signed_areas(points, triangles) -> np.ndarray:
-    """Signed areas of triangles; positive when counter-clockwise."""
-    a = points[triangles[:, 1]] - points[triangles[:, 0]]
-    b = points[triangles[:, 2]] - points[triangles[:, 0]]
-    return 0.5 * (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
-
-
-def _polygon_area(points, triangles) -> float:
-    """Area of a triangulation (orientation ignored)."""
-    return float(np.abs(_signed_areas(points, triangles)).sum())
-
-
-def _centred(points, triangles) -> np.ndarray:
-    """Points moved so that the area centroid is at the origin."""
-    areas = np.abs(_signed_areas(points, triangles))
-    centroids = points[triangles].mean(axis=1)
-    return points - (areas[:, None] * centroids).sum(axis=0) / areas.sum()
 
 
 def boundary_loops(triangles) -> list:
@@ -356,7 +292,7 @@ def checked_template(points, triangles, diameter, where, h) -> Template:
     ------
     ShapeError
     """
-    points, triangles = _oriented(np.asarray(points, float),
+    points, triangles = oriented(np.asarray(points, float),
                                   np.asarray(triangles, np.int64))
     loops = boundary_loops(triangles)
     if len(loops) != 1:
@@ -368,7 +304,7 @@ def checked_template(points, triangles, diameter, where, h) -> Template:
                          f" [mesh] element_size = {h!r}, fewer than"
                          f" {MIN_BOUNDARY_ELEMENTS}: the element size is too"
                          " large for this shape")
-    areas = _signed_areas(points, triangles)
+    areas = signed_areas(points, triangles)
     edges = points[triangles] - points[np.roll(triangles, 1, axis=1)]
     quality = 4 * math.sqrt(3) * areas / (edges ** 2).sum(axis=(1, 2))
     if quality.min() < MIN_QUALITY:

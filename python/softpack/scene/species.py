@@ -159,7 +159,7 @@ def validate_friction(checker, section, items, sections) -> list:
     ----------
     checker : softpack.scene.config._Checker
         Checks each table's keys and values against the schema.
-    section : softpack.scene.schema.Section
+    section : softpack.contract.schema.Section
         The schema's [friction].
     items : list
         The TOML's [[friction]] tables.

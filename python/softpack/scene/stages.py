@@ -58,7 +58,7 @@ def validate(checker, section, items, sections, given_stop) -> list:
     ----------
     checker : softpack.scene.config._Checker
         Checks values against their schema entries, naming file and key.
-    section : softpack.scene.schema.Section
+    section : softpack.contract.schema.Section
         The schema's [stages].
     items : list or None
         The file's ``stages`` (None: no stages).
@@ -139,7 +139,7 @@ def _apply_walls(checker, index, entries, drives, sections) -> dict:
 
 def checker_schema(sections) -> dict:
     """The [walls] keys' Parameters (their one definition)."""
-    from softpack.scene.schema import load_schema
+    from softpack.contract.schema import load_schema
 
     return load_schema()["walls"].parameters
 

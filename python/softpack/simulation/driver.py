@@ -1,9 +1,11 @@
 """Runs ``softpack-simulate`` (the C++ driver) on a driver.json.
 
 The one place that starts the driver: ``./softpack run``, the single-disk
-check and the benchmarks all go through :func:`start` and :func:`wait`.
-The driver runs with the run directory as its working directory, its
-output to a log file.
+and plates checks and the benchmarks all go through :func:`launch` (write
+driver.json, run the driver to the end, check that it finished), or
+through :func:`start` and :func:`wait` to run several side by side. The
+driver runs with the run directory as its working directory, its output
+to a log file.
 
 The driver never outlives the Python process that started it (issue 16):
 it runs in its own process group (so that a terminal's Ctrl-C reaches
@@ -19,24 +21,50 @@ import os
 import signal
 import subprocess
 import sys
+import time
+from dataclasses import dataclass
 from pathlib import Path
 
 from softpack import paths
+from softpack.contract.run_directory import RunDirectory, RunError
 
 #: The executable's name under the build's bin directory.
 DRIVER = "softpack-simulate"
+#: Seconds between two looks at a running driver (``watch`` of
+#: :func:`launch`).
+POLL_SECONDS = 1.0
 
 
-class DriverError(RuntimeError):
-    """The driver is missing or failed; the message says why."""
+class DriverFailed(RunError):
+    """The driver exited with a non-zero status (``status``)."""
+
+    def __init__(self, message: str, status: int):
+        super().__init__(message)
+        self.status = status
+
+
+@dataclass(frozen=True)
+class Finished:
+    """A driver run that reached its end (:func:`launch`)."""
+
+    #: Peak resident memory (MB) of the driver (mpirun's largest child).
+    peak_memory_mb: float
+    #: ``raw/done.json``.
+    done: dict
 
 
 def executable() -> Path:
-    """``$SOFTPACK_BIN/softpack-simulate`` (raises DriverError if absent)."""
+    """``$SOFTPACK_BIN/softpack-simulate``.
+
+    Raises
+    ------
+    RunError
+        When it is not built, saying how to build it.
+    """
     try:
         return paths.executable(DRIVER)
     except FileNotFoundError as err:
-        raise DriverError(str(err)) from None
+        raise RunError(str(err)) from None
 
 
 def check_ranks(ranks: int, config) -> None:
@@ -87,7 +115,8 @@ def command(driver_json, quiet=False, ranks=1, threads=None) -> list[str]:
     return launcher + cmd
 
 
-def start(driver_json, log, quiet=False, ranks=1) -> subprocess.Popen:
+def start(driver_json, log, quiet=False, ranks=1,
+          threads=None) -> subprocess.Popen:
     """Start the driver on ``driver_json``; its output goes to ``log``.
 
     Parameters
@@ -98,12 +127,13 @@ def start(driver_json, log, quiet=False, ranks=1) -> subprocess.Popen:
         Receives stdout and stderr (None: discarded).
     quiet : bool
         Pass ``--quiet`` (no per-step lines).
-    ranks : int
-        MPI ranks (:func:`command`); the caller checked the range.
+    ranks, threads : int
+        MPI ranks and OpenMP threads per rank (:func:`command`); the
+        caller checked the range.
     """
     driver_json = Path(driver_json).resolve()
     return subprocess.Popen(
-        command(driver_json, quiet, ranks), cwd=driver_json.parent,
+        command(driver_json, quiet, ranks, threads), cwd=driver_json.parent,
         env=_launch_environment(), stdin=subprocess.DEVNULL,
         stdout=log if log is not None else subprocess.DEVNULL,
         stderr=subprocess.STDOUT, process_group=0,
@@ -150,14 +180,31 @@ def _die_with_parent(parent: int):
     return preexec
 
 
-def wait(proc: subprocess.Popen) -> tuple[int, float]:
+def wait(proc: subprocess.Popen, watch=None) -> tuple[int, float]:
     """Wait for the driver; return its exit status and peak memory (MB).
 
-    ``os.wait4`` gives the child's own peak resident set size.
+    ``os.wait4`` gives the child's own peak resident set size. ``watch``:
+    called with ``final=False`` every :data:`POLL_SECONDS` while the
+    driver runs, then once with ``final=True``.
     """
-    _, status, usage = os.wait4(proc.pid, 0)
+    status, usage = wait_usage(proc, watch)
+    return status, usage.ru_maxrss / 1024.0
+
+
+def wait_usage(proc: subprocess.Popen, watch=None):
+    """Wait for the driver (see :func:`wait`); exit status and its
+    ``resource.struct_rusage``."""
+    flags = 0 if watch is None else os.WNOHANG
+    while True:
+        pid, status, usage = os.wait4(proc.pid, flags)
+        if pid:
+            break
+        time.sleep(POLL_SECONDS)
+        watch(final=False)
+    if watch is not None:
+        watch(final=True)
     proc.returncode = os.waitstatus_to_exitcode(status)
-    return proc.returncode, usage.ru_maxrss / 1024.0
+    return proc.returncode, usage
 
 
 def stop(proc: subprocess.Popen, grace: float = 10.0) -> None:
@@ -186,17 +233,59 @@ def _signal_group(proc: subprocess.Popen, sig) -> None:
         proc.send_signal(sig)
 
 
-def simulate(driver_json, log_path, quiet=False,
-             ranks=1) -> tuple[int, float]:
-    """Run the driver to the end; exit status and peak memory (MB).
+def launch(run: RunDirectory, config=None, scene=None, *,
+           initial_state=None, log=None, quiet=False, ranks=1,
+           threads=None, watch=None) -> Finished:
+    """Write driver.json, run the driver on it to the end, check it finished.
 
-    With several ranks the memory is the largest of mpirun's children's
-    (``os.wait4`` reports the peak of the largest descendant waited for).
+    Parameters
+    ----------
+    run : RunDirectory
+        Where driver.json is and the driver writes.
+    config, scene : Config and dict, optional
+        The validated configuration and the scene's record
+        (:meth:`Scene.record`): driver.json is written from them
+        (:mod:`softpack.simulation.driver_input`, with ``initial_state``);
+        without them the run's driver.json is run as it is (a resumption).
+    log : file object or path-like, optional
+        The driver's output: appended to an open file (e.g. run.log, shared
+        with the caller), written afresh to a path, or discarded (None).
+    quiet, ranks, threads
+        As :func:`command`.
+    watch : callable, optional
+        Progress: see :func:`wait`.
+
+    Raises
+    ------
+    RunError
+        The driver is not built, failed (:class:`DriverFailed`, with the
+        last lines of its log) or ended without ``raw/done.json``. Whatever
+        interrupts the wait stops the driver's process group first.
     """
-    with open(log_path, "a") as log:
-        proc = start(driver_json, log, quiet, ranks)
-        try:
-            return wait(proc)
-        except BaseException:
-            stop(proc)
-            raise
+    from softpack.simulation.driver_input import write_driver_json
+
+    executable()
+    if config is not None:
+        write_driver_json(config, scene, run.path, initial_state)
+    if log is None or hasattr(log, "write"):
+        return _launched(run, log, quiet, ranks, threads, watch)
+    with open(log, "w") as stream:
+        return _launched(run, stream, quiet, ranks, threads, watch)
+
+
+def _launched(run, log, quiet, ranks, threads, watch) -> Finished:
+    """The driver started on ``run``'s driver.json, waited for, checked."""
+    if log is not None:
+        log.flush()
+    proc = start(run.driver_json, log, quiet, ranks, threads)
+    try:
+        status, peak_mb = wait(proc, watch)
+    except BaseException:
+        stop(proc)
+        raise
+    if status != 0:
+        where = "" if log is None else (
+            f"; last lines of {log.name}:\n" + run.tail(log.name))
+        raise DriverFailed(f"{DRIVER} failed (exit status {status}){where}",
+                           status)
+    return Finished(peak_memory_mb=peak_mb, done=run.done())

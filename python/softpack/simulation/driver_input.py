@@ -22,7 +22,7 @@ import json
 import os
 from pathlib import Path
 
-from softpack.scene.schema import load_schema, schema_version
+from softpack.contract.schema import load_schema, schema_version
 
 #: The file name in the run directory.
 NAME = "driver.json"

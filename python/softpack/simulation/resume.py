@@ -32,11 +32,7 @@ import shutil
 import subprocess
 from pathlib import Path
 
-PART = "raw.part"
-#: The driver's stage record beside raw/state.bin (runs with [[stages]])
-STAGE_RECORD = "state.stage.json"
-#: Per-step files of the raw output: ``DIR/step_NNNNNNNN.*``.
-STEP_DIRS = ("contacts", "failed_contact_problems")
+from softpack.contract.run_directory import RawOutput, RunDirectory
 
 
 def prepare_resume(out: Path, config, run_error) -> int:
@@ -51,43 +47,44 @@ def prepare_resume(out: Path, config, run_error) -> int:
     run_error : type
         The exception class to raise (RunError), with a message.
     """
-    raw, part = out / "raw", out / PART
-    if (out / "series.csv").exists():
+    run = RunDirectory(out)
+    raw, part = run.raw, run.raw_part
+    if run.series_csv.exists():
         raise run_error(f"--resume {out}: holds a complete run (series.csv);"
                         " nothing to resume")
-    if (raw / "done.json").exists():
+    if raw.done_json.exists():
         raise run_error(f"--resume {out}: the simulation finished (raw/"
                         "done.json); recompute its observables with"
                         f" ./softpack run --observables-only --out {out}")
-    if part.is_dir() and raw.is_dir():  # killed again while resuming
-        if (raw / "steps.csv").is_file() and _rows(raw / "steps.csv")[1]:
-            merge_raw(part, raw)
-        shutil.rmtree(raw)
-    elif raw.is_dir():
-        raw.rename(part)
-    if not (part / "state.bin").is_file():
+    if part.path.is_dir() and raw.path.is_dir():  # killed again resuming
+        if raw.steps_csv.is_file() and _rows(raw.steps_csv)[1]:
+            merge_raw(part.path, raw.path)
+        shutil.rmtree(raw.path)
+    elif raw.path.is_dir():
+        raw.path.rename(part.path)
+    if not part.state_bin.is_file():
         raise run_error(f"--resume {out}: no raw/state.bin to resume from"
                         " (the run was killed before its first output step,"
                         " or [output] state = false); start it again")
-    state = out / "resume-state.bin"
-    shutil.copyfile(part / "state.bin", state)
+    state = run.resume_state
+    shutil.copyfile(part.state_bin, state)
     # A run with [[stages]] keeps its stage beside the state (the driver's
     # stage record, S.stage.json next to S.bin).
-    if (part / STAGE_RECORD).is_file():
-        shutil.copyfile(part / STAGE_RECORD, out / "resume-state.stage.json")
+    if part.stage_record.is_file():
+        shutil.copyfile(part.stage_record, run.resume_stage_record)
     try:
         step = state_step(state)
     except ValueError as err:
         raise run_error(f"--resume {out}: {err}") from None
     for suffix in ("xdmf", "h5"):
-        fields = out / f"fields.{suffix}"
-        if fields.exists() and not (out / f"fields.part.{suffix}").exists():
-            fields.rename(out / f"fields.part.{suffix}")
-    doc = json.loads((out / "driver.json").read_text())
+        fields, kept = run.fields(suffix), run.fields(suffix, part=True)
+        if fields.exists() and not kept.exists():
+            fields.rename(kept)
+    doc = json.loads(run.driver_json.read_text())
     if config["stop"]["steps"] > 0:  # the driver counts from the state
         doc["stop"]["steps"] = max(config["stop"]["steps"] - step, 1)
     doc["initial_state"] = str(state)
-    (out / "driver.json").write_text(json.dumps(doc, indent=2) + "\n")
+    run.driver_json.write_text(json.dumps(doc, indent=2) + "\n")
     return step
 
 
@@ -109,11 +106,11 @@ def state_step(path: Path) -> int:
 
 def finish_resume(out: Path) -> None:
     """Merge the killed part into the resumed output; tidy up."""
-    part = out / PART
-    merge_raw(part, out / "raw", into_new=True)
-    shutil.rmtree(part)
-    (out / "resume-state.bin").unlink(missing_ok=True)
-    (out / "resume-state.stage.json").unlink(missing_ok=True)
+    run = RunDirectory(out)
+    merge_raw(run.raw_part.path, run.raw.path, into_new=True)
+    shutil.rmtree(run.raw_part.path)
+    run.resume_state.unlink(missing_ok=True)
+    run.resume_stage_record.unlink(missing_ok=True)
 
 
 def merge_raw(old: Path, new: Path, into_new=False) -> None:
@@ -122,20 +119,26 @@ def merge_raw(old: Path, new: Path, into_new=False) -> None:
     Without ``into_new`` the result goes into ``old`` (a resumption killed
     again: what it wrote joins the killed part); with it, into ``new``.
     """
-    header, new_rows = _rows(new / "steps.csv")
+    old, new = RawOutput(old), RawOutput(new)
+    header, new_rows = _rows(new.steps_csv)
     step = header.index("step")
     first = int(new_rows[0][step]) if new_rows else None
     target = new if into_new else old
-    for name, shift in (("steps.csv", "seconds"), ("particles.csv", None)):
-        _merge_table(old / name, new / name, target / name, first, shift)
-    for sub in STEP_DIRS:
-        _merge_step_files(old / sub, new / sub, target / sub, first)
+    _merge_table(old.steps_csv, new.steps_csv, target.steps_csv, first,
+                 "seconds")
+    _merge_table(old.particles_csv, new.particles_csv, target.particles_csv,
+                 first, None)
+    for olds, news, targets in zip(old.step_dirs, new.step_dirs,
+                                   target.step_dirs):
+        _merge_step_files(olds, news, targets, first)
     if into_new:
-        shutil.copyfile(old / "setup.json", new / "setup.json")
+        shutil.copyfile(old.setup_json, new.setup_json)
     else:
-        for name in ("state.bin", STAGE_RECORD, "done.json"):
-            if (new / name).exists():
-                shutil.copyfile(new / name, old / name)
+        for source, to in ((new.state_bin, old.state_bin),
+                           (new.stage_record, old.stage_record),
+                           (new.done_json, old.done_json)):
+            if source.exists():
+                shutil.copyfile(source, to)
 
 
 def _merge_table(old: Path, new: Path, target: Path, first, shift):

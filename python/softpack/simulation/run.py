@@ -20,7 +20,7 @@
 softpack deletes only what it wrote (issue 16). A run directory is marked
 by ``.softpack-run`` (older runs: ``config.toml`` + ``driver.json``); in
 one, the outputs listed in
-:data:`~softpack.simulation.run_directory.RUN_OUTPUTS` are replaced and nothing
+:data:`~softpack.contract.run_directory.RUN_OUTPUTS` are replaced and nothing
 else is touched. A directory with ``series.csv`` holds a complete run: it
 is not overwritten without ``--force``. A non-empty directory that is not
 a run directory is refused; with ``--force`` the run is written next to
@@ -48,7 +48,6 @@ output).
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import signal
 import sys
@@ -60,17 +59,14 @@ from softpack.paths import ROOT
 from softpack.scene.config import (ConfigError,
                                    load_config, to_toml)
 from softpack.simulation import driver
-from softpack.simulation.driver import DRIVER, DriverError
-from softpack.simulation.driver_input import write_driver_json
+from softpack.simulation.driver import DRIVER, DriverFailed
 from softpack.simulation.interrupt import (Stopped, echo, reclaim_signals,
                                            silence_stdout, stop_on_signals,
                                            why)
 from softpack.simulation.progress import Progress, duration as _duration
-from softpack.simulation.run_directory import (RunError, UsageError,
-                                               is_run_directory,
-                                               prepare_directory)
-
-POLL_SECONDS = 1.0
+from softpack.contract.run_directory import (RunDirectory, RunError,
+                                             UsageError, is_run_directory,
+                                             prepare_directory)
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -128,7 +124,8 @@ def main(argv=None) -> int:
             print(f"softpack run: --resume {args.resume}: not a softpack"
                   " run directory", file=sys.stderr)
             return 2
-        args.out, args.config = args.resume, args.resume / "config.toml"
+        args.out = args.resume
+        args.config = RunDirectory(args.resume).config_toml
     path = args.config or _default_config()
     overrides = {}
     if args.seed is not None:
@@ -199,14 +196,6 @@ def default_out_dir(config, with_friction=False) -> Path:
     return Path("runs") / name
 
 
-def driver_executable() -> Path:
-    """The driver's executable (raises RunError when it is not built)."""
-    try:
-        return driver.executable()
-    except DriverError as err:
-        raise RunError(str(err)) from None
-
-
 def run(config, out: Path, force=False, initial_state: Path | None = None,
         verbose=True, ranks=1) -> int:
     """Packing, mesh, driver, observables into ``out``; returns 0.
@@ -235,7 +224,7 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
         The driver was stopped; logged in run.log.
     """
     out = Path(os.path.abspath(out))
-    driver_executable()
+    driver.executable()
     _check_ranks(ranks, config)
     if initial_state is not None:
         initial_state = Path(initial_state).resolve()
@@ -246,8 +235,8 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
                            f" run directory {out}, which is cleared first;"
                            " copy it elsewhere")
     prepare_directory(out, force)
-    (out / "config.toml").write_text(to_toml(config))
-    with open(out / "run.log", "a", buffering=1) as log:
+    RunDirectory(out).config_toml.write_text(to_toml(config))
+    with open(RunDirectory(out).run_log, "a", buffering=1) as log:
         say = _reporter(log, verbose)
         try:
             say.ranks = ranks
@@ -272,10 +261,10 @@ def resume(config, out: Path, verbose=True, ranks=1) -> int:
     out = Path(os.path.abspath(out))
     if not is_run_directory(out):
         raise UsageError(f"--resume {out}: not a softpack run directory")
-    driver_executable()
+    driver.executable()
     _check_ranks(ranks, config)
     step = prepare_resume(out, config, RunError)
-    with open(out / "run.log", "a", buffering=1) as log:
+    with open(RunDirectory(out).run_log, "a", buffering=1) as log:
         say = _reporter(log, verbose)
         try:
             say.ranks = ranks
@@ -298,18 +287,24 @@ def _check_ranks(ranks, config) -> None:
         raise UsageError(str(err)) from None
 
 
-def _drive(config, out, log, say) -> None:
-    """Run the driver on ``out/driver.json``; RunError if it fails."""
+def _drive(config, out, log, say, scene=None, initial_state=None) -> None:
+    """Run the driver on ``out/driver.json`` (written first from ``scene``
+    if given), its output to the log, progress shown; RunError if it
+    fails."""
+    run = RunDirectory(out)
     ranks = getattr(say, "ranks", 1)
-    say(f"{DRIVER} {out / 'driver.json'}"
+    say(f"{DRIVER} {run.driver_json}"
         + (f" on {ranks} MPI ranks" if ranks > 1 else ""))
     started = time.time()
-    status = _simulate(out, config, log, echo if say.verbose else None, ranks)
-    if status != 0:
-        say(f"{DRIVER} failed with exit status {status}")
-        raise RunError(f"{DRIVER} failed (exit status {status});"
-                       f" last lines of {out / 'run.log'}:\n"
-                       + _tail(out / "run.log"))
+    progress = Progress(config, run.raw.steps_csv,
+                        echo if say.verbose else None)
+    try:
+        driver.launch(run, config if scene is not None else None, scene,
+                      initial_state=initial_state, log=log, ranks=ranks,
+                      watch=lambda final: progress.update(log, final=final))
+    except DriverFailed as err:
+        say(f"{DRIVER} failed with exit status {err.status}")
+        raise
     say(f"{DRIVER} done in {_duration(time.time() - started)}")
 
 
@@ -320,7 +315,7 @@ def _run_logged(config, out, initial_state, log, say) -> int:
 
     say(f"{config.source} -> {out}")
     try:
-        scene = build_scene(config, out / "mesh" / "packing")
+        scene = build_scene(config, RunDirectory(out).mesh_stem("packing"))
     except PackingError as err:
         # the scene's messages name the keys; the file is the run's config
         say(f"scene failed: {err}")
@@ -330,10 +325,9 @@ def _run_logged(config, out, initial_state, log, say) -> int:
     say(f"packing: {scene.packing.n_particles} particles, seed"
         f" {config['packing']['seed']}, Phi0 = {phi0:.4f}; mesh:"
         f" {scene.mesh.n_triangles} triangles")
-    write_driver_json(config, scene.record(), out, initial_state)
     if initial_state is not None:
         say(f"starting from {initial_state}")
-    _drive(config, out, log, say)
+    _drive(config, out, log, say, scene.record(), initial_state)
     return _postprocess(out, say)
 
 
@@ -348,45 +342,13 @@ def _reporter(log, verbose=True):
     return say
 
 
-def _simulate(out, config, log, show, ranks=1) -> int:
-    """Run the driver, its output to the log; show progress; exit status.
-
-    Whatever interrupts the wait (Ctrl-C, a signal, a closed output, an
-    error) stops the driver's process group before it propagates.
-    """
-    progress = Progress(config, out / "raw" / "steps.csv", show)
-    log.flush()
-    proc = driver.start(out / "driver.json", log, ranks=ranks)
-    try:
-        while proc.poll() is None:
-            time.sleep(POLL_SECONDS)
-            progress.update(log)
-        progress.update(log, final=True)
-    except BaseException:
-        driver.stop(proc)
-        raise
-    return proc.returncode
-
-
-def _tail(path: Path, lines=20) -> str:
-    """The last lines of a text file."""
-    try:
-        text = path.read_text(errors="replace")
-        return "\n".join(text.splitlines()[-lines:])
-    except OSError:
-        return "(no log)"
-
-
 def _postprocess(out: Path, say) -> int:
     """Check the driver finished, write the observables, print a summary."""
     from softpack.analysis.observables import (process_run, retained_report,
                                                z_report)
-    from softpack.analysis.tables import read_table
+    from softpack.contract.tables import read_table
 
-    done = out / "raw" / "done.json"
-    if not done.is_file():
-        raise RunError(f"{done} missing: the simulation did not finish, so"
-                       " its raw output is partial")
+    finish = RunDirectory(out).done()
     if say is None:
         def say(text):
             echo(f"softpack run: {text}")
@@ -394,7 +356,6 @@ def _postprocess(out: Path, say) -> int:
         series_csv, particles_csv = process_run(out)
     except (OSError, ValueError, KeyError, ConfigError) as err:
         raise RunError(f"post-processing {out}: {err}") from None
-    finish = json.loads(done.read_text())
     s = read_table(series_csv)
     last = {k: v[-1] for k, v in s.items()} if len(s["step"]) else {}
     say(f"stopped by {finish.get('reason', '?')} after"

@@ -20,46 +20,34 @@ and their normal forces.
 
 from __future__ import annotations
 
-import filecmp
-import json
 import os
-import subprocess
 from pathlib import Path
 
 import numpy as np
 
-from softpack.analysis.tables import read_table
+from softpack.bench.common import FAST, scaled_config, scene_for, stepping_cost
+from softpack.contract.run_directory import RunDirectory
+from softpack.contract.tables import read_table
 from softpack.simulation import driver
-from softpack.simulation.driver_input import write_driver_json
-
-PARTS = ("assembly", "factorization", "solves", "delassus", "detection",
-         "nlgs")
 
 
 def run_ranks(config, scene: dict, out: Path, ranks: int,
               initial_state: Path | None) -> dict:
     """One driver run on ``ranks`` ranks; its cost, memory and traffic."""
-    out.mkdir(parents=True, exist_ok=True)
-    write_driver_json(config, scene, out, initial_state)
-    with open(out / "driver.log", "w") as log:
-        proc = subprocess.Popen(
-            driver.command(out / "driver.json", True, ranks, threads=1),
-            cwd=out, stdout=log, stderr=subprocess.STDOUT,
-            preexec_fn=driver._die_with_parent(os.getpid()))
-        # One rank: its own peak memory (os.wait4); several: done.json's.
-        status, peak_mb = driver.wait(proc)
-    if status != 0:
-        raise RuntimeError(f"softpack-simulate on {ranks} ranks failed:"
-                           f" {out / 'driver.log'}")
-    done = json.loads((out / "raw" / "done.json").read_text())
-    rows = read_table(out / "raw" / "steps.csv")
-    steps = done["steps"] - int(rows["step"][0])
-    stepping = float(rows["seconds"][-1] - rows["seconds"][0])
+    run = RunDirectory(out)
+    finished = driver.launch(run, config, scene, initial_state=initial_state,
+                             log=run.driver_log, quiet=True, ranks=ranks,
+                             threads=1)
+    # One rank: its own peak memory (os.wait4); several: done.json's.
+    done, peak_mb = finished.done, finished.peak_memory_mb
+    cost = stepping_cost(run, done)
+    rows = read_table(run.raw.steps_csv)
+    steps = cost["steps"]
     mpi = done.get("mpi", {})
     result = {"ranks": ranks, "cores": len(os.sched_getaffinity(0)),
               "oversubscribed": ranks > len(os.sched_getaffinity(0)),
-              "steps": steps, "seconds": stepping,
-              "ms_per_step": 1e3 * stepping / steps,
+              "steps": steps, "seconds": cost["seconds"],
+              "ms_per_step": cost["ms_per_step"],
               "phi": float(rows["phi"][-1]),
               "strain_energy": float(rows["strain_energy"][-1]),
               "contacts": int(rows["contacts"][-1]),
@@ -80,8 +68,8 @@ def run_ranks(config, scene: dict, out: Path, ranks: int,
                       mpi.get("nlgs_sweeps", []))],
               "nlgs_kb_per_step_per_rank":
                   [b / 1e3 / steps for b in mpi.get("nlgs_bytes_sent", [])]}
-    for part in PARTS:
-        result[f"ms_{part}"] = 1e3 * done["seconds_by_part"][part] / steps
+    result.update({k: v for k, v in cost.items() if k.startswith("ms_")
+                   and k != "ms_per_step"})
     return result
 
 
@@ -98,15 +86,16 @@ def same_run(serial: Path, other: Path) -> dict:
     contacts (candidate, node, antagonist, wall) found by one run only, and
     the largest difference of a normal force of a contact both found,
     relative to the file's largest force."""
-    a = read_table(serial / "raw" / "steps.csv")
-    b = read_table(other / "raw" / "steps.csv")
+    serial, other = RunDirectory(serial).raw, RunDirectory(other).raw
+    a = read_table(serial.steps_csv)
+    b = read_table(other.steps_csv)
     if len(a["step"]) != len(b["step"]):
         return {"output_steps": [len(a["step"]), len(b["step"])]}
-    files = sorted(p.name for p in (serial / "raw" / "contacts").iterdir())
+    files = sorted(p.name for p in serial.contacts.iterdir())
     one_run_only, fn_diff = {}, 0.0
     for name in files:
-        x = _forces_by_contact(read_table(serial / "raw" / "contacts" / name))
-        y = _forces_by_contact(read_table(other / "raw" / "contacts" / name))
+        x = _forces_by_contact(read_table(serial.contacts / name))
+        y = _forces_by_contact(read_table(other.contacts / name))
         if set(x) != set(y):
             one_run_only[name] = sorted(set(x) ^ set(y))
         both = set(x) & set(y)
@@ -127,8 +116,6 @@ def same_run(serial: Path, other: Path) -> dict:
 def bench_mpi(work: Path, steps: int, state: Path | None,
               ranks=(1, 2, 4), to_phi: float | None = None) -> dict:
     """The paper case on each number of ranks (see the module)."""
-    from softpack.bench import FAST, _scene_for, scaled_config
-
     if to_phi is None:
         # Steps, not Phi, end these runs (a state may be past the target).
         sets = {"stop.steps": steps, "stop.packing_fraction": 0,
@@ -137,7 +124,7 @@ def bench_mpi(work: Path, steps: int, state: Path | None,
         sets = {"stop.packing_fraction": to_phi, "output.every_steps": 12,
                 "output.fields": False}
     config = scaled_config(1, {**FAST, **sets})
-    scene = _scene_for(config, "n100")
+    scene = scene_for(config, "n100")
     runs = [run_ranks(config, scene, work / f"mpi-{n}", n, state)
             for n in ranks]
     if to_phi is not None:

@@ -6,7 +6,7 @@ explains the layout. :func:`load_schema` reads it into :class:`Section`
 and :class:`Parameter` objects that :mod:`softpack.scene.config` validates
 with, and :func:`markdown` renders it as ``docs/parameters.md``::
 
-    /usr/bin/python3 -m softpack.scene.schema --markdown > docs/parameters.md
+    /usr/bin/python3 -m softpack.contract.schema --markdown > docs/parameters.md
 
 Nothing here knows a parameter by name: ranges, defaults and names all come
 from the file.
@@ -214,7 +214,7 @@ def markdown(sections: dict | None = None) -> str:
     sections = sections or load_schema()
     lines = ["# Parameters", "",
              "Generated from `schema/parameters.toml` by `/usr/bin/python3 -m"
-             " softpack.scene.schema --markdown`; do not edit (a test checks"
+             " softpack.contract.schema --markdown`; do not edit (a test checks"
              " that it is current). Units: SI; the 2D model's forces and"
              " energies are per unit length along the cylinders' axis.", ""]
     for section in sections.values():
@@ -243,9 +243,9 @@ def markdown(sections: dict | None = None) -> str:
 
 
 def main(argv=None) -> int:
-    """``python -m softpack.scene.schema --markdown``: print the doc page."""
+    """``python -m softpack.contract.schema --markdown``: print the doc page."""
     parser = argparse.ArgumentParser(
-        prog="python -m softpack.scene.schema",
+        prog="python -m softpack.contract.schema",
         description="Print the parameter schema as markdown.")
     parser.add_argument("--markdown", action="store_true", required=True,
                         help="print docs/parameters.md")

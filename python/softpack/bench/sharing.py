@@ -28,6 +28,8 @@ import sys
 import time
 from pathlib import Path
 
+from softpack.bench.common import scaled_config, scene_for
+from softpack.contract.run_directory import RunDirectory
 from softpack.simulation import driver
 from softpack.simulation.driver_input import write_driver_json
 
@@ -37,27 +39,17 @@ SCALE = 0.26
 ELEMENT_SIZE = 2e-3
 
 
-def _prepare(work: Path) -> Path:
-    """driver.json of the 26-disk case in ``work`` (mesh cached)."""
-    from softpack import bench  # the paper case's scaling and mesh cache
-
-    config = bench.scaled_config(SCALE, {
+def _prepare(work: Path) -> list[Path]:
+    """driver.json of the 26-disk case in ``work/sharing-a`` and
+    ``work/sharing-b`` (two runs of it side by side; mesh cached)."""
+    config = scaled_config(SCALE, {
         "mesh.element_size": ELEMENT_SIZE, "stop.steps": STEPS,
         "output.every_steps": STEPS, "output.state": False})
-    scene = bench._scene_for(config, "sharing-n26")
-    write_driver_json(config, scene, work, None)
-    return work / "driver.json"
-
-
-def _copy_run(driver_json: Path, name: str) -> Path:
-    """The same driver.json writing into a sibling directory ``name``."""
-    import json
-    doc = json.loads(driver_json.read_text())
-    out = driver_json.parent.parent / name
-    out.mkdir(parents=True, exist_ok=True)
-    doc["directory"] = str(out)
-    (out / "driver.json").write_text(json.dumps(doc, indent=2) + "\n")
-    return out / "driver.json"
+    scene = scene_for(config, "sharing-n26")
+    runs = [RunDirectory(work / name) for name in ("sharing-a", "sharing-b")]
+    for run in runs:
+        write_driver_json(config, scene, run.path, None)
+    return [run.driver_json for run in runs]
 
 
 def _start(driver_json: Path, policy: str | None) -> subprocess.Popen:
@@ -75,9 +67,9 @@ def _start(driver_json: Path, policy: str | None) -> subprocess.Popen:
 
 def _finish(proc: subprocess.Popen, started: float) -> dict:
     """Wait for one driver: wall and CPU seconds (its own rusage)."""
-    _, status, usage = os.wait4(proc.pid, 0)
+    status, usage = driver.wait_usage(proc)
     wall = time.monotonic() - started
-    if os.waitstatus_to_exitcode(status) != 0:
+    if status != 0:
         raise RuntimeError("softpack-simulate failed in the sharing bench")
     return {"wall_s": round(wall, 2),
             "cpu_s": round(usage.ru_utime + usage.ru_stime, 2)}
@@ -100,8 +92,7 @@ def _timed(jsons, policy=None, busy=False) -> list[dict]:
 def bench_sharing(work: Path) -> dict:
     """The four cases; ratios of wall time to the run alone."""
     work.mkdir(parents=True, exist_ok=True)
-    first = _prepare(work / "sharing-a")
-    second = _copy_run(first, "sharing-b")
+    first, second = _prepare(work)
     alone = _timed([first])[0]
     result = {"case": f"26 disks, {ELEMENT_SIZE * 1e3:g} mm mesh, {STEPS}"
               " steps", "cores": os.cpu_count(), "alone": alone,

@@ -30,7 +30,10 @@ import time
 from pathlib import Path
 
 from softpack.analysis.strain import cumulative_strain
-from softpack.analysis.tables import read_table
+from softpack.bench.common import (FAST, PISTON, WORK, bench_nlgs,
+                                   run_driver, scaled_config)
+from softpack.contract.run_directory import RunDirectory
+from softpack.contract.tables import read_table
 from softpack.scene.build import build_scene
 
 
@@ -38,26 +41,24 @@ def bench_disks(count: int, to_phi: float, ranks: int = 1,
                 state: Path | None = None) -> dict:
     """Compact ``count`` disks to ``to_phi`` on ``ranks`` MPI ranks (from
     ``state``, a leg of a longer case, if given); see the module doc."""
-    from softpack import bench
-
-    config = bench.scaled_config(count / 100, {
-        **bench.FAST, "output.every_steps": 100,
+    config = scaled_config(count / 100, {
+        **FAST, "output.every_steps": 100,
         "stop.packing_fraction": to_phi})
     n = sum(s["count"] for s in config["species"])
     name = f"disks-n{n}" + (f"-r{ranks}" if ranks > 1 else "")
     start = time.perf_counter()
-    scene = build_scene(config, bench.WORK / f"mesh-{name}").record()
+    scene = build_scene(config, WORK / f"mesh-{name}").record()
     scene_seconds = time.perf_counter() - start
     start = time.perf_counter()
-    result = bench.run_driver(config, scene, name, initial_state=state,
-                              ranks=ranks)
+    result = run_driver(config, scene, name, initial_state=state,
+                        ranks=ranks)
     driver_seconds = time.perf_counter() - start
-    steps = read_table(bench.WORK / name / "raw" / "steps.csv")
+    steps = read_table(RunDirectory(WORK / name).raw.steps_csv)
     # Over this leg: from its first output row (step 0 of a fresh run),
     # where the box is shorter than its initial length by the piston's
     # travel so far.
-    piston = steps[f"{bench.PISTON}_x"]
-    x0 = config["walls"][bench.PISTON]["point"][0]
+    piston = steps[f"{PISTON}_x"]
+    x0 = config["walls"][PISTON]["point"][0]
     length = config["box"]["length"] - (x0 - float(piston[0]))
     strain = float(cumulative_strain(float(piston[0] - piston[-1]), length))
     result.update(
@@ -67,7 +68,7 @@ def bench_disks(count: int, to_phi: float, ranks: int = 1,
         scene_seconds=scene_seconds, driver_seconds=driver_seconds,
         whole_seconds=scene_seconds + driver_seconds, strain=strain,
         seconds_per_unit_strain=result["seconds"] / strain,
-        nlgs_yardstick=bench.bench_nlgs().get("sweeps_per_second"))
+        nlgs_yardstick=bench_nlgs().get("sweeps_per_second"))
     return result
 
 

@@ -1,0 +1,172 @@
+"""``./softpack bench``: the benchmarks under bench/ and the paper case's cost.
+
+Runs, in order, and prints a table (also written to
+``bench/results/bench-<date>.json``):
+
+1. ``softpack-bench-nlgs``: NLGS sweeps per second on the 2020-contact FCLIB
+   problem (../shared/data/fclib).
+2. ``softpack-bench-detection``: contact detection time for 100, 400 and 1600
+   disks and the fitted exponent of time ~ N^p.
+3. The paper case (100 disks, 92k triangles): ``--steps`` time steps from the
+   initial packing at the paper's settings (h = 9 us, theta 0.5, Newton 1e-6,
+   NLGS 1e-8)
+   and at the defaults (h = 72 us, theta 0.55, Newton 1e-4, NLGS 1e-6), with the
+   per-step cost split by part (assembly, factorization, solves, Delassus,
+   detection, NLGS) and the peak memory of the driver.
+4. Scaling with the number of disks (25, 100, 400; same element size, box
+   scaled with sqrt(N), piston speed scaled with the box length so that the
+   strain rate is the same), each compressed from its initial packing to the
+   same packing fraction (``--scaling-phi``, 0.80): cost per unit strain and
+   the fitted exponents.
+
+Every run is a configuration validated like a user's and launched the one
+way (:mod:`softpack.bench.common`). ``--sharing``, ``--mpi`` and
+``--disks`` run the benchmarks of :mod:`.sharing`, :mod:`.mpi` and
+:mod:`.disks` instead; this module only dispatches.
+
+``--from-state FILE`` times ``--steps`` steps of the paper case (seed 0 mesh)
+from a state a run wrote (``runs/<run>/raw/state.bin``), at both settings:
+the crowded end of the compaction without recomputing its start.
+
+``--full`` also runs the whole paper case (fast settings, seed 0) with
+``./softpack run`` and reports its wall time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import os
+from pathlib import Path
+
+from softpack.bench.common import RESULTS, WORK
+
+
+def _parser() -> argparse.ArgumentParser:
+    """Command line of ``./softpack bench``."""
+    parser = argparse.ArgumentParser(prog="softpack bench",
+                                     description=__doc__.split("\n\n")[0])
+    parser.add_argument("--steps", type=int, default=100,
+                        help="time steps per paper-case measurement")
+    parser.add_argument("--no-scaling", action="store_true",
+                        help="skip the 25/100/400-disk scaling runs")
+    parser.add_argument("--scaling-phi", type=float, default=0.80,
+                        help="packing fraction the scaling runs stop at")
+    parser.add_argument("--from-state", type=Path, metavar="FILE",
+                        help="also time --steps steps from this state of the"
+                        " seed-0 paper case (a run's raw/state.bin); with"
+                        " --disks: continue an earlier leg of the same case"
+                        " from its state")
+    parser.add_argument("--full", action="store_true",
+                        help="also run the whole paper case (the defaults)")
+    parser.add_argument("--invariance", type=float, metavar="EPS",
+                        help="only compare the defaults and the paper's settings"
+                        " from the start to this strain")
+    parser.add_argument("--invariance-from", type=Path, metavar="STATE",
+                        help="only compare the defaults and the paper's settings"
+                        " from this state (seed 0) to --to-phi")
+    parser.add_argument("--sharing", action="store_true",
+                        help="only time the driver alone, beside a busy"
+                        " process and beside another run (issue 18)")
+    parser.add_argument("--mpi", action="store_true",
+                        help="only time --steps steps of the paper case on 1,"
+                        " 2 and 4 MPI ranks (from --from-state if given)")
+    parser.add_argument("--mpi-to-phi", type=float, metavar="PHI",
+                        help="with --mpi: run from --from-state to this"
+                        " packing fraction and compare every output step"
+                        " and contact file with the 1-rank run")
+    parser.add_argument("--disks", type=int, metavar="N",
+                        help="only compact N paper disks from a fresh"
+                        " packing and mesh to --disks-phi, timed whole with"
+                        " the driver's peak memory (issue 17: 1,000)")
+    parser.add_argument("--disks-ranks", type=int, default=1, metavar="R",
+                        help="run --disks on R MPI ranks (default 1)")
+    parser.add_argument("--disks-phi", type=float, default=0.88,
+                        help="packing fraction that ends --disks")
+    parser.add_argument("--to-phi", type=float, default=0.84,
+                        help="packing fraction that ends --invariance-from")
+    return parser
+
+
+def main(argv=None) -> int:
+    """Entry point of ``./softpack bench``; returns the exit status."""
+    args = _parser().parse_args(argv)
+    WORK.mkdir(parents=True, exist_ok=True)
+    if args.sharing:
+        from softpack.bench.sharing import bench_sharing
+        return _save(bench_sharing(WORK), f"sharing-{_stamp()}.json")
+    if args.disks:
+        from softpack.bench.disks import bench_disks, table
+        result = bench_disks(args.disks, args.disks_phi, args.disks_ranks,
+                             args.from_state)
+        print(table(result))
+        ranks = f"r{args.disks_ranks}-" if args.disks_ranks > 1 else ""
+        return _save(result, f"disks-{args.disks}-{ranks}{_stamp()}.json")
+    if args.mpi:
+        from softpack.bench.mpi import bench_mpi, table
+        report = bench_mpi(WORK, args.steps, args.from_state,
+                           to_phi=args.mpi_to_phi)
+        print(table(report))
+        return _save(report, f"mpi-{_stamp()}.json")
+    if args.invariance or args.invariance_from:
+        return _invariance(args)
+    return _default(args)
+
+
+def _invariance(args) -> int:
+    """``--invariance EPS`` or ``--invariance-from STATE``."""
+    from softpack.bench.paper import bench_invariance
+
+    if args.invariance_from:
+        result = bench_invariance(state=args.invariance_from,
+                                  to_phi=args.to_phi)
+        result["from_state"] = str(args.invariance_from)
+        name = (f"invariance-{args.invariance_from.stem}-to-"
+                f"{args.to_phi:g}.json")
+    else:
+        result = bench_invariance(args.invariance)
+        name = "invariance.json"
+    return _save(result, name)
+
+
+def _default(args) -> int:
+    """The default runs (the module doc's list) and their table."""
+    from softpack.bench.common import bench_detection, bench_nlgs
+    from softpack.bench.paper import (bench_full, bench_paper, bench_scaling,
+                                      table)
+
+    report = {"date": _now(),
+              "cores": os.cpu_count(), "nlgs": bench_nlgs(),
+              "detection": bench_detection(), "paper": bench_paper(args.steps)}
+    if args.from_state:
+        report["late_state"] = str(args.from_state)
+        report["late"] = bench_paper(args.steps, args.from_state)
+    if not args.no_scaling:
+        report["scaling"] = bench_scaling(args.scaling_phi)
+    if args.full:
+        report["full"] = bench_full()
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    path = RESULTS / f"bench-{report['date'].replace(':', '')}.json"
+    path.write_text(json.dumps(report, indent=2) + "\n")
+    print(table(report))
+    print(f"\nwritten: {path}")
+    return 0
+
+
+def _now() -> str:
+    """The date and time, to the second (ISO 8601)."""
+    return datetime.datetime.now().isoformat(timespec="seconds")
+
+
+def _stamp() -> str:
+    """:func:`_now` for a file name (no colons)."""
+    return _now().replace(":", "")
+
+
+def _save(result: dict, name: str) -> int:
+    """Write a result under bench/results/ and print it."""
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    (RESULTS / name).write_text(json.dumps(result, indent=2) + "\n")
+    print(json.dumps(result, indent=2))
+    return 0
