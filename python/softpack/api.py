@@ -22,7 +22,9 @@ from pathlib import Path
 __all__ = ["load_config", "run", "resume", "read_run", "plot_runs",
            "plot_single_disk", "RunError"]
 
-from softpack.simulation.run import RunError  # noqa: E402
+from softpack.contract.run_directory import (RunDirectory,  # noqa: E402
+                                             RunError, UsageError,
+                                             is_run_directory)
 
 
 def load_config(path, overrides=None):
@@ -107,9 +109,9 @@ def resume(directory, verbose=False):
     from softpack.simulation import run as runner
 
     directory = Path(os.path.abspath(directory))
-    if not runner.is_run_directory(directory):
-        raise runner.UsageError(f"{directory}: not a softpack run directory")
-    config = load_config(directory / "config.toml")
+    if not is_run_directory(directory):
+        raise UsageError(f"{directory}: not a softpack run directory")
+    config = load_config(RunDirectory(directory).config_toml)
     runner.resume(config, directory, verbose=verbose)
     return read_run(directory)
 

@@ -6,8 +6,9 @@ import pytest
 def require_driver() -> None:
     """Skip the calling test (or fixture) when softpack-simulate is not
     built: ``./softpack test`` builds it first."""
-    from softpack.simulation.run import RunError, driver_executable
+    from softpack.contract.run_directory import RunError
+    from softpack.simulation import driver
     try:
-        driver_executable()
+        driver.executable()
     except RunError:
         pytest.skip("softpack-simulate is not built (run ./softpack test)")

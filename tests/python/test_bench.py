@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from softpack.bench import compare_series
+from softpack.bench.paper import compare_series
 
 
 def _series(scale_phi=1.0, shift_z=0.0):
@@ -28,16 +28,13 @@ def test_known_differences_are_measured():
     assert d["z_max_difference"] == pytest.approx(0.03, abs=2e-3)
 
 
-def test_bench_configs_are_validated_with_their_overrides(tmp_path_factory,
-                                                          monkeypatch):
+def test_bench_configs_are_validated_with_their_overrides(registry):
     """The bench builds its configs by overrides before validation: the
     scaled box keeps the initial packing fraction and the strain rate, a
     fixed step count is [stop] steps."""
-    from material_registry import use_registry
-    from softpack import bench
+    from softpack.bench import common as bench
     from softpack.scene.config import initial_packing_fraction, load_config
 
-    use_registry(tmp_path_factory, monkeypatch)
     base = load_config(bench.PAPER_TOML)
     config = bench.scaled_config(4, {**bench.FAST, "stop.steps": 7})
     assert [s["count"] for s in config["species"]] == [280, 120]
@@ -71,7 +68,7 @@ def test_a_run_on_other_ranks_is_compared_step_by_step(tmp_path):
     """bench --mpi --mpi-to-phi: Phi, E and the contacts of every output
     step against the 1-rank run; a file with other contacts is named, and
     the normal forces of the same contacts are compared."""
-    from softpack.bench_mpi import same_run
+    from softpack.bench.mpi import same_run
 
     serial = _raw_run(tmp_path, "one")
     same = same_run(serial, _raw_run(tmp_path, "two"))

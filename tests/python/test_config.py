@@ -21,9 +21,7 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 PISTON = {"walls": {"right": {"velocity": [-0.1, 0.0]}}}
 
 
-@pytest.fixture(autouse=True)
-def registry(tmp_path_factory, monkeypatch):
-    return use_registry(tmp_path_factory, monkeypatch)
+pytestmark = pytest.mark.usefixtures("registry")
 
 
 def write(tmp_path, text, name="x.toml"):

@@ -7,7 +7,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from material_registry import use_registry
 from softpack.scene.build import scene_record
 from softpack.scene.config import load_config, validate
 from softpack.contract.schema import load_schema
@@ -21,9 +20,7 @@ TOP_KEYS = ["schema_version", "directory", "initial_state", "scene",
             "friction", "time", "damping", "output", "parallel"]
 
 
-@pytest.fixture(autouse=True)
-def registry(tmp_path_factory, monkeypatch):
-    return use_registry(tmp_path_factory, monkeypatch)
+pytestmark = pytest.mark.usefixtures("registry")
 
 
 @pytest.fixture

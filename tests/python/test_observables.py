@@ -8,6 +8,7 @@ import pytest
 
 from fake_runs import write_rules, write_setup
 from softpack.analysis import connectivity as net_
+from softpack.contract.run_directory import RunDirectory
 from softpack.analysis import observables as obs
 from softpack.analysis.setup import Rules, read_setup
 from softpack.analysis.strain import cumulative_strain
@@ -196,7 +197,7 @@ def write_fake_run(run_dir, n_steps=3):
             ",".join(repr(float(c[n][i])) if n in ("fn", "ft", "fx", "fy")
                      else str(int(c[n][i])) for n in net_.CONTACT_COLUMNS)
             + "\n" for i in range(len(c["fn"]))]
-        net_.contacts_path(run_dir, step).write_text("".join(lines))
+        RunDirectory(run_dir).raw.contact_file(step).write_text("".join(lines))
     (run_dir / "raw" / "steps.csv").write_text("".join(steps))
     (run_dir / "raw" / "particles.csv").write_text("".join(parts))
 
@@ -239,7 +240,7 @@ def test_process_run(tmp_path):
 
 def test_missing_contacts_file_gives_nan(tmp_path):
     write_fake_run(tmp_path, n_steps=2)
-    net_.contacts_path(tmp_path, 10).unlink()
+    RunDirectory(tmp_path).raw.contact_file(10).unlink()
     series_csv, _ = obs.process_run(tmp_path)
     s = read_table(series_csv)
     assert s["z"][0] == 2.0 and math.isnan(s["z"][1])
@@ -249,9 +250,9 @@ def test_missing_contacts_file_gives_nan(tmp_path):
 def test_why_z_is_undefined_is_written(tmp_path):
     """No silent NaN: contacts_file and retained say why, z_report counts."""
     write_fake_run(tmp_path, n_steps=3)
-    net_.contacts_path(tmp_path, 10).unlink()
+    RunDirectory(tmp_path).raw.contact_file(10).unlink()
     # step 20: only the open contact is left -> every particle a rattler
-    net_.contacts_path(tmp_path, 20).write_text(
+    RunDirectory(tmp_path).raw.contact_file(20).write_text(
         ",".join(net_.CONTACT_COLUMNS) + "\n2,41,0,-1,0,0,0,0\n")
     series_csv, _ = obs.process_run(tmp_path)
     s = read_table(series_csv)

@@ -14,16 +14,10 @@ import math
 import numpy as np
 import pytest
 
-from material_registry import use_registry
+from driver_required import require_driver
 from softpack.references import plates as pl
-from softpack.references import single_disk as sd
 
 MU, LAM = 0.15e6, 0.3e6
-
-
-@pytest.fixture
-def registry(tmp_path_factory, monkeypatch):
-    return use_registry(tmp_path_factory, monkeypatch)
 
 
 def _rectangle(width, height, nx, ny):
@@ -98,20 +92,13 @@ def test_config_is_the_single_disk_protocol_with_a_polygon(registry):
     assert pl.plates_config(pl.Params())["species"][0]["angle"] == 0.0
 
 
-def _driver_or_skip():
-    try:
-        return sd.driver_executable()
-    except sd.SingleDiskError as err:
-        pytest.skip(str(err))
-
-
 @pytest.mark.parametrize("shape", ["square", "pentagon"])
 def test_softpack_and_dolfinx_agree_within_2_percent(shape, tmp_path):
     """Coarse mesh (h = 2 mm), up to eps = 0.1: softpack's force within 2 %
     of the static dolfinx one from eps = 0.02 on (measured on this mesh:
     see docs/shapes/README.md), the body barely turns, the dolfinx
     penalty's penetration is negligible."""
-    _driver_or_skip()
+    require_driver()
     pytest.importorskip("dolfinx")
     params = pl.Params(shape=shape, element_size=2e-3, max_strain=0.1,
                        reference_steps=10)

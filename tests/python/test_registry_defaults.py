@@ -11,7 +11,7 @@ FORMS = Path(__file__).resolve().parents[2] / "forms"
 
 
 @pytest.fixture(scope="module")
-def registry():
+def forms_registry():
     pytest.importorskip("ufl")
     spec = importlib.util.spec_from_file_location("registry",
                                                   FORMS / "registry.py")
@@ -20,11 +20,11 @@ def registry():
     return module
 
 
-def test_defaults_become_cpp_expressions(registry):
-    assert registry.cpp_expression(1.5e5) == ("150000.0", [])
-    assert registry.cpp_expression("2 * shear_modulus") == (
+def test_defaults_become_cpp_expressions(forms_registry):
+    assert forms_registry.cpp_expression(1.5e5) == ("150000.0", [])
+    assert forms_registry.cpp_expression("2 * shear_modulus") == (
         '(2.0 * p.at("shear_modulus"))', ["shear_modulus"])
-    code, uses = registry.cpp_expression("-(a + b) / 3 - 1/3 * a")
+    code, uses = forms_registry.cpp_expression("-(a + b) / 3 - 1/3 * a")
     assert code == ('(((-(p.at("a") + p.at("b"))) / 3.0) - ((1.0 / 3.0)'
                     ' * p.at("a")))')
     assert uses == ["a", "b"]
@@ -34,10 +34,10 @@ def test_defaults_become_cpp_expressions(registry):
     assert eval(cpp) == pytest.approx(-(a + b) / 3 - 1 / 3 * a)
 
 
-def test_the_shipped_materials_table(registry, tmp_path):
+def test_the_shipped_materials_table(forms_registry, tmp_path):
     files = sorted(str(p) for p in (FORMS / "materials").glob("*.py"))
     cpp = tmp_path / "table.cpp"
-    assert registry.main(["registry.py", "--cpp", str(cpp),
+    assert forms_registry.main(["registry.py", "--cpp", str(cpp),
                           str(tmp_path / "m.json"), *files]) == 0
     text = cpp.read_text()
     assert '{"lame_lambda", {"shear_modulus"},' in text

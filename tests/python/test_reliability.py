@@ -19,13 +19,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from softpack import paths
-from softpack.simulation import run, run_directory
+from softpack.contract import run_directory
+from softpack.simulation import run
 from softpack.simulation.progress import remaining_seconds
-from test_run import FAKE_DRIVER, SMALL, fake_bin, fake_mesh  # noqa: F401
-from test_run import registry  # noqa: F401  (autouse fixture)
+from fake_driver import FAKE_DRIVER, SMALL
 
 ROOT = Path(__file__).resolve().parents[2]
+pytestmark = pytest.mark.usefixtures("registry")
 
 
 # -- item 1: --out never deletes what softpack did not write ---------------
@@ -143,7 +143,7 @@ def _softpack_cli(argv, **kwargs):
 # -- item 2: the driver dies with the wrapper; no run looks complete -------
 
 @pytest.fixture
-def slow_run(tmp_path, registry):  # noqa: F811
+def slow_run(tmp_path, registry):
     """A ``softpack run`` child process on a slow fake driver (60 s).
 
     Yields a function starting it (stdout: a pipe) and returning the
@@ -418,10 +418,8 @@ def test_resume_with_the_real_driver_is_bit_for_bit(tmp_path):
     pytest.importorskip("dolfinx")
     from softpack.contract.tables import read_table
     from softpack.scene.config import load_config
-    try:
-        run.driver_executable()
-    except run.RunError:
-        pytest.skip("softpack-simulate is not built")
+    from driver_required import require_driver
+    require_driver()
     sets = {"stop.steps": 70, "output.fields": False}
     whole, part = tmp_path / "whole", tmp_path / "part"
     assert run.run(load_config(SMALL, sets), whole, verbose=False) == 0

@@ -22,20 +22,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from material_registry import use_registry
+from driver_required import require_driver
+from softpack.references import between_plates
 from softpack.references import single_disk as sd
 from softpack.references.cylinder3d import johnson_line_contact
+from softpack.scene.config import ConfigError
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "single_disk"
 FORCE_3D = DOCS / "force_3d_nu0495.csv"
 PROFILE_3D = DOCS / "profile_3d_nu0495.csv"
-
-
-def _driver_or_skip():
-    try:
-        return sd.driver_executable()
-    except sd.SingleDiskError as err:
-        pytest.skip(str(err))
 
 
 def _read(path):
@@ -43,11 +38,6 @@ def _read(path):
 
 
 # ------------------------------------------------------------ helpers
-
-@pytest.fixture
-def registry(tmp_path_factory, monkeypatch):
-    return use_registry(tmp_path_factory, monkeypatch)
-
 
 def test_config_loads_symmetrically_and_stops_past_the_target(registry,
                                                               tmp_path):
@@ -93,7 +83,7 @@ def test_config_loads_symmetrically_and_stops_past_the_target(registry,
 
 def test_the_schema_refuses_a_plate_faster_than_the_alert_distance(
         registry):
-    with pytest.raises(sd.ConfigError, match="alert_distance"):
+    with pytest.raises(ConfigError, match="alert_distance"):
         sd.single_disk_config(sd.Params(speed=10.0))
 
 
@@ -161,9 +151,9 @@ def test_put_node_up_turns_the_mesh_about_its_centre(tmp_path):
 
     radius = 0.01
     info = mesh_disks([(0.0, 0.0)], [radius], 1.065e-3, tmp_path / "disk")
-    before = sd.reference_nodes(info.h5)
+    before = between_plates.reference_nodes(info.h5)
     angle = sd.put_node_up(info.h5, radius)
-    after = sd.reference_nodes(info.h5)
+    after = between_plates.reference_nodes(info.h5)
     boundary = sd.on_circle(after, radius)
     assert boundary.sum() == 59  # the paper's h: 59 nodes around D = 20 mm
     top = after[boundary][np.argmax(after[boundary, 1])]
@@ -183,7 +173,7 @@ def test_put_node_up_turns_the_mesh_about_its_centre(tmp_path):
 @pytest.fixture(scope="module")
 def coarse(tmp_path_factory):
     """h = 2 mm up to eps = 0.2 through the command line."""
-    _driver_or_skip()
+    require_driver()
     out = tmp_path_factory.mktemp("coarse")
     status = sd.main(["--element-size", "2e-3", "--max-strain", "0.2",
                       "--out", str(out)])
@@ -194,7 +184,7 @@ def coarse(tmp_path_factory):
 @pytest.fixture(scope="module")
 def paper_mesh(tmp_path_factory):
     """The paper's element size, up to eps = 0.15."""
-    _driver_or_skip()
+    require_driver()
     out = tmp_path_factory.mktemp("paper_mesh")
     params = sd.Params(element_size=1.065e-3, max_strain=0.15)
     return sd.run(params, out), out
@@ -203,7 +193,7 @@ def paper_mesh(tmp_path_factory):
 @pytest.fixture(scope="module")
 def fine_small_strain(tmp_path_factory):
     """h = 0.5325 mm up to eps = 0.012."""
-    _driver_or_skip()
+    require_driver()
     out = tmp_path_factory.mktemp("fine")
     params = sd.Params(element_size=0.5325e-3, max_strain=0.012)
     return sd.run(params, out)

@@ -6,7 +6,6 @@ from pathlib import Path
 
 import pytest
 
-from material_registry import use_registry
 from softpack.scene.build import scene_record
 from softpack.scene.config import ConfigError, load_config, to_toml, validate
 from softpack.simulation.driver_input import driver_document
@@ -44,9 +43,7 @@ coefficient = 0.1
 """
 
 
-@pytest.fixture(autouse=True)
-def registry(tmp_path_factory, monkeypatch):
-    return use_registry(tmp_path_factory, monkeypatch)
+pytestmark = pytest.mark.usefixtures("registry")
 
 
 def load(tmp_path, text):

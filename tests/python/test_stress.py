@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from softpack.analysis import stress
+from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table
 from driver_required import require_driver
 
@@ -128,7 +129,8 @@ def at_rest(tmp_path_factory):
     config = cfg.load_config(ROOT / "examples" / "isotropic_small.toml")
     assert run(config, out) == 0
     stress.write_stress(out)
-    return read_table(out / "raw" / "steps.csv"), read_table(out / stress.NAME)
+    run = RunDirectory(out)
+    return read_table(run.raw.steps_csv), read_table(run.stress_csv)
 
 
 def test_the_three_estimates_agree_at_rest(at_rest):

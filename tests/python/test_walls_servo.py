@@ -16,7 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from softpack.analysis.stress import NAME, write_stress
+from softpack.analysis.stress import write_stress
+from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table
 from softpack.scene import config as cfg
 from softpack.scene.species import total_area
@@ -90,7 +91,8 @@ def servo_run(tmp_path_factory):
     config = cfg.load_config(ROOT / "examples" / "isotropic_small.toml")
     assert run(config, out) == 0
     write_stress(out)
-    return (read_table(out / "raw" / "steps.csv"), read_table(out / NAME))
+    raw = RunDirectory(out).raw
+    return read_table(raw.steps_csv), read_table(RunDirectory(out).stress_csv)
 
 
 def test_the_servo_walls_hold_their_pressure_at_rest(servo_run):

@@ -50,7 +50,6 @@ Z
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -295,11 +294,6 @@ def _rule(rules, name):
 def _count(indices, n) -> np.ndarray:
     """How many times each of ``0..n-1`` occurs in ``indices``."""
     return np.bincount(np.asarray(indices, dtype=np.int64), minlength=n)
-
-
-def contacts_path(run_dir, step) -> Path:
-    """``raw/contacts/step_NNNNNNNN.csv`` of an output step."""
-    return Path(run_dir) / "raw" / "contacts" / f"step_{int(step):08d}.csv"
 
 
 def read_contacts(path) -> dict:

@@ -39,6 +39,7 @@ import numpy as np
 
 from softpack.analysis import fields as fields_io
 from softpack.analysis.setup import read_setup
+from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table
 
 #: Paper Fig. 5's packing fractions.
@@ -193,8 +194,8 @@ def dic_series(run_dir) -> dict:
     """
     run_dir = Path(run_dir)
     setup = read_setup(run_dir)
-    series = read_table(run_dir / "series.csv")
-    path = run_dir / "fields.h5"
+    series = read_table(RunDirectory(run_dir).series_csv)
+    path = RunDirectory(run_dir).fields_h5
     rows = {key: [] for key in ("time", "phi", "eps", "E_dic",
                                 "E_fe_fields", "E_fe_series",
                                 "E_fe_over_WHLmu")}
@@ -229,8 +230,9 @@ def nearest_field_times(run_dir, targets=FIG5_PHI, tolerance=0.005):
         ``(target, time, phi, within)``: ``within`` says whether
         ``|phi - target| <= tolerance``.
     """
-    series = read_table(Path(run_dir) / "series.csv")
-    times = fields_io.stored_times(Path(run_dir) / "fields.h5")
+    run = RunDirectory(run_dir)
+    series = read_table(run.series_csv)
+    times = fields_io.stored_times(run.fields_h5)
     rows = [int(np.argmin(np.abs(series["time"] - t))) for t in times]
     phis = series["phi"][rows]
     out = []

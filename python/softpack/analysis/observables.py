@@ -54,12 +54,13 @@ from pathlib import Path
 import numpy as np
 
 from softpack.analysis.connectivity import (Z_UNDEFINED, contact_network,
-                                            contacts_path, read_contacts,
+                                            read_contacts,
                                             z_undefined_code)
 from softpack.analysis.setup import (PISTON, RunSetup, read_rules,
                                      read_setup)
 from softpack.analysis.strain import cumulative_strain
 from softpack.analysis.stress import write_stress
+from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table, write_table
 
 ENERGY_COLUMNS = ("strain_energy", "kinetic_energy", "wall_work",
@@ -301,24 +302,24 @@ def process_run(run_dir, setup: RunSetup | None = None,
     (Path, Path)
         The series and particles files.
     """
-    run_dir = Path(run_dir)
+    run = RunDirectory(run_dir)
     setup = setup or read_setup(run_dir)
     rules = rules or read_rules(run_dir)
-    steps = read_table(run_dir / "raw" / "steps.csv")
-    particles = read_table(run_dir / "raw" / "particles.csv")
+    steps = read_table(run.raw.steps_csv)
+    particles = read_table(run.raw.particles_csv)
 
     def contacts_of(step):
         """The step's contacts, None when its file is missing."""
-        path = contacts_path(run_dir, step)
+        path = run.raw.contact_file(step)
         return read_contacts(path) if path.is_file() else None
 
     series, table = series_and_particles(steps, particles, contacts_of,
                                          setup, rules)
-    particles_csv = write_table(run_dir / "particles.csv", table,
+    particles_csv = write_table(run.particles_csv, table,
                                 PARTICLE_COLUMNS)
     if setup.has_box:
         # The assembly's stress (wall and Love-Weber estimates, P, q) in its
         # own table, before series.csv whose presence means "finished".
         write_stress(run_dir)
-    series_csv = write_table(run_dir / "series.csv", series, SERIES_COLUMNS)
+    series_csv = write_table(run.series_csv, series, SERIES_COLUMNS)
     return series_csv, particles_csv

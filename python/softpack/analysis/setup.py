@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softpack.contract.run_directory import RunDirectory
+
 SCHEMA_VERSION = 2
 #: The walls that make a box, and which coordinate of their point locates it.
 BOX_WALLS = ("left", "right", "bottom", "top")
@@ -141,11 +143,6 @@ class Rules:
                 object.__setattr__(self, name, spec[name].default)
 
 
-def setup_path(run_dir) -> Path:
-    """``DIR/raw/setup.json``."""
-    return Path(run_dir) / "raw" / "setup.json"
-
-
 def read_setup(run_dir) -> RunSetup:
     """Read ``DIR/raw/setup.json`` (schema version 2).
 
@@ -155,7 +152,7 @@ def read_setup(run_dir) -> RunSetup:
         When the file is missing, of another schema version, or lacks a key
         the analysis needs (the message names the file and the key).
     """
-    path = setup_path(run_dir)
+    path = RunDirectory(run_dir).raw.setup_json
     try:
         doc = json.loads(path.read_text())
     except FileNotFoundError:
@@ -224,7 +221,7 @@ def read_rules(run_dir) -> Rules:
     ------
     SetupError
     """
-    path = Path(run_dir) / "config.toml"
+    path = RunDirectory(run_dir).config_toml
     try:
         with open(path, "rb") as f:
             section = tomllib.load(f)["observables"]

@@ -69,12 +69,10 @@ from pathlib import Path
 import numpy as np
 
 from softpack.analysis import fields as fields_h5
-from softpack.analysis.connectivity import contacts_path, read_contacts
+from softpack.analysis.connectivity import read_contacts
 from softpack.analysis.setup import read_setup
+from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table, write_table
-
-#: The file name in the run directory.
-NAME = "stress.csv"
 
 #: The box walls and the axis of each one's normal.
 BOX = {"left": 0, "right": 0, "bottom": 1, "top": 1}
@@ -209,7 +207,7 @@ def boundary_stress(contacts: dict, geometry: Geometry, area: float):
 
 def stored_geometries(run_dir, count: int):
     """``(times, [Geometry])`` of every time stored in fields.h5, or None."""
-    path = Path(run_dir) / "fields.h5"
+    path = RunDirectory(run_dir).fields_h5
     if not path.is_file():
         return None
     stored = fields_h5.read_displacements(path)
@@ -235,9 +233,9 @@ def stress_table(run_dir) -> dict:
     run_dir : path-like
         A finished run directory with a box.
     """
-    run_dir = Path(run_dir)
+    run = RunDirectory(run_dir)
     setup = read_setup(run_dir)
-    steps = read_table(run_dir / "raw" / "steps.csv")
+    steps = read_table(run.raw.steps_csv)
     wall = wall_totals_stress(steps)
     x0, x1, y0, y1 = box_walls(steps)
     eps_xx = -np.log((x1 - x0) / (x1[0] - x0[0]))
@@ -246,7 +244,7 @@ def stress_table(run_dir) -> dict:
     rows = len(steps["step"])
     contact = {c: np.full(rows, np.nan) for c in COMPONENTS}
     for k in range(rows):
-        path = contacts_path(run_dir, steps["step"][k])
+        path = run.raw.contact_file(steps["step"][k])
         if stored is None or not path.is_file():
             continue
         times, geometries = stored
@@ -306,4 +304,5 @@ def _columns(steps, wall, contact, fe, eps_xx, eps_yy) -> dict:
 
 def write_stress(run_dir) -> Path:
     """Write ``RUN/stress.csv`` (:func:`stress_table`); return its path."""
-    return write_table(Path(run_dir) / NAME, stress_table(run_dir), COLUMNS)
+    return write_table(RunDirectory(run_dir).stress_csv, stress_table(run_dir),
+                       COLUMNS)

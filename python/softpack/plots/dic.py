@@ -31,6 +31,7 @@ import numpy as np
 from softpack.analysis import dic
 from softpack.analysis import fields as fields_io
 from softpack.analysis.setup import read_setup
+from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import write_table
 from softpack.plots import write_figure
 
@@ -108,7 +109,7 @@ def plot_i1_pdf(run_dir, picks, path) -> list[str]:
     import matplotlib.pyplot as plt
 
     setup = read_setup(run_dir)
-    h5 = Path(run_dir) / "fields.h5"
+    h5 = RunDirectory(run_dir).fields_h5
     fig, ax = plt.subplots(figsize=(5.0, 3.6))
     lines, drawn = [], set()
     estimates = {time: dic.dic_energy(fields_io.read_snapshot(h5, time),

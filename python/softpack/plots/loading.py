@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from softpack.analysis import compaction_law
-from softpack.analysis.stress import NAME as STRESS_NAME
+from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table
 from softpack.cli import positive_float
 from softpack.plots import write_figure
@@ -46,16 +46,15 @@ LABELS = {"wall": "walls", "contact": "Love-Weber (contacts)",
 
 def load(run_dir) -> tuple[dict, dict]:
     """``(series, stress)`` of a run, running its analysis when missing."""
-    run_dir = Path(run_dir)
-    if not (run_dir / "series.csv").is_file() or not (
-            run_dir / STRESS_NAME).is_file():
+    run = RunDirectory(run_dir)
+    if not run.series_csv.is_file() or not run.stress_csv.is_file():
         from softpack.analysis.observables import process_run
         process_run(run_dir)
-    if not (run_dir / STRESS_NAME).is_file():
-        raise SystemExit(f"softpack plot-loading: {run_dir}: no {STRESS_NAME}"
-                         " (a run without a box has no assembly stress)")
-    return read_table(run_dir / "series.csv"), read_table(run_dir
-                                                          / STRESS_NAME)
+    if not run.stress_csv.is_file():
+        raise SystemExit(f"softpack plot-loading: {run.path}: no"
+                         f" {run.stress_csv.name} (a run without a box has"
+                         " no assembly stress)")
+    return read_table(run.series_csv), read_table(run.stress_csv)
 
 
 def _save(fig, ax, xlabel, ylabel, path) -> str:
@@ -167,7 +166,7 @@ def write_figures(run_dir, out, estimate=None, rest=None,
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     series, stress = load(run_dir)
-    steps = read_table(Path(run_dir) / "raw" / "steps.csv")
+    steps = read_table(RunDirectory(run_dir).raw.steps_csv)
     phi = np.asarray(series["phi"], float)
     estimate = estimate or choose_estimate(stress)
     p = np.asarray(stress[f"{estimate}_P"], float)
@@ -232,7 +231,7 @@ def main(argv=None) -> int:
                         " column) of the shear figure (default: the last)")
     args = parser.parse_args(argv)
     run = Path(args.run)
-    if not (run / "raw" / "steps.csv").is_file():
+    if not RunDirectory(run).raw.steps_csv.is_file():
         parser.error(f"{run}: no raw/steps.csv (not a run directory)")
     out = Path(args.out) if args.out else run / "figures" / "loading"
     summary = write_figures(run, out, args.estimate, args.rest, args.stage)

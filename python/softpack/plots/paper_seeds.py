@@ -33,6 +33,7 @@ from softpack.analysis import connectivity as net_
 from softpack.analysis import fits
 from softpack.analysis.observables import piston_force
 from softpack.analysis.setup import read_rules, read_setup
+from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table, write_table
 
 #: series.csv columns kept per seed.
@@ -63,9 +64,9 @@ def unbalanced_column(reference, threshold) -> str:
 
 def seed_columns(run_dir) -> dict:
     """The per-seed columns of one run (see the module doc)."""
-    run_dir = Path(run_dir)
-    series = read_table(run_dir / "series.csv")
-    steps = read_table(run_dir / "raw" / "steps.csv")
+    run = RunDirectory(run_dir)
+    series = read_table(run.series_csv)
+    steps = read_table(run.raw.steps_csv)
     setup, rules = read_setup(run_dir), read_rules(run_dir)
     force = piston_force(steps, setup)
     out = {name: series[name] for name in SERIES if name in series}
@@ -77,7 +78,7 @@ def seed_columns(run_dir) -> dict:
               *(unbalanced_column(r, t) for r in net_.REFERENCES
                 for t in THRESHOLDS)]}
     for k, step in enumerate(steps["step"]):
-        path = net_.contacts_path(run_dir, step)
+        path = run.raw.contact_file(step)
         if not path.is_file():
             continue
         contacts = net_.read_contacts(path)

@@ -44,6 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
+from softpack.contract.run_directory import RunDirectory
 from softpack.plots import write_figure
 
 #: Packing fractions of summary.csv.
@@ -110,7 +111,7 @@ def shape_distributions(runs, path) -> list[str]:
     fig, axes = plt.subplots(3, len(runs), figsize=(4 * len(runs), 9),
                              squeeze=False)
     for col, (run, label) in enumerate(runs):
-        h5 = run.path / "fields.h5"
+        h5 = RunDirectory(run.path).fields_h5
         if not h5.is_file():
             messages.append(f"shape_distributions: {h5} missing; skipped")
             continue
