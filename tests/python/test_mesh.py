@@ -7,8 +7,11 @@ import pytest
 from mpi4py import MPI
 
 import softpack.scene.mesh as mesh_module
+from softpack import paths
+from softpack.scene import shapes, triangulation
 from softpack.scene.mesh import (PAPER_ELEMENT_SIZE, mesh_disks, output_paths,
-                           read_bodies, signed_areas)
+                                 read_bodies)
+from softpack.scene.triangulation import signed_areas
 from softpack.scene.packing import Packing, random_packing
 
 H = PAPER_ELEMENT_SIZE
@@ -242,9 +245,9 @@ def test_the_geometry_file_gives_todays_triangles():
     import gmsh
 
     def api_disk(radius, h):
-        mesh_module.initialize_gmsh(gmsh)  # no FLTK preference files
+        triangulation.initialize_gmsh(gmsh)  # no FLTK preference files
         try:
-            mesh_module._mesh_options(gmsh, h)
+            triangulation.mesh_options(gmsh, h)
             gmsh.model.add("api")
             surface = gmsh.model.occ.addDisk(0.0, 0.0, 0.0, radius, radius)
             gmsh.model.occ.synchronize()
@@ -268,6 +271,6 @@ def test_the_geometry_file_gives_todays_triangles():
             # the same triangles (the mesher orients them counter-clockwise)
             assert np.array_equal(np.sort(triangles, axis=1),
                                   np.sort(expected_triangles, axis=1))
-    assert mesh_module.shape_file("disk").parent == mesh_module.MESHES
+    assert shapes.shape_file("disk").parent == paths.MESHES
     with pytest.raises(FileNotFoundError, match="meshes/README.md"):
-        mesh_module.shape_file("star")
+        shapes.shape_file("star")

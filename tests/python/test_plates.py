@@ -16,6 +16,7 @@ import pytest
 
 from driver_required import require_driver
 from softpack.references import plates as pl
+from softpack.references import plates_reference
 
 MU, LAM = 0.15e6, 0.3e6
 
@@ -36,7 +37,7 @@ def _rectangle(width, height, nx, ny):
 
 def test_boundary_weights_are_half_the_adjacent_edges():
     points, cells = _rectangle(2.0, 1.0, 2, 1)
-    nodes, weight = pl.boundary_weights(points, cells)
+    nodes, weight = plates_reference.boundary_weights(points, cells)
     assert len(nodes) == 6  # every node of a 2 x 1 grid is on the boundary
     assert weight.sum() == pytest.approx(6.0)  # the perimeter
     corners = np.isin(nodes, [0, 2, 3, 5])
@@ -66,7 +67,7 @@ def test_dolfinx_reference_is_exact_for_a_homogeneous_compression():
     pytest.importorskip("dolfinx")
     width, height = 0.016, 0.010
     points, cells = _rectangle(width, height, 8, 5)
-    ref = pl.static_reference(points, cells, MU, LAM, -height / 2,
+    ref = plates_reference.static_reference(points, cells, MU, LAM, -height / 2,
                               height / 2, 0.02, 0.2, n_steps=4)
     for eps, f_norm in zip(ref["eps"][1:], ref["f_norm"][1:]):
         exact = _homogeneous_force(eps)[0] * width / (height * MU)

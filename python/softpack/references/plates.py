@@ -17,7 +17,7 @@ softpack (``sim/``)
     0.01 on the plates, Rayleigh alpha = 200 1/s, theta = 0.5, time step
     1e-4 s, every other setting the production default.
 
-dolfinx reference (:func:`static_reference`)
+dolfinx reference (:func:`.plates_reference.static_reference`)
     the same triangles read back from the run's mesh file, the same
     plane-strain neo-Hookean energy written out here (paper Eq. 1:
     Psi = mu/2 (tr C + 1 - 3) - mu ln J + lambda/2 (ln J)^2, with mu and
@@ -70,6 +70,8 @@ import numpy as np
 from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table, write_table
 from softpack.references import between_plates
+from softpack.references.plates_reference import (boundary_weights,
+                                                  static_reference)
 from softpack.scene.config import validate
 
 #: shape name -> (sides, angle): the orientation of the polygon between the
@@ -152,196 +154,6 @@ def softpack_curve(steps, meta) -> dict:
     mu = meta["config"]["material"]["parameters"]["shear_modulus"]
     return between_plates.force_curve(steps, height, meta["y_bottom0"],
                                       meta["y_top0"], mu)
-
-
-# ---------------------------------------------------------------- dolfinx
-
-def boundary_weights(points, cells):
-    """Boundary nodes and their tributary lengths (half of each adjacent
-    boundary edge)."""
-    edges = np.sort(np.vstack([cells[:, [0, 1]], cells[:, [1, 2]],
-                               cells[:, [2, 0]]]), axis=1)
-    unique, counts = np.unique(edges, axis=0, return_counts=True)
-    boundary = unique[counts == 1]
-    lengths = np.linalg.norm(points[boundary[:, 0]] - points[boundary[:, 1]],
-                             axis=1)
-    weight = np.zeros(len(points))
-    np.add.at(weight, boundary[:, 0], 0.5 * lengths)
-    np.add.at(weight, boundary[:, 1], 0.5 * lengths)
-    nodes = np.flatnonzero(weight > 0)
-    return nodes, weight[nodes]
-
-
-class _Reference:
-    """The static problem on one mesh: energy forms, nodal plate penalty."""
-
-    def __init__(self, points, cells, mu, lam, stiffness):
-        import ufl
-        from dolfinx import fem, mesh
-        from mpi4py import MPI
-        from scipy.spatial import cKDTree
-
-        domain = mesh.create_mesh(
-            MPI.COMM_SELF, cells.astype(np.int64), points.astype(float),
-            ufl.Mesh(ufl.VectorElement("Lagrange", ufl.triangle, 1)))
-        V = fem.VectorFunctionSpace(domain, ("Lagrange", 1))
-        self.u = fem.Function(V)
-        v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
-        F = ufl.Identity(2) + ufl.grad(self.u)
-        J = ufl.det(F)
-        psi = (mu / 2 * (ufl.tr(F.T * F) + 1 - 3) - mu * ufl.ln(J)
-               + lam / 2 * ufl.ln(J) ** 2)
-        self.energy = fem.form(psi * ufl.dx)
-        residual = ufl.derivative(psi * ufl.dx, self.u, v)
-        self.residual = fem.form(residual)
-        self.tangent = fem.form(ufl.derivative(residual, self.u, du))
-        # the dolfinx node of each input point (create_mesh reorders them)
-        x = V.tabulate_dof_coordinates()[:, :2]
-        distance, self.node_of = cKDTree(x).query(points)
-        if distance.max() > 1e-12 * np.ptp(points):
-            raise RuntimeError("dolfinx mesh nodes do not match the input")
-        self.X = x
-        nodes, weight = boundary_weights(points, cells)
-        self.contact = self.node_of[nodes]
-        self.k_weight = stiffness * weight
-        # u_x = 0 at the node nearest the centroid (the x translation)
-        self.pin = int(self.node_of[np.argmin(np.hypot(*points.T))])
-        self.n = len(x)
-
-    def displacement(self):
-        return self.u.x.array.reshape(-1, 2)
-
-    def gaps(self, bottom, top):
-        """Penetrations of the contact nodes into the bottom and top plates
-        (positive = overlap)."""
-        y = self.X[self.contact, 1] + self.displacement()[self.contact, 1]
-        return bottom - y, y - top
-
-    def system(self, bottom, top):
-        """Tangent (scipy CSR) and residual with the penalty, no pin."""
-        import scipy.sparse as sp
-        from dolfinx.fem import petsc as fp
-
-        A = fp.assemble_matrix(self.tangent)
-        A.assemble()
-        indptr, indices, data = A.getValuesCSR()
-        K = sp.csr_matrix((data, indices, indptr), shape=A.getSize())
-        A.destroy()
-        b = fp.assemble_vector(self.residual)
-        r = b.array.copy()
-        b.destroy()
-        g_bottom, g_top = self.gaps(bottom, top)
-        rows = 2 * self.contact + 1
-        r[rows] += self.k_weight * (np.maximum(g_top, 0)
-                                    - np.maximum(g_bottom, 0))
-        active = (g_top > 0) | (g_bottom > 0)
-        K = K + sp.csr_matrix((self.k_weight * active, (rows, rows)),
-                              shape=K.shape)
-        return K, r
-
-    def plate_forces(self, bottom, top):
-        """Force per unit length the body exerts on each plate (>= 0)."""
-        g_bottom, g_top = self.gaps(bottom, top)
-        return (float(np.sum(self.k_weight * np.maximum(g_bottom, 0))),
-                float(np.sum(self.k_weight * np.maximum(g_top, 0))))
-
-    def solve(self, bottom, top, tolerance, max_iterations=30):
-        """Newton at fixed plates; returns iterations or None (diverged)."""
-        import scipy.sparse.linalg as spla
-
-        pin = 2 * self.pin
-        for iteration in range(1, max_iterations + 1):
-            K, r = self.system(bottom, top)
-            r[pin] = 0.0
-            K = K.tolil()
-            K[pin, :] = 0.0
-            K[:, pin] = 0.0
-            K[pin, pin] = 1.0
-            step = spla.spsolve(K.tocsc(), -r)
-            if not np.all(np.isfinite(step)):
-                return None
-            self.u.x.array[:] += step
-            if not np.isfinite(self.energy_value()):
-                return None
-            if np.abs(step).max() < tolerance:
-                return iteration
-        return None
-
-    def energy_value(self):
-        from dolfinx import fem
-
-        return fem.assemble_scalar(self.energy)
-
-    def pin_reaction(self, bottom, top):
-        """|x force| the pin exerts (the x residual at the pinned node)."""
-        _, r = self.system(bottom, top)
-        return abs(float(r[2 * self.pin]))
-
-
-def static_reference(points, cells, mu, lam, y_bottom0, y_top0, diameter,
-                     max_strain, n_steps=40, penalty=1e5, max_halvings=6):
-    """The dolfinx curve (module doc): eps, f_norm (mean of the plates) and
-    each plate's, Newton iterations, penetration and pin reaction."""
-    ref = _Reference(np.asarray(points, float), np.asarray(cells),
-                     mu, lam, penalty * mu / diameter)
-    height = y_top0 - y_bottom0
-    middle = 0.5 * (y_top0 + y_bottom0)
-    tolerance = 1e-10 * diameter
-    rows = [dict(eps=0.0, f_norm=0.0, f_norm_top=0.0, f_norm_bottom=0.0,
-                 newton_iterations=0, max_penetration_over_D=0.0,
-                 pin_reaction_over_f=0.0, energy=0.0)]
-    eps_done = 0.0
-    for eps in np.linspace(0.0, max_strain, n_steps + 1)[1:]:
-        iterations = _advance(ref, eps_done, eps, height, middle, tolerance,
-                              max_halvings)
-        delta = height * (1 - math.exp(-eps))
-        bottom, top = y_bottom0 + delta / 2, y_top0 - delta / 2
-        f_bottom, f_top = ref.plate_forces(bottom, top)
-        f = 0.5 * (f_bottom + f_top)
-        penetration = max(0.0, *[float(g.max()) for g in ref.gaps(bottom,
-                                                                 top)])
-        rows.append(dict(
-            eps=float(eps), f_norm=f / (height * mu),
-            f_norm_top=f_top / (height * mu),
-            f_norm_bottom=f_bottom / (height * mu),
-            newton_iterations=iterations,
-            max_penetration_over_D=penetration / diameter,
-            pin_reaction_over_f=ref.pin_reaction(bottom, top) / f,
-            energy=float(ref.energy_value())))
-        eps_done = eps
-    return {key: np.array([row[key] for row in rows]) for key in rows[0]}
-
-
-def _advance(ref, eps_old, eps_new, height, middle, tolerance, halvings):
-    """Move the plates from eps_old to eps_new, halving on failure."""
-    backup = ref.u.x.array.copy()
-    for level in range(halvings + 1):
-        targets = np.linspace(eps_old, eps_new, 2 ** level + 1)[1:]
-        total, previous = 0, eps_old
-        for target in targets:
-            _predict(ref, previous, target, height, middle)
-            delta = height * (1 - math.exp(-target))
-            its = ref.solve(middle - height / 2 + delta / 2,
-                            middle + height / 2 - delta / 2, tolerance)
-            if its is None:
-                break
-            total, previous = total + its, target
-        else:
-            return total
-        ref.u.x.array[:] = backup
-    raise RuntimeError(f"dolfinx reference: no equilibrium at eps ="
-                       f" {eps_new:.4f}")
-
-
-def _predict(ref, eps_old, eps_new, height, middle):
-    """Guess: the current shape compressed in y about the plates' middle by
-    the plates' ratio and stretched in x by its inverse."""
-    s = math.exp(eps_old - eps_new)  # (H0 - delta_new) / (H0 - delta_old)
-    x = ref.X + ref.displacement()
-    centre = x[:, 0].mean()
-    new = np.column_stack([centre + (x[:, 0] - centre) / s,
-                           middle + (x[:, 1] - middle) * s])
-    ref.u.x.array[:] = (new - ref.X).ravel()
 
 
 # ---------------------------------------------------------------- run

@@ -44,15 +44,14 @@ from softpack.scene.packing import (DEFAULT_GAP, PAPER_COUNTS,
                                     PAPER_DIAMETERS, PAPER_LENGTH,
                                     PAPER_WIDTH, Packing, PackingError,
                                     random_packing)
-from softpack.scene.shapes import Template, rotated, shape_file
+from softpack.scene.shapes import (MIN_BOUNDARY_ELEMENTS, Template, rotated,
+                                   shape_file)
 from softpack.scene.triangulation import (initialize_gmsh, mesh_geometry,
                                           signed_areas)
 
 #: The paper's element size (m): kappa = h / (D2 / 2) = 0.071 (the
 #: schema's default).
 PAPER_ELEMENT_SIZE = load_schema()["mesh"].parameters["element_size"].default
-#: Fewest elements allowed around a disk's circumference.
-MIN_BOUNDARY_ELEMENTS = 8
 BODIES_COLUMNS = "body,x,y,radius,reference_area,angle"
 
 
