@@ -3,12 +3,12 @@
 import pytest
 
 
-def require_driver() -> None:
-    """Skip the calling test (or fixture) when softpack-simulate is not
-    built: ``./softpack test`` builds it first."""
+def require_driver():
+    """softpack-simulate's path; skips the calling test (or fixture) when
+    it is not built: ``./softpack test`` builds it first."""
     from softpack.contract.run_directory import RunError
     from softpack.simulation import driver
     try:
-        driver.executable()
+        return driver.executable()
     except RunError:
         pytest.skip("softpack-simulate is not built (run ./softpack test)")

@@ -24,6 +24,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from driver_required import require_driver
+from softpack import paths
+
 ROOT = Path(__file__).resolve().parents[2]
 CASES = 24
 
@@ -191,8 +194,7 @@ def run_case(seed, base):
     config, out = case / "case.toml", case / "run"
     write_toml(config, tables, species)
     env = {**os.environ, "SOFTPACK_ROOT": str(ROOT),
-           "SOFTPACK_BIN": os.environ.get("SOFTPACK_BIN",
-                                          str(ROOT / "build" / "bin")),
+           "SOFTPACK_BIN": str(paths.BIN),
            "PYTHONPATH": str(ROOT / "python"), "OMP_NUM_THREADS": "1"}
     result = subprocess.run(
         [sys.executable, "-m", "softpack.cli", "run", str(config), "--out",
@@ -204,9 +206,7 @@ def run_case(seed, base):
 def runs(tmp_path_factory):
     """Every case, run two at a time (the machine's two cores)."""
     pytest.importorskip("dolfinx")
-    binary = Path(os.environ.get("SOFTPACK_BIN", ROOT / "build" / "bin"))
-    if not (binary / "softpack-simulate").exists():
-        pytest.skip("softpack-simulate is not built")
+    require_driver()
     base = tmp_path_factory.mktemp("fuzz")
     with ThreadPoolExecutor(max_workers=2) as pool:
         return dict(zip(range(CASES),

@@ -12,16 +12,12 @@ import subprocess
 import time
 from pathlib import Path
 
-import pytest
-
-from softpack import paths
+from driver_required import require_driver
 
 
 def _driver_environment(tmp_path: Path, env: dict) -> dict:
     """The environment of a softpack-simulate blocked on its driver.json."""
-    exe = paths.BIN / "softpack-simulate"
-    if not exe.is_file():
-        pytest.skip("softpack-simulate is not built")
+    exe = require_driver()
     fifo = tmp_path / "driver.json"
     os.mkfifo(fifo)
     proc = subprocess.Popen([str(exe), str(fifo), "--quiet"], env=env,
@@ -57,9 +53,7 @@ def test_a_users_wait_policy_is_kept(tmp_path):
 
 
 def test_negative_thread_count_is_refused(tmp_path):
-    exe = paths.BIN / "softpack-simulate"
-    if not exe.is_file():
-        pytest.skip("softpack-simulate is not built")
+    exe = require_driver()
     result = subprocess.run([str(exe), "--threads", "-1", "x.json"],
                             capture_output=True, text=True, timeout=60)
     assert result.returncode == 1
