@@ -183,13 +183,6 @@ class RunDirectory:
                 " output is partial")
         return json.loads(path.read_text())
 
-    def tail(self, log: Path, lines: int = 20) -> str:
-        """The last ``lines`` lines of a log of this run."""
-        try:
-            text = Path(log).read_text(errors="replace")
-            return "\n".join(text.splitlines()[-lines:])
-        except OSError:
-            return "(no log)"
 
 
 class RunError(RuntimeError):

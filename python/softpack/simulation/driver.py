@@ -27,6 +27,7 @@ from pathlib import Path
 
 from softpack import paths
 from softpack.contract.run_directory import RunDirectory, RunError
+from softpack.simulation.driver_input import write_driver_json
 
 #: The executable's name under the build's bin directory.
 DRIVER = "softpack-simulate"
@@ -201,9 +202,9 @@ def wait_usage(proc: subprocess.Popen, watch=None):
             break
         time.sleep(POLL_SECONDS)
         watch(final=False)
+    proc.returncode = os.waitstatus_to_exitcode(status)
     if watch is not None:
         watch(final=True)
-    proc.returncode = os.waitstatus_to_exitcode(status)
     return proc.returncode, usage
 
 
@@ -262,8 +263,6 @@ def launch(run: RunDirectory, config=None, scene=None, *,
         last lines of its log) or ended without ``raw/done.json``. Whatever
         interrupts the wait stops the driver's process group first.
     """
-    from softpack.simulation.driver_input import write_driver_json
-
     executable()
     if config is not None:
         write_driver_json(config, scene, run.path, initial_state)
@@ -285,7 +284,16 @@ def _launched(run, log, quiet, ranks, threads, watch) -> Finished:
         raise
     if status != 0:
         where = "" if log is None else (
-            f"; last lines of {log.name}:\n" + run.tail(log.name))
+            f"; last lines of {log.name}:\n" + _tail(log.name))
         raise DriverFailed(f"{DRIVER} failed (exit status {status}){where}",
                            status)
     return Finished(peak_memory_mb=peak_mb, done=run.done())
+
+
+def _tail(path, lines: int = 20) -> str:
+    """The last lines of a text file (a log)."""
+    try:
+        text = Path(path).read_text(errors="replace")
+        return "\n".join(text.splitlines()[-lines:])
+    except OSError:
+        return "(no log)"

@@ -22,10 +22,8 @@ import json
 import os
 from pathlib import Path
 
+from softpack.contract.run_directory import RunDirectory
 from softpack.contract.schema import load_schema, schema_version
-
-#: The file name in the run directory.
-NAME = "driver.json"
 
 
 def _plain(value):
@@ -77,9 +75,9 @@ def write_driver_json(config, scene_record: dict, directory,
     """
     document = driver_document(config, scene_record, directory,
                                initial_state)
-    path = Path(directory) / NAME
+    path = RunDirectory(directory).driver_json
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{NAME}.tmp-{os.getpid()}")
+    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
     try:
         tmp.write_text(json.dumps(document, indent=2) + "\n")
         os.replace(tmp, path)
