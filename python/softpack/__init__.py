@@ -1,10 +1,12 @@
 """softpack: assemblies of soft particles under compaction.
 
-The package is grouped by stage (docs/contract.md section 7): ``scene``
-(configuration, walls, species, packing, meshes), ``simulation`` (the
-driver.json writer, the C++ driver, ``./softpack run``), ``analysis``
-(observables), ``plots`` and ``references`` (the single-disk and 3D
-cylinder checks).
+The package is grouped by stage (docs/contract.md section 7): ``contract``
+(what every stage shares: the parameter schema, the CSV tables, the run
+directory's paths), ``scene`` (configuration, walls, species, packing,
+meshes), ``simulation`` (the driver.json writer, the one launch of the C++
+driver, ``./softpack run``), ``analysis`` (observables), ``plots``,
+``references`` (the single-disk, plates and 3D cylinder checks) and
+``bench``.
 
 The functions below are the scripting interface (docs/python_api.md). With
 ``python/`` on the path (``./softpack`` sets it; in a shell:
