@@ -94,6 +94,7 @@ def test_a_stages_shear_counts_its_strains_from_the_stage_start():
 def test_plot_loading_writes_the_figures_and_the_fit(tmp_path):
     pytest.importorskip("matplotlib")
     from softpack.analysis import stress as stress_module
+    from softpack.contract.run_directory import RunDirectory
     from softpack.contract.tables import write_table
     from softpack.plots import loading
 
@@ -112,7 +113,7 @@ def test_plot_loading_writes_the_figures_and_the_fit(tmp_path):
                  fe_P=1.01 * p, fe_q=0.01 * p, eps_q=np.linspace(0, .1, rows),
                  eps_v=np.linspace(0, .05, rows),
                  difference_wall_fe=np.full(rows, 0.01))
-    write_table(run / stress_module.NAME, table, stress_module.COLUMNS)
+    write_table(RunDirectory(run).stress_csv, table, stress_module.COLUMNS)
     assert loading.main([str(run), "--out", str(tmp_path / "fig")]) == 0
     for name in ("pressure_phi.png", "z_phi.png", "stress_estimates.png",
                  "shear.png", "loading.json"):
