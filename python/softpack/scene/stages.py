@@ -26,7 +26,8 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from softpack.scene.consistency import largest_time_step
+from softpack.scene.consistency import (Inconsistent, half_box_time,
+                                        largest_time_step)
 from softpack.scene.schema import load_schema
 from softpack.scene.walls import CONTROL, check_drive, drive_keys
 
@@ -197,13 +198,13 @@ def _stop(checker, section, index, table, drives, sections) -> dict:
     elif stop["strain_wall"]:
         _check_strain_wall(title, stop["strain_wall"], sections["walls"])
     if stop["max_time"] is None:
-        if not (moving and boxed):
-            raise StageError(
-                f"[{title}] stop.max_time missing: it is derived as [box]"
-                " length / (2 x the stage's fastest wall speed) only with a"
-                " box and a moving velocity-controlled wall; give it")
-        speed = math.hypot(*drives[moving]["velocity"])
-        stop["max_time"] = sections["box"]["length"] / (2.0 * speed)
+        speed = math.hypot(*drives[moving]["velocity"]) if moving else 0.0
+        try:
+            stop["max_time"] = half_box_time(
+                f"[{title}] stop.max_time", sections["box"], speed,
+                "the stage's fastest wall speed", "velocity-controlled wall")
+        except Inconsistent as err:
+            raise StageError(str(err)) from None
     return stop
 
 
