@@ -100,19 +100,7 @@ def enum_function(enum: str) -> str:
     return "to" + "".join("_" + c.lower() if c.isupper() else c for c in name)
 
 
-def struct_declaration(cls: str, doc: str, keys, extra=()) -> list[str]:
-    """A generated struct with one member per key (and ``extra`` lines)."""
-    out = [gp.comment(doc, "").rstrip("\n"), f"struct {cls}\n{{"]
-    for key, spec in keys:
-        out.append(gp.comment(gp.member_doc(spec), "  ").rstrip("\n"))
-        out.append(f"  {gp.CPP_TYPES[spec['type']]} {key} = "
-                   f"{gp.cpp_value(spec['type'], spec['default'])};")
-    out += list(extra)
-    out.append("};\n")
-    return out
-
-
-def declarations(name: str, table: dict, schema: dict) -> list[str]:
+def declarations(name: str, table: dict) -> list[str]:
     """The structs and reader declarations of one list or map section."""
     cls = element_type(name)
     out = []
@@ -122,7 +110,7 @@ def declarations(name: str, table: dict, schema: dict) -> list[str]:
                   f"  std::string {gp.ENTRY_NAME};"]
     for prefix, keys in nested_keys(table).items():
         sub = cls + gp.camel_case(prefix)
-        out += struct_declaration(sub, f"The {prefix}.KEY keys of [{name}]",
+        out += gp.struct_lines(sub, f"The {prefix}.KEY keys of [{name}]",
                                   keys)
         extra += [f"  /// The {prefix}.KEY keys", f"  {sub} {prefix};"]
     if table.get("_drives"):
@@ -132,7 +120,7 @@ def declarations(name: str, table: dict, schema: dict) -> list[str]:
         extra += ["  /// The law's own parameters (checked by the body set)",
                   f"  std::map<std::string, double> {gp.MATERIAL_PARAMETERS};"]
     if name not in DRIVER_TYPES:
-        out += struct_declaration(cls, f"One element of [{name}]: "
+        out += gp.struct_lines(cls, f"One element of [{name}]: "
                                   + table.get("_doc", name), plain_keys(table),
                                   extra)
     out += [f"/// Read one element of driver.json's `{name}` at `path` (e.g.",
@@ -173,7 +161,7 @@ def header(schema: dict) -> str:
                 f"std::string name_of({enum} value);"]
     out.append("")
     for name, table in list_sections(schema):
-        out += declarations(name, table, schema)
+        out += declarations(name, table)
     out.append("} // namespace softpack::parameters")
     return "\n".join(out) + "\n"
 

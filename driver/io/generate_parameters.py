@@ -150,6 +150,17 @@ def string_list(values) -> str:
     return "{" + ", ".join(cpp_string(v) for v in values) + "}"
 
 
+def struct_lines(cls: str, doc: str, keys, extra=()) -> list[str]:
+    """A struct with one member per (key, spec), the schema's default as
+    initialiser, then the ``extra`` lines."""
+    out = [comment(doc, "").rstrip("\n"), f"struct {cls}\n{{"]
+    for key, spec in keys:
+        out.append(comment(member_doc(spec), "  ").rstrip("\n"))
+        out.append(f"  {CPP_TYPES[spec['type']]} {key} = "
+                   f"{cpp_value(spec['type'], spec['default'])};")
+    return out + list(extra) + ["};\n"]
+
+
 def section_lists(schema: dict) -> list[str]:
     """Return the declarations naming the sections and map keys of the schema.
 
@@ -195,17 +206,13 @@ def header(schema: dict, sections: list[tuple[str, dict]]) -> str:
     ]
     out += section_lists(schema)
     for name, table in sections:
-        out.append(comment(table.get("_doc", name), "").rstrip("\n"))
-        out.append(f"struct {camel_case(name)}\n{{")
-        for key, spec in keys_of(table):
-            out.append(comment(member_doc(spec), "  ").rstrip("\n"))
-            out.append(f"  {CPP_TYPES[spec['type']]} {key} = "
-                       f"{cpp_value(spec['type'], spec['default'])};")
+        extra = []
         if name == "material":
-            out.append("  /// The law's own parameters (keys: its UFL constants, checked by")
-            out.append("  /// the body set against the forms registry)")
-            out.append(f"  std::map<std::string, double> {MATERIAL_PARAMETERS};")
-        out.append("};\n")
+            extra = ["  /// The law's own parameters (keys: its UFL constants, checked by",
+                     "  /// the body set against the forms registry)",
+                     f"  std::map<std::string, double> {MATERIAL_PARAMETERS};"]
+        out += struct_lines(camel_case(name), table.get("_doc", name),
+                            keys_of(table), extra)
     out.append("/// Every driver section")
     out.append("struct Parameters\n{")
     for name, _ in sections:
