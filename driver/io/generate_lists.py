@@ -2,7 +2,7 @@
 
 Called by generate_parameters.py, which writes ``list_sections.{h,cpp}``
 next to ``parameters.{h,cpp}`` (``#include <softpack/list_sections.h>``,
-compiled into softpack_io). driver.json holds each ``_list`` and ``_map``
+library softpack_list_sections). driver.json holds each ``_list`` and ``_map``
 section of the driver stage as a list of tables (a map's entries carry their
 ``name``); each becomes
 
