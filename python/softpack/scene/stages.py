@@ -123,7 +123,7 @@ def _apply_walls(checker, index, entries, drives, sections) -> dict:
         values[CONTROL] = _control(where, values)
         try:
             check_drive(f"{where}.", wall, values, sections["box"]["enabled"],
-                        " in this stage")
+                        " in this stage", given=entry)
         except ValueError as err:
             raise StageError(str(err)) from None
         new[wall] = {CONTROL: values[CONTROL],

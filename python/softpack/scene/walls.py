@@ -97,12 +97,12 @@ def drive_keys() -> tuple:
 
 
 def check_drive(prefix: str, wall: str, drive: dict, boxed: bool,
-                scope: str = "") -> None:
+                scope: str = "", given=None) -> None:
     """Refuse a wall driven two ways, or by a pressure with no length.
 
     The one rule of a wall's drive, for [walls.NAME] and a stage's
-    walls.NAME alike: only the value of its ``control`` may be nonzero, and
-    only a box wall has the length that turns a pressure into a force.
+    walls.NAME alike: only the value of its ``control`` is set, and only a
+    box wall has the length that turns a pressure into a force.
 
     Parameters
     ----------
@@ -117,6 +117,10 @@ def check_drive(prefix: str, wall: str, drive: dict, boxed: bool,
         ``[box] enabled``.
     scope : str
         Said after the control in the message (``" in this stage"``).
+    given : collection of str, optional
+        The keys the user wrote (a stage's entry): a value key of another
+        drive among them is refused, whatever its value. None (a [walls]
+        table, written back with every key): such a value must be 0.
 
     Raises
     ------
@@ -126,9 +130,10 @@ def check_drive(prefix: str, wall: str, drive: dict, boxed: bool,
     control = drive[CONTROL]
     for key in drive_keys()[1:]:
         value = drive.get(key, 0.0)
-        if key != control and any(
-                v != 0 for v in (value if isinstance(value, (list, tuple))
-                                 else [value])):
+        values = value if isinstance(value, (list, tuple)) else [value]
+        is_set = key in given if given is not None else any(
+            v != 0 for v in values)
+        if key != control and is_set:
             raise ValueError(
                 f"{prefix}{key} = {value!r}: the wall is under control ="
                 f" \"{control}\"{scope}; a wall is driven by one of velocity,"
