@@ -1,11 +1,12 @@
 #include "fclib_io.h"
 
-#include "h5_helpers.h"
+#include <io/h5_helpers.h>
 
 #include <cmath>
 #include <limits>
 
 using namespace softpack::contact;
+namespace h5 = softpack::io::h5;
 
 namespace
 {
@@ -302,6 +303,10 @@ softpack::contact::read_fclib_local_file(const std::filesystem::path& path)
   {
     throw FclibError(name + ": " + e.what());
   }
+  catch (const h5::H5Error& e) // a dataset of the layout missing or wrong
+  {
+    throw FclibError(name + ": " + e.what());
+  }
 }
 //-----------------------------------------------------------------------------
 FrictionContactProblem2D
@@ -339,6 +344,10 @@ void softpack::contact::dump_problem(const FrictionContactProblem2D& problem,
     }
   }
   catch (const FclibError& e)
+  {
+    throw FclibError(name + ": " + e.what());
+  }
+  catch (const h5::H5Error& e) // a dataset of the layout missing or wrong
   {
     throw FclibError(name + ": " + e.what());
   }

@@ -7,12 +7,17 @@
 namespace softpack::dynamics
 {
 
-FrictionTable::FrictionTable(double default_coefficient,
-                             std::vector<int> body_species, int num_species,
+namespace
+{
+/// A pair's coefficient not set
+constexpr double unset = -1;
+} // namespace
+
+FrictionTable::FrictionTable(std::vector<int> body_species, int num_species,
                              int num_walls)
-    : _default(default_coefficient), _body_species(std::move(body_species)),
-      _num_species(num_species), _num_parties(num_species + num_walls),
-      _coefficient(_num_parties * _num_parties, default_coefficient)
+    : _body_species(std::move(body_species)), _num_species(num_species),
+      _num_parties(num_species + num_walls),
+      _coefficient(_num_parties * _num_parties, unset)
 {
   for (int s : _body_species)
     if (s < 0 || s >= num_species)
@@ -30,14 +35,16 @@ void FrictionTable::set(int a, int b, double coefficient)
   _coefficient[b * _num_parties + a] = coefficient;
 }
 
-double FrictionTable::operator()(const Contact& c) const
+double FrictionTable::operator()(const Contact& c,
+                                 double default_coefficient) const
 {
   if (_body_species.empty())
-    return _default;
+    return default_coefficient;
   const int a = _body_species[c.candidate_body];
   const int b =
       c.wall >= 0 ? wall_party(c.wall) : _body_species[c.antagonist_body];
-  return _coefficient[a * _num_parties + b];
+  const double set = _coefficient[a * _num_parties + b];
+  return set == unset ? default_coefficient : set;
 }
 
 } // namespace softpack::dynamics

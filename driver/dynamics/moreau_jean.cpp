@@ -182,10 +182,10 @@ contact::FrictionContactProblem2D
 MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
 {
   contact::FrictionContactProblem2D problem;
-  problem.friction.assign(sc.size(), _options.contact.friction);
-  if (!_options.friction.empty())
-    for (std::size_t a = 0; a < sc.size(); ++a)
-      problem.friction[a] = _options.friction(_contacts[a]);
+  problem.friction.resize(sc.size());
+  for (std::size_t a = 0; a < sc.size(); ++a)
+    problem.friction[a] =
+        _options.friction(_contacts[a], _options.contact.friction);
   problem.q.resize(2 * sc.size());
   if (needs_refactorization())
   {

@@ -43,7 +43,7 @@ struct MoreauJeanOptions
   /// fastest wall speed); must be set, > 0
   double velocity_scale = 0;
   /// Friction coefficient of each contact by its pair of species (or
-  /// species and wall); empty: contact.friction for every contact
+  /// species and wall); pairs it does not set: contact.friction
   FrictionTable friction;
   /// How a distributed run's bodies stay split (rebalance_tolerance)
   parameters::Parallel parallel;

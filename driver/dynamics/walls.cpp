@@ -25,6 +25,18 @@ double dot(const std::array<double, 2>& a, const std::array<double, 2>& b)
 }
 } // namespace
 
+const char* conflicting_drive(const WallDrive& d)
+{
+  if (d.control != WallControl::velocity &&
+      (d.velocity[0] != 0 || d.velocity[1] != 0))
+    return "velocity";
+  if (d.control != WallControl::pressure && d.pressure != 0)
+    return "pressure";
+  if (d.control != WallControl::force && d.force != 0)
+    return "force";
+  return nullptr;
+}
+
 void link_walls(std::vector<Wall>& walls)
 {
   constexpr double tol = 1e-9;

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 /// Rigid walls: straight lines that bound the assembly.
@@ -20,7 +21,27 @@ enum class WallControl
   force
 };
 
-/// A rigid wall: the half-plane \f$(x - p) \cdot n \ge 0\f$ is free.
+/// What drives a wall (schema [walls] control, velocity, pressure, force):
+/// a [walls.NAME] table and a stage's walls.NAME give one.
+struct WallDrive
+{
+  /// What drives the wall
+  WallControl control = WallControl::velocity;
+  /// Velocity: imposed (control velocity) or the current one (servo walls,
+  /// always along the normal)
+  std::array<double, 2> velocity = {0, 0};
+  /// Imposed normal stress (Pa), control pressure: > 0 pushes the wall
+  /// towards the particles
+  double pressure = 0;
+  /// Imposed normal force per unit length (N/m), control force
+  double force = 0;
+
+  /// Its normal velocity is an unknown of the step
+  bool servo() const { return control != WallControl::velocity; }
+};
+
+/// A rigid wall: the half-plane \f$(x - p) \cdot n \ge 0\f$ is free, driven
+/// by its WallDrive.
 ///
 /// A velocity-controlled wall translates at its imposed velocity; the time
 /// stepper advances `point` by h * velocity at each step.
@@ -34,38 +55,40 @@ enum class WallControl
 /// the particle), and its contacts couple it to the bodies through the
 /// contact problem (its compliance 1/m enters W). At rest the contact
 /// reactions balance F exactly, with no controller gain to tune.
-struct Wall
+struct Wall : WallDrive
 {
+  Wall() = default;
+  /// A velocity-controlled wall
+  Wall(std::string name_, std::array<double, 2> point_,
+       std::array<double, 2> normal_, std::array<double, 2> velocity_ = {0, 0})
+      : WallDrive{WallControl::velocity, velocity_}, name(std::move(name_)),
+        point(point_), normal(normal_)
+  {
+  }
+
   /// Name used in outputs ("left", "piston", ...)
   std::string name;
   /// A point of the wall line (current position)
-  std::array<double, 2> point;
+  std::array<double, 2> point = {0, 0};
   /// Unit normal pointing into the free side (towards the bodies)
-  std::array<double, 2> normal;
-  /// Velocity: imposed (control velocity) or the current one (servo walls,
-  /// always along the normal)
-  std::array<double, 2> velocity = {0, 0};
-  /// What drives the wall
-  WallControl control = WallControl::velocity;
-  /// Imposed normal stress (Pa), control pressure: > 0 pushes the wall
-  /// towards the particles
-  double pressure = 0;
-  /// Imposed normal force per unit length (N/m), control force
-  double force = 0;
+  std::array<double, 2> normal = {0, 1};
   /// Mass per unit length (kg/m) of a servo wall
   double mass = 0;
   /// The two walls between which this wall's length is measured (control
   /// pressure; set by link_walls)
   std::array<int, 2> span = {-1, -1};
 
-  /// Its normal velocity is an unknown of the step
-  bool servo() const { return control != WallControl::velocity; }
   /// Normal velocity V = velocity . normal
   double normal_velocity() const
   {
     return velocity[0] * normal[0] + velocity[1] * normal[1];
   }
 };
+
+/// The value key of `drive` that another control than its own sets
+/// ("velocity", "pressure" or "force"), or nullptr: a wall is driven by one
+/// of velocity, pressure or force, only the value of its control nonzero.
+const char* conflicting_drive(const WallDrive& drive);
 
 /// The four walls of a box [x0, x1] x [y0, y1] facing inward; the wall at
 /// x = x1 (named "piston") moves at -piston_speed along x.

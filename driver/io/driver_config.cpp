@@ -51,26 +51,6 @@ public:
     return v.get<std::string>();
   }
 
-  /// A number >= lo (> lo when open), < hi.
-  double number(const json& v, const std::string& path, double lo, bool open,
-                double hi = HUGE_VAL) const
-  {
-    if (!v.is_number() || !std::isfinite(v.get<double>()))
-      fail(path, "= " + v.dump() + " must be a number");
-    const double x = v.get<double>();
-    if (x < lo || (open && x == lo) || x >= hi)
-      fail(path, "= " + v.dump() + " is out of range");
-    return x;
-  }
-
-  std::array<double, 2> pair(const json& v, const std::string& path) const
-  {
-    if (!v.is_array() || v.size() != 2 || !v[0].is_number() ||
-        !v[1].is_number())
-      fail(path, "= " + v.dump() + " must be a pair of numbers [x, y]");
-    return {v[0].get<double>(), v[1].get<double>()};
-  }
-
 private:
   std::string _file;
 };
@@ -90,139 +70,58 @@ json parse(const std::filesystem::path& path)
   }
 }
 
-/// A wall from its checked driver.json entry (every key but the name read
-/// by the reader generated from the schema's [walls]).
-dynamics::Wall make_wall(const Reader& r, const json& w, const std::string& p,
-                         parameters::WallsEntry& e)
-{
-  parameters::read(w, e, r.file(), p);
-  dynamics::Wall wall{r.string(w.at("name"), p + ".name"), e.point, e.normal,
-                      e.velocity};
-  if (e.control == "pressure")
-    wall.control = dynamics::WallControl::pressure;
-  else if (e.control == "force")
-    wall.control = dynamics::WallControl::force;
-  wall.pressure = e.pressure;
-  wall.force = e.force;
-  wall.mass = e.mass;
-  const double len = std::hypot(wall.normal[0], wall.normal[1]);
-  if (!(len > 0) || !std::isfinite(len))
-    r.fail(p + ".normal", "must be a nonzero vector");
-  wall.normal = {wall.normal[0] / len, wall.normal[1] / len};
-  e.normal = wall.normal;
-  return wall;
-}
-
+/// walls: every entry read by the reader generated from the schema's
+/// [walls]; names unique, normals normalised, one drive per wall.
 void read_walls(const Reader& r, const json& walls, DriverConfig& c)
 {
   if (!walls.is_array() || walls.empty())
     r.fail("walls", "must be a non-empty list of walls");
-  for (std::size_t i = 0; i < walls.size(); ++i)
+  parameters::read(walls, c.walls, r.file());
+  for (std::size_t i = 0; i < c.walls.size(); ++i)
   {
+    dynamics::Wall& wall = c.walls[i];
     const std::string p = "walls[" + std::to_string(i) + "]";
-    parameters::WallsEntry entry;
-    const dynamics::Wall wall = make_wall(r, walls[i], p, entry);
-    for (const dynamics::Wall& other : c.walls)
-      if (other.name == wall.name)
+    for (std::size_t o = 0; o < i; ++o)
+      if (c.walls[o].name == wall.name)
         r.fail(p + ".name", "\"" + wall.name + "\" names two walls");
-    c.walls.push_back(wall);
-    c.wall_parameters.push_back(entry);
+    const double len = std::hypot(wall.normal[0], wall.normal[1]);
+    if (!(len > 0) || !std::isfinite(len))
+      r.fail(p + ".normal", "must be a nonzero vector");
+    wall.normal = {wall.normal[0] / len, wall.normal[1] / len};
+    check_drive(wall, r.file(), p);
   }
 }
 
-/// One wall entry of a stage: its new drive, only its own value nonzero.
-StageWall read_stage_wall(const Reader& r, const json& w, const std::string& p,
-                          int wall)
-{
-  r.keys(w, p, {"control", "velocity", "pressure", "force"});
-  StageWall out;
-  out.wall = wall;
-  const std::string control = r.string(w.at("control"), p + ".control");
-  out.velocity = r.pair(w.at("velocity"), p + ".velocity");
-  out.pressure = r.number(w.at("pressure"), p + ".pressure", 0, false);
-  out.force = r.number(w.at("force"), p + ".force", 0, false);
-  const bool moving = out.velocity[0] != 0 || out.velocity[1] != 0;
-  if (control == "velocity")
-    out.control = dynamics::WallControl::velocity;
-  else if (control == "pressure")
-    out.control = dynamics::WallControl::pressure;
-  else if (control == "force")
-    out.control = dynamics::WallControl::force;
-  else
-    r.fail(p + ".control",
-           "= \"" + control + "\" is not one of velocity, pressure, force");
-  if ((control != "velocity" && moving) ||
-      (control != "pressure" && out.pressure != 0) ||
-      (control != "force" && out.force != 0))
-    r.fail(p, "a wall is driven by one of velocity, pressure or force: "
-              "only the value of control = \"" +
-                  control + "\" may be nonzero");
-  return out;
-}
-
-StageStop read_stage_stop(const Reader& r, const json& j, const std::string& p,
-                          const DriverConfig& c)
-{
-  r.keys(j, p,
-         {"packing_fraction", "strain", "strain_wall", "pressure",
-          "equilibrium", "max_time"});
-  StageStop s;
-  s.packing_fraction =
-      r.number(j.at("packing_fraction"), p + ".packing_fraction", 0, false, 1);
-  s.strain = r.number(j.at("strain"), p + ".strain", 0, false, 1);
-  s.pressure = r.number(j.at("pressure"), p + ".pressure", 0, false);
-  s.equilibrium =
-      r.number(j.at("equilibrium"), p + ".equilibrium", 0, false, 1);
-  s.max_time = r.number(j.at("max_time"), p + ".max_time", 0, true);
-  const json& wall = j.at("strain_wall");
-  if (!wall.is_string())
-    r.fail(p + ".strain_wall", "= " + wall.dump() + " must be a string");
-  if (!wall.get<std::string>().empty())
-    s.strain_wall = wall_index(c.walls, wall.get<std::string>());
-  if (s.strain > 0 && s.strain_wall < 0)
-    r.fail(p + ".strain_wall", "must name a wall when strain > 0");
-  if ((s.packing_fraction > 0 || s.pressure > 0) && !c.box)
-    r.fail(p, "packing_fraction and pressure need a box "
-              "(scene.box.enabled)");
-  return s;
-}
-
-/// stages: [{name, walls: {NAME: {control, velocity, pressure, force}},
-/// stop: {...}}], every key explicit (the Python config derives them).
+/// stages: each read by the generated reader (every key explicit: the
+/// Python config derives them); the walls they name checked here.
 void read_stages(const Reader& r, const json& stages, DriverConfig& c)
 {
-  if (!stages.is_array())
-    r.fail("stages", "must be a list of stages (empty: none)");
-  for (std::size_t i = 0; i < stages.size(); ++i)
+  parameters::read(stages, c.stages, r.file());
+  for (std::size_t i = 0; i < c.stages.size(); ++i)
   {
     const std::string p = "stages[" + std::to_string(i) + "]";
-    const json& j = stages[i];
-    r.keys(j, p, {"name", "walls", "stop"});
-    Stage stage;
-    stage.name = r.string(j.at("name"), p + ".name");
-    if (!j.at("walls").is_object())
-      r.fail(p + ".walls", "must be a table of walls by name");
-    for (const auto& [name, w] : j.at("walls").items())
+    const parameters::Stage& stage = c.stages[i];
+    auto named = [&](const std::string& name)
     {
-      const auto it = std::find_if(c.walls.begin(), c.walls.end(),
-                                   [&](const dynamics::Wall& wall)
-                                   { return wall.name == name; });
-      if (it == c.walls.end())
+      return std::any_of(c.walls.begin(), c.walls.end(),
+                         [&](const dynamics::Wall& w)
+                         { return w.name == name; });
+    };
+    for (const auto& [name, drive] : stage.walls)
+    {
+      if (!named(name))
         r.fail(p + ".walls." + name, "no such wall");
-      stage.walls.push_back(read_stage_wall(r, w, p + ".walls." + name,
-                                            int(it - c.walls.begin())));
+      check_drive(drive, r.file(), p + ".walls." + name);
     }
-    try
-    {
-      stage.stop = read_stage_stop(r, j.at("stop"), p + ".stop", c);
-    }
-    catch (const std::runtime_error& e) // wall_index: no such wall
-    {
-      if (std::string(e.what()).rfind(r.file(), 0) == 0)
-        throw;
-      r.fail(p + ".stop.strain_wall", e.what());
-    }
-    c.stages.push_back(std::move(stage));
+    const parameters::StageStop& s = stage.stop;
+    if (!s.strain_wall.empty() && !named(s.strain_wall))
+      r.fail(p + ".stop.strain_wall",
+             "= \"" + s.strain_wall + "\" names no wall");
+    if (s.strain > 0 && s.strain_wall.empty())
+      r.fail(p + ".stop.strain_wall", "must name a wall when strain > 0");
+    if ((s.packing_fraction > 0 || s.pressure > 0) && !c.box)
+      r.fail(p + ".stop", "packing_fraction and pressure need a box "
+                          "(scene.box.enabled)");
   }
 }
 
@@ -269,6 +168,18 @@ int wall_index(const std::vector<dynamics::Wall>& walls,
     if (walls[i].name == name)
       return static_cast<int>(i);
   throw std::runtime_error("no wall named '" + name + "'");
+}
+
+void check_drive(const dynamics::WallDrive& drive, const std::string& file,
+                 const std::string& path)
+{
+  if (const char* key = dynamics::conflicting_drive(drive))
+    throw std::runtime_error(
+        file + ": " + path +
+        ": a wall is driven by one of velocity, pressure or force: only the "
+        "value of control = \"" +
+        parameters::name_of(drive.control) + "\" may be nonzero (" + key +
+        " is not)");
 }
 
 double fastest_wall_speed(const std::vector<dynamics::Wall>& walls)
@@ -323,9 +234,9 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
     r.fail("stop.packing_fraction",
            "must be 0 with stages (each stage has its own)");
   std::vector<dynamics::Wall> moving = c.walls;
-  for (const Stage& stage : c.stages)
-    for (const StageWall& w : stage.walls)
-      moving.push_back({"", {0, 0}, {1, 0}, w.velocity});
+  for (const parameters::Stage& stage : c.stages)
+    for (const auto& [name, drive] : stage.walls)
+      moving.push_back({"", {0, 0}, {1, 0}, drive.velocity});
   c.velocity_scale = fastest_wall_speed(moving);
   return c;
 }

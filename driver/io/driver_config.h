@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <softpack/list_sections.h>
 #include <softpack/parameters.h>
 #include <string>
 #include <vector>
@@ -12,34 +13,6 @@
 /// Reading driver.json (docs/contract.md section 4, docs/driver_io.md).
 namespace softpack::io
 {
-
-/// One wall's new drive in a loading stage (schema [stages] walls.NAME).
-struct StageWall
-{
-  /// Index of the wall in DriverConfig::walls
-  int wall = -1;
-  dynamics::WallControl control = dynamics::WallControl::velocity;
-  std::array<double, 2> velocity = {0, 0};
-  double pressure = 0, force = 0;
-};
-
-/// A stage's stop keys (schema [stages] stop.KEY; 0: no such criterion).
-struct StageStop
-{
-  double packing_fraction = 0, strain = 0, pressure = 0, equilibrium = 0;
-  /// The stage's time bound, from its start (> 0)
-  double max_time = 0;
-  /// Index of the wall whose strain `strain` measures (-1: none)
-  int strain_wall = -1;
-};
-
-/// One loading stage of driver.json's "stages" (docs/driver_io.md).
-struct Stage
-{
-  std::string name;
-  std::vector<StageWall> walls;
-  StageStop stop;
-};
 
 /// Everything `softpack-simulate` needs, read from driver.json.
 struct DriverConfig
@@ -59,11 +32,10 @@ struct DriverConfig
   /// scene.box.enabled: Phi is measured inside the walls left, right,
   /// bottom and top
   bool box = false;
-  /// The walls, in driver.json's order, normals normalised
+  /// The walls, in driver.json's order, normals normalised (read by the
+  /// reader generated from the schema's [walls]; raw/setup.json records
+  /// them as read)
   std::vector<dynamics::Wall> walls;
-  /// The same walls' schema keys as read (normals normalised): what
-  /// raw/setup.json records
-  std::vector<parameters::WallsEntry> wall_parameters;
   /// stop, contact, time, damping, output, material (generated from
   /// schema/parameters.toml)
   parameters::Parameters parameters;
@@ -77,8 +49,9 @@ struct DriverConfig
   /// Velocity scale of the Newton test: the fastest wall speed (derived
   /// here, not a parameter), over the stages' velocities too
   double velocity_scale = 0;
-  /// The loading stages, in order (empty: one stage from walls and stop)
-  std::vector<Stage> stages;
+  /// The loading stages, in order (empty: one stage from walls and stop);
+  /// their wall names and strain walls name walls of `walls`
+  std::vector<parameters::Stage> stages;
   /// driver.json's stages as given, once read and checked
   /// (raw/setup.json: a run with stages describes its program)
   nlohmann::json stage_program;
@@ -101,6 +74,12 @@ double fastest_wall_speed(const std::vector<dynamics::Wall>& walls);
 /// @throws std::runtime_error if absent
 int wall_index(const std::vector<dynamics::Wall>& walls,
                const std::string& name);
+
+/// Refuse a drive with a value of another control than its own: a wall is
+/// driven by one of velocity, pressure or force ([walls] and [[stages]]).
+/// @throws std::runtime_error naming `file` and `path`
+void check_drive(const dynamics::WallDrive& drive, const std::string& file,
+                 const std::string& path);
 
 /// Names of the box walls (scene.box.enabled), in the order left, right,
 /// bottom, top.

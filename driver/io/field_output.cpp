@@ -40,7 +40,6 @@ FieldOutput::FieldOutput(const std::filesystem::path& directory,
       _cell_area(bodies.cell_reference_area()),
       _particle(bodies.cell_body().begin(), bodies.cell_body().end())
 {
-  namespace h5 = contact::h5;
   if (bodies.unstored_node() >= 0)
     throw std::logic_error("FieldOutput: the bodies store some nodes only");
   const std::filesystem::path path = directory / "fields.h5";
@@ -86,7 +85,6 @@ void FieldOutput::flush() const
 void FieldOutput::write(std::span<const double> u,
                         std::span<const double> cell_energy, double t)
 {
-  namespace h5 = contact::h5;
   if (u.size() != 2 * _num_nodes || cell_energy.size() != _num_cells)
     throw std::invalid_argument("FieldOutput::write: not the mesh's sizes");
   const hid_t f = _file->get();

@@ -2,7 +2,7 @@
 
 #include <bodies/BodySet.h>
 #include <filesystem>
-#include <h5_helpers.h>
+#include <io/h5_helpers.h>
 #include <memory>
 #include <span>
 #include <string>
@@ -54,7 +54,7 @@ private:
   std::filesystem::path _xdmf;
   std::size_t _num_nodes = 0, _num_cells = 0;
   std::vector<double> _times;
-  std::unique_ptr<contact::h5::Handle> _file;
+  std::unique_ptr<h5::Handle> _file;
   std::vector<double> _cell_area, _particle;
 };
 

@@ -20,6 +20,11 @@ two functions:
 
 The material section also carries ``std::map<std::string, double>
 parameters`` (the law's own constants, declared in forms/materials/LAW.py).
+The checks themselves (no schema content) are written by hand:
+driver/io/parameter_checks.{h,cpp}.
+
+The ``_list`` and ``_map`` sections (walls, stages, friction, materials) are
+read by ``OUT_DIR/list_sections.{h,cpp}``, written by generate_lists.py.
 
 Nothing here repeats a name, range or default of the schema: they are all
 read from it, so the schema stays the one place where they are defined.
@@ -104,13 +109,6 @@ def driver_sections(schema: dict) -> list[tuple[str, dict]]:
     ]
 
 
-def map_sections(schema: dict) -> list[tuple[str, dict]]:
-    """Return the (name, table) of each driver section of named tables (walls)."""
-    return [(name, table) for name, table in schema.items()
-            if isinstance(table, dict) and table.get("_stage") == "driver"
-            and table.get("_map")]
-
-
 # driver.json writes a map section ([walls.NAME]) as a list of tables, each
 # with the key "name" next to the schema's keys.
 ENTRY_NAME = "name"
@@ -150,6 +148,17 @@ def member_doc(spec: dict) -> str:
 def string_list(values) -> str:
     """Return a C++ braced list of string literals."""
     return "{" + ", ".join(cpp_string(v) for v in values) + "}"
+
+
+def struct_lines(cls: str, doc: str, keys, extra=()) -> list[str]:
+    """A struct with one member per (key, spec), the schema's default as
+    initialiser, then the ``extra`` lines."""
+    out = [comment(doc, "").rstrip("\n"), f"struct {cls}\n{{"]
+    for key, spec in keys:
+        out.append(comment(member_doc(spec), "  ").rstrip("\n"))
+        out.append(f"  {CPP_TYPES[spec['type']]} {key} = "
+                   f"{cpp_value(spec['type'], spec['default'])};")
+    return out + list(extra) + ["};\n"]
 
 
 def section_lists(schema: dict) -> list[str]:
@@ -197,35 +206,13 @@ def header(schema: dict, sections: list[tuple[str, dict]]) -> str:
     ]
     out += section_lists(schema)
     for name, table in sections:
-        out.append(comment(table.get("_doc", name), "").rstrip("\n"))
-        out.append(f"struct {camel_case(name)}\n{{")
-        for key, spec in keys_of(table):
-            out.append(comment(member_doc(spec), "  ").rstrip("\n"))
-            out.append(f"  {CPP_TYPES[spec['type']]} {key} = "
-                       f"{cpp_value(spec['type'], spec['default'])};")
+        extra = []
         if name == "material":
-            out.append("  /// The law's own parameters (keys: its UFL constants, checked by")
-            out.append("  /// the body set against the forms registry)")
-            out.append(f"  std::map<std::string, double> {MATERIAL_PARAMETERS};")
-        out.append("};\n")
-    for name, table in map_sections(schema):
-        cls = camel_case(name) + "Entry"
-        out.append(comment(f"One named table [{name}.NAME]: "
-                           + table.get("_doc", name), "").rstrip("\n"))
-        out.append(f"struct {cls}\n{{")
-        for key, spec in keys_of(table):
-            out.append(comment(member_doc(spec), "  ").rstrip("\n"))
-            out.append(f"  {CPP_TYPES[spec['type']]} {key} = "
-                       f"{cpp_value(spec['type'], spec['default'])};")
-        out.append("};\n")
-        out.append(f"/// Read one element of driver.json's list `{name}` (at `path`, e.g.")
-        out.append(f"/// \"{name}[0]\"): the key \"{ENTRY_NAME}\" (read by the caller) and every key")
-        out.append("/// of the schema, checked; unknown keys refused.")
-        out.append("/// @throws std::runtime_error naming `where` and the key path")
-        out.append(f"void read(const nlohmann::json& j, {cls}& out, const std::string& where,")
-        out.append("          const std::string& path);")
-        out.append(f"/// The schema's keys of one `{name}` table (without its name)")
-        out.append(f"nlohmann::json to_json(const {cls}& entry);\n")
+            extra = ["  /// The law's own parameters (keys: its UFL constants, checked by",
+                     "  /// the body set against the forms registry)",
+                     f"  std::map<std::string, double> {MATERIAL_PARAMETERS};"]
+        out += struct_lines(camel_case(name), table.get("_doc", name),
+                            keys_of(table), extra)
     out.append("/// Every driver section")
     out.append("struct Parameters\n{")
     for name, _ in sections:
@@ -247,123 +234,6 @@ def header(schema: dict, sections: list[tuple[str, dict]]) -> str:
     out.append("nlohmann::json to_json(const Parameters& parameters);\n")
     out.append("} // namespace softpack::parameters")
     return "\n".join(out) + "\n"
-
-
-# Hand-written helpers of the reader: generic checks, no schema content.
-HELPERS = r"""
-namespace
-{
-using json = nlohmann::json;
-
-[[noreturn]] void fail(const std::string& where, const std::string& path,
-                       const std::string& what)
-{
-  throw std::runtime_error(where + ": " + path + ": " + what);
-}
-
-/// Refuse a non-object, a missing key and an unknown key.
-void check_keys(const json& j, const std::string& where,
-                const std::string& section,
-                const std::vector<std::string>& keys)
-{
-  std::string allowed;
-  for (const std::string& k : keys)
-    allowed += (allowed.empty() ? "" : ", ") + k;
-  if (!j.is_object())
-    fail(where, section, "must be a table with the keys " + allowed);
-  for (const std::string& k : keys)
-    if (!j.contains(k))
-      fail(where, section + "." + k, "missing (" + section + " needs " +
-                                         allowed + ")");
-  for (const auto& item : j.items())
-    if (std::find(keys.begin(), keys.end(), item.key()) == keys.end())
-      fail(where, section + "." + item.key(),
-           "unknown key (" + section + " has " + allowed + ")");
-}
-
-std::string shown(const json& v) { return v.dump(); }
-
-double read_number(const json& v, const std::string& where,
-                   const std::string& path, double lo, bool lo_closed,
-                   double hi, bool hi_closed, const char* range)
-{
-  if (!v.is_number())
-    fail(where, path, "= " + shown(v) + " must be a number in " + range);
-  const double x = v.get<double>();
-  const bool above = lo_closed ? x >= lo : x > lo;
-  const bool below = hi_closed ? x <= hi : x < hi;
-  if (!(above && below))
-    fail(where, path, "= " + shown(v) + " is out of the range " + range);
-  return x;
-}
-
-int read_int(const json& v, const std::string& where, const std::string& path,
-             double lo, bool lo_closed, double hi, bool hi_closed,
-             const char* range)
-{
-  if (!v.is_number_integer())
-    fail(where, path, "= " + shown(v) + " must be an integer in " + range);
-  const double x = read_number(v, where, path, lo, lo_closed, hi, hi_closed,
-                               range);
-  if (std::abs(x) > std::numeric_limits<int>::max())
-    fail(where, path, "= " + shown(v) + " is too large");
-  return v.get<int>();
-}
-
-bool read_bool(const json& v, const std::string& where, const std::string& path)
-{
-  if (!v.is_boolean())
-    fail(where, path, "= " + shown(v) + " must be true or false");
-  return v.get<bool>();
-}
-
-std::string read_string(const json& v, const std::string& where,
-                        const std::string& path,
-                        const std::vector<std::string>& choices)
-{
-  if (!v.is_string())
-    fail(where, path, "= " + shown(v) + " must be a string");
-  std::string s = v.get<std::string>();
-  if (!choices.empty() &&
-      std::find(choices.begin(), choices.end(), s) == choices.end())
-  {
-    std::string allowed;
-    for (const std::string& c : choices)
-      allowed += (allowed.empty() ? "\"" : ", \"") + c + "\"";
-    fail(where, path, "= " + shown(v) + " is not one of " + allowed);
-  }
-  return s;
-}
-
-std::array<double, 2> read_pair(const json& v, const std::string& where,
-                                const std::string& path)
-{
-  if (!v.is_array() || v.size() != 2 || !v[0].is_number() ||
-      !v[1].is_number())
-    fail(where, path, "= " + shown(v) + " must be a pair of numbers [x, y]");
-  return {v[0].get<double>(), v[1].get<double>()};
-}
-
-/// The law's parameters: a table of numbers (its keys are checked against
-/// the law's constants by the body set).
-std::map<std::string, double> read_number_table(const json& v,
-                                                const std::string& where,
-                                                const std::string& path)
-{
-  if (!v.is_object())
-    fail(where, path, "must be a table of numbers");
-  std::map<std::string, double> out;
-  for (const auto& item : v.items())
-  {
-    if (!item.value().is_number())
-      fail(where, path + "." + item.key(),
-           "= " + shown(item.value()) + " must be a number");
-    out[item.key()] = item.value().get<double>();
-  }
-  return out;
-}
-} // namespace
-"""
 
 
 def read_statement(section: str, key: str, spec: dict, path: str = "") -> str:
@@ -403,14 +273,11 @@ def source(schema: dict, sections: list[tuple[str, dict]]) -> str:
         "// Do not edit: change the schema.",
         "#include <softpack/parameters.h>",
         "",
-        "#include <algorithm>",
-        "#include <cmath>",
-        "#include <limits>",
-        "#include <stdexcept>",
-        "#include <vector>",
-        HELPERS,
+        "#include <io/parameter_checks.h>",
+        "",
         "namespace softpack::parameters",
         "{",
+        "using namespace detail;",
     ]
     for name, table in sections:
         cls = camel_case(name)
@@ -433,21 +300,6 @@ def source(schema: dict, sections: list[tuple[str, dict]]) -> str:
             out.append(f"  j[{cpp_string(key)}] = section.{key};")
         if name == "material":
             out.append(f"  j[{cpp_string(MATERIAL_PARAMETERS)}] = section.{MATERIAL_PARAMETERS};")
-        out.append("  return j;\n}\n")
-    for name, table in map_sections(schema):
-        cls = camel_case(name) + "Entry"
-        keys = [ENTRY_NAME] + [k for k, _ in keys_of(table)]
-        out.append(f"void read(const nlohmann::json& j, {cls}& out, const std::string& where,")
-        out.append("          const std::string& path)\n{")
-        out.append("  check_keys(j, where, path, "
-                   "{" + ", ".join(cpp_string(k) for k in keys) + "});")
-        for key, spec in keys_of(table):
-            out.append(read_statement(name, key, spec, f"path + {cpp_string('.' + key)}"))
-        out.append("}\n")
-        out.append(f"nlohmann::json to_json(const {cls}& entry)\n{{")
-        out.append("  nlohmann::json j = nlohmann::json::object();")
-        for key, _ in keys_of(table):
-            out.append(f"  j[{cpp_string(key)}] = entry.{key};")
         out.append("  return j;\n}\n")
     out.append("void read(const nlohmann::json& j, Parameters& out, const std::string& where)\n{")
     for name, _ in sections:
@@ -475,6 +327,10 @@ def main(argv: list[str]) -> int:
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / "parameters.h").write_text(header(schema, sections))
     (out_dir / "parameters.cpp").write_text(source(schema, sections))
+    # The list and map sections, read into types of the driver (io level).
+    import generate_lists
+    (out_dir / "list_sections.h").write_text(generate_lists.header(schema))
+    (out_dir / "list_sections.cpp").write_text(generate_lists.source(schema))
     return 0
 
 

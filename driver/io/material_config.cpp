@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <material_registry.h>
+#include <softpack/list_sections.h>
 #include <stdexcept>
 
 namespace softpack::io
@@ -18,35 +19,27 @@ using json = nlohmann::json;
   throw std::runtime_error(c.file.string() + ": " + key + ": " + what);
 }
 
-/// One material: the generated reader checks law, density and rigid; the
-/// law's parameters are checked against the registry by the body set.
-bodies::BodyMaterial read_material(const DriverConfig& c, const json& j,
+/// One material: the generated reader checked its keys; its law is looked
+/// up in the registry here, its parameters checked against the law's by
+/// the body set.
+bodies::BodyMaterial make_material(const DriverConfig& c,
+                                   const std::string& law, double density,
+                                   bool rigid,
+                                   const std::map<std::string, double>& values,
                                    const std::string& key)
 {
-  if (!j.is_object() || !j.contains("parameters") ||
-      !j.at("parameters").is_object())
-    fail(c, key + ".parameters", "missing or not a table");
-  json keys = j;
-  keys.erase("parameters");
-  parameters::MaterialsEntry entry;
-  parameters::read(keys, entry, c.file.string(), key);
   bodies::BodyMaterial m;
   try
   {
-    m.law = &forms::find_material(entry.law);
+    m.law = &forms::find_material(law);
   }
   catch (const std::invalid_argument& e)
   {
     fail(c, key + ".law", e.what());
   }
-  for (const auto& [name, value] : j.at("parameters").items())
-  {
-    if (!value.is_number())
-      fail(c, key + ".parameters." + name, "must be a number");
-    m.parameters[name] = value.get<double>();
-  }
-  m.density = entry.density;
-  m.rigid = entry.rigid;
+  m.parameters = values;
+  m.density = density;
+  m.rigid = rigid;
   m.name = key;
   return m;
 }
@@ -55,24 +48,19 @@ bodies::BodyMaterial read_material(const DriverConfig& c, const json& j,
 BodyMaterials read_body_materials(const json& doc, const DriverConfig& c)
 {
   BodyMaterials out;
-  // The default material has the keys of a named one but its name.
-  json material = doc.at("material");
-  if (!material.is_object() || material.contains("name"))
-    fail(c, "material", "must be a table of law, density, rigid, parameters");
-  material["name"] = "material";
-  out.materials.push_back(read_material(c, material, "material"));
-  const json& list = doc.at("materials");
-  if (!list.is_array())
-    fail(c, "materials", "must be a list (empty: none)");
+  const parameters::Material& first = c.parameters.material;
+  out.materials.push_back(make_material(
+      c, first.law, first.density, first.rigid, first.parameters, "material"));
+  std::vector<parameters::MaterialsEntry> named;
+  parameters::read(doc.at("materials"), named, c.file.string());
   std::vector<std::string> names;
-  for (std::size_t i = 0; i < list.size(); ++i)
+  for (std::size_t i = 0; i < named.size(); ++i)
   {
-    const std::string key = "materials[" + std::to_string(i) + "]";
-    if (!list[i].is_object() || !list[i].contains("name") ||
-        !list[i].at("name").is_string())
-      fail(c, key + ".name", "missing or not a string");
-    names.push_back(list[i].at("name").get<std::string>());
-    out.materials.push_back(read_material(c, list[i], key));
+    const parameters::MaterialsEntry& e = named[i];
+    names.push_back(e.name);
+    out.materials.push_back(
+        make_material(c, e.law, e.density, e.rigid, e.parameters,
+                      "materials[" + std::to_string(i) + "]"));
   }
   std::vector<int> species_material;
   const json& species = c.scene.at("species");
@@ -103,11 +91,10 @@ dynamics::FrictionTable read_friction_table(const json& doc,
 {
   const json& species = c.scene.at("species");
   const int ns = static_cast<int>(species.size());
-  dynamics::FrictionTable table(c.parameters.contact.friction, c.body_species,
-                                ns, static_cast<int>(c.walls.size()));
-  const json& list = doc.at("friction");
-  if (!list.is_array())
-    fail(c, "friction", "must be a list (empty: none)");
+  dynamics::FrictionTable table(c.body_species, ns,
+                                static_cast<int>(c.walls.size()));
+  std::vector<parameters::FrictionPair> pairs;
+  parameters::read(doc.at("friction"), pairs, c.file.string());
   // Party names: the species', then the walls'; "walls" is every wall.
   auto parties =
       [&](const std::string& name, const std::string& key, bool walls_allowed)
@@ -125,23 +112,13 @@ dynamics::FrictionTable read_friction_table(const json& doc,
                (walls_allowed ? ", a wall or \"walls\"" : ""));
     return out;
   };
-  for (std::size_t i = 0; i < list.size(); ++i)
+  for (std::size_t i = 0; i < pairs.size(); ++i)
   {
     const std::string key = "friction[" + std::to_string(i) + "]";
-    const json& e = list[i];
-    if (!e.is_object() || e.size() != 3 || !e.contains("species") ||
-        !e.contains("against") || !e.contains("coefficient") ||
-        !e.at("species").is_string() || !e.at("against").is_string() ||
-        !e.at("coefficient").is_number())
-      fail(c, key,
-           "must be {species: name, against: name, coefficient: "
-           "number}");
-    const double mu = e.at("coefficient").get<double>();
-    if (!(mu >= 0) || !std::isfinite(mu))
-      fail(c, key + ".coefficient", "must be >= 0");
-    for (int a : parties(e.at("species"), key + ".species", false))
-      for (int b : parties(e.at("against"), key + ".against", true))
-        table.set(a, b, mu);
+    const parameters::FrictionPair& e = pairs[i];
+    for (int a : parties(e.species, key + ".species", false))
+      for (int b : parties(e.against, key + ".against", true))
+        table.set(a, b, e.coefficient);
   }
   return table;
 }

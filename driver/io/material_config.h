@@ -21,18 +21,20 @@ struct BodyMaterials
   std::vector<int> body_material;
 };
 
-/// Read `material`, `materials` (each {name, law, density,
-/// rigid, parameters}) and each species' `scene.species[k].material` ("": the
-/// default `material`, else a name of `materials`).
+/// Make the bodies' materials from `material` (config.parameters),
+/// `materials` (each {name, law, density, rigid, parameters}) and each
+/// species' `scene.species[k].material` ("": the default `material`, else a
+/// name of `materials`).
 /// @param[in] doc driver.json
-/// @param[in] config Its body species (scene.bodies.species) and file name
+/// @param[in] config Its parameters, body species (scene.bodies.species) and
+/// file name
 /// @throws std::runtime_error naming the file and the key at fault
 BodyMaterials read_body_materials(const nlohmann::json& doc,
                                   const DriverConfig& config);
 
 /// Read `friction` ([{species, against, coefficient}]: a species name
 /// against a species name, a wall name or "walls") into the table of the
-/// contacts' coefficients, [contact] friction for every other pair.
+/// coefficients of those pairs (every other pair has contact.friction).
 /// @throws std::runtime_error naming the file and the key at fault
 dynamics::FrictionTable read_friction_table(const nlohmann::json& doc,
                                             const DriverConfig& config);

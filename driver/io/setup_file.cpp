@@ -17,7 +17,7 @@ json walls_json(const DriverConfig& config)
   for (std::size_t i = 0; i < config.walls.size(); ++i)
   {
     json wall = {{"name", config.walls[i].name}};
-    wall.update(parameters::to_json(config.wall_parameters[i]));
+    wall.update(parameters::to_json(config.walls[i]));
     out.push_back(wall);
   }
   return out;

@@ -135,13 +135,13 @@ StageProgram::StageProgram(const io::DriverConfig& config)
 {
 }
 
-double StageProgram::set_drives(const io::Stage& stage,
+double StageProgram::set_drives(const parameters::Stage& stage,
                                 std::vector<dynamics::Wall>& walls)
 {
   double returned = 0;
-  for (const io::StageWall& s : stage.walls)
+  for (const auto& [name, s] : stage.walls)
   {
-    dynamics::Wall& w = walls[s.wall];
+    dynamics::Wall& w = walls[io::wall_index(walls, name)];
     const bool was_servo = w.servo();
     w.control = s.control;
     w.pressure = s.pressure;
@@ -163,7 +163,7 @@ double StageProgram::set_drives(const io::Stage& stage,
 void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
                          std::optional<double> phi)
 {
-  const io::Stage& stage = _stages[k];
+  const parameters::Stage& stage = _stages[k];
   std::vector<dynamics::Wall> walls = scheme.walls();
   const double returned = set_drives(stage, walls);
   if (returned != 0)
@@ -183,8 +183,9 @@ void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
   _start.step = scheme.steps();
   _start.time = scheme.time();
   _start.wall_work = scheme.energy().wall_work;
-  if (stage.stop.strain_wall >= 0)
-    _start.length = facing_distance(scheme.walls(), stage.stop.strain_wall);
+  if (!stage.stop.strain_wall.empty())
+    _start.length = facing_distance(
+        scheme.walls(), io::wall_index(scheme.walls(), stage.stop.strain_wall));
   if (phi && stage.stop.packing_fraction > 0)
     _start.phi_side = side(*phi, stage.stop.packing_fraction);
   if (stage.stop.pressure > 0)
@@ -202,9 +203,10 @@ void StageProgram::resume(const StageStart& start, dynamics::MoreauJean& scheme)
 
 double StageProgram::strain(const std::vector<dynamics::Wall>& walls) const
 {
-  const int w = stage().stop.strain_wall;
-  if (w < 0 || _start.length == 0)
+  const std::string& name = stage().stop.strain_wall;
+  if (name.empty() || _start.length == 0)
     return 0;
+  const int w = io::wall_index(walls, name);
   return (_start.length - facing_distance(walls, w)) / _start.length;
 }
 
@@ -226,7 +228,7 @@ StageCheck StageProgram::check(const dynamics::MoreauJean& scheme,
                                std::optional<double> phi,
                                bool output_step) const
 {
-  const io::StageStop& stop = stage().stop;
+  const parameters::StageStop& stop = stage().stop;
   StageCheck c;
   if (phi && stop.packing_fraction > 0 &&
       crossed(*phi, stop.packing_fraction, _start.phi_side))
@@ -262,7 +264,7 @@ std::string StageProgram::missed(const dynamics::MoreauJean& scheme,
                                  const bodies::BodySet& bodies,
                                  std::optional<double> phi) const
 {
-  const io::StageStop& stop = stage().stop;
+  const parameters::StageStop& stop = stage().stop;
   std::ostringstream out;
   out << "stage " << _start.index << " \"" << stage().name
       << "\" reached its max_time " << stop.max_time << " s before";

@@ -87,7 +87,7 @@ public:
 
   bool empty() const { return _stages.empty(); }
   int size() const { return static_cast<int>(_stages.size()); }
-  const io::Stage& stage() const { return _stages[_start.index]; }
+  const parameters::Stage& stage() const { return _stages[_start.index]; }
   const StageStart& start() const { return _start; }
   bool last() const { return _start.index + 1 == size(); }
 
@@ -117,11 +117,11 @@ public:
 private:
   /// Set stage k's drives on the walls; the kinetic energy of servo walls
   /// turned velocity-driven (taken from wall_work by the caller)
-  static double set_drives(const io::Stage& stage,
+  static double set_drives(const parameters::Stage& stage,
                            std::vector<dynamics::Wall>& walls);
   double strain(const std::vector<dynamics::Wall>& walls) const;
 
-  std::vector<io::Stage> _stages;
+  std::vector<parameters::Stage> _stages;
   StageStart _start;
 };
 

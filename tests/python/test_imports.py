@@ -21,18 +21,13 @@ FORBIDDEN = {
                           "softpack.bench"),
 }
 
-#: Circles known today and owned elsewhere (the walls work of issue 36);
-#: remove an entry when its circle is cut.
-KNOWN = [["softpack.scene.config", "softpack.scene.stages"]]
-
-
 def _in(module, package):
     return module == package or module.startswith(package + ".")
 
 
 def test_no_import_circle():
     circles = import_graph.circles(import_graph.graph())
-    assert [c for c in circles if c not in KNOWN] == []
+    assert circles == []
 
 
 def test_no_stage_imports_a_later_one():

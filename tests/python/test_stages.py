@@ -44,6 +44,10 @@ def stages_config(stages, walls=SERVO, stop=None):
      r"\[stages.0\] walls.right.velocity"),
     ({"walls": {"right": {"velocity": [-0.1, 0.0], "force": 5.0}}},
      r"\[stages.0\] walls.right.force"),
+    # a key of another drive is refused even at 0 (the schema's [stages])
+    ({"walls": {"right": {"control": "pressure", "pressure": 1e3,
+                          "velocity": [0.0, 0.0]}}},
+     r"\[stages.0\] walls.right.velocity = \[0.0, 0.0\]: the wall is under"),
     ({"walls": {"right": {"control": "pressure"}}},
      r"\[stages.0\] walls.right.pressure missing"),
     ({"walls": {"lid": {"velocity": [0.0, -0.1]}}},

@@ -37,7 +37,7 @@ from pathlib import Path
 from softpack.scene import consistency, species as species_rules, stages
 from softpack.scene.materials import RegistryError, load_registry, resolve
 from softpack.contract.schema import MATERIAL_CHOICES, load_schema
-from softpack.scene.walls import BOX_WALLS, box_geometry, unit
+from softpack.scene.walls import BOX_WALLS, CONTROL, box_geometry, unit
 
 #: The sub-table of [material] that holds the law's own parameters.
 LAW_TABLE = "parameters"
@@ -417,7 +417,7 @@ def to_toml(config) -> str:
 
     for name, section in schema.items():
         if name == "stages":
-            lines += stages.toml_lines(config[name])
+            lines += _stage_lines(config[name])
         elif section.is_list:
             for item in config[name]:
                 lines += ["", f"[[{name}]]"]
@@ -438,6 +438,21 @@ def to_toml(config) -> str:
             if name == "material":
                 lines += _law_lines(name, config[name])
     return "\n".join(lines) + "\n"
+
+
+def _stage_lines(program) -> list:
+    """The ``[[stages]]`` tables of a resolved configuration (reloadable:
+    each wall entry has only its drive's keys)."""
+    lines = []
+    for stage in program:
+        lines += ["", "[[stages]]", f"name = {_show(stage['name'])}"]
+        for wall, d in stage["walls"].items():
+            control = d[CONTROL]
+            lines.append(f"walls.{wall} = {{ {CONTROL} = {_show(control)},"
+                         f" {control} = {_show(d[control])} }}")
+        keys = ", ".join(f"{k} = {_show(v)}" for k, v in stage["stop"].items())
+        lines.append(f"stop = {{ {keys} }}")
+    return lines
 
 
 def _law_lines(title, material) -> list:

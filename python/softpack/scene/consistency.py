@@ -42,12 +42,36 @@ def derive(sections) -> None:
     stop = sections["stop"]
     if stop["max_time"] is None:
         wall = fastest(scene_walls(sections))
-        if not sections["box"]["enabled"] or wall is None or wall.speed == 0:
-            raise Inconsistent(
-                "[stop] max_time missing: it is derived as [box] length /"
-                " (2 x the fastest wall speed) only with a box and a moving"
-                " wall; give it")
-        stop["max_time"] = sections["box"]["length"] / (2.0 * wall.speed)
+        stop["max_time"] = half_box_time(
+            "[stop] max_time", sections["box"], wall.speed if wall else 0.0,
+            "the fastest wall speed", "wall")
+
+
+def half_box_time(key, box, speed, fastest, wall) -> float:
+    """The derived time bound: [box] length / (2 x ``speed``), the time a
+    wall at that speed takes to cross half the box.
+
+    Parameters
+    ----------
+    key : str
+        The bound's key, for the message (``"[stop] max_time"``).
+    box : dict
+        The [box] section.
+    speed : float
+        The fastest wall speed (0: none moves).
+    fastest, wall : str
+        What the message calls that speed and the moving wall.
+
+    Raises
+    ------
+    Inconsistent
+        Without a box or a moving wall: the bound must be given.
+    """
+    if not box["enabled"] or not speed > 0:
+        raise Inconsistent(
+            f"{key} missing: it is derived as [box] length / (2 x {fastest})"
+            f" only with a box and a moving {wall}; give it")
+    return box["length"] / (2.0 * speed)
 
 
 def initial_packing_fraction(sections) -> float:

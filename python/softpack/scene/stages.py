@@ -26,13 +26,11 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from softpack.scene.consistency import largest_time_step
-from softpack.scene.walls import BOX_WALLS
+from softpack.scene.consistency import (Inconsistent, half_box_time,
+                                        largest_time_step)
+from softpack.contract.schema import load_schema
+from softpack.scene.walls import CONTROL, check_drive, drive_keys
 
-#: The drives of a wall, each with its value key.
-DRIVES = ("velocity", "pressure", "force")
-#: The keys a stage's wall entry may have (those of [walls.NAME]).
-WALL_KEYS = ("control",) + DRIVES
 #: The keys of one stage.
 STAGE_KEYS = ("name", "walls", "stop")
 #: The prefix of the stop keys in the schema's [stages] section.
@@ -78,7 +76,7 @@ def validate(checker, section, items, sections, given_stop) -> list:
     if not isinstance(items, list) or not all(isinstance(i, dict)
                                               for i in items):
         raise StageError("[[stages]] must be one or more tables")
-    drives = {name: {k: w[k] for k in WALL_KEYS}
+    drives = {name: {k: w[k] for k in drive_keys()}
               for name, w in sections["walls"].items()}
     out = []
     for i, item in enumerate(items):
@@ -107,29 +105,28 @@ def _apply_walls(checker, index, entries, drives, sections) -> dict:
     title = f"stages.{index}"
     if not isinstance(entries, dict):
         raise StageError(f"[{title}] walls must be a table of walls.NAME ="
-                         " { control, velocity, pressure, force }")
-    walls_schema = checker_schema(sections)
-    boxed = sections["box"]["enabled"]
+                         f" {{ {', '.join(drive_keys())} }}")
+    walls_schema = load_schema()["walls"].parameters
     new = {name: dict(d) for name, d in drives.items()}
     for wall, entry in entries.items():
         where = f"[{title}] walls.{wall}"
         if wall not in drives:
             raise StageError(f"{where}: unknown wall (walls: "
                              f"{', '.join(drives)})")
-        checker.keys(f"{title}.walls.{wall}", entry, WALL_KEYS)
+        checker.keys(f"{title}.walls.{wall}", entry, drive_keys())
         values = {}
         for key, value in entry.items():
             spec = dataclasses.replace(walls_schema[key],
                                        key=f"walls.{wall}.{key}")
             values[key] = checker.value(title, ["stages", index, "walls",
                                                 wall, key], spec, value)
-        control = _control(where, wall, values)
-        if control == "pressure" and not (boxed and wall in BOX_WALLS):
-            raise StageError(
-                f"{where}.control = \"pressure\": only a box wall (left,"
-                " right, bottom, top with [box] enabled) has a length to"
-                " turn a pressure into a force; use control = \"force\"")
-        new[wall] = {"control": control,
+        values[CONTROL] = _control(where, values)
+        try:
+            check_drive(f"{where}.", wall, values, sections["box"]["enabled"],
+                        " in this stage", given=entry)
+        except ValueError as err:
+            raise StageError(str(err)) from None
+        new[wall] = {CONTROL: values[CONTROL],
                      "velocity": list(values.get("velocity", [0.0, 0.0])),
                      "pressure": float(values.get("pressure", 0.0)),
                      "force": float(values.get("force", 0.0))}
@@ -137,33 +134,16 @@ def _apply_walls(checker, index, entries, drives, sections) -> dict:
     return new
 
 
-def checker_schema(sections) -> dict:
-    """The [walls] keys' Parameters (their one definition)."""
-    from softpack.contract.schema import load_schema
-
-    return load_schema()["walls"].parameters
-
-
-def _control(where, wall, values) -> str:
-    """The entry's control: given, or the one drive whose value is given.
-
-    A wall driven two ways in one stage (a velocity and a pressure or
-    force) is refused, naming the key of the second drive.
-    """
-    given = [k for k in DRIVES if k in values]
-    control = values.get("control")
+def _control(where, values) -> str:
+    """The entry's control: given, or the first drive whose value is given
+    (:func:`~softpack.scene.walls.check_drive` then refuses the others)."""
+    given = [k for k in drive_keys()[1:] if k in values]
+    control = values.get(CONTROL)
     if control is None:
         if not given:
-            raise StageError(f"{where}: give control or one of velocity,"
-                             " pressure, force")
+            raise StageError(f"{where}: give control or one of"
+                             f" {', '.join(drive_keys()[1:])}")
         control = given[0]
-    for key in given:
-        if key != control:
-            raise StageError(
-                f"{where}.{key} = {values[key]!r}: the wall is under control"
-                f" = \"{control}\" in this stage; a wall is driven by one of"
-                f" velocity, pressure or force (remove {key}, or set"
-                " control)")
     if control != "velocity" and control not in values:
         raise StageError(f"{where}.{control} missing: control ="
                          f" \"{control}\" needs its value")
@@ -218,13 +198,13 @@ def _stop(checker, section, index, table, drives, sections) -> dict:
     elif stop["strain_wall"]:
         _check_strain_wall(title, stop["strain_wall"], sections["walls"])
     if stop["max_time"] is None:
-        if not (moving and boxed):
-            raise StageError(
-                f"[{title}] stop.max_time missing: it is derived as [box]"
-                " length / (2 x the stage's fastest wall speed) only with a"
-                " box and a moving velocity-controlled wall; give it")
-        speed = math.hypot(*drives[moving]["velocity"])
-        stop["max_time"] = sections["box"]["length"] / (2.0 * speed)
+        speed = math.hypot(*drives[moving]["velocity"]) if moving else 0.0
+        try:
+            stop["max_time"] = half_box_time(
+                f"[{title}] stop.max_time", sections["box"], speed,
+                "the stage's fastest wall speed", "velocity-controlled wall")
+        except Inconsistent as err:
+            raise StageError(str(err)) from None
     return stop
 
 
@@ -269,20 +249,3 @@ def _global_stop(stop, given, stages) -> None:
             f"[stop] max_time = {stop['max_time']!r}: must be >= {total:g} s,"
             " the sum of the stages' stop.max_time (or left out: it is then"
             " that sum)")
-
-
-def toml_lines(stages) -> list:
-    """The ``[[stages]]`` tables of a resolved configuration (reloadable:
-    each wall entry has only its drive's keys)."""
-    from softpack.scene.config import _show
-
-    lines = []
-    for stage in stages:
-        lines += ["", "[[stages]]", f"name = {_show(stage['name'])}"]
-        for wall, d in stage["walls"].items():
-            control = d["control"]
-            lines.append(f"walls.{wall} = {{ control = {_show(control)},"
-                         f" {control} = {_show(d[control])} }}")
-        keys = ", ".join(f"{k} = {_show(v)}" for k, v in stage["stop"].items())
-        lines.append(f"stop = {{ {keys} }}")
-    return lines

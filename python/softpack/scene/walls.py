@@ -19,8 +19,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from softpack.contract.schema import load_schema
+
 #: The box's walls, in driver.json order.
 BOX_WALLS = ("left", "right", "bottom", "top")
+#: The key of [walls] that says what drives a wall (schema ``_drive``).
+CONTROL = "control"
 
 
 @dataclass(frozen=True)
@@ -79,46 +83,72 @@ def scene_walls(config) -> list:
     and normal resolved (:func:`softpack.scene.config.validate`).
     """
     return [Wall(name, tuple(w["point"]), tuple(w["normal"]),
-                 tuple(w["velocity"]), w.get("control", "velocity"),
+                 tuple(w["velocity"]), w.get(CONTROL, "velocity"),
                  w.get("pressure", 0.0), w.get("force", 0.0),
                  w.get("mass") or 1.0)
             for name, w in config["walls"].items()]
 
 
-def check_controls(walls: dict, boxed: bool) -> None:
+def drive_keys() -> tuple:
+    """The keys of a wall's drive: ``control`` and the value key that each
+    of its choices names (schema [walls]: velocity, pressure, force); a
+    stage's ``walls.NAME`` sets these only."""
+    return (CONTROL, *load_schema()["walls"].parameters[CONTROL].choices)
+
+
+def check_drive(prefix: str, wall: str, drive: dict, boxed: bool,
+                scope: str = "", given=None) -> None:
     """Refuse a wall driven two ways, or by a pressure with no length.
+
+    The one rule of a wall's drive, for [walls.NAME] and a stage's
+    walls.NAME alike: only the value of its ``control`` is set, and only a
+    box wall has the length that turns a pressure into a force.
 
     Parameters
     ----------
-    walls : dict
-        ``name -> values`` of the [walls.NAME] tables (validated keys).
+    prefix : str
+        What the message names before the key: ``"[walls.right] "`` or
+        ``"[stages.0] walls.right."``.
+    wall : str
+        The wall's name.
+    drive : dict
+        Its drive keys (``control`` set; a value key absent counts as 0).
     boxed : bool
-        ``[box] enabled``: only box walls have a length for a pressure.
+        ``[box] enabled``.
+    scope : str
+        Said after the control in the message (``" in this stage"``).
+    given : collection of str, optional
+        The keys the user wrote (a stage's entry): a value key of another
+        drive among them is refused, whatever its value. None (a [walls]
+        table, written back with every key): such a value must be 0.
 
     Raises
     ------
     ValueError
         Naming the table and the key, e.g. ``[walls.right] velocity``.
     """
-    imposed = {"velocity": ("pressure", "force"),
-               "pressure": ("velocity", "force"),
-               "force": ("velocity", "pressure")}
-    for name, w in walls.items():
-        control = w.get("control", "velocity")
-        for key in imposed[control]:
-            value = w.get(key, 0.0)
-            if any(v != 0 for v in (value if isinstance(value, (list, tuple))
-                                    else [value])):
-                raise ValueError(
-                    f"[walls.{name}] {key} = {value!r}: the wall is under"
-                    f" control = \"{control}\"; a wall is driven by one of"
-                    " velocity, pressure or force (set control, or remove"
-                    f" {key})")
-        if control == "pressure" and not (boxed and name in BOX_WALLS):
+    control = drive[CONTROL]
+    for key in drive_keys()[1:]:
+        value = drive.get(key, 0.0)
+        values = value if isinstance(value, (list, tuple)) else [value]
+        is_set = key in given if given is not None else any(
+            v != 0 for v in values)
+        if key != control and is_set:
             raise ValueError(
-                f"[walls.{name}] control = \"pressure\": only a box wall"
-                " (left, right, bottom, top with [box] enabled) has a length"
-                " to turn a pressure into a force; use control = \"force\"")
+                f"{prefix}{key} = {value!r}: the wall is under control ="
+                f" \"{control}\"{scope}; a wall is driven by one of velocity,"
+                f" pressure or force (remove {key}, or set control)")
+    if control == "pressure" and not (boxed and wall in BOX_WALLS):
+        raise ValueError(
+            f"{prefix}control = \"pressure\": only a box wall (left, right,"
+            " bottom, top with [box] enabled) has a length to turn a pressure"
+            " into a force; use control = \"force\"")
+
+
+def check_controls(walls: dict, boxed: bool) -> None:
+    """:func:`check_drive` for every [walls.NAME] table (validated keys)."""
+    for name, w in walls.items():
+        check_drive(f"[walls.{name}] ", name, w, boxed)
 
 
 def derive_masses(walls: dict, mass: float) -> None:

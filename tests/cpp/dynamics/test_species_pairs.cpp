@@ -77,7 +77,7 @@ bodies::BodySet two_blocks(const test::Triangulation& block0,
 dynamics::MoreauJeanOptions options_with_pairs()
 {
   dynamics::MoreauJeanOptions o = options();
-  o.friction = dynamics::FrictionTable(0.3, {0, 1}, 2, 1);
+  o.friction = dynamics::FrictionTable({0, 1}, 2, 1);
   return o;
 }
 } // namespace

@@ -174,6 +174,13 @@ TEST(DriverConfig, ServoWallsAreReadAndBadOnesRefusedNamingTheKey)
   doc["walls"][1]["control"] = "pressure";
   doc["walls"][1]["pressure"] = 4000.0;
   doc["walls"][1]["mass"] = 7.0;
+  // a wall is driven by one of velocity, pressure or force, as in a stage
+  const std::string twice = error_of(doc);
+  EXPECT_NE(twice.find("walls[1]: a wall is driven by one of velocity, "
+                       "pressure or force"),
+            std::string::npos)
+      << twice;
+  doc["walls"][1]["velocity"] = {0.0, 0.0};
   const io::DriverConfig c = read(doc);
   EXPECT_EQ(c.walls[1].control, dynamics::WallControl::pressure);
   EXPECT_EQ(c.walls[1].pressure, 4000.0);

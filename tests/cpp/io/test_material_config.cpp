@@ -95,26 +95,30 @@ TEST(MaterialConfig, EachBodyTakesItsSpeciesMaterial)
 
 TEST(MaterialConfig, EveryPairTakesItsCoefficientOrTheDefault)
 {
-  const dynamics::FrictionTable f = read(two_species()).friction;
-  EXPECT_EQ(f.default_coefficient(), 0.3);
+  const io::DriverConfig c = read(two_species());
+  const dynamics::FrictionTable& f = c.friction;
+  // the default is contact.friction's, stored there only
+  const double mu = c.parameters.contact.friction;
+  EXPECT_EQ(mu, 0.3);
   // species pair, in both orders
-  EXPECT_EQ(f(between_bodies(0, 1)), 0.1);
-  EXPECT_EQ(f(between_bodies(2, 0)), 0.1);
+  EXPECT_EQ(f(between_bodies(0, 1), mu), 0.1);
+  EXPECT_EQ(f(between_bodies(2, 0), mu), 0.1);
   // a pair not named: the default
-  EXPECT_EQ(f(between_bodies(1, 2)), 0.3);
+  EXPECT_EQ(f(between_bodies(1, 2), mu), 0.3);
   // a species against one wall by name; its other walls keep the default
-  EXPECT_EQ(f(against_wall(1, 1)), 0.7);
-  EXPECT_EQ(f(against_wall(2, 0)), 0.3);
-  EXPECT_EQ(f(against_wall(2, 3)), 0.3);
+  EXPECT_EQ(f(against_wall(1, 1), mu), 0.7);
+  EXPECT_EQ(f(against_wall(2, 0), mu), 0.3);
+  EXPECT_EQ(f(against_wall(2, 3), mu), 0.3);
   // "walls": every wall
   for (int w = 0; w < 4; ++w)
-    EXPECT_EQ(f(against_wall(0, w)), 0.5) << "wall " << w;
+    EXPECT_EQ(f(against_wall(0, w), mu), 0.5) << "wall " << w;
 
   json none = two_species();
   none["friction"] = json::array();
   const dynamics::FrictionTable d = read(none).friction;
-  EXPECT_EQ(d(between_bodies(0, 1)), 0.3);
-  EXPECT_EQ(d(against_wall(0, 2)), 0.3);
+  // A table with no pair set (0.5: the default is the caller's)
+  EXPECT_EQ(d(between_bodies(0, 1), 0.5), 0.5);
+  EXPECT_EQ(d(against_wall(0, 2), 0.5), 0.5);
 }
 
 TEST(MaterialConfig, UnknownNamesAreRefusedNamingTheKey)
@@ -153,5 +157,6 @@ TEST(MaterialConfig, UnknownNamesAreRefusedNamingTheKey)
   doc["friction"][2]["coefficient"] = -0.1;
   refused(doc, "friction[2].coefficient");
   doc["friction"][2]["coefficient"] = "high";
-  refused(doc, "friction[2]");
+  const std::string high = refused(doc, "friction[2].coefficient");
+  EXPECT_NE(high.find("must be a number"), std::string::npos) << high;
 }

@@ -60,11 +60,11 @@ TEST(Stages, AreReadWithTheirWallsAndStopKeys)
   ASSERT_EQ(c.stages.size(), 2u);
   EXPECT_EQ(c.stages[0].name, "consolidate");
   ASSERT_EQ(c.stages[0].walls.size(), 1u);
-  EXPECT_EQ(c.stages[0].walls[0].wall, 3); // top
-  EXPECT_EQ(c.stages[0].walls[0].control, dynamics::WallControl::pressure);
-  EXPECT_EQ(c.stages[0].walls[0].pressure, 1e4);
+  const dynamics::WallDrive& top = c.stages[0].walls.at("top");
+  EXPECT_EQ(top.control, dynamics::WallControl::pressure);
+  EXPECT_EQ(top.pressure, 1e4);
   EXPECT_EQ(c.stages[0].stop.equilibrium, 1e-3);
-  EXPECT_EQ(c.stages[1].stop.strain_wall, 1); // right
+  EXPECT_EQ(c.stages[1].stop.strain_wall, "right");
   EXPECT_EQ(c.stages[1].stop.strain, 0.1);
   // the Newton test's velocity scale sees the stages' speeds
   EXPECT_EQ(c.velocity_scale, 0.1);
@@ -85,6 +85,20 @@ TEST(Stages, BadOnesAreRefusedNamingTheKey)
                                "one of velocity, pressure or force"),
             std::string::npos)
       << error_of(doc);
+  doc = two_stages();
+  doc["stages"][0]["walls"]["top"]["control"] = "stress";
+  EXPECT_NE(error_of(doc).find("stages[0].walls.top.control: = \"stress\" is "
+                               "not one of \"velocity\", \"pressure\", "
+                               "\"force\""),
+            std::string::npos)
+      << error_of(doc);
+  doc = two_stages();
+  doc["stages"][0]["walls"]["top"]["pressure"] = -1.0;
+  EXPECT_NE(error_of(doc).find("stages[0].walls.top.pressure"),
+            std::string::npos);
+  doc = two_stages();
+  doc["stages"][0]["name"] = "";
+  EXPECT_NE(error_of(doc).find("stages[0].name"), std::string::npos);
   doc = two_stages();
   doc["stages"][1]["walls"]["lid"] = doc["stages"][1]["walls"]["right"];
   EXPECT_NE(error_of(doc).find("stages[1].walls.lid: no such wall"),

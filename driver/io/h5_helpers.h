@@ -1,17 +1,28 @@
 #pragma once
 
-// Small RAII layer over the HDF5 C API for fclib_io.cpp and
-// io/field_output.cpp. Failures throw FclibError (a std::runtime_error).
+// Small RAII layer over the HDF5 C API, for the field writer
+// (io/field_output.cpp) and the FCLIB files (contact/fclib_io.cpp). Its own
+// library (softpack_h5: HDF5 only, no dolfinx) so that the contact solver can
+// link it. Failures throw H5Error.
 
 #include <hdf5.h>
 
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
-namespace softpack::contact::h5
+namespace softpack::io::h5
 {
+
+/// An HDF5 call that failed or a dataset that is missing or not of the
+/// kind asked for; the message names the dataset.
+class H5Error : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
 
 /// An HDF5 identifier closed on destruction.
 class Handle
@@ -67,11 +78,11 @@ private:
 bool exists(hid_t loc, const std::string& path);
 
 /// Read a numeric dataset of rank 0 or 1 as integers (integer type only).
-/// @throws FclibError "dataset PATH: ..." when missing or not integer
+/// @throws H5Error "dataset PATH: ..." when missing or not integer
 std::vector<std::int64_t> read_integers(hid_t loc, const std::string& path);
 
 /// Read a numeric dataset of rank 0 or 1 as doubles.
-/// @throws FclibError "dataset PATH: ..." when missing or not numeric
+/// @throws H5Error "dataset PATH: ..." when missing or not numeric
 std::vector<double> read_doubles(hid_t loc, const std::string& path);
 
 /// Read a string dataset (fixed or variable length).
@@ -79,7 +90,7 @@ std::vector<double> read_doubles(hid_t loc, const std::string& path);
 std::string read_string_or_empty(hid_t loc, const std::string& path);
 
 /// Create a group (parents must exist).
-/// @throws FclibError on failure
+/// @throws H5Error on failure
 void create_group(hid_t loc, const std::string& path);
 
 /// Write a 1-D int32 dataset.
@@ -99,4 +110,4 @@ void write_table(hid_t loc, const std::string& path,
 /// Write a fixed-length string dataset.
 void write_string(hid_t loc, const std::string& path, const std::string& s);
 
-} // namespace softpack::contact::h5
+} // namespace softpack::io::h5

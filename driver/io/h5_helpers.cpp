@@ -1,19 +1,17 @@
 #include "h5_helpers.h"
 
-#include "fclib_io.h"
-
 #include <algorithm>
 #include <utility>
 
-using namespace softpack::contact;
-using namespace softpack::contact::h5;
+using namespace softpack::io;
+using namespace softpack::io::h5;
 
 namespace
 {
 //-----------------------------------------------------------------------------
 [[noreturn]] void fail(const std::string& path, const std::string& what)
 {
-  throw FclibError("dataset " + path + ": " + what);
+  throw H5Error("dataset " + path + ": " + what);
 }
 //-----------------------------------------------------------------------------
 /// An open dataset and its number of values.
@@ -58,10 +56,10 @@ void write_array(hid_t loc, const std::string& path, hid_t file_type,
                         H5P_DEFAULT, H5P_DEFAULT),
              H5Dclose);
   if (!set.valid())
-    throw FclibError("cannot create dataset " + path);
+    throw H5Error("cannot create dataset " + path);
   if (n > 0 and
       H5Dwrite(set.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    throw FclibError("cannot write dataset " + path);
+    throw H5Error("cannot write dataset " + path);
 }
 } // namespace
 
@@ -150,7 +148,7 @@ void h5::create_group(hid_t loc, const std::string& path)
   Handle g(H5Gcreate2(loc, path.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
            H5Gclose);
   if (!g.valid())
-    throw FclibError("cannot create group " + path);
+    throw H5Error("cannot create group " + path);
 }
 //-----------------------------------------------------------------------------
 void h5::write_integers(hid_t loc, const std::string& path,
@@ -192,6 +190,6 @@ void h5::write_string(hid_t loc, const std::string& path, const std::string& s)
   std::string buffer = s.empty() ? std::string(1, '\0') : s;
   if (!set.valid() or H5Dwrite(set.get(), type.get(), H5S_ALL, H5S_ALL,
                                H5P_DEFAULT, buffer.data()) < 0)
-    throw FclibError("cannot write dataset " + path);
+    throw H5Error("cannot write dataset " + path);
 }
 //-----------------------------------------------------------------------------
