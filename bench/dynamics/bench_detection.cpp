@@ -3,14 +3,14 @@
 // mesh per disk; prints one JSON line per size and the fitted exponent of
 // time ~ N^p.
 #include <algorithm>
+#include <bodies/material_parameters.h>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <detection/detection.h>
 #include <dolfinx/common/log.h>
-#include <dynamics/detection.h>
 #include <material_registry.h>
 #include <mesh_fixtures.h>
-#include <bodies/material_parameters.h>
 #include <mpi.h>
 #include <random>
 #include <vector>
@@ -27,16 +27,16 @@ double time_detection(int side, int rings)
   std::vector<test::Triangulation> parts;
   for (int i = 0; i < side; ++i)
     for (int j = 0; j < side; ++j)
-      parts.push_back(
-          test::disk(i * pitch + jitter(gen), j * pitch + jitter(gen), R, rings));
+      parts.push_back(test::disk(i * pitch + jitter(gen),
+                                 j * pitch + jitter(gen), R, rings));
   bodies::BodySet bodies(test::bodies_mesh(parts),
                          forms::find_material("neo_hookean"),
                          bodies::plane_strain_parameters(0.15e6), 1180);
   std::vector<double> x(bodies.reference_coordinates().begin(),
                         bodies.reference_coordinates().end());
   const double L = side * pitch;
-  const std::vector<dynamics::Wall> walls
-      = dynamics::box_walls(-R - 1e-4, L - R + 1e-4, -R - 1e-4, L - R + 1e-4, 0);
+  const std::vector<dynamics::Wall> walls =
+      dynamics::box_walls(-R - 1e-4, L - R + 1e-4, -R - 1e-4, L - R + 1e-4, 0);
   dynamics::DetectionOptions options;
   options.alert_distance = 5e-4;
   std::vector<double> seconds;
@@ -45,14 +45,15 @@ double time_detection(int side, int rings)
   {
     const auto t0 = std::chrono::steady_clock::now();
     contacts = dynamics::detect_contacts(bodies, x, walls, options).size();
-    seconds.push_back(std::chrono::duration<double>(
-                          std::chrono::steady_clock::now() - t0)
-                          .count());
+    seconds.push_back(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
+            .count());
   }
   std::sort(seconds.begin(), seconds.end());
-  std::printf("{\"bench\": \"detection\", \"bodies\": %d, \"boundary_nodes_per_body\": "
-              "%d, \"contacts\": %zu, \"seconds\": %.6g}\n",
-              side * side, 6 * rings, contacts, seconds[2]);
+  std::printf(
+      "{\"bench\": \"detection\", \"bodies\": %d, \"boundary_nodes_per_body\": "
+      "%d, \"contacts\": %zu, \"seconds\": %.6g}\n",
+      side * side, 6 * rings, contacts, seconds[2]);
   std::fflush(stdout);
   return seconds[2];
 }
@@ -82,9 +83,10 @@ int main(int argc, char** argv)
     sxy += logn[i] * logt[i];
   }
   const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
-  std::printf("{\"bench\": \"detection_scaling\", \"bodies\": [100, 400, 1600], "
-              "\"exponent\": %.3f}\n",
-              slope);
+  std::printf(
+      "{\"bench\": \"detection_scaling\", \"bodies\": [100, 400, 1600], "
+      "\"exponent\": %.3f}\n",
+      slope);
   MPI_Finalize();
   return 0;
 }

@@ -49,6 +49,10 @@ BodySet::BodySet(BodyGeometry geometry, std::vector<BodyMaterial> materials,
       throw std::invalid_argument("BodySet: body material " +
                                   std::to_string(k) + " out of range");
   _u.assign(_reference_x.size(), 0.0);
+  _local.resize(_bodies.size());
+  std::iota(_local.begin(), _local.end(), 0);
+  _local_flag.assign(_bodies.size(), 1);
+  mark_local_nodes();
   build_assembly();
   build_mass(masses);
 }
@@ -113,15 +117,7 @@ void BodySet::internal_force(std::span<double> f) const
   if (f.size() != num_dofs())
     throw std::invalid_argument("internal_force: wrong vector size");
   std::fill(f.begin(), f.end(), 0.0);
-  _assembly->residual(f, _bodies, _reference_x, _u);
-}
-
-void BodySet::owned_internal_force(std::span<double> f) const
-{
-  if (f.size() != num_dofs())
-    throw std::invalid_argument("internal_force: wrong vector size");
-  std::fill(f.begin(), f.end(), 0.0);
-  _assembly->residual(f, _bodies, _reference_x, _u, _owned);
+  _assembly->residual(f, _bodies, _reference_x, _u, _local_flag);
 }
 
 double BodySet::strain_energy() const
@@ -132,36 +128,14 @@ double BodySet::strain_energy() const
 
 std::vector<double> BodySet::cell_strain_energy() const
 {
-  return strain_energy_by_cell({});
-}
-
-std::vector<double> BodySet::owned_cell_strain_energy() const
-{
-  return strain_energy_by_cell(_owned);
+  std::vector<double> e(_cell_body.size(), 0.0);
+  _assembly->cell_energy(e, _bodies, _reference_x, _u, _local_flag);
+  return e;
 }
 
 std::vector<double> BodySet::body_strain_energy() const
 {
-  return strain_energy_by_body({});
-}
-
-std::vector<double> BodySet::owned_body_strain_energy() const
-{
-  return strain_energy_by_body(_owned);
-}
-
-std::vector<double>
-BodySet::strain_energy_by_cell(std::span<const char> only) const
-{
-  std::vector<double> e(_cell_body.size(), 0.0);
-  _assembly->cell_energy(e, _bodies, _reference_x, _u, only);
-  return e;
-}
-
-std::vector<double>
-BodySet::strain_energy_by_body(std::span<const char> only) const
-{
-  const std::vector<double> per_cell = strain_energy_by_cell(only);
+  const std::vector<double> per_cell = cell_strain_energy();
   std::vector<double> sums(_bodies.size(), 0.0);
   for (std::size_t b = 0; b < _bodies.size(); ++b)
     for (std::int32_t c : _bodies[b].cells)
@@ -206,7 +180,7 @@ void BodySet::keep_storage(std::span<const char> kept)
       old_index[s] = static_cast<std::int32_t>(s);
     else if (static_cast<std::int32_t>(s) != _unstored)
       old_index[_stored_global[s]] = static_cast<std::int32_t>(s);
-  // Every rank reads every boundary and every rigid body (the same
+  // Every share reads every boundary and every rigid body (the same
   // indices everywhere); a kept body's interior is its own.
   std::vector<char> shared(_num_global_nodes, 0);
   std::vector<std::int32_t> interior;
@@ -245,6 +219,7 @@ void BodySet::keep_storage(std::span<const char> kept)
   _unstored = unstored;
   remap(_u);
   remap(_reference_x);
+  mark_local_nodes();
 }
 
 void BodySet::remap(std::vector<double>& v) const

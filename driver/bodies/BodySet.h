@@ -43,14 +43,14 @@ inline Eigen::VectorXd symmetric_product(const BodyMatrix& A,
 /// of the set's materials.
 ///
 /// State is kept in one displacement vector of node entries (dolfinx's DOF
-/// ordering of the mesh, two interleaved components per node; on a rank
-/// of a distributed run its storage, keep_storage); every per-body
+/// ordering of the mesh, two interleaved components per node; in a
+/// distributed run's share its storage, keep_storage); every per-body
 /// quantity is gathered from it through Body::nodes. Bodies never share a
 /// node, so every operator is block-diagonal by body.
 ///
 /// No dolfinx mesh is kept: the bodies' cells, nodes and boundaries come
-/// from the geometry's arrays (read from a mesh by rank 0 of a distributed
-/// run alone, parallel::broadcast_geometry), and the forms, made on a
+/// from the geometry's arrays (read from a mesh by one process of a
+/// distributed run, parallel::broadcast_geometry), and the forms, made on a
 /// one-triangle mesh, lend their kernels only: every computation runs the
 /// kernels over Body::cell_nodes (BodyAssembly).
 class BodySet
@@ -67,8 +67,8 @@ public:
   /// materials[body_material[b]]: each body's cells run its material's
   /// kernels.
   /// @param[in] masses Assemble every body's masses now; false: none until
-  /// set_owned assembles those a rank keeps (a distributed run's ranks,
-  /// which would hold every body's for a moment otherwise)
+  /// set_local assembles those kept (a distributed run's share, which
+  /// would hold every body's for a moment otherwise)
   /// @throws std::invalid_argument naming the material (BodyMaterial::name)
   /// and key at fault, or a body_material of the wrong size or range
   BodySet(BodyGeometry geometry, std::vector<BodyMaterial> materials,
@@ -93,16 +93,16 @@ public:
   bool rigid(int b) const { return _materials[_body_material[b]].rigid; }
 
   /// Length of the node vectors (2 per stored node): the number of global
-  /// scalar DOFs, or after keep_storage this rank's share of them
+  /// scalar DOFs, or after keep_storage the share's number of them
   std::size_t num_dofs() const { return _reference_x.size(); }
   /// Number of global scalar DOFs (2 per node of the mesh)
   std::size_t num_global_dofs() const { return 2 * _num_global_nodes; }
 
   /// Keep the node vectors' entries of the flagged bodies' nodes, of every
   /// body's boundary nodes and of every rigid body's nodes only (what a
-  /// rank of a distributed run reads, docs/mpi_design.md): a storage
+  /// distributed run's share reads, docs/mpi_design.md): a storage
   /// numbering with those nodes' global ones first (in global order: the
-  /// same indices on every rank), then the flagged bodies' interior nodes,
+  /// same indices in every share), then the flagged bodies' interior nodes,
   /// then one node (NaN) for every other interior node. Body::nodes then
   /// index the storage. The displacement and reference coordinates are
   /// remapped (entries new to the storage are NaN: a rebalance's new
@@ -112,8 +112,8 @@ public:
   /// A node vector of the storage before the last keep_storage in the
   /// storage after it (entries new to it NaN)
   void remap(std::vector<double>& v) const;
-  /// The reference coordinates, writable: a rebalance's new owner fills in
-  /// its arriving bodies' interiors (parallel::Ownership::move_to)
+  /// The reference coordinates, writable: a rebalance fills in the
+  /// arriving bodies' interiors (parallel::move_bodies)
   std::span<double> stored_reference_coordinates() { return _reference_x; }
   /// A global node vector (2 entries per mesh node) in this storage
   std::vector<double> from_global(std::span<const double> global) const;
@@ -134,64 +134,53 @@ public:
   /// Current coordinates X + u of the nodes (interleaved x, y per node)
   std::vector<double> current_coordinates() const;
 
-  /// Internal force \f$F_{int}(u) = \partial E/\partial u\f$ of all bodies,
-  /// written (not added) into the node vector f
+  /// Internal force \f$F_{int}(u) = \partial E/\partial u\f$ of the local
+  /// bodies (local_bodies), written (not added) into the node vector f;
+  /// the others' entries are zero
   void internal_force(std::span<double> f) const;
 
-  /// internal_force of the owned bodies only (set_owned; all when unset):
-  /// the others' entries are zero
-  void owned_internal_force(std::span<double> f) const;
-
-  /// Tangent stiffness \f$K(u)\f$ of each body, assembled in place into
-  /// matrices holding the body's sparsity pattern (see create_matrices)
+  /// Tangent stiffness \f$K(u)\f$ of each local body, assembled in place
+  /// into matrices holding the body's sparsity pattern (create_matrices)
   void tangent(std::vector<BodyMatrix>& K) const;
 
-  /// Zero matrices with each body's sparsity pattern (lower triangle)
-  /// @param[in] only 1 for the bodies whose pattern is wanted (empty: all);
-  /// the others get a matrix of their size with no entry (a distributed
-  /// run's ranks keep the tangents of their own bodies only)
-  std::vector<BodyMatrix>
-  create_matrices(std::span<const char> only = {}) const;
+  /// Zero matrices with each local body's sparsity pattern (lower
+  /// triangle); the others get a matrix of their size with no entry
+  std::vector<BodyMatrix> create_matrices() const;
+  /// Zero matrices with the sparsity pattern of each body whose masses are
+  /// kept (kept_masses), the others' empty
+  std::vector<BodyMatrix> create_mass_matrices() const;
 
-  /// Consistent mass matrix of each body whose mass this rank keeps
-  /// (kept_masses of set_owned's flags: every body until set_owned, none
-  /// if built without masses); the others' are empty. Computed once, and
-  /// for a body that comes to this rank when it does.
+  /// Consistent mass matrix of each body whose mass is kept (kept_masses:
+  /// every body until set_local, none if built without masses); the
+  /// others' are empty. Computed once, and for a body that becomes local
+  /// when it does.
   const std::vector<BodyMatrix>& consistent_mass() const { return _mass; }
 
-  /// The bodies whose masses a rank with the given owned flags keeps: its
-  /// own, and every rigid body (dynamics::RigidBodies reads them all);
-  /// every body when `owned` is empty. The one place of the rule.
-  std::vector<char> kept_masses(std::span<const char> owned) const;
+  /// The bodies whose masses are kept: the local ones and every rigid body
+  /// (dynamics::RigidBodies reads them all). The one place of the rule.
+  std::vector<char> kept_masses() const { return kept_masses(_local_flag); }
 
-  /// Lumped (vertex-quadrature, row-sum) mass of each body whose mass this
-  /// rank keeps (kept_masses, as consistent_mass), one per DOF; the others'
-  /// are empty
+  /// Lumped (vertex-quadrature, row-sum) mass of each body whose mass is
+  /// kept (kept_masses, as consistent_mass), one per DOF; the others' are
+  /// empty
   const std::vector<Eigen::VectorXd>& lumped_mass() const
   {
     return _lumped_mass;
   }
 
-  /// Total strain energy \f$\int \Psi\,dx\f$ over all bodies (the sum of
-  /// body_strain_energy)
+  /// Total strain energy \f$\int \Psi\,dx\f$ over the local bodies (the
+  /// sum of body_strain_energy)
   double strain_energy() const;
 
-  /// Strain energy of each cell (integral of Psi over the cell)
+  /// Strain energy of each cell (integral of Psi over the cell) of the
+  /// local bodies, the others' zero
   std::vector<double> cell_strain_energy() const;
 
-  /// cell_strain_energy of the owned bodies' cells (set_owned; all when
-  /// unset), the others' zero
-  std::vector<double> owned_cell_strain_energy() const;
-
-  /// Strain energy of each body
+  /// Strain energy of each local body, the others' zero
   std::vector<double> body_strain_energy() const;
 
-  /// body_strain_energy of the owned bodies (set_owned; all when unset),
-  /// the others' zero: what a rank of a distributed run computes of it
-  std::vector<double> owned_body_strain_energy() const;
-
   /// Reference area of each cell (NaN for a cell whose nodes are not
-  /// stored, keep_storage). Before set_owned only (every body's cells).
+  /// stored, keep_storage). Before set_local only (every body's cells).
   std::vector<double> cell_reference_area() const;
 
   /// Current (deformed) area of each body, \f$\int \det F\,dX\f$,
@@ -202,29 +191,38 @@ public:
   const std::vector<int>& cell_body() const { return _cell_body; }
 
   /// Each cell's three nodes (global node indices), cells numbered as
-  /// Body::cells: the mesh, for outputs. Before set_owned only (every
+  /// Body::cells: the mesh, for outputs. Before set_local only (every
   /// body's cells).
   std::vector<std::array<std::int32_t, 3>> cell_global_nodes() const;
 
-  /// Whether body b is one of the owned bodies (set_owned; every body
-  /// when unset)
-  bool owned(int b) const { return _owned.empty() || _owned[b]; }
+  /// The bodies whose forces, tangents and energies this set computes, in
+  /// increasing order (every body until set_local): the loops of the
+  /// per-body work run over them
+  std::span<const int> local_bodies() const { return _local; }
+  /// Whether body b is local (local_bodies)
+  bool is_local(int b) const { return _local_flag[b] != 0; }
+  /// Whether stored node i (an index of the node vectors) is a local
+  /// body's
+  bool is_local_node(std::size_t i) const { return _local_node[i] != 0; }
+  /// 1 for each stored node of a local body (is_local_node)
+  std::span<const char> local_nodes() const { return _local_node; }
 
-  /// Restrict the per-body work of owned_internal_force and tangent to the
-  /// bodies whose entry is nonzero (the bodies a rank of a distributed run
-  /// owns, parallel::Ownership); the others' entries are left zero. The
-  /// masses (consistent and lumped) and the cell lists (Body::cells,
-  /// cell_nodes, input_rank) of the bodies kept_masses leaves out are
-  /// freed; internal_force and body_strain_energy then cover the bodies
-  /// whose cells are kept, areas every body. May be called again (a
-  /// rebalanced run) with other flags: a body that comes to this rank must
-  /// have been given its cell lists first (take_cell_lists).
-  /// @throws std::invalid_argument if the size is not the number of bodies
+  /// Make `local` (increasing body indices) the local bodies: the per-body
+  /// work (internal_force, tangent, energies) covers them only, the
+  /// others' entries are left zero (a distributed run's share,
+  /// parallel::Distribution). The masses (consistent and lumped) and the
+  /// cell lists (Body::cells, cell_nodes, input_position) of the bodies
+  /// kept_masses leaves out are freed; areas cover every body. May be
+  /// called again (a rebalanced run): a body that becomes local must have
+  /// been given its cell lists first (take_cell_lists). Call it after
+  /// keep_storage (is_local_node indexes the storage).
+  /// @throws std::invalid_argument if a body index is out of range or the
+  /// list is not increasing
   /// @throws std::logic_error if a body kept now has no cell lists
-  void set_owned(std::vector<char> owned);
+  void set_local(std::vector<int> local);
 
   /// Body b's cells, their nodes and its input order as one list: what a
-  /// rebalance sends with a body to its new owner (Ownership::move_to)
+  /// rebalance sends with a body (parallel::move_bodies)
   std::vector<std::int32_t> cell_lists(int b) const;
   /// Give body b the cell lists written by cell_lists at the start of
   /// `in`; returns how many entries it read
@@ -237,10 +235,12 @@ private:
   void build_assembly();
   /// Every body's masses (all = false: empty ones, of each body's size)
   void build_mass(bool all);
-  /// Strain energy of the flagged bodies' cells and of the flagged bodies
-  /// (all when empty), the others' zero
-  std::vector<double> strain_energy_by_cell(std::span<const char> only) const;
-  std::vector<double> strain_energy_by_body(std::span<const char> only) const;
+  /// Zero matrices with the flagged bodies' patterns, the others' empty
+  std::vector<BodyMatrix> create_matrices(std::span<const char> only) const;
+  /// The masses kept with the given local flags (kept_masses)
+  std::vector<char> kept_masses(std::span<const char> local) const;
+  /// Mark the local bodies' stored nodes (is_local_node)
+  void mark_local_nodes();
   /// Free the masses (consistent and lumped) of the bodies not flagged;
   /// assemble those flagged whose masses were freed before
   void keep_masses(std::span<const char> kept);
@@ -267,8 +267,10 @@ private:
   std::vector<Eigen::VectorXd> _lumped_mass;
   /// The per-body forms' kernels, run body by body
   std::unique_ptr<BodyAssembly> _assembly;
-  /// The bodies whose forces and tangents are computed (empty: all)
-  std::vector<char> _owned;
+  /// The local bodies (increasing), 1 for each of them, and 1 for each
+  /// of their stored nodes
+  std::vector<int> _local;
+  std::vector<char> _local_flag, _local_node;
 };
 
 } // namespace softpack::bodies

@@ -78,8 +78,8 @@ void for_each_cell(const Body& body, const CellKernel& kernel,
 /// state file read), which differ from the mesh geometry dolfinx's
 /// assemblers read by rounding: the results agree with theirs to ~1e-14
 /// of the largest entry (tests/cpp/bodies/test_body_assembly.cpp). The
-/// kernels need nothing of the mesh after construction: a rank can
-/// assemble a body from the body's cells and coordinates alone.
+/// kernels need nothing of the mesh after construction: a body is
+/// assembled from its cells and coordinates alone.
 ///
 /// The forms must be of the kind the materials produce (P1 vector
 /// triangles, one cell integral, the displacement as the only coefficient

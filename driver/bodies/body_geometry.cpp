@@ -58,17 +58,17 @@ void trace_boundary(Body& body, const BodyGeometry& g,
   std::sort(body.boundary_nodes.begin(), body.boundary_nodes.end());
 }
 
-/// Each node's rank within its body in the input file's node order
-void rank_input_order(Body& body, std::span<const std::int64_t> node_input)
+/// Each node's position within its body in the input file's node order
+void number_input_order(Body& body, std::span<const std::int64_t> node_input)
 {
   std::vector<std::int32_t> order(body.nodes.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(),
             [&](std::int32_t a, std::int32_t b)
             { return node_input[body.nodes[a]] < node_input[body.nodes[b]]; });
-  body.input_rank.assign(order.size(), 0);
+  body.input_position.assign(order.size(), 0);
   for (std::size_t r = 0; r < order.size(); ++r)
-    body.input_rank[order[r]] = static_cast<std::int32_t>(r);
+    body.input_position[order[r]] = static_cast<std::int32_t>(r);
 }
 
 /// Each cell's body, checking that no node belongs to two bodies
@@ -179,7 +179,7 @@ std::vector<Body> build_bodies(const BodyGeometry& g)
   for (Body& body : bodies)
   {
     body.global_nodes = body.nodes;
-    rank_input_order(body, g.node_input);
+    number_input_order(body, g.node_input);
     trace_boundary(body, g, node_local);
     body.cell_nodes.reserve(body.cells.size());
     for (std::int32_t c : body.cells)

@@ -22,16 +22,16 @@ using SpaceFunction = ufcx_function_space* (*)(const char*);
 struct Body
 {
   /// Index of each local node in the BodySet's node vectors (its storage:
-  /// the global node index, but on a rank of a distributed run that keeps
-  /// its own bodies' entries only, BodySet::keep_storage)
+  /// the global node index, but in a distributed run's share that keeps
+  /// its local bodies' entries only, BodySet::keep_storage)
   std::vector<std::int32_t> nodes;
   /// Global node (DOF block) index of each local node: the mesh's, the
   /// state file's and fields.h5's numbering
   std::vector<std::int32_t> global_nodes;
   /// Cells of the body (indices into BodyGeometry::cells, the mesh's cell
-  /// order; increasing). This, cell_nodes and input_rank are empty on a
-  /// rank of a distributed run that keeps neither the body nor its mass
-  /// (BodySet::set_owned).
+  /// order; increasing). This, cell_nodes and input_position are empty in a
+  /// distributed run's share that keeps neither the body nor its mass
+  /// (BodySet::set_local).
   std::vector<std::int32_t> cells;
   /// The same cells as their three local nodes, in the order dolfinx lists
   /// a cell's DOFs: what the body assembly reads (body_assembly.h)
@@ -47,12 +47,12 @@ struct Body
   std::vector<std::int32_t> segment_from, segment_to;
   /// Area of the body in the reference configuration
   double reference_area = 0;
-  /// For each local node, its rank within the body in the input mesh
+  /// For each local node, its position within the body in the input mesh
   /// file's node order. Bodies copied from one template mesh list their
   /// nodes alike in that file, so in this order their matrices have one
   /// sparsity pattern (which lets them share a symbolic factorization),
   /// whatever order dolfinx gave the nodes.
-  std::vector<std::int32_t> input_rank;
+  std::vector<std::int32_t> input_position;
 
   /// Number of scalar DOFs of the body (2 per node)
   int num_dofs() const { return 2 * static_cast<int>(nodes.size()); }
@@ -60,8 +60,8 @@ struct Body
 
 /// Every node and cell of the bodies in the numbering dolfinx gave the
 /// displacement space of the mesh (its DOF order), with no dolfinx
-/// object: a distributed run reads the mesh on rank 0 only and sends these
-/// arrays to the other ranks (parallel::broadcast_geometry), and a
+/// object: a distributed run reads the mesh in one process and sends these
+/// arrays to the others (parallel::broadcast_geometry), and a
 /// BodySet is built from them.
 struct BodyGeometry
 {
@@ -72,7 +72,7 @@ struct BodyGeometry
   std::vector<std::array<std::int32_t, 3>> cells;
   /// Body id of each cell (0..num_bodies-1)
   std::vector<int> cell_body;
-  /// Each node's index in the input mesh file (Body::input_rank)
+  /// Each node's index in the input mesh file (Body::input_position)
   std::vector<std::int64_t> node_input;
   /// Number of nodes
   std::int32_t num_nodes() const

@@ -1,5 +1,5 @@
 // The bodies' matrices: one sparse pattern per body, the tangent assembled
-// into it, and the masses a rank keeps (its own bodies and every rigid one).
+// into it, and the masses kept (the local bodies' and every rigid one's).
 #include "BodySet.h"
 
 #include "body_assembly.h"
@@ -7,6 +7,16 @@
 
 namespace softpack::bodies
 {
+
+std::vector<BodyMatrix> BodySet::create_matrices() const
+{
+  return create_matrices(_local_flag);
+}
+
+std::vector<BodyMatrix> BodySet::create_mass_matrices() const
+{
+  return create_matrices(kept_masses());
+}
 
 std::vector<BodyMatrix>
 BodySet::create_matrices(std::span<const char> only) const
@@ -44,7 +54,7 @@ BodySet::create_matrices(std::span<const char> only) const
 
 void BodySet::tangent(std::vector<BodyMatrix>& K) const
 {
-  _assembly->tangent(K, _bodies, _reference_x, _u, _owned);
+  _assembly->tangent(K, _bodies, _reference_x, _u, _local_flag);
 }
 
 void BodySet::build_mass(bool all)
@@ -55,46 +65,62 @@ void BodySet::build_mass(bool all)
     _lumped_mass.assign(_bodies.size(), Eigen::VectorXd());
     return;
   }
-  _mass = create_matrices();
+  _mass = create_matrices(std::vector<char>(_bodies.size(), 1));
   _assembly->mass(_mass, _bodies, _reference_x);
   _lumped_mass = _assembly->lumped_mass(_bodies, _reference_x);
 }
 
-void BodySet::set_owned(std::vector<char> owned)
+void BodySet::set_local(std::vector<int> local)
 {
-  if (owned.size() != _bodies.size())
-    throw std::invalid_argument(
-        "BodySet::set_owned: " + std::to_string(owned.size()) + " flags for " +
-        std::to_string(_bodies.size()) + " bodies");
-  const std::vector<char> kept = kept_masses(owned);
+  std::vector<char> flag(_bodies.size(), 0);
+  for (std::size_t k = 0; k < local.size(); ++k)
+  {
+    const int b = local[k];
+    if (b < 0 || b >= num_bodies() || (k > 0 && b <= local[k - 1]))
+      throw std::invalid_argument(
+          "BodySet::set_local: body " + std::to_string(b) + " of " +
+          std::to_string(_bodies.size()) +
+          " bodies out of range or out of increasing order");
+    flag[b] = 1;
+  }
+  const std::vector<char> kept = kept_masses(flag);
   keep_masses(kept);
   keep_cell_lists(kept);
-  _owned = std::move(owned);
+  _local = std::move(local);
+  _local_flag = std::move(flag);
+  mark_local_nodes();
 }
 
-std::vector<char> BodySet::kept_masses(std::span<const char> owned) const
+std::vector<char> BodySet::kept_masses(std::span<const char> local) const
 {
-  std::vector<char> kept(_bodies.size(), 1);
-  if (!owned.empty())
-    for (std::size_t b = 0; b < kept.size(); ++b)
-      kept[b] = owned[b] || rigid(static_cast<int>(b));
+  std::vector<char> kept(_bodies.size());
+  for (std::size_t b = 0; b < kept.size(); ++b)
+    kept[b] = local[b] || rigid(static_cast<int>(b));
   return kept;
+}
+
+void BodySet::mark_local_nodes()
+{
+  _local_node.assign(num_dofs() / 2, 0);
+  for (const int b : _local)
+    for (const std::int32_t node : _bodies[b].nodes)
+      _local_node[node] = 1;
 }
 
 void BodySet::keep_masses(std::span<const char> kept)
 {
   // A body that was not kept has an empty matrix (every kept one has
-  // entries: its diagonal). Those that came to this rank (a rebalanced
-  // run) are assembled again, over the cells they brought: checked
-  // before anything is freed.
+  // entries: its diagonal). Those that became local (a rebalanced run)
+  // are assembled again, over the cells they brought: checked before
+  // anything is freed.
   std::vector<char> missing(_bodies.size(), 0);
   bool any = false;
   for (std::size_t b = 0; b < _bodies.size(); ++b)
     if (kept[b] && _mass[b].nonZeros() == 0)
     {
       if (_bodies[b].cells.empty())
-        throw std::logic_error("BodySet::set_owned: body " + std::to_string(b) +
-                               " came to this rank without its cells "
+        throw std::logic_error("BodySet::set_local: body " + std::to_string(b) +
+                               " became local without its cells "
                                "(take_cell_lists)");
       missing[b] = 1;
       any = true;
@@ -130,7 +156,7 @@ void BodySet::keep_cell_lists(std::span<const char> kept)
       Body& body = _bodies[b];
       std::vector<std::int32_t>().swap(body.cells);
       std::vector<std::array<std::int32_t, 3>>().swap(body.cell_nodes);
-      std::vector<std::int32_t>().swap(body.input_rank);
+      std::vector<std::int32_t>().swap(body.input_position);
     }
 }
 
@@ -138,12 +164,12 @@ std::vector<std::int32_t> BodySet::cell_lists(int b) const
 {
   const Body& body = _bodies[b];
   std::vector<std::int32_t> out;
-  out.reserve(1 + 4 * body.cells.size() + body.input_rank.size());
+  out.reserve(1 + 4 * body.cells.size() + body.input_position.size());
   out.push_back(static_cast<std::int32_t>(body.cells.size()));
   out.insert(out.end(), body.cells.begin(), body.cells.end());
   for (const std::array<std::int32_t, 3>& cell : body.cell_nodes)
     out.insert(out.end(), cell.begin(), cell.end());
-  out.insert(out.end(), body.input_rank.begin(), body.input_rank.end());
+  out.insert(out.end(), body.input_position.begin(), body.input_position.end());
   return out;
 }
 
@@ -164,7 +190,7 @@ std::size_t BodySet::take_cell_lists(int b, std::span<const std::int32_t> in)
   for (std::array<std::int32_t, 3>& cell : body.cell_nodes)
     for (std::int32_t& node : cell)
       node = *at++;
-  body.input_rank.assign(at, at + body.nodes.size());
+  body.input_position.assign(at, at + body.nodes.size());
   return n;
 }
 
@@ -174,7 +200,7 @@ void BodySet::require_every_cell(const char* what) const
     if (_bodies[b].cells.empty())
       throw std::logic_error(std::string("BodySet::") + what + ": body " +
                              std::to_string(b) +
-                             "'s cells are another rank's (set_owned)");
+                             "'s cells are not kept here (set_local)");
 }
 
 } // namespace softpack::bodies

@@ -24,8 +24,8 @@ struct BodyMesh
 
 /// Read a mesh written by `softpack.mesh` (python): `NAME.xdmf` holding a
 /// triangle mesh named "mesh" and cell tags named "bodies".
-/// @param[in] comm The communicator the mesh lives on (MPI_COMM_SELF:
-/// rank 0 of a distributed run reads it alone, read_body_geometry)
+/// @param[in] comm The communicator the mesh lives on (MPI_COMM_SELF: a
+/// distributed run reads it in one process, read_body_geometry)
 /// @param[in] xdmf Path of the XDMF file
 /// @throws std::runtime_error naming the file if it is missing, is not a
 /// triangle mesh, or has untagged cells

@@ -9,14 +9,12 @@ namespace softpack::bodies
 std::vector<CauchyIntegral> cauchy_integrals(const BodySet& bodies)
 {
   std::vector<double> f(bodies.num_dofs());
-  bodies.owned_internal_force(f);
+  bodies.internal_force(f);
   const std::span<const double> X = bodies.reference_coordinates();
   const std::span<const double> u = bodies.displacement();
   std::vector<CauchyIntegral> out(bodies.num_bodies(), {0, 0, 0, 0});
-  for (int b = 0; b < bodies.num_bodies(); ++b)
+  for (const int b : bodies.local_bodies())
   {
-    if (!bodies.owned(b))
-      continue;
     for (std::int32_t n : bodies.body(b).nodes)
     {
       const double x = X[2 * n] + u[2 * n], y = X[2 * n + 1] + u[2 * n + 1];

@@ -18,9 +18,9 @@ namespace softpack::bodies
 /// positive.
 using CauchyIntegral = std::array<double, 4>;
 
-/// Each owned body's Cauchy integral from the internal force (the bodies
-/// of BodySet::set_owned, every body when unset; the others' are zero: a
-/// rank of a distributed run reads its own bodies' interiors only).
+/// Each local body's Cauchy integral from the internal force
+/// (BodySet::local_bodies; the others' are zero: a distributed run's share
+/// reads its own bodies' interiors only).
 ///
 /// For P1 elements the current position x = X + u is in the displacement
 /// space, so for A = e_i (x) e_j the nodal sum

@@ -3,91 +3,42 @@
 // Newton loop is in moreau_jean_newton.cpp).
 #include "moreau_jean_step.h"
 
-#include "delassus.h"
-#include "servo_walls.h"
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <compliance/delassus.h>
 #include <numeric>
 #include <omp.h>
 #include <stdexcept>
+#include <walls/servo_walls.h>
 
 namespace softpack::dynamics
 {
-namespace
-{
-/// Contact problems from this size on are swept in split order (nlgs.h).
-constexpr std::size_t split_sweep_min_contacts = 256;
-} // namespace
-
-DetectionOptions detection_options(const parameters::Contact& contact)
-{
-  return {.alert_distance = contact.alert_distance,
-          .max_penetration = contact.max_penetration};
-}
-
-contact::NlgsOptions nlgs_options(const parameters::Contact& contact)
-{
-  contact::NlgsOptions o;
-  o.tolerance = contact.nlgs_tolerance;
-  o.max_sweeps = contact.nlgs_max_sweeps;
-  o.relaxation = contact.nlgs_relaxation;
-  o.order = contact::sweep_order(contact.nlgs_order);
-  // Large problems are swept in split order, on two threads when the
-  // driver has them; the order depends on the problem's size only, so a
-  // run gives the same answers on any number of threads or ranks. Below a
-  // few hundred contacts a sweep is too short to pay for its two
-  // synchronizations.
-  o.split_min_contacts = split_sweep_min_contacts;
-  o.threads = std::min(omp_get_max_threads(), 2);
-  return o;
-}
-
-namespace
-{
-/// Check the schema's ranges and choices (the generated reader, on the
-/// options as JSON): the scheme has none of its own.
-const MoreauJeanOptions& checked(const MoreauJeanOptions& o)
-{
-  parameters::Time time;
-  parameters::read(parameters::to_json(o.time), time, "MoreauJeanOptions");
-  parameters::Contact contact;
-  parameters::read(parameters::to_json(o.contact), contact,
-                   "MoreauJeanOptions");
-  parameters::Damping damping;
-  parameters::read(parameters::to_json(o.damping), damping,
-                   "MoreauJeanOptions");
-  if (!(o.velocity_scale > 0))
-    throw std::invalid_argument("MoreauJeanOptions: velocity_scale must be "
-                                "positive (the fastest wall speed)");
-  return o;
-}
-} // namespace
-
 MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
-                       MoreauJeanOptions options, parallel::Ownership ownership)
-    : _bodies(bodies), _own(std::move(ownership)), _walls(std::move(walls)),
+                       MoreauJeanOptions options,
+                       parallel::Distribution distribution)
+    : _bodies(bodies), _dist(std::move(distribution)), _walls(std::move(walls)),
       _options(checked(options)),
       _detection(detection_options(options.contact)),
       _nlgs(nlgs_options(options.contact)), _damping{options.damping.alpha,
                                                      options.damping.beta},
-      _kbar(bodies, options.time.mass == "lumped", _own.owned()),
-      _rigid(bodies, _kbar), _K(bodies.create_matrices(_own.owned())),
-      _v(bodies.num_dofs(), 0.0), _f_ext(bodies.num_dofs(), 0.0),
-      _f_int(bodies.num_dofs(), 0.0), _v_contact(bodies.num_dofs(), 0.0),
+      _kbar(bodies, options.time.mass == "lumped"), _rigid(bodies, _kbar),
+      _K(bodies.create_matrices()), _v(bodies.num_dofs(), 0.0),
+      _f_ext(bodies.num_dofs(), 0.0), _f_int(bodies.num_dofs(), 0.0),
+      _v_contact(bodies.num_dofs(), 0.0),
       _step_size(options.time.time_step,
                  options.time.time_step * options.time.max_step_factor,
                  options.time.refactor_above_iterations),
       _h(options.time.time_step)
 {
-  // The internal force is its owners' only: no rank reads another's.
-  _bodies.owned_internal_force(_f_int);
+  // The local bodies' internal force only: no other is read.
+  _bodies.internal_force(_f_int);
   _rigid.zero(_f_int);
-  // Each body's from its owner (a rank stores its own bodies' interiors)
-  _body_strain = _bodies.owned_body_strain_energy();
-  _own.share_by_body(_body_strain, 1);
+  // Each body's where it is local (its interior is stored there only)
+  _body_strain = _bodies.body_strain_energy();
+  _dist.scatterer().share_by_body(_body_strain, 1);
   // (serial: energy() computes it when asked, from the bodies as they are)
-  _strain_shared = _own.distributed();
+  _strain_shared = _dist.distributed();
   _energy.strain0 =
       std::accumulate(_body_strain.begin(), _body_strain.end(), 0.0);
   link_walls(_walls);
@@ -108,8 +59,8 @@ void MoreauJean::set_initial_velocity(std::vector<double> v)
 double MoreauJean::body_kinetic_energy() const
 {
   const Vectors v = gather(_v);
-  double e = kinetic_energy(v, mass_products(v), _own.owned());
-  _own.sum(std::span<double>(&e, 1));
+  double e = kinetic_energy(v, mass_products(v), _bodies.local_bodies());
+  _dist.comm().sum(std::span<double>(&e, 1));
   return e;
 }
 
@@ -123,10 +74,8 @@ void MoreauJean::set_external_force(std::vector<double> f)
 MoreauJean::Vectors MoreauJean::gather(std::span<const double> global) const
 {
   Vectors out(_bodies.num_bodies());
-  for (int b = 0; b < _bodies.num_bodies(); ++b)
+  for (const int b : _bodies.local_bodies())
   {
-    if (!_own.owns(b))
-      continue;
     const bodies::Body& body = _bodies.body(b);
     out[b].resize(body.num_dofs());
     for (std::size_t k = 0; k < body.nodes.size(); ++k)
@@ -142,7 +91,7 @@ void MoreauJean::scatter(const Vectors& per_body,
   for (int b = 0; b < _bodies.num_bodies(); ++b)
   {
     const bodies::Body& body = _bodies.body(b);
-    if (per_body[b].size() == 0) // another rank's body
+    if (per_body[b].size() == 0) // not a local body
       continue;
     for (std::size_t k = 0; k < body.nodes.size(); ++k)
       for (int c = 0; c < 2; ++c)
@@ -211,10 +160,9 @@ void MoreauJean::factorize_tangent(StepReport* report)
   _bodies.tangent(_K);
   const std::span<const double> u = _bodies.displacement();
   _u_tangent.assign(u.begin(), u.end());
-  // Only the owned bodies' entries are current here (within a full Newton
+  // Only the local bodies' entries are current here (within a full Newton
   // method's iterations, or between outputs); the state file, which alone
-  // reads the others', takes it after prepare_output, on rank 0.
-  _tangent_on_root = false;
+  // reads the others', gathers it (io::OutputGather).
   if (report)
     report->seconds.assembly += seconds_since(t0);
   t0 = clock::now();
@@ -251,10 +199,8 @@ MoreauJean::StepStart MoreauJean::start_step(std::vector<double> u_old,
   s.Mv_old = _Mv;
   s.Cv_old.resize(nb);
   s.known.resize(nb);
-  for (int b = 0; b < nb; ++b)
+  for (const int b : _bodies.local_bodies())
   {
-    if (!_own.owns(b))
-      continue;
     // No damping acts on a rigid body.
     s.Cv_old[b] = _rigid.rigid(b)
                       ? Eigen::VectorXd(Eigen::VectorXd::Zero(_Mv[b].size()))
@@ -274,11 +220,6 @@ StepReport MoreauJean::step()
     _energy.kinetic0 = _body_kinetic + walls_kinetic_energy(_walls);
     _started = true;
   }
-  // Rank 0's global copies for the last output go: kept, they would be
-  // the one memory of a rank that grows with the whole model.
-  for (std::vector<double>* copy : {&_root_u, &_root_v, &_root_u_tangent})
-    std::vector<double>().swap(*copy);
-  _on_root = _tangent_on_root = false;
   // The step's start, for a retry: kept only when one is possible (two
   // node vectors, at fixed steps never read).
   if (_step_size.can_retry())
@@ -362,15 +303,15 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
   auto t0 = clock::now();
   set_displacement(start.u_old, start.v_old, _v);
   const std::vector<double> f_int_before = _f_int;
-  _bodies.owned_internal_force(_f_int);
+  _bodies.internal_force(_f_int);
   _rigid.zero(_f_int);
   report.seconds.assembly += seconds_since(t0);
-  // Over this rank's bodies (the others' internal forces are zero here):
-  // summed over the ranks with the body terms.
+  // Over the local bodies (the others' internal forces are zero here):
+  // summed over the processes with the body terms.
   EnergyBalance stiffness;
   add_stiffness_dissipation(stiffness, _options.time.theta, start.u_old,
                             _bodies.displacement(), f_int_before, _f_int,
-                            _own.node_owned());
+                            _bodies.local_nodes());
   _time += h;
   ++_steps;
   ++_matrix_age;
@@ -400,19 +341,18 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
   _products_valid = false;
   update_products(v_new_b);
   // The contact terms read every contact's velocity: v_th is made from the
-  // whole vectors, then split for the owned bodies' terms.
+  // whole vectors, then split for the local bodies' terms.
   std::vector<double> v_mid(_v.size());
   for (std::size_t i = 0; i < v_mid.size(); ++i)
     v_mid[i] = th * _v[i] + (1 - th) * start.v_old[i];
   const Vectors v_mid_b = gather(v_mid);
   const std::size_t nb = v_new_b.size();
   Vectors Cv_new(nb);
-  for (std::size_t b = 0; b < nb; ++b)
-    if (_own.owns(static_cast<int>(b)))
-      Cv_new[b] = _rigid.rigid(b)
-                      ? Eigen::VectorXd(Eigen::VectorXd::Zero(_Mv[b].size()))
-                      : _damping.force(_Mv[b], _Kv[b]);
-  add_owned_body_terms({.v_old = start.v_old_b,
+  for (const int b : _bodies.local_bodies())
+    Cv_new[b] = _rigid.rigid(b)
+                    ? Eigen::VectorXd(Eigen::VectorXd::Zero(_Mv[b].size()))
+                    : _damping.force(_Mv[b], _Kv[b]);
+  add_local_body_terms({.v_old = start.v_old_b,
                         .v_new = v_new_b,
                         .v_mid = v_mid_b,
                         .Mv_old = start.Mv_old,
@@ -440,24 +380,24 @@ void MoreauJean::update_products(const Vectors& v)
 {
   if (_products_valid)
     return;
-  const int nb = _bodies.num_bodies();
+  const std::span<const int> local = _bodies.local_bodies();
+  const auto nl = static_cast<int>(local.size());
   _Mv = mass_products(v);
-  _Kv.resize(nb);
-#pragma omp parallel for schedule(static) if (nb >= 16)
-  for (int b = 0; b < nb; ++b)
-    if (_own.owns(b))
-      _Kv[b] = bodies::symmetric_product(_K[b], v[b]);
+  _Kv.resize(_bodies.num_bodies());
+#pragma omp parallel for schedule(static) if (nl >= 16)
+  for (int i = 0; i < nl; ++i)
+    _Kv[local[i]] = bodies::symmetric_product(_K[local[i]], v[local[i]]);
   _products_valid = true;
 }
 
 MoreauJean::Vectors MoreauJean::mass_products(const Vectors& v) const
 {
-  const int nb = _bodies.num_bodies();
-  Vectors Mv(nb);
-#pragma omp parallel for schedule(static) if (nb >= 16)
-  for (int b = 0; b < nb; ++b)
-    if (_own.owns(b))
-      Mv[b] = bodies::symmetric_product(_kbar.mass(b), v[b]);
+  const std::span<const int> local = _bodies.local_bodies();
+  const auto nl = static_cast<int>(local.size());
+  Vectors Mv(_bodies.num_bodies());
+#pragma omp parallel for schedule(static) if (nl >= 16)
+  for (int i = 0; i < nl; ++i)
+    Mv[local[i]] = bodies::symmetric_product(_kbar.mass(local[i]), v[local[i]]);
   return Mv;
 }
 

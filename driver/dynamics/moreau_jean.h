@@ -1,149 +1,33 @@
 #pragma once
 
-#include "contact_history.h"
-#include "contact_operator.h"
-#include "damping.h"
-#include "delassus.h"
-#include "detection.h"
-#include "effective_stiffness.h"
-#include "energy_balance.h"
-#include "friction_table.h"
-#include "rigid_bodies.h"
+#include "moreau_jean_options.h"
+#include "scheme_state.h"
+#include "step_report.h"
 #include "step_size.h"
-#include "walls.h"
 #include <bodies/BodySet.h>
+#include <compliance/contact_operator.h>
+#include <compliance/damping.h>
+#include <compliance/delassus.h>
+#include <compliance/effective_stiffness.h>
+#include <compliance/rigid_bodies.h>
 #include <contact/nlgs.h>
 #include <contact/problem.h>
+#include <detection/contact_history.h>
+#include <detection/detection.h>
+#include <detection/friction_table.h>
+#include <energy/energy_balance.h>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <parallel/contact_domains.h>
-#include <parallel/ownership.h>
+#include <parallel/distribution.h>
 #include <softpack/parameters.h>
 #include <vector>
+#include <walls/walls.h>
 
 /// Nonsmooth contact dynamics of deformable bodies (Moreau–Jean).
 namespace softpack::dynamics
 {
-
-/// Options of the time stepping: the schema's sections (the structs
-/// generated from schema/parameters.toml, with its defaults; the ranges are
-/// checked against the schema when the scheme is built) and the velocity
-/// scale of the Newton test, which is derived from the walls, not a
-/// parameter.
-struct MoreauJeanOptions
-{
-  /// Time step, theta, mass, Newton iterations, iteration-matrix reuse
-  parameters::Time time;
-  /// Friction, detection distances, the NLGS solver, the Delassus drop
-  parameters::Contact contact;
-  /// Rayleigh damping C = alpha M + beta K
-  parameters::Damping damping;
-  /// Velocity below which changes do not matter in the Newton test (the
-  /// fastest wall speed); must be set, > 0
-  double velocity_scale = 0;
-  /// Friction coefficient of each contact by its pair of species (or
-  /// species and wall); pairs it does not set: contact.friction
-  FrictionTable friction;
-  /// How a distributed run's bodies stay split (rebalance_tolerance)
-  parameters::Parallel parallel;
-};
-
-/// The detection's options from the contact parameters (the one place).
-DetectionOptions detection_options(const parameters::Contact& contact);
-
-/// The contact solver's options from the contact parameters (the one
-/// place; the solver's other options keep their defaults).
-contact::NlgsOptions nlgs_options(const parameters::Contact& contact);
-
-/// Wall time spent in each part of a step (s).
-struct StepTimings
-{
-  double detection = 0, assembly = 0, factorization = 0, delassus = 0, nlgs = 0,
-         solves = 0;
-  double total() const
-  {
-    return detection + assembly + factorization + delassus + nlgs + solves;
-  }
-  StepTimings& operator+=(const StepTimings& o)
-  {
-    detection += o.detection;
-    assembly += o.assembly;
-    factorization += o.factorization;
-    delassus += o.delassus;
-    nlgs += o.nlgs;
-    solves += o.solves;
-    return *this;
-  }
-};
-
-/// What one step did.
-struct StepReport
-{
-  StepTimings seconds;
-  /// The step's size (s)
-  double time_step = 0;
-  /// Attempts of this step abandoned (Newton or a contact solve failed) and
-  /// started again at half the size (StepSize::retry); their time is in
-  /// `seconds`
-  int retries = 0;
-  /// The iteration matrix was refactorized in this step
-  bool refactorized = false;
-  int newton_iterations = 0;
-  bool newton_converged = false;
-  /// A Newton iterate was not finite (an inverted element, a step too
-  /// large): the iterations stopped there, the step is not taken
-  bool newton_diverged = false;
-  int nlgs_iterations = 0; ///< sweeps, summed over the Newton iterations
-  double nlgs_error = 0;   ///< error of the last contact solve
-  bool nlgs_converged = true;
-  int contacts = 0;
-  int active_contacts = 0;    ///< R_n > 0
-  double max_penetration = 0; ///< max(-gap) at the end of the step, >= 0
-  /// Contact solves of this step (one per Newton iteration) that did not
-  /// converge: a writer of unsolved problems can bound what it keeps
-  int unsolved_contact_solves = 0;
-  /// Null when every contact solve of the step converged; otherwise the
-  /// last unsolved problem exactly as it was given to the solver, to be
-  /// replayed (e.g. written by contact::dump_problem)
-  std::shared_ptr<const contact::FrictionContactProblem2D> unsolved_problem;
-  /// The reactions that solve started from (its warm start; with
-  /// unsolved_problem, it reproduces the failure bit for bit)
-  std::vector<double> unsolved_start;
-};
-
-/// Everything the time stepping carries from one step to the next: enough
-/// to continue a run from where it was, exactly. With modified Newton the
-/// kept iteration matrix is part of the state: the restore reassembles and
-/// refactors it at the displacement it was assembled at, and the age and
-/// the last iteration count make the resumed run take the same refactor
-/// decisions as the uninterrupted one.
-struct SchemeState
-{
-  double time = 0;
-  long steps = 0;
-  /// Global displacement and velocity
-  std::vector<double> u, v;
-  /// Each wall's current point
-  std::vector<std::array<double, 2>> wall_points;
-  /// Each wall's current velocity (a servo wall's is part of the state;
-  /// empty: keep the walls' own)
-  std::vector<std::array<double, 2>> wall_velocities;
-  /// Last impulses (warm start) by (candidate body, node, antagonist key)
-  std::vector<ImpulseHistory::Entry> reactions;
-  /// The energy accounts since the start of the run
-  EnergyBalance energy;
-  /// Steps since the last factorization of the iteration matrix (-1: none;
-  /// the first step after the restore then refactors)
-  int matrix_age = -1;
-  /// Newton iterations of the last step (the early-refactor rule uses it)
-  int last_iterations = 0;
-  /// Global displacement at which the kept tangent was assembled (empty
-  /// when matrix_age < 0)
-  std::vector<double> u_tangent;
-  /// The adaptive time step (h = 0: a state without one; the base step)
-  StepSize::State step_size;
-};
 
 /// The Moreau–Jean theta-method with Newton iterations on finite-strain
 /// bodies and Signorini–Coulomb contacts solved by NLGS (METHOD.md §3).
@@ -174,11 +58,12 @@ public:
   /// @throws std::invalid_argument if velocity_scale is not positive, a
   /// servo wall has no positive mass or a pressure-controlled wall no pair
   /// of facing walls to measure its length (link_walls)
-  /// @param[in] ownership The bodies this rank computes (default: serial,
-  /// all of them); each step is then the same on every rank
-  /// (docs/mpi_design.md)
+  /// @param[in] distribution The bodies over the processes (default:
+  /// serial, one process computing every body); each step is then the
+  /// same in every process (docs/mpi_design.md)
   MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
-             MoreauJeanOptions options, parallel::Ownership ownership = {});
+             MoreauJeanOptions options,
+             parallel::Distribution distribution = {});
 
   /// Advance one time step.
   StepReport step();
@@ -188,24 +73,21 @@ public:
   /// The size of the last step taken (before the first: of the first)
   double time_step() const { return _h; }
   /// Velocity, as the bodies store node vectors (BodySet::keep_storage: a
-  /// distributed run's ranks store their own bodies, every boundary and
+  /// distributed run's share stores its local bodies, every boundary and
   /// every rigid body; the entry of the others' interiors is NaN)
   std::span<const double> velocity() const { return _v; }
-  /// What an output step reads, made current (a collective: every rank
+  /// The displacement the kept tangent was assembled at, stored as the
+  /// velocity (current while matrix_age() >= 0)
+  std::span<const double> tangent_displacement() const { return _u_tangent; }
+  /// Steps since the last factorization of the iteration matrix (-1: none
+  /// kept; the next step refactors)
+  int matrix_age() const { return _matrix_age; }
+  /// Make the energies current for an output (a collective: every process
   /// calls it at the same point; nothing when serial): each body's strain
-  /// energy, computed by its owner, on every rank (energy(),
-  /// body_strain_energy()), and on rank 0 the global displacement,
-  /// velocity and kept tangent's displacement (state(), output_displacement)
-  /// gathered from their owners. A distributed step shares the bodies'
-  /// boundaries only (parallel::Ownership::share_boundaries); no rank holds
-  /// the interiors of bodies it does not own but rank 0 these copies, at
-  /// outputs (a rebalance moves the moving bodies' entries to their new
-  /// owners, Ownership::move_to).
+  /// energy, computed where the body is local, everywhere (energy(),
+  /// body_strain_energy()). Rank 0's global copies of the vectors for an
+  /// output are gathered apart (io::OutputGather).
   void prepare_output();
-  /// The global displacement (2 entries per mesh node): rank 0's after
-  /// prepare_output on a distributed run, the bodies' own when serial
-  /// @throws std::logic_error on another rank, or before prepare_output
-  std::span<const double> output_displacement() const;
   /// Initial conditions: the global velocity vector (2 entries per mesh
   /// node) before the first step (collective: every rank of a distributed
   /// run gives the same vector)
@@ -245,15 +127,12 @@ public:
   const MoreauJeanOptions& options() const { return _options; }
   /// The state after the last step, its vectors global (2 entries per
   /// mesh node)
-  /// @throws std::logic_error on a distributed run but on rank 0 after
-  /// prepare_output (no other rank holds every body's interior)
+  /// @throws std::logic_error on a distributed run (no process holds every
+  /// body's interior: io::OutputGather gathers them on rank 0)
   SchemeState state() const;
-  /// state() for an output that writes it: on a distributed run's rank 0
-  /// its global vectors are prepare_output's copies, handed over (not
-  /// copied: three vectors of the whole model's length), so that neither
-  /// state() nor output_displacement() can follow until the next
-  /// prepare_output after a step
-  SchemeState output_state();
+  /// The state's time, steps, walls, reactions, energies and step, without
+  /// its vectors (the energies must be current, as for energy())
+  SchemeState scalar_state() const;
   /// Continue from a state saved by state() on the same bodies and walls.
   /// @throws std::invalid_argument if the sizes do not match
   void restore(const SchemeState& state);
@@ -273,8 +152,8 @@ public:
   /// Distinct symbolic factorizations of this rank's bodies (one per mesh
   /// when bodies are copies of a few meshes)
   int factor_patterns() const { return _kbar.factor_patterns(); }
-  /// Which rank owns which body, and the collectives' volume so far
-  const parallel::Ownership& ownership() const { return _own; }
+  /// The bodies over the processes, and the collectives' volume so far
+  const parallel::Distribution& distribution() const { return _dist; }
   /// What the domain-wise contact solves have sent so far (distributed)
   const parallel::ContactTraffic& contact_traffic() const
   {
@@ -283,14 +162,9 @@ public:
 
 private:
   using Vectors = BodyVectors;
-  /// state() from this rank's own entries: on a distributed run the
-  /// vectors' entries of the other ranks' bodies' interiors are NaN
-  SchemeState own_state() const;
-  /// The state's time, steps, walls, reactions, energies and step, without
-  /// its vectors
-  SchemeState scalar_state() const;
-  /// Throw unless this is rank 0 holding prepare_output's copies
-  void require_root_copies(const char* what) const;
+  /// state() from the stored entries: on a distributed run the vectors'
+  /// entries of the interiors not stored are NaN
+  SchemeState stored_state() const;
   /// The contacts of a step and their data fixed during the step
   struct StepContacts;
   /// What the step knows before its Newton iterations
@@ -300,7 +174,7 @@ private:
   /// the shares together in the serial order
   std::vector<Contact> detect(std::span<const double> x) const;
   /// Before a refactorization of a distributed run: split the bodies
-  /// again if the split has drifted (parallel::Ownership::rebalance), and
+  /// again if the split has drifted (parallel::drifted_split), and
   /// give the per-body work to the new owners
   void rebalance();
   /// The contacts at the bodies' current configuration (the start of the
@@ -327,10 +201,10 @@ private:
   void share_contact_nodes(
       const std::vector<std::vector<std::int32_t>>& contact_nodes,
       std::span<double> global) const;
-  /// add_body_terms over the owned bodies and this rank's part of the
-  /// stiffness dissipation, summed over the ranks, and the bodies' kinetic
+  /// add_body_terms over the local bodies and their part of the stiffness
+  /// dissipation, summed over the processes, and the bodies' kinetic
   /// energy at the step's end (in the same sum)
-  void add_owned_body_terms(const BodyStep& step, double stiffness_numerical);
+  void add_local_body_terms(const BodyStep& step, double stiffness_numerical);
   /// Assemble K at the bodies' current displacement, factorize Kbar and
   /// form A (the arithmetic of every refactorization, and of a restore);
   /// adds its times to `report` when given
@@ -349,8 +223,8 @@ private:
   /// Newton iterations on the velocity; leaves the converged one in _v
   void newton(const StepContacts& sc, const StepStart& start,
               contact::FrictionContactProblem2D& problem, StepReport& report);
-  /// One Newton iteration: vk <- v_{k+1} on this rank's bodies (the other
-  /// entries zero); returns ||v_{k+1} - v_k||_inf over this rank's bodies
+  /// One Newton iteration: vk <- v_{k+1} on the local bodies (the other
+  /// entries zero); returns ||v_{k+1} - v_k||_inf over the local bodies
   double newton_iteration(int k, const StepContacts& sc, const StepStart& start,
                           std::vector<double>& vk,
                           contact::FrictionContactProblem2D& problem,
@@ -359,7 +233,7 @@ private:
   Vectors residual(const Vectors& vk, const Vectors& f_int,
                    const Vectors& f_ext, const Vectors& known) const;
   /// Solve the contact problem at the free velocity v_k - Kbar^-1 r; the
-  /// new velocity v_k - Kbar^-1 (r - H R) of each owned deformable body
+  /// new velocity v_k - Kbar^-1 (r - H R) of each local deformable body
   /// that carries a contact goes to v_new (the others' stay empty)
   void solve_contacts(const StepContacts& sc, const Vectors& vk,
                       const Vectors& residual,
@@ -376,17 +250,16 @@ private:
   void account_step(StepContacts& sc, const StepStart& start,
                     StepReport& report, double stiffness_numerical);
   void update_products(const Vectors& v);
-  /// M v of the owned bodies (the others' stay empty)
+  /// M v of the local bodies (the others' stay empty)
   Vectors mass_products(const Vectors& v) const;
-  /// The owned bodies' parts of a global vector (the others' are empty:
-  /// per-body work is the owner's, and a copy of every body per rank
-  /// would grow with the whole model)
+  /// The local bodies' parts of a node vector (the others' are empty: a
+  /// copy of every body in each process would grow with the whole model)
   Vectors gather(std::span<const double> global) const;
   /// Write the nonempty per-body vectors into the global vector
   void scatter(const Vectors& per_body, std::span<double> global) const;
 
   bodies::BodySet& _bodies;
-  parallel::Ownership _own;
+  parallel::Distribution _dist;
   parallel::ContactTraffic _contact_traffic;
   /// This rank's share of the step's contact solves (none when serial),
   /// planned with each W
@@ -442,12 +315,6 @@ private:
   int _last_iterations = 0;
   /// Displacement at which _K was assembled (saved in the state)
   std::vector<double> _u_tangent;
-  /// Rank 0's global copies of the displacement, the velocity and the kept
-  /// tangent's displacement for an output (prepare_output; serial runs
-  /// read their own), and whether they are current: the same flag on
-  /// every rank, so that the collectives it decides are called alike
-  std::vector<double> _root_u, _root_v, _root_u_tangent;
-  bool _on_root = false, _tangent_on_root = false;
   /// The step's start (displacement, velocity) while a retry of the step
   /// is possible (StepSize::can_retry); a rebalance hands them over with
   /// u and v

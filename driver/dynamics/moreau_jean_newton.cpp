@@ -33,13 +33,16 @@ MoreauJean::Vectors MoreauJean::residual(const Vectors& vk,
 {
   // r = (M + h th C) v_k + h th (F_int(q_k) - F_ext) - b
   const double h = _h, th = _options.time.theta;
-  const int nb = _bodies.num_bodies();
-  Vectors r(nb);
-#pragma omp parallel for schedule(dynamic) if (nb >= 16)
-  for (int b = 0; b < nb; ++b)
-    if (_own.owns(b))
-      r[b] = combined_product(_A, _kbar.mass(b), _K[b], vk[b]) +
-             h * th * (f_int[b] - f_ext[b]) - known[b];
+  const std::span<const int> local = _bodies.local_bodies();
+  const auto nl = static_cast<int>(local.size());
+  Vectors r(_bodies.num_bodies());
+#pragma omp parallel for schedule(dynamic) if (nl >= 16)
+  for (int i = 0; i < nl; ++i)
+  {
+    const int b = local[i];
+    r[b] = combined_product(_A, _kbar.mass(b), _K[b], vk[b]) +
+           h * th * (f_int[b] - f_ext[b]) - known[b];
+  }
   return r;
 }
 
@@ -55,13 +58,16 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
   // velocity off whole compliance columns instead saved no time and made
   // the columns the largest item of a crowded run's memory.
   const int nb = _bodies.num_bodies();
+  const std::span<const int> local = _bodies.local_bodies();
+  const auto nl = static_cast<int>(local.size());
   auto t0 = clock::now();
   std::fill(_v_contact.begin(), _v_contact.end(), 0.0);
   Vectors free(nb);
-#pragma omp parallel for schedule(dynamic) if (nb >= 16)
-  for (int b = 0; b < nb; ++b)
+#pragma omp parallel for schedule(dynamic) if (nl >= 16)
+  for (int i = 0; i < nl; ++i)
   {
-    if (!_own.owns(b) || sc.contact_nodes[b].empty())
+    const int b = local[i];
+    if (sc.contact_nodes[b].empty())
       continue;
     const bool rigid = _rigid.rigid(b);
     if (!rigid)
@@ -108,15 +114,16 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
 
   // v = v_free + Kbar^-1 H R on the bodies that carry a contact.
   t0 = clock::now();
-  // Of the bodies that carry a contact, those this rank moves: its own
+  // Of the bodies that carry a contact, those moved here: the local ones
   // and every rigid one (a vector per body of the whole model would grow
-  // with it on every rank).
+  // with it in every process).
   Vectors impulse(nb);
   for (int b = 0; b < nb; ++b)
-    if (!sc.contact_nodes[b].empty() && (_own.owns(b) || _rigid.rigid(b)))
+    if (!sc.contact_nodes[b].empty() &&
+        (_bodies.is_local(b) || _rigid.rigid(b)))
       impulse[b] = Eigen::VectorXd::Zero(_bodies.body(b).num_dofs());
   sc.H.add_impulses(_R, impulse);
-  // Every rank moves every rigid body (three numbers each): they stay
+  // Every process moves every rigid body (three numbers each): they stay
   // replicated.
   for (int b = 0; b < nb; ++b)
     if (!sc.contact_nodes[b].empty() && _rigid.rigid(b))
@@ -150,7 +157,7 @@ double MoreauJean::newton_iteration(int k, const StepContacts& sc,
   auto t0 = clock::now();
   set_displacement(start.u_old, start.v_old, vk);
   std::vector<double> f_int(vk.size());
-  _bodies.owned_internal_force(f_int);
+  _bodies.internal_force(f_int);
   _rigid.zero(f_int);
   report.seconds.assembly += seconds_since(t0);
   if (k > 0 && _options.time.full_newton)
@@ -166,13 +173,18 @@ double MoreauJean::newton_iteration(int k, const StepContacts& sc,
     solve_contacts(sc, vk_b, r, problem, report, v_new);
   // v_{k+1} = v_k - Kbar^-1 r on the others, one solve per body
   t0 = clock::now();
-#pragma omp parallel for schedule(dynamic) if (nb >= 16)
-  for (int b = 0; b < nb; ++b)
-    if (_own.owns(b) && _rigid.rigid(b))
+  const std::span<const int> local = _bodies.local_bodies();
+  const auto nl = static_cast<int>(local.size());
+#pragma omp parallel for schedule(dynamic) if (nl >= 16)
+  for (int i = 0; i < nl; ++i)
+  {
+    const int b = local[i];
+    if (_rigid.rigid(b))
       v_new[b] = _rigid.velocity_field(b);
-    else if (_own.owns(b) && v_new[b].size() == 0)
+    else if (v_new[b].size() == 0)
       v_new[b] = vk_b[b] - _kbar.solve(b, r[b]);
-  // Only the owners' entries: no rank reads another's bodies within the
+  }
+  // Only the local bodies' entries: no other body is read within the
   // iterations (the contact nodes' free velocities are shared apart), so
   // the whole velocity is shared once, when the iterations end (newton).
   double change = 0;
@@ -198,11 +210,11 @@ void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
   double previous_change = 0;
   for (int k = 0;; ++k)
   {
-    // The largest change and velocity over every rank's bodies (a rank's
-    // vk holds its own bodies' entries only)
+    // The largest change and velocity over every process's bodies (vk
+    // holds the local bodies' entries only)
     double largest[2] = {newton_iteration(k, sc, start, vk, problem, report),
                          max_abs(vk)};
-    _own.max(largest);
+    _dist.comm().max(largest);
     const double change = largest[0];
     report.newton_iterations = k + 1;
     if (!std::isfinite(change) || !std::isfinite(largest[1]))
@@ -225,10 +237,9 @@ void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
     if (k + 1 >= _options.time.newton_max_iterations)
       break;
   }
-  // The boundaries (what every rank reads between outputs); the interiors
-  // stay with their owners (rank 0 receives them at outputs).
-  _own.share_boundaries(vk);
-  _on_root = false;
+  // The boundaries (what every process reads between outputs); the
+  // interiors stay where they are local (io::OutputGather gathers them).
+  _dist.scatterer().share_boundaries(vk);
   _v = std::move(vk);
 }
 

@@ -17,8 +17,8 @@ void require_output(bool current, const char* what)
   if (!current)
     throw std::logic_error(
         std::string("MoreauJean::") + what +
-        ": a distributed run's ranks hold their own bodies' interiors only "
-        "(prepare_output first; the global vectors are rank 0's)");
+        ": a distributed run's processes hold their local bodies' interiors "
+        "only (prepare_output first; io::OutputGather gathers the vectors)");
 }
 } // namespace
 
@@ -28,7 +28,7 @@ const EnergyBalance& MoreauJean::energy() const
   {
     if (!_strain_shared)
     {
-      require_output(!_own.distributed(), "energy");
+      require_output(!_dist.distributed(), "energy");
       _body_strain = _bodies.body_strain_energy();
     }
     _energy.strain =
@@ -41,52 +41,13 @@ const EnergyBalance& MoreauJean::energy() const
   return _energy;
 }
 
-std::span<const double> MoreauJean::output_displacement() const
-{
-  if (!_own.distributed())
-    return _bodies.displacement();
-  require_output(_own.rank() == 0 && _on_root && !_root_u.empty(),
-                 "output_displacement");
-  return _root_u;
-}
-
-void MoreauJean::require_root_copies(const char* what) const
-{
-  require_output(_own.rank() == 0 && _on_root &&
-                     (_tangent_on_root || _matrix_age < 0),
-                 what);
-  require_output(!_root_u.empty(), "state after output_state");
-}
-
 SchemeState MoreauJean::state() const
 {
-  if (!_own.distributed())
-    return own_state();
-  require_root_copies("state");
-  SchemeState s = scalar_state();
-  s.u = _root_u;
-  s.v = _root_v;
-  if (_matrix_age >= 0)
-    s.u_tangent = _root_u_tangent;
-  return s;
+  require_output(!_dist.distributed(), "state");
+  return stored_state();
 }
 
-SchemeState MoreauJean::output_state()
-{
-  if (!_own.distributed())
-    return own_state();
-  require_root_copies("output_state");
-  // The copies were made for this output: handed over, not copied again
-  SchemeState s = scalar_state();
-  s.u = std::exchange(_root_u, {});
-  s.v = std::exchange(_root_v, {});
-  std::vector<double> u_tangent = std::exchange(_root_u_tangent, {});
-  if (_matrix_age >= 0)
-    s.u_tangent = std::move(u_tangent);
-  return s;
-}
-
-SchemeState MoreauJean::own_state() const
+SchemeState MoreauJean::stored_state() const
 {
   SchemeState s = scalar_state();
   s.u = _bodies.to_global(std::as_const(_bodies).displacement());
@@ -152,10 +113,9 @@ void MoreauJean::restore(const SchemeState& s)
       _walls[w].velocity = s.wall_velocities[w];
   }
   _history.restore(s.reactions);
-  _on_root = _tangent_on_root = false;
   _time = s.time;
   _steps = s.steps;
-  _bodies.owned_internal_force(_f_int);
+  _bodies.internal_force(_f_int);
   _rigid.zero(_f_int);
   _energy = s.energy;
   _body_kinetic = body_kinetic_energy();
@@ -171,17 +131,14 @@ void MoreauJean::restore(const SchemeState& s)
 void MoreauJean::continue_with(std::vector<Wall> walls,
                                const std::function<void(SchemeState&)>& edit)
 {
-  SchemeState s = own_state();
+  SchemeState s = stored_state();
   _walls = std::move(walls);
   edit(s);
-  // The displacement and velocity do not change (the entries of other
-  // ranks' interiors go out and come back NaN): what rank 0 gathered and
-  // the strain energies stay current.
-  const bool on_root = _on_root, tangent_on_root = _tangent_on_root,
-             strain_shared = _strain_shared;
+  // The displacement and velocity do not change (the entries of the
+  // interiors not stored go out and come back NaN): the strain energies
+  // stay current.
+  const bool strain_shared = _strain_shared;
   restore(s);
-  _on_root = on_root;
-  _tangent_on_root = tangent_on_root;
   _strain_shared = strain_shared;
 }
 

@@ -3,7 +3,7 @@
 // moreau_jean_newton.cpp): the step's contacts and start, and the clock of
 // the per-part timings. Private to the scheme's implementation files.
 #include "moreau_jean.h"
-#include "servo_walls.h"
+#include <walls/servo_walls.h>
 
 #include <chrono>
 

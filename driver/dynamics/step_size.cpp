@@ -1,7 +1,7 @@
 // The adaptive time step of the Moreau–Jean scheme (step_size.h).
 #include "step_size.h"
 
-#include "moreau_jean.h"
+#include "step_report.h"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,7 +1,6 @@
 #pragma once
 
 #include "material_config.h"
-#include <dynamics/walls.h>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -9,6 +8,7 @@
 #include <softpack/parameters.h>
 #include <string>
 #include <vector>
+#include <walls/walls.h>
 
 /// Reading driver.json (docs/contract.md section 4, docs/driver_io.md).
 namespace softpack::io

@@ -32,7 +32,7 @@ from __future__ import annotations
 import generate_parameters as gp
 
 #: The header of the driver's wall types (DRIVER_TYPES, DRIVE_TYPE, ENUMS).
-WALLS_HEADER = "dynamics/walls.h"
+WALLS_HEADER = "walls/walls.h"
 #: Sections read into a type of the driver rather than a generated struct
 #: (its members have the schema's key names): section -> C++ type.
 DRIVER_TYPES = {"walls": "dynamics::Wall"}

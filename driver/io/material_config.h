@@ -1,7 +1,7 @@
 #pragma once
 
 #include <bodies/body_material.h>
-#include <dynamics/friction_table.h>
+#include <detection/friction_table.h>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>

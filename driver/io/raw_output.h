@@ -2,7 +2,7 @@
 
 #include <bodies/BodySet.h>
 #include <bodies/stress_average.h>
-#include <dynamics/contact_history.h>
+#include <detection/contact_history.h>
 #include <dynamics/moreau_jean.h>
 #include <filesystem>
 #include <fstream>

@@ -8,18 +8,18 @@ namespace softpack::parallel
 namespace
 {
 /// Every rank's neighbour_domains, on every rank
-std::vector<std::vector<int>> domain_graph(const Ownership& own,
+std::vector<std::vector<int>> domain_graph(const Communicator& comm,
                                            const contact::DelassusMatrix& W,
                                            std::span<const int> owner)
 {
   const std::vector<int> mine =
-      contact::neighbour_domains(W, owner, own.rank());
+      contact::neighbour_domains(W, owner, comm.rank());
   const int n = static_cast<int>(mine.size());
-  const std::vector<int> counts = own.gather_items<int>({&n, 1});
-  const std::vector<int> all = own.gather_items<int>(mine);
-  std::vector<std::vector<int>> graph(own.size());
+  const std::vector<int> counts = comm.gather_items<int>({&n, 1});
+  const std::vector<int> all = comm.gather_items<int>(mine);
+  std::vector<std::vector<int>> graph(comm.size());
   auto next = all.begin();
-  for (int r = 0; r < own.size(); ++r)
+  for (int r = 0; r < comm.size(); ++r)
   {
     graph[r].assign(next, next + counts[r]);
     next += counts[r];
@@ -28,13 +28,13 @@ std::vector<std::vector<int>> domain_graph(const Ownership& own,
 }
 } // namespace
 
-ContactDomains::ContactDomains(const Ownership& own,
+ContactDomains::ContactDomains(const Communicator& comm,
                                const contact::DelassusMatrix& W,
                                std::span<const int> owner,
                                ContactTraffic& traffic)
-    : _comm(own.comm()),
-      _plan(contact::plan_domain(W, owner, own.rank(),
-                                 domain_graph(own, W, owner))),
+    : _comm(comm.comm()),
+      _plan(contact::plan_domain(W, owner, comm.rank(),
+                                 domain_graph(comm, W, owner))),
       _traffic(traffic)
 {
   _domain.stages = _plan.stages;

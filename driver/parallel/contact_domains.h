@@ -5,7 +5,7 @@
 #include <contact/nlgs.h>
 #include <cstddef>
 #include <mpi.h>
-#include <parallel/ownership.h>
+#include <parallel/communicator.h>
 #include <span>
 #include <vector>
 
@@ -36,7 +36,7 @@ public:
   /// rank's contacts, its pattern symmetric (contact::plan_domain)
   /// @param[in] owner The rank owning each contact
   /// @param[in,out] traffic Where the exchanges are counted
-  ContactDomains(const Ownership& own, const contact::DelassusMatrix& W,
+  ContactDomains(const Communicator& comm, const contact::DelassusMatrix& W,
                  std::span<const int> owner, ContactTraffic& traffic);
   // The solver's view points into this object.
   ContactDomains(const ContactDomains&) = delete;

@@ -2,8 +2,8 @@
 
 #include <array>
 #include <bodies/BodySet.h>
-#include <dynamics/walls.h>
 #include <vector>
+#include <walls/walls.h>
 
 /// An overlap check independent of the contact detection (issue 16, item 5):
 /// a detection that misses contacts (a too small contact.max_penetration,

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <io/field_output.h>
+#include <io/output_gather.h>
 #include <io/raw_output.h>
 #include <io/setup_file.h>
 #include <io/state_file.h>
@@ -118,7 +119,7 @@ bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
   try
   {
     // A distributed run's ranks assemble the masses they keep only
-    // (parallel::Ownership's set_owned)
+    // (parallel::Distribution, BodySet::set_local)
     int ranks = 1;
     MPI_Comm_size(comm, &ranks);
     return bodies::BodySet(std::move(geometry), config.body_materials.materials,
@@ -134,22 +135,23 @@ bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
 /// handed to collectives (before this call), their count, its peak
 /// resident memory, and what its domain-wise contact solves sent (bytes,
 /// messages, sweeps), as done.json's "mpi" entry.
-nlohmann::json rank_report(const parallel::Ownership& own,
+nlohmann::json rank_report(const parallel::Distribution& dist,
                            const parallel::ContactTraffic& contact)
 {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  const std::vector<int>& body_rank = own.body_rank();
+  const parallel::Communicator& comm = dist.comm();
+  const std::vector<int>& body_rank = dist.index_map().body_rank();
   constexpr std::size_t n = 7;
   const double mine[n] = {
-      double(std::count(body_rank.begin(), body_rank.end(), own.rank())),
-      double(own.bytes_sent()),
-      double(own.messages()),
+      double(std::count(body_rank.begin(), body_rank.end(), comm.rank())),
+      double(comm.bytes_sent()),
+      double(comm.messages()),
       usage.ru_maxrss / 1024.0,
       double(contact.bytes),
       double(contact.messages),
       double(contact.sweeps)};
-  const std::vector<double> all = own.gather(mine);
+  const std::vector<double> all = comm.gather(mine);
   const char* keys[n] = {"bodies",      "bytes_sent",      "collectives",
                          "peak_rss_mb", "nlgs_bytes_sent", "nlgs_messages",
                          "nlgs_sweeps"};
@@ -160,8 +162,8 @@ nlohmann::json rank_report(const parallel::Ownership& own,
     for (std::size_t k = 0; k < n; ++k)
       report[keys[k]].push_back(k == 3 ? nlohmann::json(all[n * r + k])
                                        : nlohmann::json(long(all[n * r + k])));
-  report["rebalances"] = own.rebalances();
-  report["bodies_moved"] = own.bodies_moved();
+  report["rebalances"] = dist.rebalances();
+  report["bodies_moved"] = dist.bodies_moved();
   return report;
 }
 
@@ -185,7 +187,7 @@ class Run
 public:
   /// Rank 0 reads the mesh and sends its arrays to every rank; a rank then
   /// keeps and computes its own bodies and every boundary
-  /// (parallel::Ownership); rank 0 alone writes.
+  /// (parallel::Distribution); rank 0 alone writes.
   Run(MPI_Comm comm, const io::DriverConfig& config, bool quiet)
       : _config(config), _p(config.parameters),
         _raw_dir(config.directory / "raw"), _root(rank_of(comm) == 0),
@@ -196,11 +198,10 @@ public:
         _fields(_root && _p.output.fields ? std::make_unique<io::FieldOutput>(
                                                 config.directory, _bodies)
                                           : nullptr),
-        _own(comm, _bodies),
         _scheme(_bodies, config.walls,
                 {_p.time, _p.contact, _p.damping, config.velocity_scale,
                  config.friction, _p.parallel},
-                _own),
+                parallel::Distribution(comm, _bodies)),
         _raw(_root ? std::make_unique<io::RawOutput>(config.directory,
                                                      config.walls)
                    : nullptr),
@@ -237,7 +238,8 @@ public:
     {
       const dynamics::StepReport r = _scheme.step();
       check_convergence(step, r);
-      _average.add_step(_scheme);
+      _average.add_step(_scheme.contacts(), _scheme.impulses(),
+                        _scheme.walls().size(), _scheme.time_step());
       add_timings(_spent, r.seconds);
       const std::optional<double> now = phi();
       const bool output_step = step % _p.output.every_steps == 0;
@@ -264,7 +266,7 @@ private:
   void fail_if_asked() const
   {
     const char* rank = std::getenv("SOFTPACK_TEST_FAIL_RANK");
-    if (rank && std::atoi(rank) == _own.rank())
+    if (rank && std::atoi(rank) == _scheme.distribution().comm().rank())
       throw std::runtime_error("SOFTPACK_TEST_FAIL_RANK=" + std::string(rank) +
                                ": this rank fails on purpose (a test)");
   }
@@ -274,10 +276,11 @@ private:
   {
     const RunSummary summary{step, elapsed(), reason};
     nlohmann::json done = extra.is_object() ? extra : nlohmann::json::object();
-    done["mpi_ranks"] = _scheme.ownership().size();
+    done["mpi_ranks"] = _scheme.distribution().comm().size();
     done["factor_patterns"] = _scheme.factor_patterns();
-    if (_scheme.ownership().distributed())
-      done["mpi"] = rank_report(_scheme.ownership(), _scheme.contact_traffic());
+    if (_scheme.distribution().distributed())
+      done["mpi"] =
+          rank_report(_scheme.distribution(), _scheme.contact_traffic());
     if (_raw)
       _raw->finish(summary.steps, summary.seconds, summary.reason, _spent,
                    _scheme.factorizations(), _checks, done);
@@ -429,10 +432,11 @@ private:
     // their bodies' energies and stresses, rank 0 gets global copies of
     // the vectors (fields, the state).
     _scheme.prepare_output();
+    io::OutputGather gathered(_scheme, _bodies);
     static_assert(sizeof(bodies::CauchyIntegral) == 4 * sizeof(double));
     std::vector<bodies::CauchyIntegral> cauchy =
         bodies::cauchy_integrals(_bodies);
-    _scheme.ownership().share_by_body(
+    _scheme.distribution().scatterer().share_by_body(
         std::span<double>(cauchy.front().data(), 4 * cauchy.size()), 4);
     const double depth = check_overlap(step);
     if (_raw)
@@ -447,14 +451,14 @@ private:
     {
       // Each cell's energy from its body's owner, onto rank 0 (before the
       // state, which takes rank 0's copy of the displacement)
-      std::vector<double> psi = _bodies.owned_cell_strain_energy();
-      _scheme.ownership().sum_to_root(psi);
+      std::vector<double> psi = _bodies.cell_strain_energy();
+      _scheme.distribution().comm().sum_to_root(psi);
       if (_fields)
-        _fields->write(_scheme.output_displacement(), psi, _scheme.time());
+        _fields->write(gathered.displacement(), psi, _scheme.time());
     }
     if (_root && _p.output.state)
     {
-      io::write_state(_raw_dir / "state.bin", _scheme.output_state(), _identity,
+      io::write_state(_raw_dir / "state.bin", gathered.take_state(), _identity,
                       _checks);
       if (!_program.empty())
         write_stage_record(stage_record_path(_raw_dir / "state.bin"), step,
@@ -476,7 +480,6 @@ private:
   const io::StateIdentity _identity;
   /// Rank 0's (the other ranks write nothing), when fields are written
   std::unique_ptr<io::FieldOutput> _fields;
-  parallel::Ownership _own;
   dynamics::MoreauJean _scheme;
   /// Rank 0's: the other ranks write nothing
   std::unique_ptr<io::RawOutput> _raw;

@@ -62,7 +62,7 @@ TEST(BodyGeometry, ASetFromTheArraysAloneIsTheSetFromTheMesh)
     EXPECT_EQ(p.cells, q.cells);
     EXPECT_EQ(p.cell_nodes, q.cell_nodes);
     EXPECT_EQ(p.boundary_segments, q.boundary_segments);
-    EXPECT_EQ(p.input_rank, q.input_rank);
+    EXPECT_EQ(p.input_position, q.input_position);
     EXPECT_EQ(p.reference_area, q.reference_area);
   }
   // The same kernels on the same cells: the same bits

@@ -190,13 +190,15 @@ TEST(BodySet, ARankKeepsTheMassesOfItsOwnBodies)
   const std::vector<Eigen::VectorXd> lumped = bodies.lumped_mass();
   const bodies::Body whole = bodies.body(1);
   const std::vector<std::int32_t> lists = bodies.cell_lists(1);
-  bodies.set_owned({1, 0});
-  // Body 1's cells are its owner's now (Ownership::move_to brings them)
+  bodies.set_local({0});
+  // Body 1's cells are its owner's now (parallel::move_bodies brings them)
   EXPECT_TRUE(bodies.body(1).cells.empty());
   EXPECT_TRUE(bodies.body(1).cell_nodes.empty());
-  EXPECT_TRUE(bodies.body(1).input_rank.empty());
+  EXPECT_TRUE(bodies.body(1).input_position.empty());
   EXPECT_EQ(bodies.body(1).boundary_segments, whole.boundary_segments);
-  EXPECT_THROW(bodies.set_owned({0, 1}), std::logic_error);
+  EXPECT_THROW(bodies.set_local({1}), std::logic_error);
+  EXPECT_THROW(bodies.set_local({1, 0}), std::invalid_argument);
+  EXPECT_THROW(bodies.set_local({2}), std::invalid_argument);
   EXPECT_THROW(bodies.cell_reference_area(), std::logic_error);
   EXPECT_EQ(bodies.lumped_mass()[1].size(), 0);
   EXPECT_EQ(bodies.consistent_mass()[1].nonZeros(), 0);
@@ -210,8 +212,8 @@ TEST(BodySet, ARankKeepsTheMassesOfItsOwnBodies)
   EXPECT_EQ(bodies.take_cell_lists(1, lists), lists.size());
   EXPECT_EQ(bodies.body(1).cells, whole.cells);
   EXPECT_EQ(bodies.body(1).cell_nodes, whole.cell_nodes);
-  EXPECT_EQ(bodies.body(1).input_rank, whole.input_rank);
-  bodies.set_owned({0, 1});
+  EXPECT_EQ(bodies.body(1).input_position, whole.input_position);
+  bodies.set_local({1});
   EXPECT_TRUE(bodies.body(0).cells.empty());
   EXPECT_EQ(bodies.consistent_mass()[0].nonZeros(), 0);
   EXPECT_EQ(bodies.consistent_mass()[0].data().allocatedSize(), 0);
@@ -223,9 +225,11 @@ TEST(BodySet, ARankKeepsTheMassesOfItsOwnBodies)
   ASSERT_EQ(bodies.lumped_mass()[1].size(), lumped[1].size());
   EXPECT_EQ((bodies.lumped_mass()[1] - lumped[1]).norm(), 0.0);
   EXPECT_GT(lumped[1].minCoeff(), 0.0);
-  EXPECT_EQ(bodies.kept_masses(std::vector<char>{0, 1}),
-            (std::vector<char>{0, 1}));
-  EXPECT_EQ(bodies.kept_masses({}), (std::vector<char>{1, 1}));
+  EXPECT_EQ(bodies.kept_masses(), (std::vector<char>{0, 1}));
+  EXPECT_EQ(std::vector<int>(bodies.local_bodies().begin(),
+                             bodies.local_bodies().end()),
+            std::vector<int>{1});
+  EXPECT_FALSE(bodies.is_local(0));
 }
 
 TEST(BodySet, ARankOfADistributedRunAssemblesTheMassesItKeepsOnly)
@@ -247,7 +251,7 @@ TEST(BodySet, ARankOfADistributedRunAssemblesTheMassesItKeepsOnly)
     EXPECT_EQ(bodies.consistent_mass()[b].rows(), all.body(b).num_dofs());
     EXPECT_EQ(bodies.lumped_mass()[b].size(), 0);
   }
-  bodies.set_owned({0, 1});
+  bodies.set_local({1});
   EXPECT_EQ(bodies.consistent_mass()[0].nonZeros(), 0);
   const bodies::BodyMatrix& M = bodies.consistent_mass()[1];
   ASSERT_EQ(M.nonZeros(), all.consistent_mass()[1].nonZeros());
@@ -300,8 +304,14 @@ TEST(BodySet, ARankStoresItsOwnBodiesAndEveryBoundary)
   EXPECT_TRUE(std::isnan(u[2 * unstored]) && std::isnan(Xs[2 * unstored]));
   // The kept body's energy is its own, to the bit; a global vector goes in
   // and out of the storage unchanged where stored, NaN elsewhere
-  bodies.set_owned({1, 0});
-  EXPECT_EQ(bodies.owned_body_strain_energy()[0], strain[0]);
+  bodies.set_local({0});
+  EXPECT_EQ(bodies.body_strain_energy()[0], strain[0]);
+  EXPECT_EQ(bodies.body_strain_energy()[1], 0.0);
+  // Only body 0's stored nodes are local
+  for (std::size_t k = 0; k < kept.nodes.size(); ++k)
+    EXPECT_TRUE(bodies.is_local_node(kept.nodes[k]));
+  for (std::size_t k = 0; k < other.nodes.size(); ++k)
+    EXPECT_FALSE(bodies.is_local_node(other.nodes[k]));
   const std::vector<double> back = bodies.to_global(bodies.from_global(global));
   ASSERT_EQ(back.size(), n);
   for (std::size_t k = 0; k < kept.global_nodes.size(); ++k)
@@ -320,7 +330,7 @@ TEST(BodySet, ARankStoresItsOwnBodiesAndEveryBoundary)
   EXPECT_GT(interior, 0);
 
   // The bodies change owners: what stays stored keeps its value, what is
-  // new is NaN until the old owner's entries arrive (Ownership::move_to)
+  // new is NaN until the old owner's entries arrive (parallel::move_bodies)
   std::vector<double> v(u.begin(), u.end());
   bodies.keep_storage(std::vector<char>{0, 1});
   bodies.remap(v);

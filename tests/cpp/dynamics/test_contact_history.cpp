@@ -10,7 +10,7 @@
 #include <bodies/material_parameters.h>
 #include <cmath>
 #include <contact/nlgs.h>
-#include <dynamics/contact_history.h>
+#include <detection/contact_history.h>
 #include <dynamics/moreau_jean.h>
 #include <gtest/gtest.h>
 #include <material_registry.h>
@@ -180,7 +180,8 @@ TEST(ContactForceAverage, BalancesMomentumAndRemovesTheAlternation)
       p0 = p_prev = momentum_y(bodies, scheme);
     }
     ASSERT_TRUE(scheme.step().newton_converged);
-    average.add_step(scheme);
+    average.add_step(scheme.contacts(), scheme.impulses(),
+                     scheme.walls().size(), scheme.time_step());
     if (!in_interval)
       continue;
     const double p = momentum_y(bodies, scheme);

@@ -8,9 +8,9 @@
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
-#include <dynamics/damping.h>
-#include <dynamics/energy_balance.h>
+#include <compliance/damping.h>
 #include <dynamics/moreau_jean.h>
+#include <energy/energy_balance.h>
 #include <gtest/gtest.h>
 #include <material_registry.h>
 #include <mesh_fixtures.h>
@@ -78,7 +78,8 @@ TEST(EnergyBalance, ClosesToRoundOffOnALinearDampedOscillator)
                                 .Mv_new = Mv_new,
                                 .Cv_old = Cv_old,
                                 .Cv_new = Cv_new,
-                                .f_ext = f_ext});
+                                .f_ext = f_ext},
+                               std::vector<int>{0});
       q = q_new;
       v = v_new;
     }

@@ -166,14 +166,13 @@ TEST(RigidBodies, EveryRankKeepsTheRigidBodiesMasses)
   bodies::BodySet set(
       test::bodies_mesh({test::disk(0, 0, R, 4), test::disk(3 * R, 0, R, 4)}),
       {soft(), rigid(rho)}, {0, 1});
-  EXPECT_EQ(set.kept_masses(std::vector<char>{1, 0}),
-            (std::vector<char>{1, 1}));
-  EXPECT_EQ(set.kept_masses(std::vector<char>{0, 1}),
-            (std::vector<char>{0, 1}));
+  EXPECT_EQ(set.kept_masses(), (std::vector<char>{1, 1}));
   const Eigen::Index entries = set.consistent_mass()[1].nonZeros();
-  set.set_owned({1, 0});
+  set.set_local({0});
+  EXPECT_EQ(set.kept_masses(), (std::vector<char>{1, 1}));
   EXPECT_EQ(set.consistent_mass()[1].nonZeros(), entries);
   EXPECT_GT(entries, 0);
-  set.set_owned({0, 1});
+  set.set_local({1});
+  EXPECT_EQ(set.kept_masses(), (std::vector<char>{0, 1}));
   EXPECT_EQ(set.consistent_mass()[0].nonZeros(), 0);
 }

@@ -5,7 +5,7 @@
 // default; a name that matches nothing is refused naming driver.json and the
 // key.
 #include "read_driver_json.h"
-#include <dynamics/detection.h>
+#include <detection/detection.h>
 #include <gtest/gtest.h>
 #include <material_registry.h>
 

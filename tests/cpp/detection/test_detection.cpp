@@ -4,7 +4,7 @@
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
-#include <dynamics/detection.h>
+#include <detection/detection.h>
 #include <gtest/gtest.h>
 #include <material_registry.h>
 #include <mesh_fixtures.h>
@@ -135,11 +135,13 @@ TEST(Detection, SharesOfAPartitionOrderedByKeyAreTheWholeList)
   const int nb = bodies.num_bodies(), ranks = 3;
   for (int r = 0; r < ranks; ++r)
   {
-    std::vector<char> owned(nb);
+    std::vector<int> local;
     for (int b = 0; b < nb; ++b)
-      owned[b] = (b * 7 + 2) % ranks == r; // scattered, not by position
-    const auto share =
-        dynamics::detect_contacts(bodies, x, walls, options, owned);
+      if ((b * 7 + 2) % ranks == r) // scattered, not by position
+        local.push_back(b);
+    bodies::BodySet part = disks(spec, 3);
+    part.set_local(local);
+    const auto share = dynamics::detect_contacts(part, x, walls, options);
     EXPECT_LT(share.size(), whole.size());
     merged.insert(merged.end(), share.begin(), share.end());
   }

@@ -216,10 +216,8 @@ std::vector<std::array<int, 2>> near_body_pairs(const bodies::BodySet& bodies,
 std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
                                      std::span<const double> x,
                                      const std::vector<Wall>& walls,
-                                     const DetectionOptions& options,
-                                     std::span<const char> owned)
+                                     const DetectionOptions& options)
 {
-  auto mine = [&](int b) { return owned.empty() || owned[b]; };
   const std::vector<Box> boxes = body_boxes(bodies, x);
   const std::vector<std::array<int, 2>> pairs =
       near_body_pairs(bodies, x, options.alert_distance);
@@ -231,7 +229,7 @@ std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
   for (std::int64_t i = 0; i < num_pairs; ++i)
   {
     const auto [a, b] = pairs[i];
-    if (!mine(a))
+    if (!bodies.is_local(a))
       continue;
     for (const auto& [cand, ant] : {std::pair{a, b}, std::pair{b, a}})
       for (std::int32_t node : bodies.body(cand).boundary_nodes)
@@ -250,10 +248,8 @@ std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
   {
     const std::array<double, 2>& p = walls[w].point;
     const std::array<double, 2>& n = walls[w].normal;
-    for (int b = 0; b < bodies.num_bodies(); ++b)
+    for (const int b : bodies.local_bodies())
     {
-      if (!mine(b))
-        continue;
       for (std::int32_t node : bodies.body(b).boundary_nodes)
       {
         const std::int32_t g = bodies.body(b).nodes[node];

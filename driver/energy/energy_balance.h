@@ -1,8 +1,8 @@
 #pragma once
 
-#include "contact_operator.h"
-#include "detection.h"
 #include <Eigen/Core>
+#include <compliance/contact_operator.h>
+#include <detection/detection.h>
 #include <span>
 #include <vector>
 
@@ -40,14 +40,14 @@ struct EnergyBalance
   }
 };
 
-/// Kinetic energy \f$\sum_b \tfrac12 v_b \cdot (M v)_b\f$ of the flagged
+/// Kinetic energy \f$\sum_b \tfrac12 v_b \cdot (M v)_b\f$ of the given
 /// bodies.
-/// @param[in] v Velocity of every body
-/// @param[in] Mv Mass times velocity of (at least) the flagged bodies
-/// @param[in] owned The bodies to count (1; empty: all): a rank of a
-/// distributed run counts its own, whose masses it alone keeps
+/// @param[in] v Velocity of (at least) the given bodies
+/// @param[in] Mv Mass times velocity of (at least) the given bodies
+/// @param[in] bodies The bodies to count, in increasing order (the local
+/// ones, BodySet::local_bodies, whose masses are kept)
 double kinetic_energy(const BodyVectors& v, const BodyVectors& Mv,
-                      std::span<const char> owned = {});
+                      std::span<const int> bodies);
 
 /// Add the stiffness part of the theta scheme's dissipation over a step.
 ///
@@ -58,14 +58,15 @@ double kinetic_energy(const BodyVectors& v, const BodyVectors& Mv,
 /// @param[in] theta theta of the scheme (nothing is added at 1/2)
 /// @param[in] u_old, u_new Global displacement at the start and end
 /// @param[in] f_old, f_new Global internal force at the start and end
-/// @param[in] node_owned 1 for the nodes whose terms are wanted (empty:
-/// all): a rank's own (the others' entries may be stale)
+/// @param[in] local_nodes 1 for the nodes whose terms are wanted
+/// (BodySet::local_nodes: the local bodies', whose internal force is
+/// computed; empty: all)
 void add_stiffness_dissipation(EnergyBalance& energy, double theta,
                                std::span<const double> u_old,
                                std::span<const double> u_new,
                                std::span<const double> f_old,
                                std::span<const double> f_new,
-                               std::span<const char> node_owned = {});
+                               std::span<const char> local_nodes = {});
 
 /// Per-body vectors of one step, at its start (-) and end (+).
 struct BodyStep
@@ -87,10 +88,10 @@ struct BodyStep
 /// @param[in] h Time step
 /// @param[in] theta theta of the scheme
 /// @param[in] step The step's vectors
-/// @param[in] owned The bodies to count (1; empty: all): a rank of a
-/// distributed run counts its own, whose C v and M v it alone has
+/// @param[in] bodies The bodies to count, in increasing order (the local
+/// ones, BodySet::local_bodies, whose C v and M v are computed)
 void add_body_terms(EnergyBalance& energy, double h, double theta,
-                    const BodyStep& step, std::span<const char> owned = {});
+                    const BodyStep& step, std::span<const int> bodies);
 
 /// Add the contact terms of one step: the friction and normal dissipation
 /// -R . U_th and the work of the velocity-controlled walls R . U_wall

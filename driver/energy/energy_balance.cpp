@@ -4,12 +4,11 @@ namespace softpack::dynamics
 {
 
 double kinetic_energy(const BodyVectors& v, const BodyVectors& Mv,
-                      std::span<const char> owned)
+                      std::span<const int> bodies)
 {
   double e = 0;
-  for (std::size_t b = 0; b < v.size(); ++b)
-    if (owned.empty() || owned[b])
-      e += 0.5 * v[b].dot(Mv[b]);
+  for (const int b : bodies)
+    e += 0.5 * v[b].dot(Mv[b]);
   return e;
 }
 
@@ -18,25 +17,23 @@ void add_stiffness_dissipation(EnergyBalance& energy, double theta,
                                std::span<const double> u_new,
                                std::span<const double> f_old,
                                std::span<const double> f_new,
-                               std::span<const char> node_owned)
+                               std::span<const char> local_nodes)
 {
   if (theta == 0.5)
     return;
   double excess = 0;
   for (std::size_t i = 0; i < u_new.size(); ++i)
-    if (node_owned.empty() || node_owned[i / 2])
+    if (local_nodes.empty() || local_nodes[i / 2])
       excess += (u_new[i] - u_old[i]) * (f_new[i] - f_old[i]);
   energy.numerical += (theta - 0.5) * excess;
 }
 
 void add_body_terms(EnergyBalance& energy, double h, double theta,
-                    const BodyStep& s, std::span<const char> owned)
+                    const BodyStep& s, std::span<const int> bodies)
 {
   const double th = theta;
-  for (std::size_t b = 0; b < s.v_new.size(); ++b)
+  for (const int b : bodies)
   {
-    if (!owned.empty() && !owned[b])
-      continue;
     energy.damping +=
         h * s.v_mid[b].dot(th * s.Cv_new[b] + (1 - th) * s.Cv_old[b]);
     energy.numerical +=

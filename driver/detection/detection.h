@@ -1,11 +1,11 @@
 #pragma once
 
-#include "walls.h"
 #include <array>
 #include <bodies/BodySet.h>
 #include <cstdint>
 #include <span>
 #include <vector>
+#include <walls/walls.h>
 
 /// Contact detection between deformable bodies and rigid walls.
 namespace softpack::dynamics
@@ -64,16 +64,15 @@ struct DetectionOptions
 /// @param[in] x Current node coordinates (global, interleaved)
 /// @param[in] walls Walls
 /// @param[in] options Alert distance
-/// @param[in] owned 1 for the bodies whose share of the detection is wanted
-/// (empty: every body): the pairs whose first (lower) body is owned and the
-/// wall contacts of the owned bodies. The shares of a partition of the
-/// bodies, put together and ordered by contact_order_key, are the whole
-/// list in its order (a distributed run detects its share only).
+/// @return The local bodies' share of the contacts
+/// (BodySet::local_bodies; every body's until set_local): the pairs whose
+/// first (lower) body is local and the wall contacts of the local bodies.
+/// The shares of a partition of the bodies, put together and ordered by
+/// contact_order_key, are the whole list in its order.
 std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
                                      std::span<const double> x,
                                      const std::vector<Wall>& walls,
-                                     const DetectionOptions& options,
-                                     std::span<const char> owned = {});
+                                     const DetectionOptions& options);
 
 /// The position of a contact's group in detect_contacts' order: the body
 /// pairs (a < b) in increasing order, then each wall's contacts by body.

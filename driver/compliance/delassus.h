@@ -29,13 +29,14 @@ struct DelassusBlock
 };
 
 /// The bodies' contributions to W (build_delassus's body loop), in body
-/// order, for the bodies flagged in `owned` (empty: every body): what a
-/// rank of a distributed run computes from the compliance of its own
-/// bodies. The arguments are build_delassus's.
-std::vector<DelassusBlock>
-delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
-                const EffectiveStiffness& Kbar, double drop_tolerance,
-                const RigidBodies* rigid, std::span<const char> owned = {});
+/// order, for the local bodies (BodySet::local_bodies): what a distributed
+/// run's share computes from the compliance of its bodies. The arguments
+/// are build_delassus's.
+std::vector<DelassusBlock> delassus_blocks(const bodies::BodySet& bodies,
+                                           const ContactOperator& H,
+                                           const EffectiveStiffness& Kbar,
+                                           double drop_tolerance,
+                                           const RigidBodies* rigid);
 
 /// W from the bodies' contributions (in body order: the sums are then
 /// those of the serial build, bit for bit) and the servo walls' couplings.

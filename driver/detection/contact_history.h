@@ -12,8 +12,6 @@
 namespace softpack::dynamics
 {
 
-class MoreauJean;
-
 /// Identity of a contact across time steps: (candidate body, candidate
 /// node, antagonist body, or -1 - wall for a wall). The one key of the warm
 /// start (ImpulseHistory) and of the force averaging (ContactForceAverage).
@@ -78,8 +76,10 @@ struct AveragedContactForce
 class ContactForceAverage
 {
 public:
-  /// Add the impulses of the step the scheme has just done.
-  void add_step(const MoreauJean& scheme);
+  /// Add the impulses of a step just done (MoreauJean::contacts,
+  /// impulses, the number of walls and the step's size h).
+  void add_step(const std::vector<Contact>& contacts, std::span<const double> R,
+                std::size_t num_walls, double h);
 
   /// Duration of the interval so far (s)
   double duration() const { return _duration; }

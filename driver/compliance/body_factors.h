@@ -12,7 +12,7 @@ namespace softpack::dynamics
 /// The sparse LDL^T factors of one symmetric positive definite matrix per
 /// body, kept compactly:
 /// - bodies whose matrices have one sparsity pattern once their nodes are
-///   put in input order (Body::input_rank: copies of one template mesh)
+///   put in input order (Body::input_position: copies of one template mesh)
 ///   share one symbolic factorization (fill-reducing AMD ordering of the
 ///   nodes and the pattern of L by 2x2 node blocks), computed once;
 /// - each body keeps only its own values of L, in single precision, D and
@@ -35,15 +35,14 @@ namespace softpack::dynamics
 class BodyFactors
 {
 public:
-  /// @param[in] bodies The bodies (their input_rank and node counts)
+  /// @param[in] bodies The bodies (their input_position and node counts);
+  /// their local bodies are factorized (BodySet::local_bodies)
   /// @param[in] patterns One lower-triangular matrix per body giving its
   /// sparsity pattern, with values of a positive definite matrix on it
   /// (the consistent masses): the symbolic factorizations are taken from
   /// them
-  /// @param[in] owned The bodies to factorize (1; empty: all)
   BodyFactors(const bodies::BodySet& bodies,
-              const std::vector<bodies::BodyMatrix>& patterns,
-              std::span<const char> owned = {});
+              const std::vector<bodies::BodyMatrix>& patterns);
 
   /// Fills `matrix` (a copy of body b's pattern) with body b's values.
   using Former = std::function<void(int b, bodies::BodyMatrix& matrix)>;

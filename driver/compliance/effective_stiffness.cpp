@@ -7,14 +7,13 @@ namespace softpack::dynamics
 {
 
 EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
-                                       bool lumped_mass,
-                                       std::span<const char> owned)
+                                       bool lumped_mass)
     : _mass(&bodies.consistent_mass()),
-      _factors(bodies, bodies.consistent_mass(), owned)
+      _factors(bodies, bodies.consistent_mass())
 {
   if (lumped_mass)
   {
-    build_lumped(bodies, owned);
+    build_lumped(bodies);
     _mass = &_lumped;
   }
   for (int b = 0; b < bodies.num_bodies(); ++b)
@@ -29,12 +28,11 @@ EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
   _column_ready.resize(bodies.num_bodies());
 }
 
-void EffectiveStiffness::build_lumped(const bodies::BodySet& bodies,
-                                      std::span<const char> owned)
+void EffectiveStiffness::build_lumped(const bodies::BodySet& bodies)
 {
   // On the stiffness pattern, for the bodies whose consistent masses the
   // body set keeps (BodySet::kept_masses): the others' stay empty.
-  _lumped = bodies.create_matrices(bodies.kept_masses(owned));
+  _lumped = bodies.create_mass_matrices();
   for (int b = 0; b < bodies.num_bodies(); ++b)
     for (int col = 0; col < _lumped[b].outerSize(); ++col)
       for (bodies::BodyMatrix::InnerIterator it(_lumped[b], col); it; ++it)
@@ -42,12 +40,11 @@ void EffectiveStiffness::build_lumped(const bodies::BodySet& bodies,
             it.row() == it.col() ? bodies.lumped_mass()[b][it.row()] : 0.0;
 }
 
-void EffectiveStiffness::set_owned(const bodies::BodySet& bodies,
-                                   std::span<const char> owned)
+void EffectiveStiffness::set_local(const bodies::BodySet& bodies)
 {
   if (_mass == &_lumped)
-    build_lumped(bodies, owned);
-  _factors = BodyFactors(bodies, bodies.consistent_mass(), owned);
+    build_lumped(bodies);
+  _factors = BodyFactors(bodies, bodies.consistent_mass());
   for (std::vector<Column>& C : _columns)
     C.clear();
   for (std::vector<char>& ready : _column_ready)

@@ -17,12 +17,12 @@ struct BodyShare
 };
 } // namespace
 
-std::vector<DelassusBlock>
-delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
-                const EffectiveStiffness& Kbar, double drop_tolerance,
-                const RigidBodies* rigid, std::span<const char> owned)
+std::vector<DelassusBlock> delassus_blocks(const bodies::BodySet& bodies,
+                                           const ContactOperator& H,
+                                           const EffectiveStiffness& Kbar,
+                                           double drop_tolerance,
+                                           const RigidBodies* rigid)
 {
-  auto mine = [&](int b) { return owned.empty() || owned[b]; };
   auto is_rigid = [&](int b) { return rigid && rigid->rigid(b); };
   std::vector<std::vector<BodyShare>> shares(bodies.num_bodies());
   for (std::size_t a = 0; a < H.size(); ++a)
@@ -42,7 +42,7 @@ delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
   {
-    if (shares[b].empty() || is_rigid(b) || !mine(b))
+    if (shares[b].empty() || is_rigid(b) || !bodies.is_local(b))
       continue;
     std::vector<int> slots;
     for (const BodyShare& share : shares[b])
@@ -75,7 +75,7 @@ delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
   {
-    if (shares[b].empty() || !mine(b))
+    if (shares[b].empty() || !bodies.is_local(b))
       continue;
     std::vector<DelassusBlock>& W = by_body[b];
     auto add = [&](std::int32_t i, std::int32_t j, const Eigen::Matrix2d& block)

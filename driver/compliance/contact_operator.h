@@ -1,9 +1,9 @@
 #pragma once
 
-#include "detection.h"
 #include <Eigen/Core>
 #include <array>
 #include <bodies/BodySet.h>
+#include <detection/detection.h>
 #include <span>
 #include <vector>
 

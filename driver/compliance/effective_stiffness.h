@@ -24,15 +24,15 @@ public:
   /// this object (the consistent masses are read from it, not copied)
   /// @param[in] lumped_mass Use the lumped (diagonal) mass instead of the
   /// consistent one
-  /// @param[in] owned The bodies this rank factorizes (1; empty: all): a
-  /// distributed run's other bodies keep their masses only
-  EffectiveStiffness(const bodies::BodySet& bodies, bool lumped_mass,
-                     std::span<const char> owned = {});
+  /// The bodies' local ones are factorized (BodySet::local_bodies); the
+  /// others keep their masses only
+  EffectiveStiffness(const bodies::BodySet& bodies, bool lumped_mass);
 
-  /// Factorize the flagged bodies from now on (a rebalanced distributed
-  /// run): their symbolic analyses are done again and every compliance
-  /// column is dropped; the next factorize() makes the factors.
-  void set_owned(const bodies::BodySet& bodies, std::span<const char> owned);
+  /// Factorize the bodies' new local ones from now on (after
+  /// BodySet::set_local, a rebalanced run): their symbolic analyses are
+  /// done again and every compliance column is dropped; the next
+  /// factorize() makes the factors.
+  void set_local(const bodies::BodySet& bodies);
 
   /// Build and factorize \f$\bar K = a M + c K\f$ for every body.
   /// @param[in] K Tangent stiffness of every body (BodySet::tangent)
@@ -96,7 +96,7 @@ private:
   /// a tenth of it.
   using Column = Eigen::VectorXd;
   /// Put the lumped masses of the kept bodies on the stiffness pattern
-  void build_lumped(const bodies::BodySet& bodies, std::span<const char> owned);
+  void build_lumped(const bodies::BodySet& bodies);
   /// The masses on the stiffness pattern: the bodies' consistent masses
   /// (BodySet keeps them on that pattern), or _lumped, the lumped masses
   /// put on it. Kbar itself is not kept: each factorization forms it in a

@@ -2,8 +2,8 @@
 // entry per pair of parties (species, then walls), symmetric, the default
 // (the caller's [contact] friction) for every pair not set; species and
 // parties out of range refused.
-#include <dynamics/detection.h>
-#include <dynamics/friction_table.h>
+#include <detection/detection.h>
+#include <detection/friction_table.h>
 #include <gtest/gtest.h>
 #include <stdexcept>
 

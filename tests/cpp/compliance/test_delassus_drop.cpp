@@ -5,10 +5,10 @@
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
-#include <dynamics/contact_operator.h>
-#include <dynamics/delassus.h>
-#include <dynamics/detection.h>
-#include <dynamics/effective_stiffness.h>
+#include <compliance/contact_operator.h>
+#include <compliance/delassus.h>
+#include <compliance/effective_stiffness.h>
+#include <detection/detection.h>
 #include <gtest/gtest.h>
 #include <material_registry.h>
 #include <mesh_fixtures.h>

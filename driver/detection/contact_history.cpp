@@ -1,7 +1,5 @@
 #include "contact_history.h"
 
-#include "moreau_jean.h"
-
 namespace softpack::dynamics
 {
 
@@ -42,11 +40,11 @@ void ImpulseHistory::restore(const std::vector<Entry>& entries)
     _last[{key[0], key[1], key[2]}] = R;
 }
 
-void ContactForceAverage::add_step(const MoreauJean& scheme)
+void ContactForceAverage::add_step(const std::vector<Contact>& contacts,
+                                   std::span<const double> R,
+                                   std::size_t num_walls, double h)
 {
-  const std::vector<Contact>& contacts = scheme.contacts();
-  const std::vector<double>& R = scheme.impulses();
-  _wall_impulse.resize(scheme.walls().size(), {0, 0});
+  _wall_impulse.resize(num_walls, {0, 0});
   for (std::size_t a = 0; a < contacts.size(); ++a)
   {
     const Contact& c = contacts[a];
@@ -68,7 +66,7 @@ void ContactForceAverage::add_step(const MoreauJean& scheme)
       _wall_impulse[c.wall][1] -= impulse[1];
     }
   }
-  _duration += scheme.time_step();
+  _duration += h;
 }
 
 std::vector<AveragedContactForce> ContactForceAverage::contact_forces() const

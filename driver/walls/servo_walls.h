@@ -1,10 +1,10 @@
 #pragma once
 
-#include "contact_operator.h"
-#include "delassus.h"
-#include "detection.h"
-#include "energy_balance.h"
 #include "walls.h"
+#include <compliance/contact_operator.h>
+#include <compliance/delassus.h>
+#include <detection/detection.h>
+#include <energy/energy_balance.h>
 #include <span>
 #include <vector>
 

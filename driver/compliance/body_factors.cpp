@@ -33,9 +33,9 @@ bodies::BodyMatrix permuted(const bodies::BodyMatrix& A, const Permutation& P)
 Permutation input_order(const bodies::Body& body)
 {
   Permutation P(body.num_dofs());
-  for (std::size_t k = 0; k < body.input_rank.size(); ++k)
+  for (std::size_t k = 0; k < body.input_position.size(); ++k)
     for (int c = 0; c < 2; ++c)
-      P.indices()[2 * k + c] = 2 * body.input_rank[k] + c;
+      P.indices()[2 * k + c] = 2 * body.input_position[k] + c;
   return P;
 }
 
@@ -69,8 +69,7 @@ bool same_pattern(const bodies::BodyMatrix& A, const bodies::BodyMatrix& B)
 } // namespace
 
 BodyFactors::BodyFactors(const bodies::BodySet& bodies,
-                         const std::vector<bodies::BodyMatrix>& patterns,
-                         std::span<const char> owned)
+                         const std::vector<bodies::BodyMatrix>& patterns)
     : _patterns(&patterns), _rows(bodies.num_bodies(), 0),
       _pattern_of(bodies.num_bodies(), -1), _perm(bodies.num_bodies()),
       _values(bodies.num_bodies()), _inverse_d(bodies.num_bodies())
@@ -80,8 +79,8 @@ BodyFactors::BodyFactors(const bodies::BodySet& bodies,
   for (int b = 0; b < bodies.num_bodies(); ++b)
   {
     _rows[b] = bodies.body(b).num_dofs();
-    if (!owned.empty() && !owned[b])
-      continue; // its input order is its owner's
+    if (!bodies.is_local(b))
+      continue; // factorized where it is local
     const Permutation to_input = input_order(bodies.body(b));
     bodies::BodyMatrix canonical = permuted(patterns[b], to_input);
     const std::uint64_t h = pattern_hash(canonical);

@@ -5,8 +5,8 @@
 #include <Eigen/SparseCholesky>
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
-#include <dynamics/body_factors.h>
-#include <dynamics/damping.h>
+#include <compliance/body_factors.h>
+#include <compliance/damping.h>
 #include <gtest/gtest.h>
 #include <material_registry.h>
 #include <mesh_fixtures.h>
@@ -81,15 +81,15 @@ TEST(BodyFactors, ACopyListedInAnotherNodeOrderHasItsOwnPattern)
   for (std::int64_t& v : reversed.cells)
     v = n - 1 - v;
   bodies::BodySet bodies(
-      test::bodies_mesh({test::disk(0, 0, 0.01, 6),
-                         test::disk(0.03, 0, 0.01, 6), reversed}),
+      test::bodies_mesh(
+          {test::disk(0, 0, 0.01, 6), test::disk(0.03, 0, 0.01, 6), reversed}),
       forms::find_material("neo_hookean"),
       bodies::plane_strain_parameters(0.15e6), 1180);
   const std::vector<bodies::BodyMatrix>& M = bodies.consistent_mass();
   dynamics::BodyFactors factors(bodies, M);
   EXPECT_EQ(factors.num_patterns(), 2);
-  ASSERT_TRUE(factors.factorize([&](int b, bodies::BodyMatrix& A)
-                                { A = M[b]; }));
+  ASSERT_TRUE(
+      factors.factorize([&](int b, bodies::BodyMatrix& A) { A = M[b]; }));
   const Eigen::VectorXd y = Eigen::VectorXd::Ones(M[2].rows());
   const Eigen::VectorXd x2 = factors.solve(2, y);
   EXPECT_LT((M[2].selfadjointView<Eigen::Lower>() * x2 - y).norm() / y.norm(),

@@ -1,0 +1,119 @@
+#include "rebalance.h"
+
+#include "partition.h"
+#include <stdexcept>
+#include <string>
+
+namespace softpack::parallel
+{
+
+std::vector<double> body_centres(const bodies::BodySet& bodies,
+                                 std::span<const double> x,
+                                 std::span<const int> which)
+{
+  std::vector<double> centres(2 * bodies.num_bodies(), 0.0);
+  for (const int b : which)
+  {
+    const bodies::Body& body = bodies.body(b);
+    for (std::int32_t node : body.nodes)
+      for (int c = 0; c < 2; ++c)
+        centres[2 * b + c] += x[2 * node + c] / body.nodes.size();
+  }
+  return centres;
+}
+
+std::vector<int>
+drifted_split(const Distribution& distribution, const bodies::BodySet& bodies,
+              std::span<const double> x, std::span<const double> weights,
+              std::span<const std::array<int, 2>> links, double tolerance)
+{
+  const Communicator& comm = distribution.comm();
+  if (!comm.distributed())
+    return {};
+  // One owner computes each centre: the sum is its value, bit for bit.
+  std::vector<double> centres = body_centres(bodies, x, bodies.local_bodies());
+  comm.sum(centres);
+  std::vector<int> fresh = partition_bodies(centres, weights, comm.size());
+  if (!split_has_drifted(distribution.index_map().body_rank(), fresh,
+                         comm.size(), weights, links, tolerance))
+    return {};
+  return fresh;
+}
+
+namespace
+{
+/// Visit body b's entries that travel with it: displacement, reference
+/// coordinates, then the given (nonempty) vectors
+template <typename Visit>
+void body_entries(bodies::BodySet& bodies, int b,
+                  std::span<std::vector<double>* const> vectors, Visit&& visit)
+{
+  std::vector<std::span<double>> all = {bodies.displacement(),
+                                        bodies.stored_reference_coordinates()};
+  for (std::vector<double>* v : vectors)
+    if (!v->empty())
+      all.emplace_back(*v);
+  for (const std::span<double> v : all)
+    for (const std::int32_t node : bodies.body(b).nodes)
+      for (int c = 0; c < 2; ++c)
+        visit(v[2 * node + c]);
+}
+} // namespace
+
+void move_bodies(Distribution& distribution, std::vector<int> split,
+                 bodies::BodySet& bodies,
+                 std::span<std::vector<double>* const> vectors)
+{
+  const Communicator& comm = distribution.comm();
+  const int rank = comm.rank(), nb = bodies.num_bodies();
+  const std::vector<int> before = distribution.index_map().body_rank();
+  if (split.size() != before.size())
+    throw std::invalid_argument("move_bodies: a rank for each body");
+  // The moving bodies' entries and cell lists (a rigid body's are on
+  // every rank)
+  std::vector<std::vector<double>> to_rank(comm.size());
+  std::vector<std::vector<std::int32_t>> lists_to_rank(comm.size());
+  for (int b = 0; b < nb; ++b)
+    if (before[b] == rank && split[b] != rank)
+    {
+      body_entries(bodies, b, vectors,
+                   [&](double x) { to_rank[split[b]].push_back(x); });
+      if (!bodies.rigid(b))
+      {
+        const std::vector<std::int32_t> lists = bodies.cell_lists(b);
+        std::vector<std::int32_t>& out = lists_to_rank[split[b]];
+        out.insert(out.end(), lists.begin(), lists.end());
+      }
+    }
+  // Received in the senders' rank order, each sender's bodies in order
+  const std::vector<double> in = comm.exchange_items(to_rank);
+  const std::vector<std::int32_t> lists_in = comm.exchange_items(lists_to_rank);
+  long moved = 0;
+  for (int b = 0; b < nb; ++b)
+    moved += split[b] != before[b];
+  distribution.count_rebalance(moved);
+  distribution.assign(std::move(split), bodies);
+  for (std::vector<double>* v : vectors)
+    if (!v->empty())
+      bodies.remap(*v);
+  const std::vector<int>& after = distribution.index_map().body_rank();
+  std::size_t k = 0, l = 0;
+  for (int r = 0; r < comm.size(); ++r)
+    for (int b = 0; b < nb; ++b)
+      if (before[b] == r && r != rank && after[b] == rank)
+      {
+        body_entries(bodies, b, vectors, [&](double& x) { x = in[k++]; });
+        if (!bodies.rigid(b))
+          l += bodies.take_cell_lists(b, std::span(lists_in).subspan(l));
+      }
+  if (k != in.size() || l != lists_in.size())
+    throw std::logic_error("move_bodies: " + std::to_string(in.size()) +
+                           " entries and " + std::to_string(lists_in.size()) +
+                           " list entries received, " + std::to_string(k) +
+                           " and " + std::to_string(l) + " expected");
+  // The arriving bodies' masses from their reference coordinates and
+  // cells, now here
+  bodies.set_local(distribution.index_map().local_bodies());
+}
+
+} // namespace softpack::parallel
