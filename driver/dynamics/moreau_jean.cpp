@@ -17,8 +17,8 @@ namespace softpack::dynamics
 MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
                        MoreauJeanOptions options,
                        parallel::Distribution distribution)
-    : _bodies(bodies), _dist(std::move(distribution)), _walls(std::move(walls)),
-      _options(checked(options)),
+    : _bodies(bodies), _exchange(std::move(distribution)),
+      _walls(std::move(walls)), _options(checked(options)),
       _detection(detection_options(options.contact)),
       _nlgs(nlgs_options(options.contact)), _damping{options.damping.alpha,
                                                      options.damping.beta},
@@ -36,9 +36,9 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
   _rigid.zero(_f_int);
   // Each body's where it is local (its interior is stored there only)
   _body_strain = _bodies.body_strain_energy();
-  _dist.scatterer().share_by_body(_body_strain, 1);
+  dist().scatterer().share_by_body(_body_strain, 1);
   // (serial: energy() computes it when asked, from the bodies as they are)
-  _strain_shared = _dist.distributed();
+  _strain_shared = dist().distributed();
   _energy.strain0 =
       std::accumulate(_body_strain.begin(), _body_strain.end(), 0.0);
   link_walls(_walls);
@@ -60,7 +60,7 @@ double MoreauJean::body_kinetic_energy() const
 {
   const Vectors v = gather(_v);
   double e = kinetic_energy(v, mass_products(v), _bodies.local_bodies());
-  _dist.comm().sum(std::span<double>(&e, 1));
+  dist().comm().sum(std::span<double>(&e, 1));
   return e;
 }
 
@@ -103,7 +103,8 @@ MoreauJean::StepContacts
 MoreauJean::prepare_contacts(const std::vector<double>& v_old)
 {
   const double h = _h, th = _options.time.theta;
-  _contacts = detect(_bodies.current_coordinates());
+  _contacts = _exchange.detect(_bodies, _bodies.current_coordinates(), _walls,
+                               _detection);
   StepContacts sc{ContactOperator(_contacts, _walls), {}};
   const std::vector<double> U_old = sc.H.relative_velocity(_bodies, v_old);
   // Signorini on the predicted gap g~ = g + h((1-th) U_n- + th U_n+):
@@ -173,6 +174,20 @@ void MoreauJean::factorize_tangent(StepReport* report)
   _products_valid = false;
   if (report)
     report->seconds.factorization += seconds_since(t0);
+}
+
+void MoreauJean::set_delassus(const StepContacts& sc,
+                              contact::FrictionContactProblem2D& problem,
+                              StepReport& report)
+{
+  const auto t0 = clock::now();
+  problem.W = _exchange.delassus(
+      _contacts,
+      delassus_blocks(_bodies, sc.H, _kbar,
+                      _options.contact.delassus_drop_tolerance, &_rigid),
+      sc.servo.couplings);
+  _sweep_plan.reset();
+  report.seconds.delassus += seconds_since(t0);
 }
 
 void MoreauJean::refactorize(const StepContacts& sc,

@@ -19,8 +19,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
-#include <parallel/contact_domains.h>
-#include <parallel/distribution.h>
+#include <parallel/contact_exchange.h>
 #include <softpack/parameters.h>
 #include <vector>
 #include <walls/walls.h>
@@ -153,11 +152,11 @@ public:
   /// when bodies are copies of a few meshes)
   int factor_patterns() const { return _kbar.factor_patterns(); }
   /// The bodies over the processes, and the collectives' volume so far
-  const parallel::Distribution& distribution() const { return _dist; }
+  const parallel::Distribution& distribution() const { return dist(); }
   /// What the domain-wise contact solves have sent so far (distributed)
   const parallel::ContactTraffic& contact_traffic() const
   {
-    return _contact_traffic;
+    return _exchange.traffic();
   }
 
 private:
@@ -169,10 +168,10 @@ private:
   struct StepContacts;
   /// What the step knows before its Newton iterations
   struct StepStart;
-  /// The contacts at the node coordinates x: a distributed run's ranks
-  /// each detect those of their bodies (detect_contacts' shares) and put
-  /// the shares together in the serial order
-  std::vector<Contact> detect(std::span<const double> x) const;
+  const parallel::Distribution& dist() const
+  {
+    return _exchange.distribution();
+  }
   /// Before a refactorization of a distributed run: split the bodies
   /// again if the split has drifted (parallel::drifted_split), and
   /// give the per-body work to the new owners
@@ -184,23 +183,11 @@ private:
   contact::FrictionContactProblem2D prepare_problem(const StepContacts& sc,
                                                     StepReport& report);
   bool needs_refactorization() const;
-  /// W into `problem` and the plan of this rank's share of the contact
-  /// solves (_domains): when distributed, W's rows of this rank's contacts
-  /// only, from the blocks of every rank's bodies (their compliances)
+  /// W into `problem` from the local bodies' compliances (and the plan of
+  /// the contact solves, parallel::ContactExchange::delassus)
   void set_delassus(const StepContacts& sc,
                     contact::FrictionContactProblem2D& problem,
                     StepReport& report);
-  /// The rank of each contact's candidate body (empty when serial)
-  std::vector<int> contact_owners() const;
-  /// The problem with W's rows of every rank (a collective), to write an
-  /// unsolved problem whole
-  contact::FrictionContactProblem2D
-  whole_problem(const contact::FrictionContactProblem2D& problem) const;
-  /// The entries of the contact nodes (local nodes per body) of a global
-  /// vector filled by their owners, made whole on every rank
-  void share_contact_nodes(
-      const std::vector<std::vector<std::int32_t>>& contact_nodes,
-      std::span<double> global) const;
   /// add_body_terms over the local bodies and their part of the stiffness
   /// dissipation, summed over the processes, and the bodies' kinetic
   /// energy at the step's end (in the same sum)
@@ -259,11 +246,9 @@ private:
   void scatter(const Vectors& per_body, std::span<double> global) const;
 
   bodies::BodySet& _bodies;
-  parallel::Distribution _dist;
-  parallel::ContactTraffic _contact_traffic;
-  /// This rank's share of the step's contact solves (none when serial),
-  /// planned with each W
-  std::optional<parallel::ContactDomains> _domains;
+  /// The distribution, and the contact problem's exchanges between
+  /// processes
+  parallel::ContactExchange _exchange;
   /// The contact problem renumbered for its sweeps (serial runs): made at
   /// the first solve after W changes, reused by the step's other Newton
   /// iterations

@@ -82,7 +82,7 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
         _v_contact[2 * body.nodes[node] + c] = v_free[c];
     }
   }
-  share_contact_nodes(sc.contact_nodes, _v_contact);
+  _exchange.share_contact_nodes(_bodies, sc.contact_nodes, _v_contact);
   const std::vector<double> U_free =
       sc.H.relative_velocity(_bodies, _v_contact);
   report.seconds.solves += seconds_since(t0);
@@ -91,13 +91,12 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
   for (std::size_t i = 0; i < U_free.size(); ++i)
     problem.q[i] = U_free[i] + sc.shift[i];
   std::vector<double> U(U_free.size()), start = _R;
-  if (!_domains && !_sweep_plan && contact::renumbers(problem, _nlgs))
+  const contact::SweepDomain* domain = _exchange.domain();
+  if (!domain && !_sweep_plan && contact::renumbers(problem, _nlgs))
     _sweep_plan.emplace(problem, _nlgs);
   const contact::NlgsResult nlgs = contact::solve_nlgs(
-      problem, _R, U, _nlgs, _domains ? &_domains->domain() : nullptr,
-      _sweep_plan ? &*_sweep_plan : nullptr);
-  if (_domains)
-    _contact_traffic.sweeps += nlgs.iterations;
+      problem, _R, U, _nlgs, domain, _sweep_plan ? &*_sweep_plan : nullptr);
+  _exchange.count_sweeps(nlgs.iterations);
   report.nlgs_iterations += nlgs.iterations;
   report.nlgs_error = nlgs.error;
   report.nlgs_converged = nlgs.converged;
@@ -107,7 +106,7 @@ void MoreauJean::solve_contacts(const StepContacts& sc, const Vectors& vk,
     ++report.unsolved_contact_solves;
     report.unsolved_problem =
         std::make_shared<const contact::FrictionContactProblem2D>(
-            whole_problem(problem));
+            _exchange.whole_problem(problem));
     report.unsolved_start = std::move(start);
   }
   report.seconds.nlgs += seconds_since(t0);
@@ -214,7 +213,7 @@ void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
     // holds the local bodies' entries only)
     double largest[2] = {newton_iteration(k, sc, start, vk, problem, report),
                          max_abs(vk)};
-    _dist.comm().max(largest);
+    dist().comm().max(largest);
     const double change = largest[0];
     report.newton_iterations = k + 1;
     if (!std::isfinite(change) || !std::isfinite(largest[1]))
@@ -239,7 +238,7 @@ void MoreauJean::newton(const StepContacts& sc, const StepStart& start,
   }
   // The boundaries (what every process reads between outputs); the
   // interiors stay where they are local (io::OutputGather gathers them).
-  _dist.scatterer().share_boundaries(vk);
+  dist().scatterer().share_boundaries(vk);
   _v = std::move(vk);
 }
 

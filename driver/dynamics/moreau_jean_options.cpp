@@ -27,7 +27,7 @@ contact::NlgsOptions nlgs_options(const parameters::Contact& contact)
   o.order = contact::sweep_order(contact.nlgs_order);
   // Large problems are swept in split order, on two threads when the
   // driver has them; the order depends on the problem's size only, so a
-  // run gives the same answers on any number of threads or ranks. Below a
+  // run gives the same answers on any number of threads or processes. Below a
   // few hundred contacts a sweep is too short to pay for its two
   // synchronizations.
   o.split_min_contacts = split_sweep_min_contacts;

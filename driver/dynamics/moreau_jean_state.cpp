@@ -28,7 +28,7 @@ const EnergyBalance& MoreauJean::energy() const
   {
     if (!_strain_shared)
     {
-      require_output(!_dist.distributed(), "energy");
+      require_output(!dist().distributed(), "energy");
       _body_strain = _bodies.body_strain_energy();
     }
     _energy.strain =
@@ -43,7 +43,7 @@ const EnergyBalance& MoreauJean::energy() const
 
 SchemeState MoreauJean::state() const
 {
-  require_output(!_dist.distributed(), "state");
+  require_output(!dist().distributed(), "state");
   return stored_state();
 }
 

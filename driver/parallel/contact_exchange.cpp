@@ -1,0 +1,140 @@
+#include "contact_exchange.h"
+
+#include <algorithm>
+
+namespace softpack::parallel
+{
+namespace
+{
+/// A block of W on the wire (Eigen's matrices are not plain bytes): its
+/// body (-1 when not needed), row, column and entries in column order
+struct WireBlock
+{
+  std::int32_t body, a, b;
+  double entries[4];
+};
+
+WireBlock to_wire(std::int32_t body, std::int32_t a, std::int32_t b,
+                  const Eigen::Matrix2d& block)
+{
+  return {body, a, b, {block(0, 0), block(1, 0), block(0, 1), block(1, 1)}};
+}
+
+Eigen::Matrix2d from_wire(const WireBlock& w)
+{
+  return Eigen::Map<const Eigen::Matrix2d>(w.entries);
+}
+
+/// Each rank's blocks sent to the owners of their rows, and this rank's
+/// rows received, in the body order of the serial build (each body's blocks
+/// come from its one owner, in its order): W's rows then sum alike.
+std::vector<dynamics::DelassusBlock>
+route_blocks(const Communicator& comm,
+             const std::vector<dynamics::DelassusBlock>& mine,
+             std::span<const int> row_owner)
+{
+  std::vector<std::vector<WireBlock>> to_rank(comm.size());
+  for (const dynamics::DelassusBlock& k : mine)
+    to_rank[row_owner[k.a]].push_back(to_wire(k.body, k.a, k.b, k.block));
+  std::vector<dynamics::DelassusBlock> blocks;
+  for (const WireBlock& w : comm.exchange_items(to_rank))
+    blocks.push_back({w.body, w.a, w.b, from_wire(w)});
+  std::stable_sort(
+      blocks.begin(), blocks.end(),
+      [](const dynamics::DelassusBlock& x, const dynamics::DelassusBlock& y)
+      { return x.body < y.body; });
+  return blocks;
+}
+} // namespace
+
+ContactExchange::ContactExchange(Distribution distribution)
+    : _dist(std::move(distribution))
+{
+}
+
+std::vector<dynamics::Contact>
+ContactExchange::detect(const bodies::BodySet& bodies,
+                        std::span<const double> x,
+                        const std::vector<dynamics::Wall>& walls,
+                        const dynamics::DetectionOptions& options) const
+{
+  std::vector<dynamics::Contact> contacts =
+      dynamics::detect_contacts(bodies, x, walls, options);
+  if (!_dist.distributed())
+    return contacts;
+  contacts = _dist.comm().gather_items<dynamics::Contact>(contacts);
+  const int nb = bodies.num_bodies();
+  std::stable_sort(contacts.begin(), contacts.end(),
+                   [nb](const dynamics::Contact& a, const dynamics::Contact& b)
+                   {
+                     return dynamics::contact_order_key(a, nb) <
+                            dynamics::contact_order_key(b, nb);
+                   });
+  return contacts;
+}
+
+contact::DelassusMatrix
+ContactExchange::delassus(const std::vector<dynamics::Contact>& contacts,
+                          std::vector<dynamics::DelassusBlock> blocks,
+                          std::span<const dynamics::WallCoupling> couplings)
+{
+  _domains.reset();
+  if (!_dist.distributed())
+    return dynamics::assemble_delassus(contacts.size(), blocks, couplings);
+  // A contact belongs to its candidate node's body.
+  const std::vector<int>& body_rank = _dist.index_map().body_rank();
+  const int rank = _dist.comm().rank();
+  std::vector<int> owner(contacts.size());
+  std::vector<char> rows(contacts.size());
+  for (std::size_t a = 0; a < contacts.size(); ++a)
+  {
+    owner[a] = body_rank[contacts[a].candidate_body];
+    rows[a] = owner[a] == rank;
+  }
+  blocks = route_blocks(_dist.comm(), blocks, owner);
+  contact::DelassusMatrix W =
+      dynamics::assemble_delassus(contacts.size(), blocks, couplings, rows);
+  _domains.emplace(_dist.comm(), W, owner, _traffic);
+  return W;
+}
+
+contact::FrictionContactProblem2D ContactExchange::whole_problem(
+    const contact::FrictionContactProblem2D& problem) const
+{
+  if (!_dist.distributed())
+    return problem;
+  const contact::DelassusMatrix& W = problem.W;
+  std::vector<WireBlock> mine;
+  for (const std::vector<std::int32_t>& stage : _domains->plan().stages)
+    for (const std::int32_t a : stage)
+    {
+      mine.push_back(to_wire(-1, a, a, W.diagonal(a)));
+      const auto columns = W.row_columns(a);
+      const auto blocks = W.row_blocks(a);
+      for (std::size_t k = 0; k < columns.size(); ++k)
+        mine.push_back(to_wire(-1, a, columns[k], blocks[k]));
+    }
+  contact::FrictionContactProblem2D whole = problem;
+  whole.W = contact::DelassusMatrix(W.num_contacts());
+  for (const WireBlock& w : _dist.comm().gather_items<WireBlock>(mine))
+    whole.W.add_block(w.a, w.b, from_wire(w));
+  whole.W.finalize();
+  return whole;
+}
+
+void ContactExchange::share_contact_nodes(
+    const bodies::BodySet& bodies,
+    const std::vector<std::vector<std::int32_t>>& contact_nodes,
+    std::span<double> global) const
+{
+  if (!_dist.distributed())
+    return;
+  // Only the contact nodes' entries: every rank knows which they are.
+  std::vector<std::int32_t> nodes;
+  for (std::size_t b = 0; b < contact_nodes.size(); ++b)
+    for (const std::int32_t node : contact_nodes[b])
+      nodes.push_back(bodies.body(static_cast<int>(b)).nodes[node]);
+  _dist.scatterer().share_nodes(global, nodes);
+}
+
+} // namespace softpack::parallel
