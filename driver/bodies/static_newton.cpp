@@ -16,6 +16,34 @@ void constrain(BodyMatrix& A, const std::vector<char>& fixed)
       if (fixed[it.row()] || fixed[it.col()])
         it.valueRef() = it.row() == it.col() ? 1.0 : 0.0;
 }
+/// u += du of body b, with K_b du = -r_b on its free DOFs (its constrained
+/// tangent factorized; its pattern analysed at the first iteration)
+void update_body(const BodySet& bodies, int b, BodyMatrix& K,
+                 Eigen::SimplicialLDLT<BodyMatrix>& factor, bool first,
+                 std::span<const char> fixed, std::span<const double> r,
+                 std::span<double> u)
+{
+  const Body& body = bodies.body(b);
+  std::vector<char> body_fixed(body.num_dofs());
+  Eigen::VectorXd rb(body.num_dofs());
+  for (std::size_t k = 0; k < body.nodes.size(); ++k)
+    for (int c = 0; c < 2; ++c)
+    {
+      body_fixed[2 * k + c] = fixed[2 * body.nodes[k] + c];
+      rb[2 * k + c] = r[2 * body.nodes[k] + c];
+    }
+  constrain(K, body_fixed);
+  if (first)
+    factor.analyzePattern(K);
+  factor.factorize(K);
+  if (factor.info() != Eigen::Success)
+    throw std::runtime_error("static Newton: tangent of body " +
+                             std::to_string(b) + " is singular");
+  const Eigen::VectorXd du = factor.solve(-rb);
+  for (std::size_t k = 0; k < body.nodes.size(); ++k)
+    for (int c = 0; c < 2; ++c)
+      u[2 * body.nodes[k] + c] += du[2 * k + c];
+}
 } // namespace
 
 NewtonHistory solve_static_equilibrium(BodySet& bodies,
@@ -61,28 +89,7 @@ NewtonHistory solve_static_equilibrium(BodySet& bodies,
 
     bodies.tangent(K);
     for (int b = 0; b < bodies.num_bodies(); ++b)
-    {
-      const Body& body = bodies.body(b);
-      std::vector<char> body_fixed(body.num_dofs());
-      Eigen::VectorXd rb(body.num_dofs());
-      for (std::size_t k = 0; k < body.nodes.size(); ++k)
-        for (int c = 0; c < 2; ++c)
-        {
-          body_fixed[2 * k + c] = fixed[2 * body.nodes[k] + c];
-          rb[2 * k + c] = r[2 * body.nodes[k] + c];
-        }
-      constrain(K[b], body_fixed);
-      if (it == 0)
-        factor[b].analyzePattern(K[b]);
-      factor[b].factorize(K[b]);
-      if (factor[b].info() != Eigen::Success)
-        throw std::runtime_error("static Newton: tangent of body " +
-                                 std::to_string(b) + " is singular");
-      const Eigen::VectorXd du = factor[b].solve(-rb);
-      for (std::size_t k = 0; k < body.nodes.size(); ++k)
-        for (int c = 0; c < 2; ++c)
-          u[2 * body.nodes[k] + c] += du[2 * k + c];
-    }
+      update_body(bodies, b, K[b], factor[b], it == 0, fixed, r, u);
   }
 }
 

@@ -15,16 +15,13 @@ struct BodyShare
   std::vector<std::pair<int, double>> slots;
   std::vector<std::int32_t> nodes;
 };
-} // namespace
+using BodyShares = std::vector<std::vector<BodyShare>>;
 
-std::vector<DelassusBlock> delassus_blocks(const bodies::BodySet& bodies,
-                                           const ContactOperator& H,
-                                           const EffectiveStiffness& Kbar,
-                                           double drop_tolerance,
-                                           const RigidBodies* rigid)
+/// Each body's shares of the contacts, in contact order
+BodyShares body_shares(const bodies::BodySet& bodies, const ContactOperator& H,
+                       const EffectiveStiffness& Kbar)
 {
-  auto is_rigid = [&](int b) { return rigid && rigid->rigid(b); };
-  std::vector<std::vector<BodyShare>> shares(bodies.num_bodies());
+  BodyShares shares(bodies.num_bodies());
   for (std::size_t a = 0; a < H.size(); ++a)
     for (const NodeTerm& term : H.terms(a))
     {
@@ -35,7 +32,83 @@ std::vector<DelassusBlock> delassus_blocks(const bodies::BodySet& bodies,
           {Kbar.boundary_slot(term.body, term.node), term.weight});
       list.back().nodes.push_back(term.node);
     }
+  return shares;
+}
 
+/// A rigid body's blocks: sum_ij w_i w_j P_i Mr^-1 P_j^T, in the contacts'
+/// frames
+void rigid_body_blocks(int b, const std::vector<BodyShare>& shares,
+                       const ContactOperator& H, const RigidBodies& rigid,
+                       std::vector<DelassusBlock>& W)
+{
+  for (const BodyShare& sa : shares)
+    for (const BodyShare& sb : shares)
+    {
+      Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
+      for (std::size_t i = 0; i < sa.nodes.size(); ++i)
+        for (std::size_t j = 0; j < sb.nodes.size(); ++j)
+          block += sa.slots[i].second * sb.slots[j].second *
+                   rigid.compliance(b, sa.nodes[i], sb.nodes[j]);
+      W.push_back(
+          {b, sa.contact, sb.contact,
+           H.frame(sa.contact).transpose() * block * H.frame(sb.contact)});
+    }
+}
+
+/// A deformable body's blocks from its compliance columns, those below
+/// drop_tolerance of their diagonals' dropped
+void soft_body_blocks(int b, const std::vector<BodyShare>& shares,
+                      const ContactOperator& H, const EffectiveStiffness& Kbar,
+                      double drop_tolerance, std::vector<DelassusBlock>& W)
+{
+  auto body_block = [&](const BodyShare& sa, const BodyShare& sb)
+  {
+    Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
+    for (const auto& [i, wi] : sa.slots)
+      for (const auto& [j, wj] : sb.slots)
+        block += wi * wj * Kbar.boundary_block(b, i, j);
+    return block;
+  };
+  // All the body's blocks first: a pair is kept or dropped as one, so that
+  // W's pattern is symmetric, which a distributed run's plan relies on
+  // (contact::plan_domain). Kbar^-1 is symmetric: each pair is computed
+  // once and W_ba = W_ab^T, exactly (computed apart, the two differed by
+  // rounding, at twice the cost).
+  const std::size_t n = shares.size();
+  std::vector<Eigen::Matrix2d> blocks(n * n);
+  for (std::size_t ka = 0; ka < n; ++ka)
+    for (std::size_t kb = ka; kb < n; ++kb)
+    {
+      const BodyShare &sa = shares[ka], &sb = shares[kb];
+      blocks[ka * n + kb] = H.frame(sa.contact).transpose() *
+                            body_block(sa, sb) * H.frame(sb.contact);
+      if (kb != ka)
+        blocks[kb * n + ka] = blocks[ka * n + kb].transpose();
+    }
+  std::vector<double> diagonal_norm(n);
+  for (std::size_t k = 0; k < n; ++k)
+    diagonal_norm[k] = blocks[k * n + k].norm();
+  for (std::size_t ka = 0; ka < n; ++ka)
+    for (std::size_t kb = 0; kb < n; ++kb)
+    {
+      const std::int32_t a = shares[ka].contact, c = shares[kb].contact;
+      const double below =
+          drop_tolerance * std::sqrt(diagonal_norm[ka] * diagonal_norm[kb]);
+      if (a != c && drop_tolerance > 0 && blocks[ka * n + kb].norm() < below)
+        continue;
+      W.push_back({b, a, c, blocks[ka * n + kb]});
+    }
+}
+} // namespace
+
+std::vector<DelassusBlock> delassus_blocks(const bodies::BodySet& bodies,
+                                           const ContactOperator& H,
+                                           const EffectiveStiffness& Kbar,
+                                           double drop_tolerance,
+                                           const RigidBodies* rigid)
+{
+  auto is_rigid = [&](int b) { return rigid && rigid->rigid(b); };
+  const BodyShares shares = body_shares(bodies, H, Kbar);
   // The compliance columns (one solve per new boundary DOF) body by body on
   // all cores; then the blocks, in order.
   const int nb = bodies.num_bodies();
@@ -50,76 +123,18 @@ std::vector<DelassusBlock> delassus_blocks(const bodies::BodySet& bodies,
         slots.push_back(slot);
     Kbar.prepare_columns(b, slots);
   }
-
   // Each body's blocks on all cores, then joined in body order: the same
   // list, in the same order, as one thread makes.
   std::vector<std::vector<DelassusBlock>> by_body(nb);
-  auto body_block = [&](int b, const BodyShare& sa, const BodyShare& sb)
-  {
-    Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
-    for (const auto& [i, wi] : sa.slots)
-      for (const auto& [j, wj] : sb.slots)
-        block += wi * wj * Kbar.boundary_block(b, i, j);
-    return block;
-  };
-  // A rigid body's block: sum_ij w_i w_j P_i Mr^-1 P_j^T.
-  auto rigid_block = [&](int b, const BodyShare& sa, const BodyShare& sb)
-  {
-    Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
-    for (std::size_t i = 0; i < sa.nodes.size(); ++i)
-      for (std::size_t j = 0; j < sb.nodes.size(); ++j)
-        block += sa.slots[i].second * sb.slots[j].second *
-                 rigid->compliance(b, sa.nodes[i], sb.nodes[j]);
-    return block;
-  };
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
   {
     if (shares[b].empty() || !bodies.is_local(b))
       continue;
-    std::vector<DelassusBlock>& W = by_body[b];
-    auto add = [&](std::int32_t i, std::int32_t j, const Eigen::Matrix2d& block)
-    {
-      W.push_back({b, i, j, block});
-    };
     if (is_rigid(b))
-    {
-      for (const BodyShare& sa : shares[b])
-        for (const BodyShare& sb : shares[b])
-          add(sa.contact, sb.contact,
-              H.frame(sa.contact).transpose() * rigid_block(b, sa, sb) *
-                  H.frame(sb.contact));
-      continue;
-    }
-    // All the body's blocks first: a pair is kept or dropped as one, so that
-    // W's pattern is symmetric, which a distributed run's plan relies on
-    // (contact::plan_domain). Kbar^-1 is symmetric: each pair is computed
-    // once and W_ba = W_ab^T, exactly (computed apart, the two differed by
-    // rounding, at twice the cost).
-    const std::size_t n = shares[b].size();
-    std::vector<Eigen::Matrix2d> blocks(n * n);
-    for (std::size_t ka = 0; ka < n; ++ka)
-      for (std::size_t kb = ka; kb < n; ++kb)
-      {
-        const BodyShare &sa = shares[b][ka], &sb = shares[b][kb];
-        blocks[ka * n + kb] = H.frame(sa.contact).transpose() *
-                              body_block(b, sa, sb) * H.frame(sb.contact);
-        if (kb != ka)
-          blocks[kb * n + ka] = blocks[ka * n + kb].transpose();
-      }
-    std::vector<double> diagonal_norm(n);
-    for (std::size_t k = 0; k < n; ++k)
-      diagonal_norm[k] = blocks[k * n + k].norm();
-    for (std::size_t ka = 0; ka < n; ++ka)
-      for (std::size_t kb = 0; kb < n; ++kb)
-      {
-        const std::int32_t a = shares[b][ka].contact, c = shares[b][kb].contact;
-        const double below =
-            drop_tolerance * std::sqrt(diagonal_norm[ka] * diagonal_norm[kb]);
-        if (a != c && drop_tolerance > 0 && blocks[ka * n + kb].norm() < below)
-          continue;
-        add(a, c, blocks[ka * n + kb]);
-      }
+      rigid_body_blocks(b, shares[b], H, *rigid, by_body[b]);
+    else
+      soft_body_blocks(b, shares[b], H, Kbar, drop_tolerance, by_body[b]);
   }
   std::size_t total = 0;
   for (const std::vector<DelassusBlock>& list : by_body)

@@ -57,6 +57,52 @@ std::array<double, 2> segment_normal(std::span<const double> x, std::int32_t ga,
   return {ty / len, -tx / len};
 }
 
+/// The antagonist's boundary feature nearest to a point: the nearest
+/// segment that the point projects onto (-1: none) and the nearest vertex,
+/// with their squared distances
+struct NearestFeature
+{
+  double face_distance2 = std::numeric_limits<double>::infinity();
+  double vertex_distance2 = std::numeric_limits<double>::infinity();
+  std::int32_t face = -1, vertex = -1;
+  double face_xi = 0;
+};
+
+NearestFeature nearest_feature(const bodies::Body& ant,
+                               std::span<const double> x, double px, double py)
+{
+  // Squared distances: the nearest feature is the same, without a square
+  // root per segment (std::hypot here was half of the detection's time)
+  NearestFeature f;
+  for (std::size_t k = 0; k < ant.boundary_segments.size(); ++k)
+  {
+    const auto& seg = ant.boundary_segments[k];
+    const std::int32_t ga = ant.nodes[seg[0]], gb = ant.nodes[seg[1]];
+    const double ax = x[2 * ga], ay = x[2 * ga + 1];
+    const double tx = x[2 * gb] - ax, ty = x[2 * gb + 1] - ay;
+    const double length2 = tx * tx + ty * ty;
+    const double xi = ((px - ax) * tx + (py - ay) * ty) / length2;
+    if (xi >= 0 && xi <= 1)
+    {
+      const double cross = (px - ax) * ty - (py - ay) * tx;
+      const double d2 = cross * cross / length2;
+      if (d2 < f.face_distance2)
+      {
+        f.face_distance2 = d2;
+        f.face = static_cast<std::int32_t>(k);
+        f.face_xi = xi;
+      }
+    }
+    const double dv2 = (px - ax) * (px - ax) + (py - ay) * (py - ay);
+    if (dv2 < f.vertex_distance2)
+    {
+      f.vertex_distance2 = dv2;
+      f.vertex = seg[0];
+    }
+  }
+  return f;
+}
+
 /// Contact of a candidate node with the nearest feature of the antagonist's
 /// boundary: a face (the node projects inside a segment) or, in the shadow
 /// of a convex vertex, the vertex itself with the bisector of its two
@@ -70,40 +116,8 @@ void node_to_body(const bodies::BodySet& bodies, std::span<const double> x,
   const bodies::Body& ant = bodies.body(ant_body);
   const std::int32_t gc = bodies.body(cand_body).nodes[cand_node];
   const double px = x[2 * gc], py = x[2 * gc + 1];
-
-  // Squared distances: the nearest feature is the same, without a square
-  // root per segment (std::hypot here was half of the detection's time)
-  double face_distance2 = std::numeric_limits<double>::infinity();
-  double vertex_distance2 = face_distance2;
-  std::int32_t face = -1, vertex = -1;
-  double face_xi = 0;
-  for (std::size_t k = 0; k < ant.boundary_segments.size(); ++k)
-  {
-    const auto& seg = ant.boundary_segments[k];
-    const std::int32_t ga = ant.nodes[seg[0]], gb = ant.nodes[seg[1]];
-    const double ax = x[2 * ga], ay = x[2 * ga + 1];
-    const double tx = x[2 * gb] - ax, ty = x[2 * gb + 1] - ay;
-    const double length2 = tx * tx + ty * ty;
-    const double xi = ((px - ax) * tx + (py - ay) * ty) / length2;
-    if (xi >= 0 && xi <= 1)
-    {
-      const double cross = (px - ax) * ty - (py - ay) * tx;
-      const double d2 = cross * cross / length2;
-      if (d2 < face_distance2)
-      {
-        face_distance2 = d2;
-        face = static_cast<std::int32_t>(k);
-        face_xi = xi;
-      }
-    }
-    const double dv2 = (px - ax) * (px - ax) + (py - ay) * (py - ay);
-    if (dv2 < vertex_distance2)
-    {
-      vertex_distance2 = dv2;
-      vertex = seg[0];
-    }
-  }
-
+  const auto [face_distance2, vertex_distance2, face, vertex, face_xi] =
+      nearest_feature(ant, x, px, py);
   Contact c{cand_body, cand_node, ant_body, -1, {-1, -1},
             0.0,       {0, 0},    {0, 0},   0.0};
   if (face >= 0 && face_distance2 <= vertex_distance2)

@@ -1,7 +1,8 @@
 // The Moreau–Jean step: contacts and the refactor decision, the known part,
 // the attempts of a step, and the end-of-step update and accounts (the
-// Newton loop is in moreau_jean_newton.cpp).
+// Newton loop is newton_loop.h).
 #include "moreau_jean_step.h"
+#include "newton_loop.h"
 
 #include <algorithm>
 #include <chrono>
@@ -275,18 +276,23 @@ StepReport MoreauJean::step()
     }
     // Not solved at h: the step starts again at h / 2 (the iteration
     // matrix with it). Nothing of the attempt was kept but its time.
-    // (retry() succeeds only above the base step, where can_retry() held
-    // at the step's start too: h only falls within a step.)
-    // (a rebalance in the attempt changed the storage: u is fetched anew)
-    const std::span<double> u = _bodies.displacement();
-    if (_retry_u.size() != u.size())
-      throw std::logic_error("MoreauJean::step: a retry without the step's "
-                             "start (StepSize::retry against can_retry)");
     abandoned += report.seconds;
-    std::copy(_retry_u.begin(), _retry_u.end(), u.begin());
-    _v = _retry_v;
-    _matrix_age = -1;
+    return_to_step_start();
   }
+}
+
+void MoreauJean::return_to_step_start()
+{
+  // (retry() succeeds only above the base step, where can_retry() held at
+  // the step's start too: h only falls within a step.)
+  // (a rebalance in the attempt changed the storage: u is fetched anew)
+  const std::span<double> u = _bodies.displacement();
+  if (_retry_u.size() != u.size())
+    throw std::logic_error("MoreauJean::step: a retry without the step's "
+                           "start (StepSize::retry against can_retry)");
+  std::copy(_retry_u.begin(), _retry_u.end(), u.begin());
+  _v = _retry_v;
+  _matrix_age = -1;
 }
 
 MoreauJean::Attempt MoreauJean::attempt()
@@ -307,8 +313,20 @@ MoreauJean::Attempt MoreauJean::attempt()
   const std::span<const double> u = _bodies.displacement();
   StepStart start = start_step(std::vector<double>(u.begin(), u.end()), _v);
   report.seconds.solves += seconds_since(t0);
-  newton(sc, start, problem, report);
+  NewtonLoop(*this, sc, start, problem, report).run();
   return {std::move(report), std::move(sc), std::move(start)};
+}
+
+void MoreauJean::set_displacement(const std::vector<double>& u_old,
+                                  const std::vector<double>& v_old,
+                                  const std::vector<double>& v)
+{
+  const double h = _h, th = _options.time.theta;
+  std::span<double> u = _bodies.displacement();
+  for (std::size_t i = 0; i < u.size(); ++i)
+    u[i] = u_old[i] + h * (th * v[i] + (1 - th) * v_old[i]);
+  // Rigid bodies: the exact rigid motion of their iterate.
+  _rigid.displace(u, h, th);
 }
 
 void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,

@@ -160,6 +160,9 @@ public:
   }
 
 private:
+  /// The Newton iterations of a step (newton_loop.h) work on the scheme's
+  /// vectors and factors
+  friend class NewtonLoop;
   using Vectors = BodyVectors;
   /// state() from the stored entries: on a distributed run the vectors'
   /// entries of the interiors not stored are NaN
@@ -204,28 +207,11 @@ private:
   StepStart start_step(std::vector<double> u_old, std::vector<double> v_old);
   /// One attempt at a step: its contacts, start and report
   struct Attempt;
+  /// Back to the step's start after an attempt failed (a retry at h / 2)
+  void return_to_step_start();
   /// Detection, the contact problem and the Newton iterations of one
   /// attempt at the step, from the current state at step size _h
   Attempt attempt();
-  /// Newton iterations on the velocity; leaves the converged one in _v
-  void newton(const StepContacts& sc, const StepStart& start,
-              contact::FrictionContactProblem2D& problem, StepReport& report);
-  /// One Newton iteration: vk <- v_{k+1} on the local bodies (the other
-  /// entries zero); returns ||v_{k+1} - v_k||_inf over the local bodies
-  double newton_iteration(int k, const StepContacts& sc, const StepStart& start,
-                          std::vector<double>& vk,
-                          contact::FrictionContactProblem2D& problem,
-                          StepReport& report);
-  /// Newton residual of every body at the iterate v_k
-  Vectors residual(const Vectors& vk, const Vectors& f_int,
-                   const Vectors& f_ext, const Vectors& known) const;
-  /// Solve the contact problem at the free velocity v_k - Kbar^-1 r; the
-  /// new velocity v_k - Kbar^-1 (r - H R) of each local deformable body
-  /// that carries a contact goes to v_new (the others' stay empty)
-  void solve_contacts(const StepContacts& sc, const Vectors& vk,
-                      const Vectors& residual,
-                      contact::FrictionContactProblem2D& problem,
-                      StepReport& report, Vectors& v_new);
   /// q = q- + h (th v + (1 - th) v-) into the bodies' displacement
   void set_displacement(const std::vector<double>& u_old,
                         const std::vector<double>& v_old,

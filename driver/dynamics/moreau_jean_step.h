@@ -1,6 +1,6 @@
 #pragma once
 // What the parts of a Moreau–Jean step share (moreau_jean.cpp and
-// moreau_jean_newton.cpp): the step's contacts and start, and the clock of
+// newton_loop.cpp): the step's contacts and start, and the clock of
 // the per-part timings. Private to the scheme's implementation files.
 #include "moreau_jean.h"
 #include <walls/servo_walls.h>

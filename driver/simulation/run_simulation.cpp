@@ -17,6 +17,7 @@
 #include <numeric>
 #include <parallel/geometry_broadcast.h>
 #include <simulation/overlap_check.h>
+#include <simulation/rank_report.h>
 #include <simulation/stages.h>
 #include <sys/resource.h>
 
@@ -129,42 +130,6 @@ bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
   {
     throw std::runtime_error(config.file.string() + ": " + e.what());
   }
-}
-
-/// Per rank (a collective: every rank calls it): its bodies, the bytes it
-/// handed to collectives (before this call), their count, its peak
-/// resident memory, and what its domain-wise contact solves sent (bytes,
-/// messages, sweeps), as done.json's "mpi" entry.
-nlohmann::json rank_report(const parallel::Distribution& dist,
-                           const parallel::ContactTraffic& contact)
-{
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  const parallel::Communicator& comm = dist.comm();
-  const std::vector<int>& body_rank = dist.index_map().body_rank();
-  constexpr std::size_t n = 7;
-  const double mine[n] = {
-      double(std::count(body_rank.begin(), body_rank.end(), comm.rank())),
-      double(comm.bytes_sent()),
-      double(comm.messages()),
-      usage.ru_maxrss / 1024.0,
-      double(contact.bytes),
-      double(contact.messages),
-      double(contact.sweeps)};
-  const std::vector<double> all = comm.gather(mine);
-  const char* keys[n] = {"bodies",      "bytes_sent",      "collectives",
-                         "peak_rss_mb", "nlgs_bytes_sent", "nlgs_messages",
-                         "nlgs_sweeps"};
-  nlohmann::json report;
-  for (std::size_t k = 0; k < n; ++k)
-    report[keys[k]] = nlohmann::json::array();
-  for (std::size_t r = 0; r < all.size() / n; ++r)
-    for (std::size_t k = 0; k < n; ++k)
-      report[keys[k]].push_back(k == 3 ? nlohmann::json(all[n * r + k])
-                                       : nlohmann::json(long(all[n * r + k])));
-  report["rebalances"] = dist.rebalances();
-  report["bodies_moved"] = dist.bodies_moved();
-  return report;
 }
 
 /// The stop criterion met after `step` (counted from `first`), or "".
