@@ -6,8 +6,9 @@ protocol's settings (:class:`Params`) and configuration overrides
 (:func:`config_data`; the single-disk module doc explains each), the run
 (:func:`simulate`: scene, plates at the mesh's extreme nodes, driver.json,
 ``softpack-simulate`` in ``DIR/sim``), the plates' force curve
-(:func:`force_curve`) and the command-line checks before anything is
-meshed (:func:`refused`).
+(:func:`force_curve`), the command-line options both take
+(:func:`add_plate_arguments`) and the checks before anything is meshed
+(:func:`refused`).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from __future__ import annotations
 import sys
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -174,6 +176,45 @@ def force_curve(steps: dict, diameter: float, y_bottom0, y_top0,
     bottom = -steps["bottom_fy"] / scale   # ... and the bottom plate down
     return {"eps": eps, "delta": delta, "f_norm": 0.5 * (top + bottom),
             "f_norm_top": top, "f_norm_bottom": bottom}
+
+
+def add_plate_arguments(parser, defaults: Params, out: Path) -> None:
+    """Add the options both plate checks take (the body's size and mesh,
+    the loading, the driver's step, damping, friction and output interval),
+    with the check's own defaults (``defaults``, ``out``)."""
+    from softpack import cli
+
+    d = defaults
+    parser.add_argument("--diameter", type=cli.positive_float,
+                        default=d.diameter,
+                        help=f"diameter D, equal-area for a polygon (m,"
+                        f" default {d.diameter:g})")
+    parser.add_argument("--element-size", type=cli.positive_float,
+                        default=d.element_size,
+                        help=f"triangle size h (m, default {d.element_size:g})")
+    parser.add_argument("--max-strain", type=cli.positive_float,
+                        default=d.max_strain,
+                        help=f"final eps = -ln(1 - delta/D) (default"
+                        f" {d.max_strain:g})")
+    parser.add_argument("--out", type=Path, default=out,
+                        help=f"output directory (default {out})")
+    parser.add_argument("--speed", type=cli.positive_float, default=d.speed,
+                        help=f"speed of each plate (m/s, default {d.speed:g})")
+    parser.add_argument("--time-step", type=cli.positive_float,
+                        default=d.time_step,
+                        help=f"time step (s, default {d.time_step:g})")
+    parser.add_argument("--alpha", type=cli.nonnegative_float,
+                        default=d.alpha,
+                        help=f"Rayleigh mass coefficient (1/s, default"
+                        f" {d.alpha:g})")
+    parser.add_argument("--friction", type=cli.nonnegative_float,
+                        default=d.friction,
+                        help=f"plate friction coefficient (default"
+                        f" {d.friction:g}: pins the body's rolling; 0 ="
+                        " exactly frictionless)")
+    parser.add_argument("--every", type=cli.positive_int, default=d.every,
+                        help=f"driver output every this many steps (default"
+                        f" {d.every})")
 
 
 def refused(params, config_of, out) -> bool:

@@ -308,26 +308,10 @@ def _parser():
         " against a static dolfinx computation of the same mesh (writes"
         " DIR/force_softpack.csv, force_dolfinx.csv, plates.json).")
     p.add_argument("--shape", choices=sorted(SHAPES), default=d.shape)
-    p.add_argument("--diameter", type=cli.positive_float, default=d.diameter,
-                   help="equal-area diameter D (m, default 0.02)")
     p.add_argument("--corner-radius", type=cli.nonnegative_float,
                    default=d.corner_radius,
-                   help="corner radius (m, default 2e-3)")
-    p.add_argument("--element-size", type=cli.positive_float,
-                   default=d.element_size, help="h (m, default 1e-3)")
-    p.add_argument("--max-strain", type=cli.positive_float,
-                   default=d.max_strain, help="final eps (default 0.2)")
-    p.add_argument("--out", type=Path, default=Path("runs/plates"))
-    p.add_argument("--speed", type=cli.positive_float, default=d.speed,
-                   help="speed of each plate (m/s, default 0.01)")
-    p.add_argument("--time-step", type=cli.positive_float,
-                   default=d.time_step, help="s, default 1e-4")
-    p.add_argument("--alpha", type=cli.nonnegative_float, default=d.alpha,
-                   help="Rayleigh mass coefficient (1/s, default 200)")
-    p.add_argument("--friction", type=cli.nonnegative_float,
-                   default=d.friction, help="plate friction (default 0.01)")
-    p.add_argument("--every", type=cli.positive_int, default=d.every,
-                   help="driver output every this many steps (default 10)")
+                   help=f"corner radius (m, default {d.corner_radius:g})")
+    between_plates.add_plate_arguments(p, d, Path("runs/plates"))
     p.add_argument("--reference-steps", type=cli.positive_int,
                    default=d.reference_steps,
                    help="dolfinx: equal steps in eps (default 40)")

@@ -301,33 +301,12 @@ def _parser():
         "frictionless plates (paper Figs. 2-3): writes DIR/force_2d.csv "
         "(eps,f_norm) and DIR/profile_2d.csv (eps,w,ux_over_D).")
     d = Params()
-    p.add_argument("--diameter", type=cli.positive_float, default=d.diameter,
-                   help="disk diameter D (m, default 0.02)")
-    p.add_argument("--element-size", type=cli.positive_float,
-                   default=d.element_size,
-                   help="triangle size h (m, default 1.065e-3)")
-    p.add_argument("--max-strain", type=cli.positive_float,
-                   default=d.max_strain,
-                   help="final eps = -ln(1 - delta/D) (default 0.25)")
-    p.add_argument("--out", type=Path, default=Path("runs/single-disk"),
-                   help="output directory (default runs/single-disk)")
-    p.add_argument("--speed", type=cli.positive_float, default=d.speed,
-                   help="speed of each plate (m/s, default 0.01)")
-    p.add_argument("--time-step", type=cli.positive_float,
-                   default=d.time_step,
-                   help="time step (s, default 1e-4)")
-    p.add_argument("--alpha", type=cli.nonnegative_float, default=d.alpha,
-                   help="Rayleigh mass coefficient (1/s, default 200)")
-    p.add_argument("--friction", type=cli.nonnegative_float, default=d.friction,
-                   help="plate friction coefficient (default 1e-2: pins"
-                   " the disk's rolling; 0 = exactly frictionless)")
+    between_plates.add_plate_arguments(p, d, Path("runs/single-disk"))
     p.add_argument("--orientation", choices=("node_up", "as_meshed"),
                    default=d.orientation,
                    help="node_up (default): turn the mesh so that a boundary"
                    " node lies on the loading axis; as_meshed: as gmsh made"
                    " it")
-    p.add_argument("--every", type=cli.positive_int, default=d.every,
-                   help="output every this many steps (default 10)")
     p.add_argument("--shape", choices=("disk", "square", "pentagon"),
                    default="disk",
                    help="disk (default, this check); square or pentagon:"

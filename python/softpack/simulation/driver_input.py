@@ -75,7 +75,22 @@ def write_driver_json(config, scene_record: dict, directory,
     """
     document = driver_document(config, scene_record, directory,
                                initial_state)
+    _write(document, RunDirectory(directory).driver_json)
+    return document
+
+
+def edit_driver_json(directory, edit) -> dict:
+    """Change ``directory/driver.json`` in place (``edit(document)``, e.g.
+    a resumed run's start state and remaining steps), written atomically;
+    return the document."""
     path = RunDirectory(directory).driver_json
+    document = json.loads(path.read_text())
+    edit(document)
+    _write(document, path)
+    return document
+
+
+def _write(document: dict, path) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
     try:
@@ -83,4 +98,3 @@ def write_driver_json(config, scene_record: dict, directory,
         os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
-    return document

@@ -33,6 +33,7 @@ import subprocess
 from pathlib import Path
 
 from softpack.contract.run_directory import RawOutput, RunDirectory
+from softpack.simulation.driver_input import edit_driver_json
 
 
 def prepare_resume(out: Path, config, run_error) -> int:
@@ -80,11 +81,12 @@ def prepare_resume(out: Path, config, run_error) -> int:
         fields, kept = run.fields(suffix), run.fields(suffix, part=True)
         if fields.exists() and not kept.exists():
             fields.rename(kept)
-    doc = json.loads(run.driver_json.read_text())
-    if config["stop"]["steps"] > 0:  # the driver counts from the state
-        doc["stop"]["steps"] = max(config["stop"]["steps"] - step, 1)
-    doc["initial_state"] = str(state)
-    run.driver_json.write_text(json.dumps(doc, indent=2) + "\n")
+    def resume_from_state(doc):
+        if config["stop"]["steps"] > 0:  # the driver counts from the state
+            doc["stop"]["steps"] = max(config["stop"]["steps"] - step, 1)
+        doc["initial_state"] = str(state)
+
+    edit_driver_json(run.path, resume_from_state)
     return step
 
 
