@@ -1,6 +1,7 @@
 """Generate the driver's parameter structs and their reader from the schema.
 
-Run by CMake at build time (``/usr/bin/python3``, tomllib)::
+Run by CMake at build time (``/usr/bin/python3``; the schema is read by
+the Python package's one reader, ``softpack.contract.schema``)::
 
     generate_parameters.py SCHEMA OUT_DIR
 
@@ -34,10 +35,13 @@ from __future__ import annotations
 
 import json
 import math
-import re
 import sys
-import tomllib
 from pathlib import Path
+
+# The package's schema reader (python/softpack, beside driver/): one reader
+# of schema/parameters.toml and of its ranges.
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
+from softpack.contract import schema as schema_reader  # noqa: E402
 
 CPP_TYPES = {
     "float": "double",
@@ -85,16 +89,12 @@ def cpp_value(kind: str, value) -> str:
     raise ValueError(f"unknown type {kind!r}")
 
 
-INTERVAL = re.compile(r"^\s*([\[(])\s*([^,]+?)\s*,\s*([^,]+?)\s*([\])])\s*$")
-
-
 def parse_range(text: str, where: str) -> tuple[float, bool, float, bool]:
-    """Parse an interval ``"(0, inf)"`` into (low, low_closed, high, high_closed)."""
-    match = INTERVAL.match(text)
-    if not match:
-        raise SystemExit(f"{where}: range {text!r} is not an interval like '[0, inf)'")
-    left, low, high, right = match.groups()
-    return float(low), left == "[", float(high), right == "]"
+    """An interval ``"(0, inf)"`` as (low, low_closed, high, high_closed),
+    the ends infinite where open-ended (the schema reader's parse)."""
+    low, high, low_open, high_open = schema_reader.parse_range(text, where)
+    return (-math.inf if low is None else low, not low_open,
+            math.inf if high is None else high, not high_open)
 
 
 def driver_sections(schema: dict) -> list[tuple[str, dict]]:
@@ -321,7 +321,7 @@ def main(argv: list[str]) -> int:
     if len(argv) != 3:
         print("usage: generate_parameters.py SCHEMA OUT_DIR", file=sys.stderr)
         return 2
-    schema = tomllib.loads(Path(argv[1]).read_text())
+    schema = schema_reader.read_document(Path(argv[1]))
     sections = driver_sections(schema)
     out_dir = Path(argv[2])
     out_dir.mkdir(parents=True, exist_ok=True)

@@ -159,6 +159,20 @@ def make_parameter(section: str, key: str, spec: dict) -> Parameter:
                      derived=spec.get("derived"), bounds=bounds)
 
 
+def read_document(path: Path | None = None) -> dict:
+    """The schema file's tables as TOML gives them (metadata keys such as
+    ``_stage`` and ``_drive`` included), its version checked: what the
+    build-time generators of the driver's readers take
+    (driver/io/generate_parameters.py)."""
+    path = Path(path or paths.SCHEMA)
+    with open(path, "rb") as f:
+        data = tomllib.load(f)
+    if data.get("schema_version") != 2:
+        raise SchemaError(f"{path}: schema_version {data.get('schema_version')}"
+                          " (this code reads 2)")
+    return data
+
+
 @functools.lru_cache(maxsize=4)
 def load_schema(path: Path | None = None) -> dict:
     """Read the schema: ``section name -> Section``, in file order.
@@ -168,12 +182,7 @@ def load_schema(path: Path | None = None) -> dict:
     path : Path, optional
         The schema file (default :data:`softpack.paths.SCHEMA`).
     """
-    path = Path(path or paths.SCHEMA)
-    with open(path, "rb") as f:
-        data = tomllib.load(f)
-    if data.get("schema_version") != 2:
-        raise SchemaError(f"{path}: schema_version {data.get('schema_version')}"
-                          " (this code reads 2)")
+    data = read_document(path)
     sections = {}
     for name, table in data.items():
         if not isinstance(table, dict):
