@@ -93,14 +93,9 @@ bool solve_file(const std::string& file, const Arguments& args)
   }
   return result.converged;
 }
-} // namespace
-
-//-----------------------------------------------------------------------------
-int main(int argc, char** argv)
+/// The command line's options into `args` (and the sweep order's name)
+void add_options(CLI::App& app, Arguments& args, std::string& order)
 {
-  CLI::App app{"Solve 2D frictional contact problems (FCLIB HDF5 local "
-               "layout) with softpack's NLGS"};
-  Arguments args;
   app.add_option("files", args.files, "FCLIB HDF5 files (/fclib_local, 2D)")
       ->required();
   app.add_option("--tol", args.options.tolerance,
@@ -115,7 +110,6 @@ int main(int argc, char** argv)
                  "relaxation factor in (0, 2)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 2.0));
-  std::string order = "contact";
   app.add_option("--order", order,
                  "sweep order: contact (ascending) or alternate (even "
                  "positions, then odd)")
@@ -135,6 +129,17 @@ int main(int argc, char** argv)
                "simulation's unsolved problems store their start there)");
   app.add_option("--solution-out", args.solution_out,
                  "write DIR/NAME.r.csv, the reactions one per line");
+}
+} // namespace
+
+//-----------------------------------------------------------------------------
+int main(int argc, char** argv)
+{
+  CLI::App app{"Solve 2D frictional contact problems (FCLIB HDF5 local "
+               "layout) with softpack's NLGS"};
+  Arguments args;
+  std::string order = "contact";
+  add_options(app, args, order);
   CLI11_PARSE(app, argc, argv);
   try
   {

@@ -39,6 +39,21 @@ void DelassusMatrix::add_block(std::size_t a, std::size_t b,
   }
 }
 //-----------------------------------------------------------------------------
+void DelassusMatrix::bucket_by_row(std::vector<std::int32_t>& start,
+                                   std::vector<std::int32_t>& by_row) const
+{
+  const std::size_t n = _num_contacts;
+  start.assign(n + 1, 0);
+  for (const Contribution& c : _pending)
+    ++start[c.row + 1];
+  for (std::size_t a = 0; a < n; ++a)
+    start[a + 1] += start[a];
+  by_row.resize(_pending.size());
+  std::vector<std::int32_t> next(start.begin(), start.end() - 1);
+  for (std::size_t k = 0; k < _pending.size(); ++k)
+    by_row[next[_pending[k].row]++] = static_cast<std::int32_t>(k);
+}
+//-----------------------------------------------------------------------------
 void DelassusMatrix::finalize()
 {
   if (_finalized)
@@ -51,17 +66,8 @@ void DelassusMatrix::finalize()
   // a serial std::stable_sort per row (a buffer allocated for each) was
   // ~7 % of a crowded step's time.
   const std::size_t n = _num_contacts;
-  std::vector<std::int32_t> start(n + 1, 0);
-  for (const Contribution& c : _pending)
-    ++start[c.row + 1];
-  for (std::size_t a = 0; a < n; ++a)
-    start[a + 1] += start[a];
-  std::vector<std::int32_t> by_row(_pending.size());
-  {
-    std::vector<std::int32_t> next(start.begin(), start.end() - 1);
-    for (std::size_t k = 0; k < _pending.size(); ++k)
-      by_row[next[_pending[k].row]++] = static_cast<std::int32_t>(k);
-  }
+  std::vector<std::int32_t> start, by_row;
+  bucket_by_row(start, by_row);
   const auto rows = static_cast<std::int64_t>(n);
 #pragma omp parallel for schedule(dynamic, 64) if (n >= 256)
   for (std::int64_t a = 0; a < rows; ++a)

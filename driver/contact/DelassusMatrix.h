@@ -128,6 +128,10 @@ private:
 
   std::size_t _num_contacts;
   bool _finalized = false;
+  /// The pending contributions bucketed by row, in the order they came:
+  /// row a's are by_row[start[a]:start[a + 1]]
+  void bucket_by_row(std::vector<std::int32_t>& start,
+                     std::vector<std::int32_t>& by_row) const;
   std::vector<Contribution> _pending;
 
   // Compressed block rows

@@ -76,9 +76,9 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
   std::string out(magic);
   // Sized once: grown by doubling, the buffer would reach twice the state
   // (rank 0's largest allocation at an output of a distributed run)
-  out.reserve(4096 + sizeof(double) * (s.u.size() + s.v.size() +
-                                       s.u_tangent.size() +
-                                       4 * s.wall_points.size()) +
+  out.reserve(4096 +
+              sizeof(double) * (s.u.size() + s.v.size() + s.u_tangent.size() +
+                                4 * s.wall_points.size()) +
               s.reactions.size() * sizeof(dynamics::ImpulseHistory::Entry));
   put(out, id.mesh);
   put(out, id.walls);
@@ -213,6 +213,20 @@ void write_state(const std::filesystem::path& path,
   std::filesystem::rename(tmp, path);
 }
 
+namespace
+{
+/// The run's checks as the state file keeps them (totals of the whole run)
+void read_checks(Reader& r, RunChecks& c)
+{
+  for (long* n :
+       {&c.total.newton_unconverged_steps, &c.total.nlgs_unconverged_steps,
+        &c.problems_written, &c.problems_not_written})
+    *n = r.get<std::int64_t>();
+  c.max_overlap_depth = r.get<double>();
+  c.overlap_steps = r.get<std::int64_t>();
+}
+} // namespace
+
 StateFile read_state_file(const std::filesystem::path& path,
                           const StateIdentity* expected)
 {
@@ -251,12 +265,7 @@ StateFile read_state_file(const std::filesystem::path& path,
   s.wall_velocities.resize(nv);
   r.get(s.wall_velocities.data(), sizeof(double) * 2 * nv);
   RunChecks& c = f.checks;
-  for (long* n :
-       {&c.total.newton_unconverged_steps, &c.total.nlgs_unconverged_steps,
-        &c.problems_written, &c.problems_not_written})
-    *n = r.get<std::int64_t>();
-  c.max_overlap_depth = r.get<double>();
-  c.overlap_steps = r.get<std::int64_t>();
+  read_checks(r, c);
   s.matrix_age = static_cast<int>(r.get<std::int64_t>());
   s.last_iterations = static_cast<int>(r.get<std::int64_t>());
   const auto nt = r.get<std::int64_t>();
