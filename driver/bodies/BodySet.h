@@ -105,8 +105,9 @@ public:
   /// same indices in every share), then the flagged bodies' interior nodes,
   /// then one node (NaN) for every other interior node. Body::nodes then
   /// index the storage. The displacement and reference coordinates are
-  /// remapped (entries new to the storage are NaN: a rebalance's new
-  /// owner receives them); remap() does the same for other node vectors.
+  /// remapped (entries new to the storage are NaN: a rebalance fills
+  /// them in, parallel::move_bodies); remap() does the same for other
+  /// node vectors.
   /// May be called again with other flags.
   void keep_storage(std::span<const char> kept);
   /// A node vector of the storage before the last keep_storage in the
