@@ -20,11 +20,12 @@ import os
 from pathlib import Path
 
 __all__ = ["load_config", "run", "resume", "read_run", "plot_runs",
-           "plot_single_disk", "RunError"]
+           "plot_single_disk", "RunError", "RunFlagged"]
 
-from softpack.contract.run_directory import (RunDirectory,  # noqa: E402
-                                             RunError, UsageError,
-                                             is_run_directory)
+from softpack.contract.run_directory import (EXIT_FLAGGED,  # noqa: E402
+                                             RunDirectory, RunError,
+                                             RunFlagged, UsageError,
+                                             is_run_directory, run_flags)
 
 
 def load_config(path, overrides=None):
@@ -54,7 +55,7 @@ def load_config(path, overrides=None):
 
 
 def run(config, out, force=False, initial_state=None, verbose=False,
-        ranks=1):
+        ranks=1, strict=True):
     """Run one compaction into ``out`` and return its series.
 
     Parameters
@@ -72,6 +73,12 @@ def run(config, out, force=False, initial_state=None, verbose=False,
         Print progress as ``./softpack run`` does (run.log has it always).
     ranks : int
         MPI ranks of the driver (1 to the number of bodies).
+    strict : bool
+        A run that finishes flagged (a solve left unconverged, bodies
+        overlapping beyond ``contact.alert_distance``, a stage program ended
+        before its criterion: the command line's exit status 3) raises
+        :class:`RunFlagged`; False: its series is returned and a
+        ``RuntimeWarning`` says why.
 
     Returns
     -------
@@ -82,18 +89,37 @@ def run(config, out, force=False, initial_state=None, verbose=False,
     ------
     RunError
         The run failed; the message says why (``out/run.log`` has more).
+    RunFlagged
+        With ``strict``, a flagged run (a RunError; its ``flags``, and its
+        ``series``: every output is written).
     """
     from softpack.simulation import run as runner
 
     if isinstance(config, (str, os.PathLike)):  # a Path has a stem too
         config = load_config(config)
     out = Path(os.path.abspath(out))
-    runner.run(config, out, force=force, initial_state=initial_state,
-               verbose=verbose, ranks=ranks)
-    return read_run(out)
+    status = runner.run(config, out, force=force,
+                        initial_state=initial_state, verbose=verbose,
+                        ranks=ranks)
+    return _series(out, status, strict)
 
 
-def resume(directory, verbose=False):
+def _series(out: Path, status: int, strict: bool):
+    """The series of a finished run; RunFlagged (strict) or a warning when
+    it finished flagged."""
+    import warnings
+
+    series = read_run(out)
+    if status == EXIT_FLAGGED:
+        flags = run_flags(RunDirectory(out).done())
+        if strict:
+            raise RunFlagged(out, flags, series)
+        warnings.warn(str(RunFlagged(out, flags)), RuntimeWarning,
+                      stacklevel=3)
+    return series
+
+
+def resume(directory, verbose=False, strict=True):
     """Finish a killed run from its last state (``./softpack run --resume``)
     and return its series.
 
@@ -105,6 +131,8 @@ def resume(directory, verbose=False):
     ------
     RunError
         Not a killed run (complete, or no state written).
+    RunFlagged
+        With ``strict``, a flagged run (as :func:`run`).
     """
     from softpack.simulation import run as runner
 
@@ -112,8 +140,8 @@ def resume(directory, verbose=False):
     if not is_run_directory(directory):
         raise UsageError(f"{directory}: not a softpack run directory")
     config = load_config(RunDirectory(directory).config_toml)
-    runner.resume(config, directory, verbose=verbose)
-    return read_run(directory)
+    status = runner.resume(config, directory, verbose=verbose)
+    return _series(directory, status, strict)
 
 
 def read_run(directory, table="series"):

@@ -18,6 +18,8 @@ import pytest
 
 from driver_required import require_driver
 from softpack.scene import config as cfg
+from softpack.contract.run_directory import (EXIT_DONE, EXIT_FLAGGED,
+                                             run_flags)
 from softpack.simulation.run import RunError, run
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -42,6 +44,13 @@ MAX_KINETIC_ENERGY = 2.0
 
 # Examples expected to fail (xfail, strict): none today.
 KNOWN_FAILURES: dict[str, str] = {}
+
+# Examples that finish flagged (exit status 3, run_flags), and the one flag
+# expected of each. mixture_small: one contact solve of its 379 steps
+# (step 162 on one rank, 146 on three) misses nlgs_tolerance 1e-8, and
+# stalls there with 20,000 sweeps too (measured 2026-12-03); it is written
+# to raw/failed_contact_problems/ for replay (./softpack fclib).
+KNOWN_FLAGGED: dict[str, str] = {"mixture_small.toml": "not converged"}
 
 
 def params():
@@ -68,10 +77,16 @@ def test_small_example_runs_to_its_end(example, tmp_path):
         status = run(config, out, verbose=False)
     except RunError as err:
         pytest.fail(f"{example.name}: {err}")
-    assert status == 0
     done_path = out / "raw" / "done.json"
     assert done_path.is_file(), f"{example.name}: no raw/done.json"
     done = json.loads(done_path.read_text())
+    flags = run_flags(done)
+    if example.name in KNOWN_FLAGGED:
+        assert status == EXIT_FLAGGED, f"{example.name}: no longer flagged"
+        assert [f.split(" (")[0] for f in flags] == [
+            KNOWN_FLAGGED[example.name]], flags
+    else:
+        assert status == EXIT_DONE, f"{example.name}: {flags}"
     assert done["steps"] > 0
     assert done.get("newton_unconverged_steps", 0) == 0, (
         f"{example.name}: {done['newton_unconverged_steps']} steps whose "

@@ -184,6 +184,34 @@ class RunDirectory:
         return json.loads(path.read_text())
 
 
+#: Exit statuses of ``./softpack run`` (README, "Exit statuses"): done;
+#: failed (packing, driver, post-processing); bad configuration or command
+#: line; finished but flagged (run_flags), its outputs all written. A run
+#: stopped by signal N exits with 128 + N.
+EXIT_DONE, EXIT_FAILED, EXIT_USAGE, EXIT_FLAGGED = 0, 1, 2, 3
+
+
+def run_flags(done: dict) -> list:
+    """What ``raw/done.json`` marks a finished run by, that its answers
+    cannot be taken as they are (the one rule: the exit status and the API
+    read it): a stage program that ended before its stop criterion, a
+    Newton iteration or contact solve left unconverged, bodies overlapping
+    by more than ``contact.alert_distance`` at an output step. Empty: none.
+    """
+    flags = []
+    if done.get("complete", True) is False:
+        flags.append(f"incomplete (stage {done.get('stage', '?')} ended by"
+                     f" {done.get('reason', '?')})")
+    if done.get("converged", True) is False:
+        flags.append(f"not converged ({done.get('newton_unconverged_steps', '?')}"
+                     " Newton and"
+                     f" {done.get('nlgs_unconverged_steps', '?')} contact"
+                     " solve steps unconverged)")
+    if done.get("overlap_steps", 0):
+        flags.append(f"overlapping ({done['overlap_steps']} output steps"
+                     " beyond contact.alert_distance)")
+    return flags
+
 
 class RunError(RuntimeError):
     """A run that cannot go on; the message says why (exit status 1)."""
@@ -191,6 +219,17 @@ class RunError(RuntimeError):
 
 class UsageError(RunError):
     """A mistake on the command line, e.g. an unusable ``--out`` (exit 2)."""
+
+
+class RunFlagged(RunError):
+    """A run that finished, every output written, but flagged (run_flags;
+    exit status 3). ``flags`` says why, ``directory`` is the run and
+    ``series`` its series (as the API reads it)."""
+
+    def __init__(self, directory, flags, series=None):
+        super().__init__(f"{directory}: the run finished flagged: "
+                         + "; ".join(flags) + " (raw/done.json)")
+        self.directory, self.flags, self.series = directory, flags, series
 
 
 def is_run_directory(out: Path) -> bool:

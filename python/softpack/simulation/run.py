@@ -39,10 +39,13 @@ and exit with 128 + the signal number
 output and its own ``config.toml`` (edit its [observables] section to
 change the rules).
 
-Exit status: 0 done, 1 failure (packing, driver, post-processing), 2 bad
-configuration or command line (including an unusable ``--out``), 128 + N
-stopped by signal N (130 Ctrl-C, 143 SIGTERM, 129 SIGHUP, 141 closed
-output).
+Exit status (:data:`~softpack.contract.run_directory.EXIT_DONE` ...): 0
+done, 1 failure (packing, driver, post-processing), 2 bad configuration or
+command line (including an unusable ``--out``), 3 finished but flagged
+(:func:`~softpack.contract.run_directory.run_flags`: a stage program ended
+before its criterion, a solve left unconverged, bodies overlapping beyond
+``contact.alert_distance``; every output written), 128 + N stopped by
+signal N (130 Ctrl-C, 143 SIGTERM, 129 SIGHUP, 141 closed output).
 """
 
 from __future__ import annotations
@@ -64,9 +67,10 @@ from softpack.simulation.interrupt import (Stopped, echo, reclaim_signals,
                                            silence_stdout, stop_on_signals,
                                            why)
 from softpack.simulation.progress import Progress, duration as _duration
-from softpack.contract.run_directory import (RunDirectory, RunError,
+from softpack.contract.run_directory import (EXIT_DONE, EXIT_FLAGGED,
+                                             RunDirectory, RunError,
                                              UsageError, is_run_directory,
-                                             prepare_directory)
+                                             prepare_directory, run_flags)
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -198,7 +202,8 @@ def default_out_dir(config, with_friction=False) -> Path:
 
 def run(config, out: Path, force=False, initial_state: Path | None = None,
         verbose=True, ranks=1) -> int:
-    """Packing, mesh, driver, observables into ``out``; returns 0.
+    """Packing, mesh, driver, observables into ``out``; returns EXIT_DONE,
+    or EXIT_FLAGGED when the finished run is flagged (run_flags).
 
     Parameters
     ----------
@@ -366,7 +371,11 @@ def _postprocess(out: Path, say) -> int:
             say(report)
     _say_checks(finish, say)
     say(f"wrote {series_csv} and {particles_csv}")
-    return 0
+    flags = run_flags(finish)
+    if flags:
+        say("finished flagged (exit status 3): " + "; ".join(flags))
+        return EXIT_FLAGGED
+    return EXIT_DONE
 
 
 def _say_checks(finish: dict, say) -> None:

@@ -1,0 +1,74 @@
+"""Issue 42, nothing silent: a run that finishes flagged says so in its exit
+status and through the API.
+
+A run whose contact solves stop unconverged (``contact.nlgs_max_sweeps =
+2``) used to warn, mark raw/done.json ``converged: false`` and exit 0, and
+``softpack.run()`` returned normally: a script could not tell.
+"""
+
+import warnings
+
+import pytest
+
+import softpack
+from driver_required import require_driver
+from softpack.contract.run_directory import (EXIT_DONE, EXIT_FLAGGED,
+                                             RunError, RunFlagged, run_flags)
+from softpack.scene.config import load_config
+from softpack.simulation import run
+
+from fake_driver import SMALL
+
+#: A short run (60 steps of examples/small.toml: the disks touch from step
+#: ~2 on) whose contact solves stop after two sweeps, unconverged.
+UNCONVERGED = {"contact.nlgs_max_sweeps": 2, "stop.steps": 60,
+               "output.fields": False}
+
+
+def _cli_settings():
+    return [a for key, value in UNCONVERGED.items()
+            for a in ("--set", f"{key}={str(value).lower()}")]
+
+
+def test_the_flags_of_a_finished_run():
+    assert run_flags({"converged": True, "overlap_steps": 0}) == []
+    assert run_flags({}) == []  # an older done.json marks nothing
+    flags = run_flags({"converged": False, "newton_unconverged_steps": 0,
+                       "nlgs_unconverged_steps": 4, "overlap_steps": 2,
+                       "complete": False, "stage": 1, "reason": "max_time"})
+    assert [f.split(" (")[0] for f in flags] == [
+        "incomplete", "not converged", "overlapping"]
+    assert "4 contact solve steps" in flags[1]
+
+
+def test_an_unconverged_run_exits_3(tmp_path, capsys):
+    require_driver()
+    out = tmp_path / "X"
+    status = run.main([str(SMALL), "--out", str(out), *_cli_settings()])
+    assert status == EXIT_FLAGGED == 3
+    err = capsys.readouterr().out
+    assert "finished flagged (exit status 3): not converged" in err
+    # every output is written all the same
+    assert (out / "series.csv").is_file() and (out / "particles.csv").is_file()
+
+
+def test_the_api_raises_on_a_flagged_run_unless_told_not_to(tmp_path):
+    require_driver()
+    config = load_config(SMALL, UNCONVERGED)
+    with pytest.raises(RunFlagged) as caught:
+        softpack.run(config, tmp_path / "strict")
+    assert isinstance(caught.value, RunError)
+    assert [f.split(" (")[0] for f in caught.value.flags] == ["not converged"]
+    assert len(caught.value.series["step"]) > 1
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        series = softpack.run(config, tmp_path / "lenient", strict=False)
+    assert len(series["step"]) == len(caught.value.series["step"])
+    assert any(issubclass(w.category, RuntimeWarning)
+               and "not converged" in str(w.message) for w in seen)
+
+
+def test_a_converged_run_is_not_flagged(tmp_path):
+    require_driver()
+    config = load_config(SMALL, {"stop.steps": 60, "output.fields": False})
+    assert run.run(config, tmp_path / "ok", verbose=False) == EXIT_DONE
