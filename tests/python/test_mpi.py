@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from softpack.contract.run_directory import EXIT_DONE, EXIT_FLAGGED
 from softpack.contract.tables import read_table
 from softpack.scene import config as cfg
 from softpack.simulation.run import run
@@ -111,13 +112,14 @@ def test_two_ranks_solve_contacts_domain_by_domain(runs):
     assert (runs[2] / "raw" / "state.bin").is_file()
 
 
-def _serial_and_three_ranks(settings, tmp_path):
-    """small.toml with `settings` on 1 and 3 ranks: both steps.csv tables
-    and the 3-rank run's done.json "mpi" record."""
+def _serial_and_three_ranks(settings, tmp_path, status=EXIT_DONE):
+    """small.toml with `settings` on 1 and 3 ranks, both ending with exit
+    `status`: both steps.csv tables and the 3-rank run's done.json "mpi"
+    record."""
     config = cfg.load_config(SMALL, settings)
     for ranks in (1, 3):
         assert run(config, tmp_path / f"r{ranks}", verbose=False,
-                   ranks=ranks) == 0
+                   ranks=ranks) == status
     one = read_table(tmp_path / "r1" / "raw" / "steps.csv")
     three = read_table(tmp_path / "r3" / "raw" / "steps.csv")
     mpi = json.loads((tmp_path / "r3" / "raw" / "done.json").read_text())["mpi"]
@@ -174,9 +176,14 @@ def test_a_step_retried_and_rebalanced_gives_the_serial_run(tmp_path):
                 "time.newton_max_iterations": 3,
                 "time.refactor_above_iterations": 50,
                 "parallel.rebalance_tolerance": 0.0}
-    one, three, mpi = _serial_and_three_ranks(settings, tmp_path)
+    # Three Newton iterations do not suffice at the base step either, twice
+    # (measured 2026-12-03): both runs finish flagged, alike.
+    one, three, mpi = _serial_and_three_ranks(settings, tmp_path,
+                                              EXIT_FLAGGED)
     assert mpi["rebalances"] > 0 and mpi["bodies_moved"] > 0
     assert one["retried_steps"].sum() > 0
+    np.testing.assert_array_equal(three["newton_unconverged_steps"],
+                                  one["newton_unconverged_steps"])
     np.testing.assert_array_equal(three["retried_steps"], one["retried_steps"])
     np.testing.assert_array_equal(three["time_step"], one["time_step"])
     _expect_the_serial_run(one, three)

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from softpack.contract.tables import read_table
+from softpack.contract.run_directory import EXIT_FLAGGED
 from softpack.scene import config as cfg
 from softpack.simulation.run import run
 from driver_required import require_driver
@@ -26,7 +27,7 @@ def test_unconverged_steps_reach_series_and_summary(tmp_path, capsys):
     config["time"]["newton_max_iterations"] = 1
     config["stop"]["steps"] = 30
     out = tmp_path / "run"
-    assert run(config, out) == 0
+    assert run(config, out) == EXIT_FLAGGED  # finished, flagged
     done = json.loads((out / "raw" / "done.json").read_text())
     assert done["converged"] is False
     assert done["newton_unconverged_steps"] > 0

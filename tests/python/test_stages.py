@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from softpack.contract.run_directory import EXIT_FLAGGED
 from softpack.contract.tables import read_table
 from softpack.scene import config as cfg
 from softpack.simulation.run import RunError, run
@@ -182,7 +183,7 @@ def test_a_stage_that_cannot_meet_its_criterion_ends_the_run(tmp_path):
         {"name": "never", "stop": {"max_time": 0.01}},
     ])
     out = tmp_path / "run"
-    assert run(config, out) == 0
+    assert run(config, out) == EXIT_FLAGGED  # finished, incomplete
     done = json.loads((out / "raw" / "done.json").read_text())
     assert done["complete"] is False and done["stage"] == 0
     assert done["reason"].startswith(
@@ -209,7 +210,7 @@ def test_a_run_continued_from_a_state_inside_a_stage_is_the_same(
                                                      "config.toml")))
     data["stop"]["steps"] = cut_at
     first = tmp_path / "first"
-    assert run(cfg.validate(data, "cut"), first) == 0
+    assert run(cfg.validate(data, "cut"), first) == EXIT_FLAGGED
     done = json.loads((first / "raw" / "done.json").read_text())
     assert done["reason"] == "steps" and done["complete"] is False
     record = json.loads((first / "raw" / "state.stage.json").read_text())
