@@ -95,13 +95,28 @@ def run(config, out, force=False, initial_state=None, verbose=False,
     """
     from softpack.simulation import run as runner
 
-    if isinstance(config, (str, os.PathLike)):  # a Path has a stem too
-        config = load_config(config)
+    config = _configuration(config)
     out = Path(os.path.abspath(out))
     status = runner.run(config, out, force=force,
                         initial_state=initial_state, verbose=verbose,
                         ranks=ranks)
     return _series(out, status, strict)
+
+
+def _configuration(config):
+    """A Config from ``config`` (a Config, or a TOML path); TypeError for
+    anything else, before anything is written."""
+    from softpack.scene.config import Config
+
+    if isinstance(config, (str, os.PathLike)):  # a Path has a stem too
+        return load_config(config)
+    if not isinstance(config, Config):
+        raise TypeError(
+            f"softpack.run: config is a {type(config).__name__}; give"
+            " softpack.load_config(PATH, overrides) or the path of a TOML"
+            " file (a dict of TOML tables: softpack.scene.config.validate"
+            "(data, name))")
+    return config
 
 
 def _series(out: Path, status: int, strict: bool):

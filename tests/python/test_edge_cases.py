@@ -1,5 +1,7 @@
-"""Issue 42, nothing silent: a run that finishes flagged says so in its exit
-status and through the API.
+"""Issue 42, the last edge cases: a run that finishes flagged says so in its
+exit status and through the API (item 2); a user's folder holding files of
+a run's names is not taken for a run (item 1); the API refuses what is not
+a configuration before writing anything (item 6).
 
 A run whose contact solves stop unconverged (``contact.nlgs_max_sweeps =
 2``) used to warn, mark raw/done.json ``converged: false`` and exit 0, and
@@ -18,6 +20,8 @@ from softpack.scene.config import load_config
 from softpack.simulation import run
 
 from fake_driver import SMALL
+
+pytestmark = pytest.mark.usefixtures("registry")
 
 #: A short run (60 steps of examples/small.toml: the disks touch from step
 #: ~2 on) whose contact solves stop after two sweeps, unconverged.
@@ -72,3 +76,34 @@ def test_a_converged_run_is_not_flagged(tmp_path):
     require_driver()
     config = load_config(SMALL, {"stop.steps": 60, "output.fields": False})
     assert run.run(config, tmp_path / "ok", verbose=False) == EXIT_DONE
+
+
+# -- item 1: only a folder softpack marked is taken for a run --------------
+
+def test_a_users_folder_with_run_file_names_is_kept(tmp_path, fake_bin,
+                                                    fake_mesh, capsys):
+    out = tmp_path / "D"
+    (out / "mesh").mkdir(parents=True)
+    (out / "config.toml").write_text("x")
+    (out / "driver.json").write_text("{}")
+    (out / "mesh" / "important.msh").write_text("m")
+    status = run.main([str(SMALL), "--out", str(out), "--set",
+                       "stop.steps=20"])
+    assert status == 2
+    assert "not a softpack run directory" in capsys.readouterr().err
+    assert (out / "config.toml").read_text() == "x"
+    assert (out / "driver.json").read_text() == "{}"
+    assert (out / "mesh" / "important.msh").read_text() == "m"
+    assert sorted(p.name for p in out.rglob("*")) == [
+        "config.toml", "driver.json", "important.msh", "mesh"]
+    # nor resumed
+    assert run.main(["--resume", str(out)]) == 2
+
+
+# -- item 6: softpack.run given something else than a configuration -------
+
+def test_the_api_refuses_a_plain_dict_before_writing(tmp_path):
+    out = tmp_path / "OUT"
+    with pytest.raises(TypeError, match="config is a dict"):
+        softpack.run({"contact": {"friction": 0.1}}, out)
+    assert not out.exists()

@@ -57,9 +57,6 @@ def test_rerun_replaces_only_softpack_outputs(tmp_path, fake_bin,
     (out / "notes.txt").write_text("mine")
     assert run.main([str(SMALL), "--out", str(out), "--force"]) == 0
     assert (out / "notes.txt").read_text() == "mine"
-    # an older run without the marker is recognised by its files
-    (out / run_directory.MARKER).unlink()
-    assert run_directory.is_run_directory(out)
     (out / "series.csv").unlink()  # an unfinished run: no --force needed
     assert run.main([str(SMALL), "--out", str(out)]) == 0
     assert (out / "notes.txt").read_text() == "mine"

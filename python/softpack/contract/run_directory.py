@@ -5,9 +5,11 @@
 ``driver.json``), the driver's raw output (:class:`RawOutput`: ``raw/``),
 its fields and the analysis' tables. No other module spells these names.
 
-A run directory is marked by :data:`MARKER` (older runs: ``config.toml`` +
-``driver.json``); in one, the outputs listed in :data:`RUN_OUTPUTS` are
-replaced and nothing else is touched (issue 16, :func:`prepare_directory`).
+A run directory is marked by :data:`MARKER`, and only a marked one is
+softpack's: a folder that merely holds files of a run's names
+(``config.toml``, ``driver.json``) is the user's. In a run directory the
+outputs listed in :data:`RUN_OUTPUTS` are replaced and nothing else is
+touched (issues 16 and 42, :func:`prepare_directory`).
 """
 
 from __future__ import annotations
@@ -233,10 +235,9 @@ class RunFlagged(RunError):
 
 
 def is_run_directory(out: Path) -> bool:
-    """Whether ``out`` is softpack's: its marker, or an older run's files."""
-    run = RunDirectory(out)
-    return run.marker.is_file() or (
-        run.config_toml.is_file() and run.driver_json.is_file())
+    """Whether ``out`` is softpack's: it holds the marker softpack wrote
+    (files of a run's names alone do not make it one)."""
+    return RunDirectory(out).marker.is_file()
 
 
 def check_out_directory(out: Path) -> None:

@@ -17,9 +17,9 @@
 4. Post-process (:func:`softpack.analysis.observables.process_run`) into
    ``particles.csv`` and then ``series.csv``.
 
-softpack deletes only what it wrote (issue 16). A run directory is marked
-by ``.softpack-run`` (older runs: ``config.toml`` + ``driver.json``); in
-one, the outputs listed in
+softpack deletes only what it wrote (issues 16, 42). A run directory is
+marked by ``.softpack-run``, and only a marked one is softpack's; in one,
+the outputs listed in
 :data:`~softpack.contract.run_directory.RUN_OUTPUTS` are replaced and nothing
 else is touched. A directory with ``series.csv`` holds a complete run: it
 is not overwritten without ``--force``. A non-empty directory that is not
