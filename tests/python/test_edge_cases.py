@@ -107,3 +107,29 @@ def test_the_api_refuses_a_plain_dict_before_writing(tmp_path):
     with pytest.raises(TypeError, match="config is a dict"):
         softpack.run({"contact": {"friction": 0.1}}, out)
     assert not out.exists()
+
+
+# -- item 5: a missing or broken .geo file: one line, exit 2, nothing written
+
+@pytest.mark.parametrize("content", [
+    None,                                           # no such file
+    "Point(1) = {0, 0, 0};\nLine(1) = {1, 2};\n",   # a gmsh syntax error
+    "Point(1) = {0, 0, 0};\nPoint(2) = {1, 0, 0};\n",  # no surface
+], ids=["missing", "syntax-error", "no-surface"])
+def test_a_bad_geo_file_is_refused_before_anything_is_written(
+        content, tmp_path, fake_bin, capsys):
+    pytest.importorskip("gmsh")
+    geo = tmp_path / "shape.geo"
+    if content is not None:
+        geo.write_text(content)
+    out = tmp_path / "G"
+    status = run.main([str(SMALL), "--out", str(out),
+                       "--set", 'species.0.shape="geo"',
+                       "--set", f'species.0.file="{geo}"'])
+    captured = capsys.readouterr()
+    assert status == 2
+    lines = [line for line in (captured.out + captured.err).splitlines()
+             if line.strip()]
+    assert len(lines) == 1, lines
+    assert "[species.0]" in lines[0] and "shape.geo" in lines[0]
+    assert not out.exists()

@@ -82,6 +82,32 @@ def _plain(value):
     return value
 
 
+def _base(config):
+    """The directory of the run's TOML file (relative ``file`` keys)."""
+    source = Path(getattr(config, "source", ""))
+    return source.parent if source.is_file() else None
+
+
+def check_user_shapes(config) -> None:
+    """Mesh once the shapes a user's file draws (species of shape geo or
+    msh, at their particles' sizes), so that a missing, unreadable or
+    unmeshable file is refused before a run writes anything.
+
+    Raises
+    ------
+    softpack.scene.shapes.ShapeError
+        Naming the species, the file and why.
+    """
+    species = config["species"]
+    user = [k for k, s in enumerate(species) if s["shape"] in ("geo", "msh")]
+    if not user:
+        return
+    diameters, index = particle_table(species, config["packing"]["seed"])
+    keep = np.isin(index, user)
+    shapes.templates(species, diameters[keep], index[keep],
+                     config["mesh"]["element_size"], _base(config))
+
+
 def build_scene(config, mesh_stem) -> Scene:
     """Draw, mesh, place and write a configuration's particles.
 
@@ -108,10 +134,8 @@ def build_scene(config, mesh_stem) -> Scene:
     diameters, index = particle_table(species, seed)
     if not config["box"]["enabled"]:
         diameters, index = diameters[:1], index[:1]
-    source = Path(getattr(config, "source", ""))
-    base = source.parent if source.is_file() else None
     meshes = shapes.templates(species, diameters, index,
-                              config["mesh"]["element_size"], base)
+                              config["mesh"]["element_size"], _base(config))
     bodies = [meshes[shapes.shape_key(species[s], d)]
               for d, s in zip(diameters, index)]
     radii = np.array([b.bounding_radius for b in bodies])

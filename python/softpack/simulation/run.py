@@ -239,6 +239,7 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
             raise RunError(f"--from-state: {initial_state} is inside the"
                            f" run directory {out}, which is cleared first;"
                            " copy it elsewhere")
+    _check_user_shapes(config)
     prepare_directory(out, force)
     RunDirectory(out).config_toml.write_text(to_toml(config))
     with open(RunDirectory(out).run_log, "a", buffering=1) as log:
@@ -284,6 +285,18 @@ def resume(config, out: Path, verbose=True, ranks=1) -> int:
             raise
 
 
+def _check_user_shapes(config) -> None:
+    """UsageError for a user's shape file that is missing or cannot be
+    meshed (before anything is written)."""
+    from softpack.scene.build import check_user_shapes
+    from softpack.scene.shapes import ShapeError
+
+    try:
+        check_user_shapes(config)
+    except ShapeError as err:
+        raise UsageError(f"{config.source}: {err}") from None
+
+
 def _check_ranks(ranks, config) -> None:
     """UsageError unless 1 <= ranks <= bodies (before anything is written)."""
     try:
@@ -323,7 +336,9 @@ def _run_logged(config, out, initial_state, log, say) -> int:
         scene = build_scene(config, RunDirectory(out).mesh_stem("packing"))
     except PackingError as err:
         # the scene's messages name the keys; the file is the run's config
-        say(f"scene failed: {err}")
+        # (said once: the caller prints the error, the log keeps it)
+        log.write(f"[softpack run {time.strftime('%H:%M:%S')}] scene"
+                  f" failed: {err}\n")
         raise RunError(f"{config.source}: {err}") from None
     reclaim_signals()
     phi0 = scene.packing.packing_fraction
