@@ -1,7 +1,9 @@
 """Issue 42, the last edge cases: a run that finishes flagged says so in its
 exit status and through the API (item 2); a user's folder holding files of
 a run's names is not taken for a run (item 1); the API refuses what is not
-a configuration before writing anything (item 6).
+a configuration before writing anything (item 6); a missing or broken shape
+file is one line and exit 2 (item 5); a bad state file is refused before
+anything is written or moved (item 9, part).
 
 A run whose contact solves stop unconverged (``contact.nlgs_max_sweeps =
 2``) used to warn, mark raw/done.json ``converged: false`` and exit 0, and
@@ -14,7 +16,9 @@ import pytest
 
 import softpack
 from driver_required import require_driver
-from softpack.contract.run_directory import (EXIT_DONE, EXIT_FLAGGED,
+from softpack.contract.run_directory import (EXIT_DONE, EXIT_FAILED,
+                                             EXIT_FLAGGED, EXIT_USAGE,
+                                             RunDirectory,
                                              RunError, RunFlagged, run_flags)
 from softpack.scene.config import load_config
 from softpack.simulation import run
@@ -133,3 +137,39 @@ def test_a_bad_geo_file_is_refused_before_anything_is_written(
     assert len(lines) == 1, lines
     assert "[species.0]" in lines[0] and "shape.geo" in lines[0]
     assert not out.exists()
+
+
+# -- item 9: a bad state is refused before anything is written or moved ---
+
+def test_a_missing_or_corrupt_from_state_is_a_usage_error(tmp_path, capsys):
+    require_driver()
+    out = tmp_path / "F"
+    missing = tmp_path / "none.bin"
+    assert run.main([str(SMALL), "--out", str(out), "--from-state",
+                     str(missing)]) == EXIT_USAGE
+    bad = tmp_path / "bad.bin"
+    bad.write_bytes(b"not a state file")
+    assert run.main([str(SMALL), "--out", str(out), "--from-state",
+                     str(bad)]) == EXIT_USAGE
+    err = capsys.readouterr().err
+    assert f"--from-state: {missing}: no such file" in err
+    assert "--from-state:" in err and "bad.bin" in err
+    assert not out.exists()  # no packing, mesh or driver started
+
+
+def test_a_corrupt_state_is_refused_before_resume_moves_anything(tmp_path,
+                                                                 capsys):
+    require_driver()
+    out = tmp_path / "R"
+    assert run.main([str(SMALL), "--out", str(out), "--set", "stop.steps=20",
+                     "--set", "output.fields=false"]) == EXIT_DONE
+    directory = RunDirectory(out)
+    # as a killed run leaves it, but for its state file
+    directory.series_csv.unlink()
+    directory.raw.done_json.unlink()
+    directory.raw.state_bin.write_bytes(b"not a state file")
+    capsys.readouterr()
+    assert run.main(["--resume", str(out)]) == EXIT_FAILED
+    err = capsys.readouterr().err
+    assert "raw/state.bin" in err
+    assert directory.raw.path.is_dir() and not directory.raw_part.path.exists()

@@ -62,6 +62,12 @@ def prepare_resume(out: Path, config, run_error) -> int:
             merge_raw(part.path, raw.path)
         shutil.rmtree(raw.path)
     elif raw.path.is_dir():
+        # A state the driver cannot read is refused before anything moves
+        if raw.state_bin.is_file():
+            try:
+                state_step(raw.state_bin)
+            except ValueError as err:
+                raise run_error(f"--resume {out}: {err}") from None
         raw.path.rename(part.path)
     if not part.state_bin.is_file():
         raise run_error(f"--resume {out}: no raw/state.bin to resume from"

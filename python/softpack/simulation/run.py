@@ -234,7 +234,8 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
     if initial_state is not None:
         initial_state = Path(initial_state).resolve()
         if not initial_state.is_file():
-            raise RunError(f"--from-state: {initial_state}: no such file")
+            raise UsageError(f"--from-state: {initial_state}: no such file")
+        _check_state(initial_state)
         if initial_state.is_relative_to(out.resolve()):
             raise RunError(f"--from-state: {initial_state} is inside the"
                            f" run directory {out}, which is cleared first;"
@@ -283,6 +284,17 @@ def resume(config, out: Path, verbose=True, ranks=1) -> int:
                       f" ({why(err)}): the driver was stopped; no"
                       " series.csv (resume again)\n")
             raise
+
+
+def _check_state(path: Path) -> None:
+    """UsageError unless the driver reads ``path`` as a state file (before
+    the packing, the mesh and the driver start)."""
+    from softpack.simulation.resume import state_step
+
+    try:
+        state_step(path)
+    except ValueError as err:
+        raise UsageError(f"--from-state: {err}") from None
 
 
 def _check_user_shapes(config) -> None:
