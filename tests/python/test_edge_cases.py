@@ -11,6 +11,7 @@ A run whose contact solves stop unconverged (``contact.nlgs_max_sweeps =
 """
 
 import warnings
+from pathlib import Path
 
 import pytest
 
@@ -18,8 +19,8 @@ import softpack
 from driver_required import require_driver
 from softpack.contract.run_directory import (EXIT_DONE, EXIT_FAILED,
                                              EXIT_FLAGGED, EXIT_USAGE,
-                                             RunDirectory,
-                                             RunError, RunFlagged, run_flags)
+                                             RunDirectory, RunError,
+                                             RunFlagged, RunLock, run_flags)
 from softpack.scene.config import load_config
 from softpack.simulation import run
 
@@ -173,3 +174,43 @@ def test_a_corrupt_state_is_refused_before_resume_moves_anything(tmp_path,
     err = capsys.readouterr().err
     assert "raw/state.bin" in err
     assert directory.raw.path.is_dir() and not directory.raw_part.path.exists()
+
+
+# -- item 7: one run or resume at a time in a directory ---------------------
+
+def test_a_second_run_or_resume_on_a_working_directory_is_refused(
+        tmp_path, capsys):
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    require_driver()
+    out = tmp_path / "W"
+    env = dict(os.environ, PYTHONPATH=str(Path(softpack.__file__).parents[1]))
+    first = subprocess.Popen(
+        [sys.executable, "-m", "softpack.cli", "run", str(SMALL),
+         "--out", str(out), "--set", "stop.max_time=100",
+         "--set", "output.fields=false"],
+        env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    try:
+        steps = RunDirectory(out).raw.steps_csv
+        deadline = time.time() + 120
+        while not (steps.is_file() and steps.stat().st_size > 2000):
+            assert first.poll() is None, first.stderr.read().decode()
+            assert time.time() < deadline, "the first run never stepped"
+            time.sleep(0.2)
+        capsys.readouterr()
+        assert run.main(["--resume", str(out)]) == EXIT_USAGE
+        assert run.main([str(SMALL), "--out", str(out), "--force"]) \
+            == EXIT_USAGE
+        err = capsys.readouterr().err
+        assert f"process {first.pid}" in err and "working in it" in err
+        assert first.poll() is None  # the first run went on, untouched
+    finally:
+        first.send_signal(signal.SIGTERM)
+        first.wait(timeout=60)
+    # its lock went with it: the directory is free again
+    with RunLock(out):
+        pass

@@ -14,6 +14,7 @@ touched (issues 16 and 42, :func:`prepare_directory`).
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
 import shutil
@@ -27,6 +28,8 @@ RUN_OUTPUTS = ("series.csv", "particles.csv", "stress.csv", "raw",
                "fields.part.xdmf", "fields.part.h5")
 #: The file that marks a directory as softpack's run directory.
 MARKER = ".softpack-run"
+#: The lock of a run directory (RunLock): one run or resume at a time.
+LOCK = ".softpack-lock"
 
 
 class RawOutput:
@@ -234,6 +237,55 @@ class RunFlagged(RunError):
         self.directory, self.flags, self.series = directory, flags, series
 
 
+class RunLock:
+    """A run directory's lock, held in a ``with`` block: one run or resume
+    works in a directory at a time (issue 42). ``./softpack run`` takes it
+    before it changes the directory (:func:`prepare_directory`), a resume
+    before it moves anything; a second one is refused, naming the process
+    that holds it. An advisory ``flock`` on ``DIR/.softpack-lock``: the
+    system releases it when its process ends, however it ends, so a killed
+    run leaves no stale lock (the file stays, with the last holder's
+    process id).
+
+    Raises
+    ------
+    UsageError
+        On entry, when another process holds it.
+    """
+
+    def __init__(self, out):
+        self.path = Path(out) / LOCK
+        self._file = None
+
+    def __enter__(self):
+        if self._file is not None:  # held already (prepare_directory's)
+            return self
+        f = open(self.path, "a+")
+        try:
+            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            f.seek(0)
+            holder = f.read().strip() or "?"
+            f.close()
+            raise UsageError(
+                f"{self.path.parent}: another softpack run or resume"
+                f" (process {holder}) is working in it; wait for it to end"
+                " or stop it, or choose another --out") from None
+        f.seek(0)
+        f.truncate()
+        f.write(f"{os.getpid()}\n")
+        f.flush()
+        self._file = f
+        return self
+
+    def __exit__(self, *exc):
+        if self._file is not None:
+            fcntl.flock(self._file, fcntl.LOCK_UN)
+            self._file.close()
+            self._file = None
+        return False
+
+
 def is_run_directory(out: Path) -> bool:
     """Whether ``out`` is softpack's: it holds the marker softpack wrote
     (files of a run's names alone do not make it one)."""
@@ -260,8 +312,9 @@ def check_out_directory(out: Path) -> None:
                          f" ({err.strerror or err})") from None
 
 
-def prepare_directory(out: Path, force: bool) -> None:
-    """Make ``out`` ready for a run; delete only what softpack wrote.
+def prepare_directory(out: Path, force: bool) -> RunLock:
+    """Make ``out`` ready for a run; delete only what softpack wrote; return
+    its lock, held (the caller releases it when the run ends).
 
     A run directory (:func:`is_run_directory`): refused if it holds a
     complete run (``series.csv``) unless ``force``; its previous outputs
@@ -274,20 +327,16 @@ def prepare_directory(out: Path, force: bool) -> None:
     RunError
         A complete run without ``force``.
     UsageError
-        An unusable or foreign directory.
+        An unusable or foreign directory, or one another run works in.
     """
     check_out_directory(out)
     if is_run_directory(out):
-        if RunDirectory(out).series_csv.exists() and not force:
-            raise RunError(f"{out} holds a complete run (series.csv); use"
-                           " --force to overwrite it or --out for another"
-                           " directory")
-        for name in RUN_OUTPUTS:  # series.csv first: never a stale run
-            target = out / name
-            if target.is_dir() and not target.is_symlink():
-                shutil.rmtree(target)
-            elif target.exists() or target.is_symlink():
-                target.unlink()
+        lock = RunLock(out).__enter__()  # before the old run is touched
+        try:
+            _clear_run(out, force)
+        except BaseException:
+            lock.__exit__(None, None, None)
+            raise
     else:
         entries = sorted(p.name for p in out.iterdir())
         if entries and not force:
@@ -304,6 +353,23 @@ def prepare_directory(out: Path, force: bool) -> None:
                 f"--out {out}: {', '.join(clash)} would be overwritten and"
                 " softpack did not write them (even with --force): choose"
                 " another directory")
+        lock = RunLock(out).__enter__()
     RunDirectory(out).marker.write_text(
         "A softpack run directory: ./softpack run replaces its outputs"
         f" ({', '.join(RUN_OUTPUTS)}) and nothing else.\n")
+    return lock
+
+
+def _clear_run(out: Path, force: bool) -> None:
+    """Remove a run directory's outputs, series.csv first (never a stale
+    run); RunError if it holds a complete run and not ``force``."""
+    if RunDirectory(out).series_csv.exists() and not force:
+        raise RunError(f"{out} holds a complete run (series.csv); use"
+                       " --force to overwrite it or --out for another"
+                       " directory")
+    for name in RUN_OUTPUTS:
+        target = out / name
+        if target.is_dir() and not target.is_symlink():
+            shutil.rmtree(target)
+        elif target.exists() or target.is_symlink():
+            target.unlink()

@@ -69,7 +69,8 @@ from softpack.simulation.interrupt import (Stopped, echo, reclaim_signals,
 from softpack.simulation.progress import Progress, duration as _duration
 from softpack.contract.run_directory import (EXIT_DONE, EXIT_FLAGGED,
                                              RunDirectory, RunError,
-                                             UsageError, is_run_directory,
+                                             RunLock, UsageError,
+                                             is_run_directory,
                                              prepare_directory, run_flags)
 
 
@@ -241,7 +242,12 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
                            f" run directory {out}, which is cleared first;"
                            " copy it elsewhere")
     _check_user_shapes(config)
-    prepare_directory(out, force)
+    with prepare_directory(out, force):  # the directory's lock, held
+        return _run_locked(config, out, initial_state, verbose, ranks)
+
+
+def _run_locked(config, out, initial_state, verbose, ranks) -> int:
+    """:func:`run` in its prepared, locked directory."""
     RunDirectory(out).config_toml.write_text(to_toml(config))
     with open(RunDirectory(out).run_log, "a", buffering=1) as log:
         say = _reporter(log, verbose)
@@ -261,15 +267,22 @@ def resume(config, out: Path, verbose=True, ranks=1) -> int:
     Raises
     ------
     RunError
-        UsageError when ``out`` is not a run directory.
+        UsageError when ``out`` is not a run directory, or another run
+        works in it.
     """
-    from softpack.simulation.resume import finish_resume, prepare_resume
-
     out = Path(os.path.abspath(out))
     if not is_run_directory(out):
         raise UsageError(f"--resume {out}: not a softpack run directory")
     driver.executable()
     _check_ranks(ranks, config)
+    with RunLock(out):
+        return _resume_locked(config, out, verbose, ranks)
+
+
+def _resume_locked(config, out, verbose, ranks) -> int:
+    """:func:`resume` with the directory's lock held."""
+    from softpack.simulation.resume import finish_resume, prepare_resume
+
     step = prepare_resume(out, config, RunError)
     with open(RunDirectory(out).run_log, "a", buffering=1) as log:
         say = _reporter(log, verbose)
