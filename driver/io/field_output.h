@@ -27,19 +27,33 @@ namespace softpack::io
 /// first grid holding the mesh and the others including it; it is replaced
 /// atomically after each write, and fields.h5 flushed, so that a killed run
 /// keeps the frames its fields.xdmf lists.
+///
+/// A run continued from its own state (a resume) continues its fields.h5:
+/// the frames up to the state's time stay, the later ones (written before
+/// the kill, past the state) go, and the resumed driver's frames follow in
+/// the same file, so that every frame of every segment reads as one time
+/// series (fields.xdmf lists them all).
 class FieldOutput
 {
 public:
   /// @param[in] directory Output directory
   /// @param[in] bodies The bodies (nodes, cells, reference coordinates),
   /// every node stored (before BodySet::keep_storage)
-  /// @throws std::runtime_error if fields.h5 cannot be created
+  /// @param[in] continued A run continued from a state: an existing
+  /// fields.h5 of the same mesh is kept (continue_after), not replaced
+  /// @throws std::runtime_error if fields.h5 cannot be created, or the one
+  /// to continue is not of this mesh
   /// @throws std::logic_error if the bodies store some nodes only
   FieldOutput(const std::filesystem::path& directory,
-              const bodies::BodySet& bodies);
+              const bodies::BodySet& bodies, bool continued = false);
   ~FieldOutput();
 
-  /// Write the fields at time t.
+  /// Keep the frames at times up to t of a continued fields.h5 (the
+  /// state's time) and drop the later ones.
+  void continue_after(double t);
+
+  /// Write the fields at time t (a frame at a time already written is
+  /// replaced).
   /// @param[in] u Global displacement (2 entries per mesh node)
   /// @param[in] cell_energy Strain energy of each cell
   void write(std::span<const double> u, std::span<const double> cell_energy,
@@ -50,6 +64,11 @@ private:
   void write_xml() const;
   /// Flush fields.h5's buffers and metadata to disk
   void flush() const;
+  /// Open the existing fields.h5 to continue it, its mesh checked; its
+  /// frames' times read
+  void open_existing(const std::filesystem::path& path);
+  /// Remove the frame at time key `key` (its three datasets)
+  void remove_frame(const std::string& key) const;
 
   std::filesystem::path _xdmf;
   std::size_t _num_nodes = 0, _num_cells = 0;

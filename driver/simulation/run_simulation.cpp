@@ -160,9 +160,11 @@ public:
         // The state's identity and fields.h5's mesh from every node, before
         // a rank keeps its own bodies' interiors only
         _identity(io::state_identity(_bodies, config.walls)),
-        _fields(_root && _p.output.fields ? std::make_unique<io::FieldOutput>(
-                                                config.directory, _bodies)
-                                          : nullptr),
+        _fields(_root && _p.output.fields
+                    ? std::make_unique<io::FieldOutput>(
+                          config.directory, _bodies,
+                          config.initial_state.has_value())
+                    : nullptr),
         _scheme(_bodies, config.walls,
                 {_p.time, _p.contact, _p.damping, config.velocity_scale,
                  config.friction, _p.parallel},
@@ -181,6 +183,8 @@ public:
                               f.state.steps, _program.size()),
             _scheme);
       _scheme.restore(f.state);
+      if (_fields) // a resume continues its fields (none: a new run's)
+        _fields->continue_after(f.state.time);
       _checks = f.checks; // totals over the whole run in done.json
     }
     else if (!_program.empty())

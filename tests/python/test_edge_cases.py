@@ -13,6 +13,7 @@ A run whose contact solves stop unconverged (``contact.nlgs_max_sweeps =
 import warnings
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import softpack
@@ -214,3 +215,61 @@ def test_a_second_run_or_resume_on_a_working_directory_is_refused(
     # its lock went with it: the directory is free again
     with RunLock(out):
         pass
+
+
+# -- items 3 and 4: a run resumed twice reads as one time series -----------
+
+def _start(out, *args):
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, PYTHONPATH=str(Path(softpack.__file__).parents[1]))
+    return subprocess.Popen([sys.executable, "-m", "softpack.cli", "run",
+                             *args], env=env, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+
+
+def _stop_after(proc, steps_csv, rows):
+    """SIGTERM once steps.csv has more than `rows` rows; its row count."""
+    import signal
+    import time
+
+    deadline = time.time() + 180
+    while True:
+        n = (len(steps_csv.read_text().splitlines()) - 1
+             if steps_csv.is_file() else 0)
+        if n > rows or proc.poll() is not None:
+            break
+        assert time.time() < deadline, "the run never got there"
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    proc.wait(timeout=60)
+    return n
+
+
+def test_a_run_killed_and_resumed_twice_reads_as_one_time_series(tmp_path):
+    meshio = pytest.importorskip("meshio")
+    require_driver()
+    out = tmp_path / "R"
+    settings = ["--set", "walls.right.velocity=[-0.05, 0]",
+                "--set", "stop.max_time=0.1",
+                "--set", "output.every_steps=5"]
+    steps = RunDirectory(out).raw.steps_csv
+    first = _stop_after(_start(out, str(SMALL), "--out", str(out), *settings),
+                        steps, 8)
+    assert not RunDirectory(out).series_csv.exists()
+    _stop_after(_start(out, "--resume", str(out)), steps, 8)
+    assert run.main(["--resume", str(out)]) == EXIT_DONE
+    series = softpack.read_run(out)
+    with meshio.xdmf.TimeSeriesReader(out / "fields.xdmf") as reader:
+        reader.read_points_cells()
+        times = []
+        for k in range(reader.num_steps):
+            t, point_data, cell_data = reader.read_data(k)
+            assert point_data["displacement"].shape[1] == 3
+            times.append(t)
+    # every output of every segment has its frame, once, in time order
+    assert times == sorted(set(times))
+    assert np.allclose(times, np.asarray(series["time"]), rtol=0,
+                       atol=1e-12), (first, times)

@@ -27,7 +27,6 @@ def test_every_path_of_a_run(tmp_path):
         "resume-state.bin": run.resume_state,
         "resume-state.stage.json": run.resume_stage_record,
         "fields.h5": run.fields_h5, "fields.xdmf": run.fields("xdmf"),
-        "fields.part.h5": run.fields("h5", part=True),
         "series.csv": run.series_csv, "particles.csv": run.particles_csv,
         "stress.csv": run.stress_csv}
     for name, path in names.items():

@@ -19,10 +19,10 @@ module does not read it); in the HDF5 file:
 Function names are matched without regard to case.
 
 A resumed run (``./softpack run --resume``, :mod:`softpack.simulation.resume`)
-keeps the frames of its killed part in ``fields.part.h5`` beside the
-resumed driver's ``fields.h5``; every reader here takes the path of
-``fields.h5`` and reads the frames of both (at a time stored in both, the
-resumed driver's).
+continues its ``fields.h5``. Runs resumed by earlier versions kept the
+frames of their killed part in ``fields.part.h5`` beside it; every reader
+here takes the path of ``fields.h5`` and reads the frames of both (at a time
+stored in both, the resumed driver's).
 """
 
 from __future__ import annotations

@@ -153,11 +153,9 @@ class RunDirectory:
         """Its stage record (the driver's ``S.stage.json`` beside ``S.bin``)."""
         return self.path / "resume-state.stage.json"
 
-    def fields(self, suffix: str, part: bool = False) -> Path:
-        """``fields.SUFFIX`` (``xdmf`` or ``h5``), or the killed part's
-        ``fields.part.SUFFIX``."""
-        return self.path / (f"fields.part.{suffix}" if part
-                            else f"fields.{suffix}")
+    def fields(self, suffix: str) -> Path:
+        """``fields.SUFFIX`` (``xdmf`` or ``h5``)."""
+        return self.path / f"fields.{suffix}"
 
     @property
     def fields_h5(self) -> Path:

@@ -20,9 +20,10 @@ the new output afterwards:
 resumed driver is given the steps left. A resumed run killed again is
 resumed the same way (``raw.part/`` then first takes in what the previous
 resumption wrote). The mesh and driver.json of the run are reused (only
-``initial_state`` and ``stop.steps`` change); fields.xdmf/h5 of the
-killed part are kept as ``fields.part.xdmf``/``.h5`` (the driver rewrites
-the field files from the state's step on).
+``initial_state`` and ``stop.steps`` change); the resumed driver continues
+fields.h5 and fields.xdmf (its frames up to the state's time kept, the
+later ones dropped), so that every frame of every segment reads as one time
+series however often the run is resumed.
 """
 
 from __future__ import annotations
@@ -83,10 +84,6 @@ def prepare_resume(out: Path, config, run_error) -> int:
         step = state_step(state)
     except ValueError as err:
         raise run_error(f"--resume {out}: {err}") from None
-    for suffix in ("xdmf", "h5"):
-        fields, kept = run.fields(suffix), run.fields(suffix, part=True)
-        if fields.exists() and not kept.exists():
-            fields.rename(kept)
     def resume_from_state(doc):
         if config["stop"]["steps"] > 0:  # the driver counts from the state
             doc["stop"]["steps"] = max(config["stop"]["steps"] - step, 1)
