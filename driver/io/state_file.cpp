@@ -1,5 +1,6 @@
 #include "state_file.h"
 
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -204,11 +205,24 @@ void write_state(const std::filesystem::path& path,
   sum.add(bytes.data(), bytes.size());
   put(bytes, sum.h);
   const std::filesystem::path tmp = path.string() + ".tmp";
+  errno = 0;
+  bool written = false;
   {
     std::ofstream out(tmp, std::ios::binary);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out)
-      throw std::runtime_error("cannot write " + tmp.string());
+    out.flush(); // a full disk shows here or at close, not at write
+    out.close();
+    written = !out.fail();
+  }
+  if (!written)
+  {
+    const int error = errno;
+    std::error_code ignored; // the partial file goes; the last state stands
+    std::filesystem::remove(tmp, ignored);
+    throw std::runtime_error(
+        "cannot write " + path.string() + ": " +
+        (error ? std::strerror(error) : "the write failed") +
+        " (the state file of the previous output step is kept)");
   }
   std::filesystem::rename(tmp, path);
 }

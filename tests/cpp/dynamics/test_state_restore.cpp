@@ -167,6 +167,31 @@ TEST(StateFile, RefusesWhatIsNotAStateFileOrDoesNotFit)
   EXPECT_THROW(scheme.restore(s), std::invalid_argument);
 }
 
+TEST(StateFile, AFullDiskIsSaidAndLeavesNoPartialFile)
+{
+  // The temporary file is a link to /dev/full: every write is ENOSPC.
+  const test::TempDir dir;
+  const std::filesystem::path path = dir.path() / "state.bin",
+                              tmp = dir.path() / "state.bin.tmp";
+  std::filesystem::create_symlink("/dev/full", tmp);
+  bodies::BodySet bodies = two_stacked_disks();
+  dynamics::MoreauJean scheme(bodies, plates(),
+                              options(Stepping::modified_newton));
+  try
+  {
+    softpack::io::write_state(path, scheme.state());
+    FAIL() << "no error on a full disk";
+  }
+  catch (const std::runtime_error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("No space left on device"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(std::filesystem::symlink_status(tmp)));
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+
 /// A step that cannot be solved at its size is started again from the same
 /// start at half the size, down to time.time_step: with one Newton
 /// iteration allowed no step converges, so a step begun at 4e-4 s is tried
