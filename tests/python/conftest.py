@@ -18,6 +18,9 @@ from pathlib import Path
 
 import pytest
 
+#: Skips fail ./softpack test unless allowed (strict_skips.py).
+pytest_plugins = ["strict_skips"]
+
 ROOT = Path(os.environ.get("SOFTPACK_ROOT",
                            Path(__file__).resolve().parents[2]))
 if str(ROOT / "python") not in sys.path:
