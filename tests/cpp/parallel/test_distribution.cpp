@@ -1,17 +1,23 @@
 // The distribution seam on 1, 2 and 3 ranks (CTest runs this executable
 // alone and under mpirun -np 2 and -np 3): which rank owns which body, the
 // scatterer's gathers and shares, the collectives, the moving of bodies and
-// the geometry broadcast. Every check is exact: each entry has one owner,
+// the geometry broadcast, and a step's contact problem over ranks (the
+// detection's shares, W's rows by owner, the whole problem). Every check
+// is exact: each entry has one owner,
 // whose bits every rank must receive.
 #include <algorithm>
 #include <bodies/BodySet.h>
 #include <bodies/body_geometry.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
+#include <compliance/contact_operator.h>
+#include <compliance/delassus.h>
+#include <compliance/effective_stiffness.h>
 #include <gtest/gtest.h>
 #include <material_registry.h>
 #include <mesh_fixtures.h>
 #include <numeric>
+#include <parallel/contact_exchange.h>
 #include <parallel/distribution.h>
 #include <parallel/geometry_broadcast.h>
 #include <parallel/rebalance.h>
@@ -273,4 +279,105 @@ TEST(GeometryBroadcast, EveryRankGetsRankZerosArrays)
   EXPECT_EQ(geometry.cells, reference.cells);
   EXPECT_EQ(geometry.cell_body, reference.cell_body);
   EXPECT_EQ(geometry.node_input, reference.node_input);
+}
+
+namespace
+{
+/// Seven disks in a row, touching within the alert distance, on a floor
+std::vector<test::Triangulation> touching()
+{
+  std::vector<test::Triangulation> p;
+  for (int i = 0; i < 7; ++i)
+    p.push_back(test::disk(0.0201 * i, 0.0, 0.01, 3));
+  return p;
+}
+
+bodies::BodySet touching_bodies()
+{
+  return bodies::BodySet(test::bodies_mesh(touching(), MPI_COMM_SELF),
+                         forms::find_material("neo_hookean"),
+                         bodies::plane_strain_parameters(0.15e6), 1180);
+}
+
+const std::vector<dynamics::Wall> floor_wall = {
+    {"floor", {0, -0.01 - 5e-5}, {0, 1}, {0, 0}}};
+
+/// W of the bodies' contacts at h = 72 us (the paper case's matrix)
+contact::DelassusMatrix delassus(parallel::ContactExchange& exchange,
+                                 const bodies::BodySet& bodies,
+                                 const std::vector<dynamics::Contact>& contacts)
+{
+  const dynamics::ContactOperator H(contacts, floor_wall);
+  dynamics::EffectiveStiffness kbar(bodies, false);
+  std::vector<bodies::BodyMatrix> K = bodies.create_matrices();
+  bodies.tangent(K);
+  const double h = 7.2e-5, th = 0.5;
+  kbar.factorize(K, 1 + h * th * 30, h * th * 1e-5 + h * h * th * th);
+  return exchange.delassus(
+      contacts, dynamics::delassus_blocks(bodies, H, kbar, 0, nullptr), {});
+}
+
+void expect_same_row(const contact::DelassusMatrix& W,
+                     const contact::DelassusMatrix& serial, std::size_t a)
+{
+  EXPECT_EQ(W.diagonal(a), serial.diagonal(a)) << "row " << a;
+  const auto cols = W.row_columns(a), ref = serial.row_columns(a);
+  ASSERT_EQ(std::vector<std::int32_t>(cols.begin(), cols.end()),
+            std::vector<std::int32_t>(ref.begin(), ref.end()))
+      << "row " << a;
+  for (std::size_t k = 0; k < cols.size(); ++k)
+    EXPECT_EQ(W.row_blocks(a)[k], serial.row_blocks(a)[k]) << "row " << a;
+}
+} // namespace
+
+TEST(ContactExchange, DetectionAndDelassusRowsAreTheSerialOnes)
+{
+  dynamics::DetectionOptions options;
+  options.alert_distance = 5e-4;
+  // The serial build: one process, every body
+  bodies::BodySet whole = touching_bodies();
+  parallel::ContactExchange serial_exchange{parallel::Distribution()};
+  const std::vector<double> x0(whole.reference_coordinates().begin(),
+                               whole.reference_coordinates().end());
+  const std::vector<dynamics::Contact> serial =
+      serial_exchange.detect(whole, x0, floor_wall, options);
+  const contact::DelassusMatrix W0 = delassus(serial_exchange, whole, serial);
+  ASSERT_GT(serial.size(), 14u); // body pairs and the floor
+  // The same on this run's ranks: every rank the serial list, each the
+  // rows of its own contacts, summed as in the serial build
+  bodies::BodySet bodies = touching_bodies();
+  parallel::ContactExchange exchange{
+      parallel::Distribution(MPI_COMM_WORLD, bodies)};
+  const std::vector<dynamics::Contact> contacts = exchange.detect(
+      bodies, bodies.current_coordinates(), floor_wall, options);
+  ASSERT_EQ(contacts.size(), serial.size());
+  for (std::size_t a = 0; a < contacts.size(); ++a)
+  {
+    EXPECT_EQ(contacts[a].candidate_body, serial[a].candidate_body) << a;
+    EXPECT_EQ(contacts[a].candidate_node, serial[a].candidate_node) << a;
+    EXPECT_EQ(contacts[a].antagonist_body, serial[a].antagonist_body) << a;
+    EXPECT_EQ(contacts[a].wall, serial[a].wall) << a;
+    EXPECT_EQ(contacts[a].gap, serial[a].gap) << a;
+    EXPECT_EQ(contacts[a].n, serial[a].n) << a;
+  }
+  const contact::DelassusMatrix W = delassus(exchange, bodies, contacts);
+  std::size_t mine = 0;
+  for (std::size_t a = 0; a < contacts.size(); ++a)
+    if (bodies.is_local(contacts[a].candidate_body))
+    {
+      expect_same_row(W, W0, a);
+      ++mine;
+    }
+  EXPECT_GT(mine, 0u);
+  EXPECT_EQ(exchange.domain() != nullptr,
+            exchange.distribution().distributed());
+  // An unsolved problem is gathered whole on every rank
+  contact::FrictionContactProblem2D problem;
+  problem.W = W;
+  problem.q.assign(2 * contacts.size(), 0.0);
+  problem.friction.assign(contacts.size(), 0.3);
+  const contact::FrictionContactProblem2D whole_problem =
+      exchange.whole_problem(problem);
+  for (std::size_t a = 0; a < contacts.size(); ++a)
+    expect_same_row(whole_problem.W, W0, a);
 }
