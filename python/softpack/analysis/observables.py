@@ -32,7 +32,12 @@ Psi_p, c_v(Psi_p)
     ``c_v = sqrt(<Psi_p^2> - <Psi_p>^2) / <Psi_p>`` (Eq. 16, population
     standard deviation). ``cv_psi`` averages over all particles, as the paper
     does ("the particles of the system"); ``cv_psi_retained`` over the
-    particles retained for Z.
+    particles retained for Z. NaN where no particle is strained (<Psi_p> =
+    0: at rest, e.g. row 0 of a run from rest): c_v is 0/0 there, not 0.
+energy_residual_relative
+    ``energy_residual / (|wall_work| + |external_work|)``; NaN while nothing
+    has been supplied (row 0 of a run from rest: 0/0), when the residual is
+    0 by construction.
 Z, rattlers, unbalanced particles
     :mod:`softpack.analysis.connectivity`. ``z`` is NaN where no particle is
     retained (``retained`` = 0) and where the output step has no contacts
