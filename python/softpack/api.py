@@ -16,7 +16,9 @@ else a dict of numpy arrays (one per column of the CSV file).
 
 from __future__ import annotations
 
+import contextlib
 import os
+import re
 from pathlib import Path
 
 __all__ = ["load_config", "run", "resume", "read_run", "plot_runs",
@@ -97,10 +99,35 @@ def run(config, out, force=False, initial_state=None, verbose=False,
 
     config = _configuration(config)
     out = Path(os.path.abspath(out))
-    status = runner.run(config, out, force=force,
-                        initial_state=initial_state, verbose=verbose,
-                        ranks=ranks)
+    with _api_terms():
+        status = runner.run(config, out, force=force,
+                            initial_state=initial_state, verbose=verbose,
+                            ranks=ranks)
     return _series(out, status, strict)
+
+
+#: The command line's options as the API's arguments name them: the
+#: messages the two share speak of the options.
+_ARGUMENTS = {"--from-state": "initial_state", "--resume": "directory",
+              "--out": "out", "--ranks": "ranks", "--force": "force=True"}
+
+
+@contextlib.contextmanager
+def _api_terms():
+    """Re-raise a run's error (RunError, ConfigError) with the command
+    line's option names in its message turned into the API's arguments."""
+    from softpack.scene.config import ConfigError
+
+    try:
+        yield
+    except (RunError, ConfigError) as err:
+        if isinstance(err, RunFlagged):
+            raise
+        text = re.sub(r"--(from-state|resume|out|ranks|force)\b",
+                      lambda m: _ARGUMENTS[m.group(0)], str(err))
+        if text == str(err):
+            raise
+        raise type(err)(text) from None
 
 
 def _configuration(config):
@@ -155,7 +182,8 @@ def resume(directory, verbose=False, strict=True):
     if not is_run_directory(directory):
         raise UsageError(f"{directory}: not a softpack run directory")
     config = load_config(RunDirectory(directory).config_toml)
-    status = runner.resume(config, directory, verbose=verbose)
+    with _api_terms():
+        status = runner.resume(config, directory, verbose=verbose)
     return _series(directory, status, strict)
 
 

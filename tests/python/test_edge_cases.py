@@ -3,7 +3,8 @@ exit status and through the API (item 2); a user's folder holding files of
 a run's names is not taken for a run (item 1); the API refuses what is not
 a configuration before writing anything (item 6); a missing or broken shape
 file is one line and exit 2 (item 5); a bad state file is refused before
-anything is written or moved (item 9, part).
+anything is written or moved, and the API's messages name its arguments
+(item 9, part).
 
 A run whose contact solves stop unconverged (``contact.nlgs_max_sweeps =
 2``) used to warn, mark raw/done.json ``converged: false`` and exit 0, and
@@ -273,3 +274,25 @@ def test_a_run_killed_and_resumed_twice_reads_as_one_time_series(tmp_path):
     assert times == sorted(set(times))
     assert np.allclose(times, np.asarray(series["time"]), rtol=0,
                        atol=1e-12), (first, times)
+
+
+# -- item 9: the API's messages name its arguments, not command-line flags --
+
+def test_api_messages_name_the_api_arguments(tmp_path):
+    require_driver()
+    config = load_config(SMALL, {"output.fields": False})
+    with pytest.raises(RunError) as caught:
+        softpack.run(config, tmp_path / "A", initial_state=tmp_path / "no.bin")
+    assert "initial_state" in str(caught.value)
+    assert "--from-state" not in str(caught.value)
+    with pytest.raises(RunError) as caught:
+        softpack.run(config, tmp_path / "B", ranks=1000)
+    assert "ranks 1000" in str(caught.value) and "--" not in str(caught.value)
+    out = tmp_path / "C"  # a run directory with no state to resume from
+    out.mkdir()
+    (out / ".softpack-run").write_text("x")
+    (out / "config.toml").write_text(SMALL.read_text())
+    with pytest.raises(RunError) as caught:  # nothing to resume from
+        softpack.resume(out)
+    assert "--resume" not in str(caught.value)
+    assert str(caught.value).startswith("directory ")
