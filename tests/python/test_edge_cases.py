@@ -220,7 +220,7 @@ def test_a_second_run_or_resume_on_a_working_directory_is_refused(
 
 # -- items 3 and 4: a run resumed twice reads as one time series -----------
 
-def _start(out, *args):
+def _start(*args):
     import os
     import subprocess
     import sys
@@ -257,10 +257,10 @@ def test_a_run_killed_and_resumed_twice_reads_as_one_time_series(tmp_path):
                 "--set", "stop.max_time=0.1",
                 "--set", "output.every_steps=5"]
     steps = RunDirectory(out).raw.steps_csv
-    first = _stop_after(_start(out, str(SMALL), "--out", str(out), *settings),
+    first = _stop_after(_start(str(SMALL), "--out", str(out), *settings),
                         steps, 8)
     assert not RunDirectory(out).series_csv.exists()
-    _stop_after(_start(out, "--resume", str(out)), steps, 8)
+    _stop_after(_start("--resume", str(out)), steps, 8)
     assert run.main(["--resume", str(out)]) == EXIT_DONE
     series = softpack.read_run(out)
     with meshio.xdmf.TimeSeriesReader(out / "fields.xdmf") as reader:

@@ -88,10 +88,11 @@ def _base(config):
     return source.parent if source.is_file() else None
 
 
-def check_user_shapes(config) -> None:
+def check_user_shapes(config) -> dict:
     """Mesh once the shapes a user's file draws (species of shape geo or
     msh, at their particles' sizes), so that a missing, unreadable or
-    unmeshable file is refused before a run writes anything.
+    unmeshable file is refused before a run writes anything; the templates
+    (for :func:`build_scene`'s ``known``: each is meshed once).
 
     Raises
     ------
@@ -101,14 +102,14 @@ def check_user_shapes(config) -> None:
     species = config["species"]
     user = [k for k, s in enumerate(species) if s["shape"] in ("geo", "msh")]
     if not user:
-        return
+        return {}
     diameters, index = particle_table(species, config["packing"]["seed"])
     keep = np.isin(index, user)
-    shapes.templates(species, diameters[keep], index[keep],
-                     config["mesh"]["element_size"], _base(config))
+    return shapes.templates(species, diameters[keep], index[keep],
+                            config["mesh"]["element_size"], _base(config))
 
 
-def build_scene(config, mesh_stem) -> Scene:
+def build_scene(config, mesh_stem, known=None) -> Scene:
     """Draw, mesh, place and write a configuration's particles.
 
     Each distinct (shape, size) is meshed once (:mod:`.shapes`); the
@@ -122,6 +123,8 @@ def build_scene(config, mesh_stem) -> Scene:
     mesh_stem : str or Path
         Writes ``STEM.xdmf``, ``STEM.h5``, ``STEM.bodies.csv`` and, with a
         box, ``STEM.packing.csv``.
+    known : dict, optional
+        Shape templates meshed already (:func:`check_user_shapes`).
 
     Raises
     ------
@@ -135,7 +138,8 @@ def build_scene(config, mesh_stem) -> Scene:
     if not config["box"]["enabled"]:
         diameters, index = diameters[:1], index[:1]
     meshes = shapes.templates(species, diameters, index,
-                              config["mesh"]["element_size"], _base(config))
+                              config["mesh"]["element_size"], _base(config),
+                              known)
     bodies = [meshes[shapes.shape_key(species[s], d)]
               for d, s in zip(diameters, index)]
     radii = np.array([b.bounding_radius for b in bodies])

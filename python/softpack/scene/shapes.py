@@ -164,7 +164,8 @@ def user_file(spec, where, base=None) -> Path:
                      + ", ".join(str(p) for p in tried) + ")")
 
 
-def templates(species, diameters, index, element_size, base=None) -> dict:
+def templates(species, diameters, index, element_size, base=None,
+              known=None) -> dict:
     """Mesh every distinct (shape, size) of a scene once.
 
     Parameters
@@ -177,6 +178,8 @@ def templates(species, diameters, index, element_size, base=None) -> dict:
         The run's element size h (m).
     base : path-like, optional
         Directory of the run's TOML file (relative ``file`` keys).
+    known : dict, optional
+        Templates meshed already (a result of this function): reused.
 
     Returns
     -------
@@ -185,16 +188,22 @@ def templates(species, diameters, index, element_size, base=None) -> dict:
     """
     import gmsh
 
+    made = dict(known or {})
     wanted = {}
     for d, s in zip(np.asarray(diameters, float).tolist(),
                     np.asarray(index).tolist()):
-        wanted.setdefault(shape_key(species[s], d), (s, d))
+        key = shape_key(species[s], d)
+        if key not in made:
+            wanted.setdefault(key, (s, d))
+    if not wanted:
+        return made
     initialize_gmsh(gmsh)
     gmsh.logger.start()
     try:
-        return {key: _template(gmsh, species[s], s, d, float(element_size),
-                               base)
-                for key, (s, d) in wanted.items()}
+        made.update({key: _template(gmsh, species[s], s, d,
+                                    float(element_size), base)
+                     for key, (s, d) in wanted.items()})
+        return made
     finally:
         gmsh.logger.stop()
         gmsh.finalize()

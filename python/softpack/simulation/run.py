@@ -241,19 +241,19 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
             raise RunError(f"--from-state: {initial_state} is inside the"
                            f" run directory {out}, which is cleared first;"
                            " copy it elsewhere")
-    _check_user_shapes(config)
+    known = _check_user_shapes(config)
     with prepare_directory(out, force):  # the directory's lock, held
-        return _run_locked(config, out, initial_state, verbose, ranks)
+        return _run_locked(config, out, initial_state, verbose, ranks, known)
 
 
-def _run_locked(config, out, initial_state, verbose, ranks) -> int:
+def _run_locked(config, out, initial_state, verbose, ranks, known) -> int:
     """:func:`run` in its prepared, locked directory."""
     RunDirectory(out).config_toml.write_text(to_toml(config))
     with open(RunDirectory(out).run_log, "a", buffering=1) as log:
         say = _reporter(log, verbose)
         try:
             say.ranks = ranks
-            return _run_logged(config, out, initial_state, log, say)
+            return _run_logged(config, out, initial_state, log, say, known)
         except (KeyboardInterrupt, Stopped) as err:
             log.write(f"[softpack run {time.strftime('%H:%M:%S')}] stopped"
                       f" ({why(err)}): the driver was stopped; no"
@@ -310,14 +310,14 @@ def _check_state(path: Path) -> None:
         raise UsageError(f"--from-state: {err}") from None
 
 
-def _check_user_shapes(config) -> None:
+def _check_user_shapes(config) -> dict:
     """UsageError for a user's shape file that is missing or cannot be
-    meshed (before anything is written)."""
+    meshed (before anything is written); the user shapes' templates."""
     from softpack.scene.build import check_user_shapes
     from softpack.scene.shapes import ShapeError
 
     try:
-        check_user_shapes(config)
+        return check_user_shapes(config)
     except ShapeError as err:
         raise UsageError(f"{config.source}: {err}") from None
 
@@ -351,14 +351,15 @@ def _drive(config, out, log, say, scene=None, initial_state=None) -> None:
     say(f"{DRIVER} done in {_duration(time.time() - started)}")
 
 
-def _run_logged(config, out, initial_state, log, say) -> int:
+def _run_logged(config, out, initial_state, log, say, known=None) -> int:
     """The body of :func:`run` once run.log is open."""
     from softpack.scene.build import build_scene
     from softpack.scene.packing import PackingError
 
     say(f"{config.source} -> {out}")
     try:
-        scene = build_scene(config, RunDirectory(out).mesh_stem("packing"))
+        scene = build_scene(config, RunDirectory(out).mesh_stem("packing"),
+                            known)
     except PackingError as err:
         # the scene's messages name the keys; the file is the run's config
         # (said once: the caller prints the error, the log keeps it)
