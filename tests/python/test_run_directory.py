@@ -27,6 +27,7 @@ def test_every_path_of_a_run(tmp_path):
         "resume-state.bin": run.resume_state,
         "resume-state.stage.json": run.resume_stage_record,
         "fields.h5": run.fields_h5, "fields.xdmf": run.fields("xdmf"),
+        "fields": run.field_frames,
         "series.csv": run.series_csv, "particles.csv": run.particles_csv,
         "stress.csv": run.stress_csv}
     for name, path in names.items():

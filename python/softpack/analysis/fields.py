@@ -1,28 +1,32 @@
-"""The one reader of ``fields.h5`` (the driver's field output).
+"""The one reader of a run's fields (the driver's field output).
 
-The driver writes ``fields.h5`` in the layout of dolfinx's XDMFFile
+The driver writes its fields in the layout of dolfinx's XDMFFile
 (``driver/io/field_output.cpp``, from its own arrays: nodes in the DOF
 order, cells as the mesh numbers them) and its own ``fields.xdmf`` (one temporal
 collection, read by ParaView and ``meshio.xdmf.TimeSeriesReader``; this
-module does not read it); in the HDF5 file:
+module does not read it). ``fields.h5`` holds the mesh:
 
 ``/Mesh/<mesh>/geometry``
     reference node coordinates, shape ``(n, 2)`` (or ``(n, 3)``);
 ``/Mesh/<mesh>/topology``
     triangles, shape ``(m, 3)``;
-``/Function/<name>/<time>``
+
+and each written time has its own file, ``fields/<key>.h5`` (written whole
+and renamed, so that a killed driver leaves no frame half written), holding
+
+``/Function/<name>/<key>``
     a function at a time, the key being ``repr(time)`` with ``.`` written
     ``_``: ``displacement`` (nodal, ``(n, 3)``), ``Psi`` (strain energy per
     reference area of each cell, J/m^3 per unit length, ``(m, 1)``) and
     ``particle`` (the body id of each cell, ``(m, 1)``).
 
-Function names are matched without regard to case.
+Function names are matched without regard to case. Every reader here takes
+the path of ``fields.h5``.
 
-A resumed run (``./softpack run --resume``, :mod:`softpack.simulation.resume`)
-continues its ``fields.h5``. Runs resumed by earlier versions kept the
-frames of their killed part in ``fields.part.h5`` beside it; every reader
-here takes the path of ``fields.h5`` and reads the frames of both (at a time
-stored in both, the resumed driver's).
+Earlier versions wrote every frame inside ``fields.h5`` (as dolfinx does),
+and runs they resumed kept the frames of their killed part in
+``fields.part.h5`` beside it: these are read too (at a time stored twice,
+the later file's: ``fields.part.h5``, ``fields.h5``, ``fields/``).
 """
 
 from __future__ import annotations
@@ -91,7 +95,9 @@ def _function_group(f, name, path):
 
 
 def _sources(path) -> list[Path]:
-    """``[fields.part.h5, fields.h5]`` of a resumed run, else ``[path]``.
+    """The files that may hold frames, earliest writer first:
+    ``[fields.part.h5, fields.h5]`` (an earlier version's layout; the part
+    only if it exists).
 
     A killed part that HDF5 cannot open (written by a driver that did not
     flush its frames) is left out with a warning: the resumed frames are
@@ -105,26 +111,71 @@ def _sources(path) -> list[Path]:
         _h5py().File(part, "r").close()
     except OSError as err:
         warnings.warn(f"{part}: unreadable ({err}); its frames (the killed"
-                      " part of a resumed run) are left out", stacklevel=3)
+                      " part of a resumed run) are left out", stacklevel=4)
         return [path]
     return [part, path]
 
 
-def _source_of(path, name, time) -> tuple[Path, float]:
-    """The file holding function ``name`` at the stored time nearest
-    ``time`` over :func:`_sources`, and that time."""
-    best = None
+def _frame_files(path) -> dict:
+    """``{time: file}`` of the one-frame files ``fields/<key>.h5`` beside
+    ``fields.h5`` (their hidden temporary files left out)."""
+    frames = Path(path).with_suffix("")
+    if not frames.is_dir():
+        return {}
+    return {float(file.stem.replace("_", ".")): file
+            for file in frames.glob("[!.]*.h5")}
+
+
+def _index(path, name) -> dict:
+    """``{stored time: (file, key)}`` of function ``name`` (later files win).
+
+    Raises
+    ------
+    KeyError
+        When no file holds the function.
+    """
+    index = {}
     for source in _sources(path):
         with _h5py().File(source, "r") as f:
-            for t in _times(_function_group(f, name, source)):
-                if best is None or abs(t - time) <= abs(best[1] - time):
-                    best = (source, t)  # later files win a tie
-    return best
+            if "Function" in f or source != Path(path):
+                group = _function_group(f, name, source)
+                index.update((t, (source, key))
+                             for t, key in _times(group).items())
+    index.update((t, (file, file.stem))
+                 for t, file in _frame_files(path).items())
+    if not index:
+        raise KeyError(f"{path}: no function {name!r} stored")
+    return index
+
+
+def _nearest(index: dict, time) -> float:
+    """The stored time of ``index`` nearest ``time``."""
+    return min(index, key=lambda t: abs(t - time))
+
+
+def _function_group(f, name, path):
+    """The group ``/Function/<name>`` (case-insensitive), or KeyError."""
+    names = {key.lower(): key for key in f.get("Function", {})}
+    if name.lower() not in names:
+        raise KeyError(f"{path}: no function {name!r}, has"
+                       f" {sorted(names.values())}")
+    return f["Function"][names[name.lower()]]
 
 
 def _times(group) -> dict:
     """``{stored time: key}`` of a function group."""
     return {float(key.replace("_", ".")): key for key in group}
+
+
+def _read(file, name, key) -> np.ndarray:
+    """Values of function ``name`` at key ``key`` of a file: ``(n, 2)`` for a
+    vector function (its in-plane part), ``(m,)`` for a cell function."""
+    with _h5py().File(file, "r") as f:
+        group = _function_group(f, name, file)
+        if key not in group:
+            raise KeyError(f"{file}: no {name!r} at {key}")
+        values = np.asarray(group[key])
+    return values[:, :2] if values.shape[1] >= 2 else values.reshape(-1)
 
 
 def read_mesh(path):
@@ -137,11 +188,7 @@ def read_mesh(path):
 
 def stored_times(path, name=DISPLACEMENT) -> np.ndarray:
     """The times at which function ``name`` is stored, ascending."""
-    times = set()
-    for source in _sources(path):
-        with _h5py().File(source, "r") as f:
-            times.update(_times(_function_group(f, name, source)))
-    return np.array(sorted(times))
+    return np.array(sorted(_index(path, name)))
 
 
 def read_function(path, name, time):
@@ -153,18 +200,10 @@ def read_function(path, name, time):
         The values (``(n, 2)`` for a vector function, its in-plane part;
         ``(m,)`` for a cell function) and the stored time read.
     """
-    source, stored = _source_of(path, name, time)
-    with _h5py().File(source, "r") as f:
-        return _read_at(_function_group(f, name, source), stored)
-
-
-def _read_at(group, time):
-    """Values of a function group at its stored time nearest ``time``."""
-    times = _times(group)
-    stored = min(times, key=lambda t: abs(t - time))
-    values = np.asarray(group[times[stored]])
-    values = values[:, :2] if values.shape[1] >= 2 else values.reshape(-1)
-    return values, stored
+    index = _index(path, name)
+    stored = _nearest(index, time)
+    file, key = index[stored]
+    return _read(file, name, key), stored
 
 
 def read_snapshot(path, time) -> Snapshot:
@@ -175,23 +214,20 @@ def read_snapshot(path, time) -> Snapshot:
     KeyError
         When the file has no mesh or no displacement.
     """
-    path, time = _source_of(path, DISPLACEMENT, time)
-    with _h5py().File(path, "r") as f:
-        mesh = _mesh_group(f, path)
-        u, stored = _read_at(_function_group(f, DISPLACEMENT, path), time)
-        optional = {}
-        for name in (PSI, BODY):
-            try:
-                optional[name] = _read_at(_function_group(f, name, path),
-                                          stored)[0]
-            except KeyError:
-                optional[name] = None
-        body = optional[BODY]
-        return Snapshot(
-            time=stored, points=np.asarray(mesh["geometry"])[:, :2],
-            cells=np.asarray(mesh["topology"]).astype(np.int64),
-            displacement=u, psi=optional[PSI],
-            body=None if body is None else np.rint(body).astype(np.int64))
+    points, cells = read_mesh(path)
+    u, stored = read_function(path, DISPLACEMENT, time)
+    file, key = _index(path, DISPLACEMENT)[stored]
+    optional = {}
+    for name in (PSI, BODY):
+        try:
+            optional[name] = _read(file, name, key)
+        except KeyError:
+            optional[name] = None
+    body = optional[BODY]
+    return Snapshot(
+        time=stored, points=points, cells=cells, displacement=u,
+        psi=optional[PSI],
+        body=None if body is None else np.rint(body).astype(np.int64))
 
 
 def read_displacements(path):
@@ -202,10 +238,5 @@ def read_displacements(path):
     list of (float, ndarray)
         ``(time, u (n, 2))`` in ascending time.
     """
-    frames = {}
-    for source in _sources(path):  # the resumed driver's frames last
-        with _h5py().File(source, "r") as f:
-            group = _function_group(f, DISPLACEMENT, source)
-            frames.update((t, np.asarray(group[key])[:, :2])
-                          for t, key in _times(group).items())
-    return sorted(frames.items(), key=lambda item: item[0])
+    return [(t, _read(file, DISPLACEMENT, key))
+            for t, (file, key) in sorted(_index(path, DISPLACEMENT).items())]

@@ -23,7 +23,7 @@ from pathlib import Path
 
 #: What a run writes into its directory (removed by --force, nothing else).
 RUN_OUTPUTS = ("series.csv", "particles.csv", "stress.csv", "raw",
-               "fields.xdmf", "fields.h5", "mesh", "driver.json", "run.log",
+               "fields.xdmf", "fields.h5", "fields", "mesh", "driver.json", "run.log",
                "config.toml", "raw.part", "resume-state.bin",
                "fields.part.xdmf", "fields.part.h5")
 #: The file that marks a directory as softpack's run directory.
@@ -159,8 +159,14 @@ class RunDirectory:
 
     @property
     def fields_h5(self) -> Path:
-        """The P1 fields' data (analysis/fields.py reads it)."""
+        """The P1 fields' mesh (analysis/fields.py reads the fields through
+        it)."""
         return self.fields("h5")
+
+    @property
+    def field_frames(self) -> Path:
+        """``fields/``: one HDF5 file per written time."""
+        return self.path / "fields"
 
     @property
     def series_csv(self) -> Path:

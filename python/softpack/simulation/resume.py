@@ -21,7 +21,7 @@ resumed driver is given the steps left. A resumed run killed again is
 resumed the same way (``raw.part/`` then first takes in what the previous
 resumption wrote). The mesh and driver.json of the run are reused (only
 ``initial_state`` and ``stop.steps`` change); the resumed driver continues
-fields.h5 and fields.xdmf (its frames up to the state's time kept, the
+its fields (fields.xdmf, fields/: its frames up to the state's time kept, the
 later ones dropped), so that every frame of every segment reads as one time
 series however often the run is resumed.
 """
