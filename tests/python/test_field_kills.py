@@ -87,12 +87,27 @@ def _every_frame_reads(out) -> dict:
     return frames
 
 
-def test_a_driver_killed_20_times_in_its_frame_writes_loses_no_frame(
-        tmp_path, monkeypatch):
+@pytest.fixture(scope="module")
+def uninterrupted(tmp_path_factory):
+    """The run of :data:`SETTINGS` never killed: ``(config, directory)``."""
     require_driver()
     config = load_config(SMALL, SETTINGS)
-    clean = RunDirectory(tmp_path / "clean")
+    clean = RunDirectory(tmp_path_factory.mktemp("fields") / "clean")
     softpack.run(config, clean.path)
+    return config, clean
+
+
+def _same_frames(run, clean):
+    killed, uninterrupted = (_every_frame_reads(r.path) for r in (run, clean))
+    assert list(killed) == list(uninterrupted)
+    for t, values in uninterrupted.items():
+        for a, b in zip(killed[t], values):
+            np.testing.assert_array_equal(a, b)
+
+
+def test_a_driver_killed_20_times_in_its_frame_writes_loses_no_frame(
+        uninterrupted, tmp_path, monkeypatch):
+    config, clean = uninterrupted
     out = RunDirectory(tmp_path / "killed")
     killer = _Killer(out.field_frames, random.Random(8))
     monkeypatch.setattr(driver, "start", killer.start)
@@ -108,9 +123,35 @@ def test_a_driver_killed_20_times_in_its_frame_writes_loses_no_frame(
     softpack.resume(out.path)
     # each kill came after more frames were written, and none was lost
     assert listed == sorted(listed) and listed[0] > 0
-    killed, uninterrupted = (_every_frame_reads(run.path)
-                             for run in (out, clean))
-    assert list(killed) == list(uninterrupted)
-    for t, values in uninterrupted.items():
-        for a, b in zip(killed[t], values):
-            np.testing.assert_array_equal(a, b)
+    _same_frames(out, clean)
+
+
+def test_a_run_of_the_one_file_layout_is_continued(uninterrupted, tmp_path,
+                                                   monkeypatch):
+    """A run killed under an earlier version (every frame inside fields.h5,
+    one more frame past its state) resumed by this one: that frame goes, the
+    others stay in fields.h5, the new ones follow in fields/."""
+    h5py = pytest.importorskip("h5py")
+    config, clean = uninterrupted
+    out = RunDirectory(tmp_path / "old")
+    killer = _Killer(out.field_frames, random.Random(3))
+    monkeypatch.setattr(driver, "start", killer.start)
+    with pytest.raises(RunError):
+        softpack.run(config, out.path)
+    monkeypatch.setattr(driver, "start", killer._start)
+    frames = sorted(out.field_frames.glob("*.h5"))
+    with h5py.File(out.fields_h5, "a") as f:
+        for file in frames:
+            with h5py.File(file, "r") as frame:
+                for name in frame["Function"]:
+                    frame.copy(f"Function/{name}/{file.stem}", f,
+                               f"Function/{name}/{file.stem}")
+        for name in f["Function"]:  # a frame written after the last state
+            f[f"Function/{name}/9_5"] = f[f"Function/{name}/{file.stem}"][()]
+    for file in frames:
+        file.unlink()
+    softpack.resume(out.path)
+    assert 9.5 not in fields.stored_times(out.fields_h5)
+    assert len(list(out.field_frames.glob("*.h5"))) < len(
+        fields.stored_times(clean.fields_h5)) - len(frames) + 2
+    _same_frames(out, clean)
