@@ -1,0 +1,111 @@
+"""Assembly-scale checks (issue 43 item 2) on the three runs of
+assembly_cases.py: a 26-disk compaction, a staged servo run and a
+rigid+soft mixture.
+
+Each run is checked (a) against invariants that do not depend on how the
+run got there, at every output row, at about ten times what was measured
+(2026-12-03, these runs): the energy balance, the penetration, the packing
+fraction recomputed from the displacement field, and, where the assembly is
+at rest, the stress estimates against each other and the servo walls'
+target; and (b) against its committed reference series
+(tests/python/reference/, assembly_cases.py rewrites it) to round-off.
+"""
+
+import numpy as np
+import pytest
+
+from assembly_cases import CASES, read_reference, run_case, series
+from driver_required import require_driver
+from softpack.analysis import fields
+from softpack.contract.run_directory import RunDirectory
+from softpack.contract.tables import read_table
+
+pytestmark = pytest.mark.usefixtures("registry")
+
+#: Largest |energy_residual| of any row (J), measured: compaction 5.1e-6,
+#: servo 1.8e-6, mixed 2.4e-6 (of final wall works 0.23, 0.14, 0.027 J).
+ENERGY_RESIDUAL = {"compaction": 5e-5, "servo": 2e-5, "mixed": 2.5e-5}
+#: Largest penetration of any row (m), measured 5.7e-11, 5.2e-11, 4.8e-11.
+PENETRATION = 6e-10
+#: Phi from the deformed mesh's area against series.csv's Phi, measured
+#: 5.1e-13, 4.4e-12, 5.0e-13 at most (round-off of the two sums).
+PHI = 5e-11
+#: Relative difference to the reference at any row: the same build gives
+#: the same bits; this allows round-off only.
+ROUND_OFF = 1e-10
+
+
+_RUNS: dict = {}
+
+
+def _run(name, tmp_path_factory):
+    """The run directory of a case, run once per session."""
+    require_driver()
+    if name not in _RUNS:
+        _RUNS[name] = run_case(name, tmp_path_factory.mktemp(name) / "run")
+    return _RUNS[name]
+
+
+@pytest.fixture(params=sorted(CASES))
+def case(request, tmp_path_factory):
+    """``(name, run directory)`` of each case."""
+    return request.param, _run(request.param, tmp_path_factory)
+
+
+def test_the_energy_balance_closes_at_every_row(case):
+    name, out = case
+    s = read_table(RunDirectory(out).series_csv)
+    assert s["wall_work"][-1] > 0
+    assert np.max(np.abs(s["energy_residual"])) < ENERGY_RESIDUAL[name]
+
+
+def test_contacts_do_not_penetrate_at_any_row(case):
+    _, out = case
+    s = read_table(RunDirectory(out).series_csv)
+    assert np.nanmax(s["max_penetration"]) < PENETRATION
+
+
+def test_phi_is_the_deformed_particles_area_over_the_box(case):
+    """The driver's Phi (particles' areas from its own integration) against
+    the area of the deformed triangles of fields.h5 over the box's."""
+    _, out = case
+    run = RunDirectory(out)
+    s, stress = read_table(run.series_csv), read_table(run.stress_csv)
+    points, cells = fields.read_mesh(run.fields_h5)
+    frames = fields.read_displacements(run.fields_h5)
+    assert len(frames) == len(s["phi"])
+    for (t, u), box, phi, time in zip(frames, stress["area"], s["phi"],
+                                      s["time"]):
+        assert t == pytest.approx(time, rel=1e-12)
+        x = (points + u)[cells]
+        a, b = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
+        area = 0.5 * np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]).sum()
+        assert abs(area / box - phi) < PHI
+
+
+def test_at_rest_the_stress_estimates_agree(tmp_path_factory):
+    """At the end of the servo run's consolidation (kinetic energy 1.6e-4
+    of the strain energy): contacts (Love-Weber) against the finite
+    elements, measured 0.11 %; the servo walls against their 4 kPa
+    target, measured 0.51 % (right) and 0.70 % (top)."""
+    out = _run("servo", tmp_path_factory)
+    run = RunDirectory(out)
+    stage = read_table(run.raw.steps_csv)["stage"]
+    stress = read_table(run.stress_csv)
+    rest = int(np.flatnonzero(np.diff(stage))[0])
+    assert abs(stress["difference_contact_fe"][rest]) < 1.1e-2
+    for wall in ("right", "top"):
+        assert stress[f"{wall}_stress"][rest] == pytest.approx(4000.0,
+                                                               rel=7e-2)
+
+
+def test_the_series_is_the_reference_to_round_off(case):
+    name, out = case
+    got, want = series(out), read_reference(name)
+    assert list(got) == list(want)
+    for column, values in want.items():
+        np.testing.assert_allclose(
+            got[column], values, rtol=ROUND_OFF,
+            atol=ROUND_OFF * np.max(np.abs(values)),
+            err_msg=f"{name}: {column} moved from the reference"
+                    " (tests/python/assembly_cases.py rewrites it)")
