@@ -3,8 +3,8 @@
 // interiors swept at once, then the interfaces colour by colour, each
 // exchange copying what the plan's links receive between two barriers.
 // Each domain holds W's rows of its own contacts only, as a rank does. The
-// MPI exchange itself (parallel/contact_domains.cpp) is run by
-// tests/python/test_mpi.py.
+// MPI exchange itself (parallel/contact_domains.cpp) on 1, 2 and 3 ranks:
+// tests/cpp/parallel/test_contact_domains.cpp.
 #include "domain_plan.h"
 #include "error.h"
 #include "fclib_io.h"
