@@ -117,6 +117,34 @@ def test_observables_only_uses_the_runs_config(tmp_path, fake_bin,
     assert set(s["z"]) == {2.0}  # wall contacts: two nodes of the particle
 
 
+def test_observables_only_applies_the_observables_settings(
+        tmp_path, fake_bin, fake_mesh, capsys):
+    """``--set observables.*`` changes the rules (written to the run's
+    config.toml first); other settings need a new run and are refused."""
+    out = tmp_path / "out"
+    assert run.main([str(SMALL), "--out", str(out)]) == 0
+    config = (out / "config.toml").read_text()
+    assert run.main(["--observables-only", "--out", str(out), "--set",
+                     'observables.two_node_rule="candidate_nodes"']) == 0
+    s = observables.read_table(out / "series.csv")
+    assert set(s["z"]) == {2.0}  # as test_observables_only_uses_the_runs_config
+    assert 'two_node_rule = "candidate_nodes"' in (
+        out / "config.toml").read_text()
+    capsys.readouterr()
+    for argv, said in (
+            (["--set", "contact.friction=0.1"], "only [observables]"),
+            (["--set", "observables.two_node_rule=\"x\""], "two_node_rule"),
+            ([str(SMALL)], "no CONFIG")):
+        before = (out / "config.toml").read_text()
+        assert run.main(["--observables-only", "--out", str(out),
+                         *argv]) == 2
+        assert said in capsys.readouterr().err
+        assert (out / "config.toml").read_text() == before
+    assert run.main(["--observables-only"]) == 2
+    assert "--out DIR" in capsys.readouterr().err
+    assert config != (out / "config.toml").read_text()
+
+
 def test_default_out_dir_and_progress_line(tmp_path):
     from softpack.scene.config import load_config
     config = load_config(SMALL, {"packing.seed": 4,

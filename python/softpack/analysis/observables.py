@@ -254,7 +254,8 @@ def retained_report(series: dict) -> str:
             " contact force above [observables] unbalanced_threshold x the"
             " reference force; the assembly is not at rest). Read Z(Phi)"
             " with care; a larger unbalanced_threshold (./softpack run"
-            " --observables-only --set observables.unbalanced_threshold=...)"
+            " --observables-only --out RUN --set"
+            " observables.unbalanced_threshold=...)"
             " counts them (series.csv retained, unbalanced)")
 
 
