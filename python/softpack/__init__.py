@@ -23,7 +23,7 @@ by the function that needs them.
 __version__ = "0.2.0"
 
 __all__ = ["load_config", "run", "resume", "read_run", "plot_runs",
-           "plot_single_disk", "RunError", "RunFlagged"]
+           "plot_loading", "plot_single_disk", "RunError", "RunFlagged"]
 
 
 def __getattr__(name):
@@ -32,3 +32,8 @@ def __getattr__(name):
         from softpack import api
         return getattr(api, name)
     raise AttributeError(f"module 'softpack' has no attribute {name!r}")
+
+
+def __dir__():
+    """The public names (the API's are imported on first use)."""
+    return sorted(set(globals()) | set(__all__))

@@ -22,7 +22,7 @@ import re
 from pathlib import Path
 
 __all__ = ["load_config", "run", "resume", "read_run", "plot_runs",
-           "plot_single_disk", "RunError", "RunFlagged"]
+           "plot_loading", "plot_single_disk", "RunError", "RunFlagged"]
 
 from softpack.contract.run_directory import (EXIT_FLAGGED,  # noqa: E402
                                              RunDirectory, RunError,
@@ -187,16 +187,36 @@ def resume(directory, verbose=False, strict=True):
     return _series(directory, status, strict)
 
 
-def read_run(directory, table="series"):
-    """A finished run's table as columns.
+#: The tables of a run :func:`read_run` reads, and what each holds.
+TABLES = {
+    "series": "series.csv: one row per output step (eps, phi, energies, Z,"
+              " ...; docs/observables.md)",
+    "particles": "particles.csv: one row per particle and output step",
+    "stress": "stress.csv: the box's strains and the wall, contact and"
+              " finite-element stress estimates per output step (a box)",
+    "steps": "raw/steps.csv: the driver's row per output step",
+    "raw_particles": "raw/particles.csv: the driver's row per particle and"
+                     " output step",
+    "contacts": "raw/contacts/step_N.csv: the contacts of output step N"
+                " (step=N)",
+}
+
+
+def read_run(directory, table="series", step=None):
+    """A run's table as columns.
 
     Parameters
     ----------
     directory : path-like
         A run directory written by :func:`run` or ``./softpack run``.
-    table : {"series", "particles"}
-        ``series.csv`` (one row per output step: eps, phi, energies, Z, ...)
-        or ``particles.csv`` (one row per particle and output step).
+    table : str
+        One of :data:`TABLES`: ``"series"`` (default), ``"particles"``,
+        ``"stress"`` (written by the analysis of a finished run),
+        ``"steps"``, ``"raw_particles"`` or ``"contacts"`` (the driver's,
+        there as soon as it writes them).
+    step : int, optional
+        The output step of a ``"contacts"`` table (a value of the series'
+        ``step`` column).
 
     Returns
     -------
@@ -204,24 +224,74 @@ def read_run(directory, table="series"):
 
     Raises
     ------
+    ValueError
+        An unknown table, or ``step`` missing for (or given to another
+        table than) ``"contacts"``.
     FileNotFoundError
-        The run is not complete (no ``series.csv``).
+        The table is not there (an analysis table of a run not finished,
+        a step with no contact file).
     """
     from softpack.contract.tables import read_table
 
-    if table not in ("series", "particles"):
-        raise ValueError(f"table {table!r}: expected 'series' or"
-                         " 'particles'")
-    path = Path(directory) / f"{table}.csv"
+    if table not in TABLES:
+        raise ValueError(f"table {table!r}: expected one of"
+                         f" {', '.join(map(repr, TABLES))}")
+    if (step is None) == (table == "contacts"):
+        raise ValueError("step: the output step of table 'contacts', and"
+                         " of no other table")
+    run = RunDirectory(directory)
+    path = {"series": lambda: run.series_csv,
+            "particles": lambda: run.particles_csv,
+            "stress": lambda: run.stress_csv,
+            "steps": lambda: run.raw.steps_csv,
+            "raw_particles": lambda: run.raw.particles_csv,
+            "contacts": lambda: run.raw.contact_file(step)}[table]()
     if not path.is_file():
-        raise FileNotFoundError(f"{path}: no such file (is {directory} a"
-                                " finished run?)")
+        raise FileNotFoundError(f"{path}: no such file ({TABLES[table]};"
+                                f" is {directory} a finished run?)")
     columns = read_table(path)
     try:
         import pandas
     except ImportError:
         return columns
     return pandas.DataFrame(columns)
+
+
+def plot_loading(directory, out=None, estimate=None, rest=None,
+                 stage=None) -> dict:
+    """The loading figures of a run in a box (``./softpack plot-loading``):
+    pressure against Phi with the compaction law fitted, Z, the stress
+    estimates, and the shear of a stage.
+
+    Parameters
+    ----------
+    directory : path-like
+        A finished run directory.
+    out : path-like, optional
+        Figure directory (default: ``directory/figures/loading``).
+    estimate : {"fe", "contact", "wall"}, optional
+        The stress estimate the law is fitted to (default: as
+        ``./softpack plot-loading``).
+    rest : float, optional
+        Fit the rows whose kinetic energy is at most ``rest`` x the strain
+        energy (default: 1e-3 with stages, every row without).
+    stage : int, optional
+        The stage of the shear figure (default: the last).
+
+    Returns
+    -------
+    dict
+        The summary also written to ``loading.json`` (the fit, the last
+        row's estimates, the figures' paths).
+    """
+    from softpack.plots import loading
+
+    run = RunDirectory(directory)
+    if not run.raw.steps_csv.is_file():
+        raise RunError(f"directory {directory}: no raw/steps.csv (not a run"
+                       " directory)")
+    out = Path(out) if out is not None else run.path / "figures" / "loading"
+    return loading.write_figures(run.path, out, estimate, rest, stage)
 
 
 def plot_runs(directories, out=None) -> list[Path]:

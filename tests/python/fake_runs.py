@@ -5,16 +5,20 @@
 
 import json
 import math
+from pathlib import Path
+
+import numpy as np
 
 
 def setup_document(length=0.10, width=0.05, thickness=0.015,
                    diameters=(0.016,), species=None, friction=0.1, seed=3,
                    shear_modulus=0.15e6, law="neo_hookean", box=True,
-                   piston_speed=-0.1):
+                   piston_speed=-0.1, rigid=()):
     """A raw/setup.json document: a box of walls left/right/bottom/top.
 
     ``species`` is the body -> species index list (default: one body of
-    each diameter); reference areas are the disks' pi D^2 / 4.
+    each diameter); reference areas are the disks' pi D^2 / 4. The species
+    of ``rigid`` (indices) are of a rigid material.
     """
     if species is None:
         species = list(range(len(diameters)))
@@ -27,7 +31,9 @@ def setup_document(length=0.10, width=0.05, thickness=0.015,
     parameters = {"c1": 1.0} if shear_modulus is None else {
         "shear_modulus": shear_modulus, "lame_lambda": 2 * shear_modulus}
     kinds = [{"name": f"s{i}", "shape": "disk", "diameter": d,
-              "count": species.count(i)} for i, d in enumerate(diameters)]
+              "count": species.count(i),
+              "material": "hard" if i in rigid else ""}
+             for i, d in enumerate(diameters)]
     return {
         "schema_version": 2,
         "units": {"length": "m", "time": "s", "mass": "kg", "force": "N/m",
@@ -39,6 +45,9 @@ def setup_document(length=0.10, width=0.05, thickness=0.015,
                   "bodies": {"mesh": "/nowhere/packing.xdmf",
                              "species": species}},
         "material": {"law": law, "density": 1180.0, "parameters": parameters},
+        "materials": [{"name": "hard", "law": law, "density": 1180.0,
+                       "parameters": parameters, "rigid": True}] if rigid
+        else [],
         "walls": [{"name": n, "point": p, "normal": q, "velocity": v}
                   for n, p, q, v in walls],
         "parameters": {"stop": {}, "contact": {"friction": friction},
@@ -96,3 +105,32 @@ def write_fields(path, times):
             f[f"Function/Psi/{key}"] = np.full((2, 1), 1000.0 * t)
             f[f"Function/particle/{key}"] = np.array([[0.0], [1.0]])
     return path
+
+
+def write_loading_run(run_dir, phi, p, rigid=()):
+    """A finished run in a box whose wall and finite-element pressures are
+    ``p`` (and 1.01 p) at packing fractions ``phi``, at rest: raw/steps.csv,
+    raw/setup.json (the species of ``rigid`` rigid), series.csv and
+    stress.csv."""
+    from softpack.analysis import stress as stress_module
+    from softpack.contract.run_directory import RunDirectory
+    from softpack.contract.tables import write_table
+
+    run_dir = Path(run_dir)
+    rows = len(p)
+    write_setup(run_dir, diameters=(0.016, 0.02), rigid=rigid)
+    write_table(run_dir / "raw" / "steps.csv",
+                {"step": np.arange(rows), "kinetic_energy": np.zeros(rows),
+                 "strain_energy": np.ones(rows)},
+                ("step", "kinetic_energy", "strain_energy"))
+    write_table(run_dir / "series.csv",
+                {"phi": phi, "z": 3 + 10 * (phi - 0.8)}, ("phi", "z"))
+    table = {c: np.full(rows, np.nan) for c in stress_module.COLUMNS}
+    table.update(step=np.arange(rows), wall_P=p, wall_q=0.01 * p,
+                 contact_P=0.99 * p, contact_q=0.01 * p,
+                 fe_P=1.01 * p, fe_q=0.01 * p, eps_q=np.linspace(0, .1, rows),
+                 eps_v=np.linspace(0, .05, rows),
+                 difference_wall_fe=np.full(rows, 0.01))
+    write_table(RunDirectory(run_dir).stress_csv, table,
+                stress_module.COLUMNS)
+    return run_dir

@@ -72,6 +72,8 @@ class RunSetup:
         Each body's species diameter (m).
     element_size : float
         ``[mesh] element_size`` of the run (m).
+    body_rigid : ndarray of bool, shape (n,)
+        Whether each body is rigid (its species' material is).
     notes : tuple of str
         What could not be read and why.
     """
@@ -90,6 +92,7 @@ class RunSetup:
     reference_area: np.ndarray
     diameters: np.ndarray
     element_size: float = math.nan
+    body_rigid: np.ndarray = None
     notes: tuple = field(default=())
 
     @property
@@ -199,6 +202,9 @@ def _from_document(path, doc) -> RunSetup:
         raise SetupError(f"{path}: bodies.count {bodies['count']}, "
                          f"{len(species_of)} species, {len(reference_area)}"
                          " reference areas")
+    rigid = {m["name"] for m in doc.get("materials", ()) if m.get("rigid")}
+    species_rigid = np.array([s.get("material", "") in rigid
+                              for s in species] or [False])
     return RunSetup(
         path=path, thickness=float(scene["model"]["thickness"]), walls=walls,
         length=length, width=width, shear_modulus=mu, law=material["law"],
@@ -208,7 +214,7 @@ def _from_document(path, doc) -> RunSetup:
         diameters=diameters,
         element_size=float(scene.get("mesh", {}).get("element_size",
                                                       math.nan)),
-        notes=tuple(notes))
+        body_rigid=species_rigid[species_of], notes=tuple(notes))
 
 
 def read_rules(run_dir) -> Rules:
