@@ -222,7 +222,7 @@ public:
       const std::string reason =
           stop_reason(_config, _scheme, _first, step, now);
       if (!reason.empty() || output_step)
-        output(step, r, now);
+        output(step, r, now, 0, !reason.empty());
       if (!reason.empty())
         return finish(step, reason);
     }
@@ -282,7 +282,7 @@ private:
       if (_root)
         std::fprintf(stderr, "softpack-simulate: %s: the run ends incomplete\n",
                      why.c_str());
-      output(step, r, now, label);
+      output(step, r, now, label, true);
       extra["complete"] = false;
       return finish(step, why, extra);
     }
@@ -293,7 +293,7 @@ private:
                     name.c_str(), check.met.c_str(), _scheme.time());
       if (_program.last())
       {
-        output(step, r, now, label);
+        output(step, r, now, label, true);
         return finish(step, "stages", extra);
       }
       _program.begin(label + 1, _scheme, now);
@@ -302,7 +302,7 @@ private:
     }
     const std::string reason = stop_reason(_config, _scheme, _first, step, now);
     if (!reason.empty() || output_step)
-      output(step, r, now, label);
+      output(step, r, now, label, !reason.empty());
     if (reason.empty())
       return std::nullopt;
     // [stop] steps (or max_time) ended the run inside a stage.
@@ -393,9 +393,10 @@ private:
   }
 
   /// An output row (its stage column `stage`), the state and its stage
-  /// record, the fields.
+  /// record, the fields (at every output.fields_every-th output, and at
+  /// the `last` one, so that the fields end with the run's final state).
   void output(long step, const dynamics::StepReport& r,
-              std::optional<double> now, int stage = 0)
+              std::optional<double> now, int stage = 0, bool last = false)
   {
     // Rank 0 writes what every body's interior gives: the owners compute
     // their bodies' energies and stresses, rank 0 gets global copies of
@@ -416,7 +417,7 @@ private:
     }
     _average.reset();
     _interval = {};
-    if (_p.output.fields && _outputs % _p.output.fields_every == 0)
+    if (_p.output.fields && (last || _outputs % _p.output.fields_every == 0))
     {
       // Each cell's energy from its body's owner, onto rank 0 (before the
       // state, which takes rank 0's copy of the displacement)

@@ -152,6 +152,9 @@ def test_a_run_of_the_one_file_layout_is_continued(uninterrupted, tmp_path,
         file.unlink()
     softpack.resume(out.path)
     assert 9.5 not in fields.stored_times(out.fields_h5)
-    assert len(list(out.field_frames.glob("*.h5"))) < len(
-        fields.stored_times(clean.fields_h5)) - len(frames) + 2
+    # the frames before the state's stay in fields.h5 (the state's own is
+    # written again by the resumed driver; a kill between a frame and its
+    # state leaves one more, removed with 9.5)
+    xdmf = out.fields("xdmf").read_text()
+    assert len(frames) - 2 <= xdmf.count(">fields.h5:/Function/displacement")
     _same_frames(out, clean)

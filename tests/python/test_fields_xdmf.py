@@ -71,3 +71,20 @@ def test_later_steps_include_the_first_steps_mesh(fields_run):
     for grid in grids:
         assert [c.tag for c in grid][:2] == ["Topology", "Geometry"]
 
+
+
+def test_the_fields_end_with_the_final_state(tmp_path):
+    """Fields every 2nd output of rows at steps 0, 10, 20 and 25 (the run
+    stops there): frames at steps 0 and 20, and at 25, the last output,
+    whatever fields_every says."""
+    require_driver()
+    config = cfg.load_config(ROOT / "examples" / "small.toml",
+                             {"stop.steps": 25, "output.every_steps": 10,
+                              "output.fields_every": 2})
+    out = tmp_path / "run"
+    assert run(config, out, verbose=False) == 0
+    steps = read_table(out / "raw" / "steps.csv")
+    assert list(steps["step"]) == [0, 10, 20, 25]
+    np.testing.assert_allclose(
+        fields.stored_times(out / "fields.h5"),
+        steps["time"][[0, 2, 3]], rtol=1e-12)
