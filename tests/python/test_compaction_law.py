@@ -11,17 +11,32 @@ from softpack.analysis import compaction_law as law
 TRUE = {"phi_0": 0.80, "phi_max": 0.965, "kappa": 40e3}
 
 
+def the_law(p, phi_0, phi_max, kappa):
+    """Phi(P) as docs/loading_stress.md writes it, written here again so
+    that the synthetic data do not come from the module under test."""
+    return phi_max - (phi_max - phi_0) * np.exp(-np.asarray(p) / kappa)
+
+
 def synthetic(p_max, rows=120, noise=1e-3, seed=1):
     """Rows (Phi, P) of the law up to p_max, Phi with Gaussian noise."""
     rng = np.random.default_rng(seed)
     p = np.linspace(0.0, p_max, rows + 1)[1:]
-    phi = law.packing_fraction(p, **TRUE) + noise * rng.standard_normal(rows)
+    phi = the_law(p, **TRUE) + noise * rng.standard_normal(rows)
     return phi, p
 
 
-def test_the_law_and_its_inverse_agree():
+def test_the_law_is_the_documented_one_and_its_inverse_agrees():
+    # by hand: P = kappa ln 2 is half way from Phi_0 to Phi_max, P = kappa
+    # leaves (Phi_max - Phi_0) / e
+    half = TRUE["phi_0"] + 0.5 * (TRUE["phi_max"] - TRUE["phi_0"])
+    assert law.packing_fraction(TRUE["kappa"] * np.log(2), **TRUE) == \
+        pytest.approx(half, rel=1e-14)
+    assert law.packing_fraction(TRUE["kappa"], **TRUE) == pytest.approx(
+        0.965 - 0.165 / np.e, rel=1e-14)
     p = np.array([1e3, 3e4, 2e5])
-    phi = law.packing_fraction(p, **TRUE)
+    np.testing.assert_allclose(law.packing_fraction(p, **TRUE),
+                               the_law(p, **TRUE), rtol=1e-14)
+    phi = the_law(p, **TRUE)
     np.testing.assert_allclose(law.pressure(phi, **TRUE), p, rtol=1e-10)
     assert law.packing_fraction(0.0, **TRUE) == pytest.approx(TRUE["phi_0"])
     assert np.isnan(law.pressure(0.97, **TRUE))  # beyond Phi_max
@@ -36,7 +51,9 @@ def test_parameters_recovered_within_their_uncertainty():
         # 3 sigma: a correct fit fails this 0.3 % of the time; seed fixed
         assert abs(fit.values[k] - TRUE[k]) < 3 * fit.errors[k], (
             k, fit.summary())
-    assert fit.errors["phi_max"] < 0.01
+    # measured 2026-12-03: errors 2.9e-4, 1.7e-4, 190 Pa; values 1.1, 0.4,
+    # 1.0 of them from the truth
+    assert fit.errors["phi_max"] < 2e-3
     assert "bootstrap" in fit.method
 
 
@@ -55,8 +72,8 @@ def test_data_before_saturation_are_refused():
     fit = law.fit_compaction(phi, p)
     assert not fit.ok
     assert np.isnan(fit.values["phi_max"])
-    assert ("only the initial slope" in fit.reason
-            or "bootstrap spread" in fit.reason), fit.reason
+    # P / kappa reaches 0.18 (measured), below min_saturation = 0.5
+    assert "only the initial slope" in fit.reason, fit.reason
 
 
 def test_too_few_rows_are_refused():
@@ -118,7 +135,7 @@ def staged(stages, rows=6, noise=1e-3, seed=2):
     """Rows of a loading program: `rows` near-equal rows per equilibrium."""
     rng = np.random.default_rng(seed)
     p = np.repeat(np.linspace(5e3, 160e3, stages), rows)
-    phi = (np.repeat(law.packing_fraction(np.unique(p), **TRUE)
+    phi = (np.repeat(the_law(np.unique(p), **TRUE)
                      + noise * rng.standard_normal(stages), rows)
            + 1e-5 * rng.standard_normal(stages * rows))
     return phi, p, np.repeat(np.arange(stages), rows)
@@ -132,9 +149,10 @@ def test_groups_are_resampled_whole_and_too_few_are_refused():
     assert abs(fit.values["phi_max"] - TRUE["phi_max"]) < \
         3 * fit.errors["phi_max"]
     # the same rows as independent ones: correlated within a stage, the
-    # runs test refuses them, or they would claim a smaller error
+    # runs test refuses them (measured z = -5.9 < -3, 2026-12-03)
     rows = law.fit_compaction(phi, p)
-    assert not rows.ok or rows.errors["phi_max"] < fit.errors["phi_max"]
+    assert not rows.ok and "systematic misfit" in rows.reason, rows.reason
+    assert np.isnan(rows.values["phi_max"])
     phi, p, stage = staged(4)
     few = law.fit_compaction(phi, p, groups=stage)
     assert not few.ok and "4 groups (equilibria), fewer than 5" in few.reason
@@ -147,9 +165,8 @@ def test_data_without_a_compaction_curve_are_refused():
     phi = 0.758 + 0.002 * rng.random(40)
     fit = law.fit_compaction(phi, p)
     assert not fit.ok
-    assert any(text in fit.reason for text in (
-        "bound of the optimiser", "further below the data",
-        "only the initial slope", "bootstrap spread")), fit.reason
+    # P / kappa of any fit reaches 0.0028 (measured 2026-12-03)
+    assert "only the initial slope" in fit.reason, fit.reason
 
 
 def test_another_curve_is_refused_as_a_systematic_misfit():

@@ -88,11 +88,15 @@ def test_small_example_runs_to_its_end(example, tmp_path):
     else:
         assert status == EXIT_DONE, f"{example.name}: {flags}"
     assert done["steps"] > 0
-    assert done.get("newton_unconverged_steps", 0) == 0, (
+    # the key itself is checked: a done.json without it must not pass
+    assert done["newton_unconverged_steps"] == 0, (
         f"{example.name}: {done['newton_unconverged_steps']} steps whose "
         "Newton iterations did not converge")
     with open(out / "raw" / "steps.csv") as f:
         rows = list(csv.DictReader(f))
+    # ... and the per-interval counts of steps.csv add up to it
+    assert sum(int(row["newton_unconverged_steps"]) for row in rows) == \
+        done["newton_unconverged_steps"]
     phi = [float(row["phi"]) for row in rows]
     kinetic = max(float(row["kinetic_energy"]) for row in rows)
     assert all(p == p for p in phi), f"{example.name}: Phi is NaN"

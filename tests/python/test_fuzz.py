@@ -8,7 +8,8 @@ schema's ranges (a negative friction, a zero time step, an output interval
 of 0, more disks than the box holds) on purpose. Each must either
 
 - complete: exit 0, done.json ``converged`` true, the energy balance closed
-  (the relative residual of series.csv below 1e-3 at the end) and no
+  (the relative residual of series.csv below 1e-3 at the end, every row's
+  residual below 2e-3 of the final work) and no
   overlap of bodies deeper than ``contact.alert_distance``; or
 - fail cleanly: exit 2, one line naming the offending key, no traceback,
   and nothing that looks complete (no series.csv, no raw/done.json).
@@ -164,10 +165,14 @@ def check_complete(out, tables, log):
     s = read_series(out / "series.csv")
     assert np.all(np.isfinite(s["piston_force"])), log
     # The residual relative to the supplied work: meaningless while the
-    # piston has done almost no work (first rows), checked at the end.
+    # piston has done almost no work (first rows), checked at the end;
+    # every row against the final work. Measured over the 18 completing
+    # cases (2026-12-03; dynamic impacts, up to 0.4 m/s): at most 5.9e-4 at
+    # the end (seed 7), 7.3e-4 of the final work at any row.
     work = s["wall_work"] + s["external_work"]
     assert work[-1] > 0, log
     assert abs(s["energy_residual_relative"][-1]) < 1e-3, log
+    assert np.all(np.abs(s["energy_residual"]) < 2e-3 * work[-1]), log
 
 
 def check_refused(out, result, bad):

@@ -30,6 +30,14 @@ ROOT = Path(os.environ.get("SOFTPACK_ROOT",
                            Path(__file__).resolve().parents[2]))
 SMALL = ROOT / "examples" / "small.toml"
 
+# N ranks against 1, ~10x the largest difference measured 2026-12-03 over
+# every run of this file (the runs are deterministic: the NLGS split by
+# domains is what differs, and the rebalance weights count DOFs and
+# contacts, not times):
+PHI_ABS = 6e-9     # measured 5.8e-10 (staged), 2.2e-10 (3 ranks)
+E_OF_FINAL = 1e-7  # x the final strain energy; measured 1.1e-8 (staged),
+#                    9.0e-9 (retried on 3 ranks), 4.5e-9 (2 ranks)
+
 
 def _cli(*args, env=None):
     """``./softpack run ARGS`` in a subprocess; the completed process."""
@@ -58,10 +66,10 @@ def test_two_ranks_give_the_serial_run(runs):
     two = read_table(runs[2] / "raw" / "steps.csv")
     assert len(one["step"]) == len(two["step"]) > 10
     np.testing.assert_array_equal(one["step"], two["step"])
-    np.testing.assert_allclose(two["phi"], one["phi"], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(two["phi"], one["phi"], rtol=0, atol=PHI_ABS)
     assert one["strain_energy"][-1] > 0
     np.testing.assert_allclose(two["strain_energy"], one["strain_energy"],
-                               rtol=1e-4, atol=1e-4 * one["strain_energy"][-1])
+                               rtol=0, atol=E_OF_FINAL * one["strain_energy"][-1])
     np.testing.assert_array_equal(two["contacts"], one["contacts"])
     np.testing.assert_array_equal(two["active_contacts"],
                                   one["active_contacts"])
@@ -69,21 +77,25 @@ def test_two_ranks_give_the_serial_run(runs):
 
 def test_two_ranks_close_the_same_energy_balance(runs):
     """The kinetic energy is summed over the ranks (each keeps the masses
-    of its own bodies): on 2 ranks it, and the balance's residual, are the
-    1-rank run's, on the scale of the work the walls supplied (measured
-    2026-12-01: 3e-12 of it; the kinetic energy peaks at 0.1 of it, so a
-    rank's share missing would be ~0.05)."""
+    of its own bodies): on 2 ranks it, the wall work and the balance's
+    residual are the 1-rank run's at every row, on the scale of the work
+    the walls supplied (measured 2026-12-03: 2.4e-9, 2.0e-9 and 1.1e-11 of
+    it; the kinetic energy peaks at 0.1 of it, so a rank's share missing
+    would be ~0.05)."""
     one = read_table(runs[1] / "raw" / "steps.csv")
     two = read_table(runs[2] / "raw" / "steps.csv")
     work = one["wall_work"][-1]
     assert work > 0 and one["kinetic_energy"].max() > 0
-    for key in ("kinetic_energy", "wall_work", "energy_residual"):
+    for key, tolerance in (("kinetic_energy", 3e-8), ("wall_work", 3e-8),
+                           ("energy_residual", 1e-10)):
         np.testing.assert_allclose(two[key], one[key], rtol=0,
-                                   atol=1e-6 * work, err_msg=key)
+                                   atol=tolerance * work, err_msg=key)
 
 
 def test_two_ranks_write_the_same_contacts(runs):
-    """The same contacts (candidate, node, antagonist) at every output."""
+    """The same contacts (candidate, node, antagonist) at every output, and
+    their normal forces within 1.2e-6 of the file's largest (measured
+    2026-12-03: 1.2e-7)."""
     first = sorted((runs[1] / "raw" / "contacts").iterdir())
     assert sum(len(read_table(p)["fn"]) for p in first) > 0
     for path in first:
@@ -93,8 +105,8 @@ def test_two_ranks_write_the_same_contacts(runs):
         for key in ("candidate", "node", "antagonist", "wall", "segment0",
                     "segment1"):
             np.testing.assert_array_equal(a[key], b[key])
-        np.testing.assert_allclose(b["fn"], a["fn"], rtol=1e-6,
-                                   atol=1e-6 * np.abs(a["fn"]).max(initial=0))
+        np.testing.assert_allclose(b["fn"], a["fn"], rtol=0,
+                                   atol=1.2e-6 * np.abs(a["fn"]).max(initial=0))
 
 
 def test_a_two_rank_run_is_one_set_of_outputs(runs):
@@ -127,11 +139,12 @@ def _serial_and_three_ranks(settings, tmp_path, status=EXIT_DONE):
 
 
 def _expect_the_serial_run(one, other):
-    """The same steps, Phi (1e-6), E (1e-4) and contacts as on 1 rank."""
+    """The same steps, Phi (PHI_ABS), E (E_OF_FINAL) and contacts as on 1
+    rank, at every row."""
     np.testing.assert_array_equal(other["step"], one["step"])
-    np.testing.assert_allclose(other["phi"], one["phi"], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(other["phi"], one["phi"], rtol=0, atol=PHI_ABS)
     np.testing.assert_allclose(other["strain_energy"], one["strain_energy"],
-                               rtol=1e-4, atol=1e-4 * one["strain_energy"][-1])
+                               rtol=0, atol=E_OF_FINAL * one["strain_energy"][-1])
     np.testing.assert_array_equal(other["contacts"], one["contacts"])
 
 
@@ -195,9 +208,10 @@ def test_a_staged_run_writes_the_serial_outputs_on_two_ranks(tmp_path):
     gives: the owners compute their bodies' strain energies and Cauchy
     integrals, rank 0 alone receives the whole displacement for fields.h5
     and the state (MoreauJean::prepare_output). The same stages, Phi and
-    E, and particles.csv and fields.h5 equal within the issue's 1e-4 of
-    the largest entry, none missing or NaN (measured 2026-12-02: particles
-    3e-8, fields 6e-7 of the largest: the NLGS split by domains)."""
+    E, and particles.csv and fields.h5 equal within ~10x the measured
+    difference, none missing or NaN (measured 2026-12-03: particles
+    6.9e-8 of a column's largest entry, fields 6.2e-7 of a dataset's (Psi;
+    displacement 7.4e-8): the NLGS split by domains)."""
     config = cfg.load_config(ROOT / "examples" / "biaxial_small.toml",
                              {"output.fields": True})
     for ranks in (1, 2):
@@ -216,14 +230,14 @@ def test_a_staged_run_writes_the_serial_outputs_on_two_ranks(tmp_path):
         largest = np.abs(bodies[0][key]).max()
         assert largest > 0 and np.isfinite(bodies[1][key]).all(), key
         np.testing.assert_allclose(bodies[1][key], bodies[0][key], rtol=0,
-                                   atol=1e-4 * largest, err_msg=key)
+                                   atol=7e-7 * largest, err_msg=key)
     fields = [_datasets(tmp_path / f"r{r}" / "fields.h5") for r in (1, 2)]
     assert set(fields[1]) == set(fields[0])
     assert any("Psi" in name for name in fields[0])
     for name, serial in fields[0].items():
         assert np.isfinite(fields[1][name]).all(), name
         np.testing.assert_allclose(fields[1][name], serial, rtol=0,
-                                   atol=1e-4 * np.abs(serial).max(),
+                                   atol=6e-6 * np.abs(serial).max(),
                                    err_msg=name)
 
 
@@ -291,10 +305,11 @@ def test_a_state_restarts_on_another_number_of_ranks(runs, tmp_path):
         runs[1] / "raw" / "steps.csv")["step"][-1]
     assert rows[1]["step"][-1] == rows[1]["step"][0] + 20
     np.testing.assert_array_equal(rows[2]["step"], rows[1]["step"])
+    # measured 2026-12-03: Phi 2.7e-11 apart, E 2.5e-9 relative
     np.testing.assert_allclose(rows[2]["phi"], rows[1]["phi"], rtol=0,
-                               atol=1e-6)
+                               atol=3e-10)
     np.testing.assert_allclose(rows[2]["strain_energy"],
-                               rows[1]["strain_energy"], rtol=1e-4)
+                               rows[1]["strain_energy"], rtol=3e-8)
 
 
 def _datasets(path):

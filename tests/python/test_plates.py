@@ -63,7 +63,9 @@ def test_dolfinx_reference_is_exact_for_a_homogeneous_compression():
     f = -P_yy(lambda) W exactly, up to the penalty's penetration
     (k = 1e5 mu / D: measured relative error -1.2e-4 at eps = 0.05 to
     -1.7e-4 at eps = 0.2, proportional to 1/k), and the pinned node
-    carries no force (measured 4e-16 f)."""
+    carries no force (measured 4.5e-16 f); the plates carry the same force
+    (measured 3.5e-12 apart), the penetration measured 6.6e-6 D (all
+    2026-12-03)."""
     pytest.importorskip("dolfinx")
     width, height = 0.016, 0.010
     points, cells = _rectangle(width, height, 8, 5)
@@ -73,8 +75,8 @@ def test_dolfinx_reference_is_exact_for_a_homogeneous_compression():
         exact = _homogeneous_force(eps)[0] * width / (height * MU)
         assert f_norm == pytest.approx(exact, rel=3e-4)
     np.testing.assert_allclose(ref["f_norm_top"], ref["f_norm_bottom"],
-                               rtol=1e-9)
-    assert ref["pin_reaction_over_f"][1:].max() < 1e-8
+                               rtol=4e-11)
+    assert ref["pin_reaction_over_f"][1:].max() < 5e-15
     assert 0 < ref["max_penetration_over_D"].max() < 1e-5
 
 
@@ -94,11 +96,13 @@ def test_config_is_the_single_disk_protocol_with_a_polygon(registry):
 
 
 @pytest.mark.parametrize("shape", ["square", "pentagon"])
-def test_softpack_and_dolfinx_agree_within_2_percent(shape, tmp_path):
-    """Coarse mesh (h = 2 mm), up to eps = 0.1: softpack's force within 2 %
-    of the static dolfinx one from eps = 0.02 on (measured on this mesh:
-    see docs/shapes/README.md), the body barely turns, the dolfinx
-    penalty's penetration is negligible."""
+def test_softpack_and_dolfinx_agree_within_1_percent(shape, tmp_path):
+    """Coarse mesh (h = 2 mm), up to eps = 0.1: softpack's force within 1 %
+    of the static dolfinx one from eps = 0.02 on, the body barely turns,
+    the dolfinx penalty's penetration is negligible. Measured 2026-12-03
+    (as docs/shapes/README.md reports): largest difference from eps = 0.02
+    0.32 % (square), 0.33 % (pentagon); rotation 1.7e-4, 8.0e-4 rad;
+    penetration 4.6e-6, 1.2e-5 D."""
     require_driver()
     pytest.importorskip("dolfinx")
     params = pl.Params(shape=shape, element_size=2e-3, max_strain=0.1,
@@ -111,8 +115,8 @@ def test_softpack_and_dolfinx_agree_within_2_percent(shape, tmp_path):
 
     doc = json.loads((tmp_path / "plates.json").read_text())
     assert doc["params"]["shape"] == params.shape
-    assert doc["comparison"]["max_abs_relative_difference_from_0.02"] < 0.02
-    assert doc["softpack"]["max_rigid_rotation_rad"] < 1e-2
+    assert doc["comparison"]["max_abs_relative_difference_from_0.02"] < 0.01
+    assert doc["softpack"]["max_rigid_rotation_rad"] < 8e-3
     assert doc["dolfinx"]["max_penetration_over_D"] < 1e-4
     force = np.genfromtxt(tmp_path / "force_dolfinx.csv", delimiter=",",
                           names=True)

@@ -35,16 +35,21 @@ def _at(res, eps):
 def test_plate_work_equals_stored_energy(model, request):
     """Quasi-static and frictionless: int f d(delta) = strain + penalty energy.
 
-    The work is a trapezoidal integral over 15 steps (its error is well under
-    0.1 % here), so 1 % catches any inconsistency between force and energy.
+    The work is a trapezoidal integral over 15 steps: its error, measured
+    2026-12-03 (both models), is 8.1e-4 of the stored energy at the end,
+    at most 4.8e-3 of the energy stored so far past eps = 0.04 (6 % at the
+    first step) and at most 8.1e-4 of the final energy at any step.
     """
     res = request.getfixturevalue(model)
-    work = res.work
+    work = np.asarray(res.work)
     stored = np.asarray(res.energy) + np.asarray(res.penalty_energy)
-    assert abs(r3d.energy_balance(res)) < 0.01
+    assert abs(r3d.energy_balance(res)) < 8e-3
+    # every step, against the final energy (the first steps store ~nothing)
+    assert np.all(np.abs(work - stored) < 8e-3 * stored[-1])
     for k in range(5, len(work)):          # every step past eps = 0.04
         assert abs(work[k] - stored[k]) < 0.01 * stored[k]
     # the penalty plate is nearly rigid: its energy and penetration are tiny
+    # (measured 5.7e-4 and 6.2e-4 of the energy, 2.9e-4 of delta)
     assert res.penalty_energy[-1] < 1e-3 * res.energy[-1]
     assert res.max_overlap < 1e-3 * res.delta[-1]
 
@@ -58,7 +63,8 @@ def test_force_monotonic_and_in_equilibrium(model, request):
     secant = f[1:] / np.asarray(res.eps[1:])
     assert np.all(np.diff(secant) > 0)
     # plate force and the reaction on the symmetry plane y = 0 balance
-    np.testing.assert_allclose(res.force_sym[1:], f[1:], rtol=1e-6)
+    # (measured 9.2e-13 and 2.6e-13 apart, 2026-12-03)
+    np.testing.assert_allclose(res.force_sym[1:], f[1:], rtol=1e-11)
 
 
 def test_small_strain_force_between_line_contact_estimates(nearly_incompressible):
@@ -66,24 +72,30 @@ def test_small_strain_force_between_line_contact_estimates(nearly_incompressible
 
     Johnson's line-contact formula with E* = E/(1 - nu^2) (plane strain) is an
     upper estimate for the 3D cylinder (l/D = 0.75, free end faces), E* = E
-    (plane stress) a lower one. At eps = 0.05 the coarse mesh gives ~1.07 x the
-    plane-stress and ~0.80 x the plane-strain value; the test allows 15 %
-    below plane stress and nothing above plane strain.
+    (plane stress) a lower one. At eps = 0.05 this coarse mesh gives 1.0743 x
+    the plane-stress and 0.811 x the plane-strain value (measured
+    2026-12-03; the 0.5 mm mesh 1.06 x, docs/single_disk/README.md). The
+    run is deterministic: the ratio is held to 1 % of what was measured, so
+    that a change of the model, the mesh or the solve that moves the 3D
+    force by a percent is seen (the bounds alone allowed -20 %/+23 %).
     """
     f = _at(nearly_incompressible, 0.05)
     upper = r3d.johnson_line_contact(0.05, 0.495, plane_strain=True)[0]
     lower = r3d.johnson_line_contact(0.05, 0.495, plane_strain=False)[0]
-    assert 0.85 * lower < f < upper
+    assert lower < f < upper
+    assert f / lower == pytest.approx(1.0743, rel=1e-2)
 
 
 def test_nearly_incompressible_matches_incompressible(nearly_incompressible, incompressible):
-    """nu = 0.495 (lmbda = 99 mu) vs J = 1: within 2 % for eps <= 0.05, 3 % up to 0.15."""
+    """nu = 0.495 (lmbda = 99 mu) vs J = 1: within 2 % for eps <= 0.05
+    (measured 2026-12-03: at most 1.56 %, at eps = 0.02), and 2 % beyond
+    (measured 0.22 %; formerly 3 %)."""
     a, b = nearly_incompressible, incompressible
     np.testing.assert_allclose(a.eps, b.eps)
     fa, fb = a.f_norm[1:], b.f_norm[1:]
     small = np.asarray(a.eps[1:]) <= 0.05 + 1e-12
     assert np.all(np.abs(fa[small] / fb[small] - 1) < 0.02)
-    assert np.all(np.abs(fa / fb - 1) < 0.03)
+    assert np.all(np.abs(fa[~small] / fb[~small] - 1) < 0.02)
 
 
 def test_transverse_profile(nearly_incompressible):
@@ -135,7 +147,8 @@ def test_cli_writes_the_csv_files(tmp_path):
     assert r3d.main(argv) == 0
     force = read_table(tmp_path / "force_3d_incompressible.csv")
     np.testing.assert_allclose(force["eps"], [0.0, 0.025, 0.05])
-    assert 0.04 < force["f_norm"][-1] < 0.06
+    # measured 0.04895 (2026-12-03): deterministic, held to 1 %
+    assert force["f_norm"][-1] == pytest.approx(0.04895, rel=1e-2)
     for name in ("profile_3d_incompressible.csv", "profile_3d_incompressible_endface.csv",
                  "energy_3d_incompressible.csv", "run_3d_incompressible.json"):
         assert (tmp_path / name).stat().st_size > 0

@@ -45,20 +45,24 @@ def test_ellipse_square_disk():
     out = particle_shapes(*assemble(templates, centres, angles))
     assert np.allclose(np.c_[out["x"], out["y"]], centres, atol=1e-12)
     assert np.allclose(out["area"], [t.area for t in templates], rtol=1e-12)
-    # ellipses: the major axis turned by the rotation; J ratio = k^2
-    assert out["orientation"][0] == pytest.approx(0.4, abs=1e-3)
-    assert out["orientation"][3] == pytest.approx(2.0, abs=1e-3)
+    # ellipses: the major axis turned by the rotation (measured 2.2e-16
+    # off, 2026-12-03); J ratio = k^2 up to the polygon's chords (measured
+    # -1.1e-3 and -1.6e-3)
+    assert out["orientation"][0] == pytest.approx(0.4, abs=2e-15)
+    assert out["orientation"][3] == pytest.approx(2.0, abs=2e-15)
     assert out["elongation"][0] == pytest.approx(2.0, rel=2e-3)
     assert out["elongation"][3] == pytest.approx(3.0, rel=2e-3)
     # square: isotropic moments, no orientation; P^2 / (4 pi A) = 4 / pi
     assert out["elongation"][1] == pytest.approx(1.0, abs=1e-9)
     assert np.isnan(out["orientation"][1])
     assert out["asphericity"][1] == pytest.approx(4 / math.pi, rel=1e-12)
-    # the disk's polygon: slightly above 1 (n sides: (n/pi) tan(pi/n))
+    # the disk's polygon: slightly above 1 (n sides: (n/pi) tan(pi/n);
+    # measured exact, 2026-12-03)
     n = len(shapes.boundary_loops(templates[2].triangles)[0])
     assert out["asphericity"][2] == pytest.approx(
-        n / math.pi * math.tan(math.pi / n), rel=2e-3)
-    # ellipse of aspect 2: Ramanujan's perimeter
+        n / math.pi * math.tan(math.pi / n), rel=1e-12)
+    # ellipse of aspect 2: Ramanujan's perimeter (measured 5.2e-4 above it:
+    # the chords)
     a, b = shapes.ellipse_axes(2.0, D)
     h = ((a - b) / (a + b))**2
     perimeter = math.pi * (a + b) * (1 + 3 * h / (10 + math.sqrt(4 - 3 * h)))
@@ -76,8 +80,10 @@ def test_a_stretch_elongates_a_disk():
     points = disk.points @ F.T
     out = particle_shapes(points, disk.triangles,
                           np.zeros(len(disk.triangles), dtype=int))
-    assert out["orientation"][0] == pytest.approx(t, abs=1e-6)
-    assert out["elongation"][0] == pytest.approx((1 + e)**2, rel=1e-3)
+    # the disk's polygon has isotropic second moments: both exact to
+    # round-off (measured 5.6e-16 rad and 2.2e-16, 2026-12-03)
+    assert out["orientation"][0] == pytest.approx(t, abs=6e-15)
+    assert out["elongation"][0] == pytest.approx((1 + e)**2, rel=2e-15)
     assert out["area"][0] == pytest.approx(disk.area, rel=1e-12)
 
 

@@ -11,8 +11,11 @@ few seconds on one core:
 * ``fine_small_strain``: h = 0.5325 mm (2604 triangles), up to eps = 0.012,
   for Johnson's small-strain limit.
 
-The tolerances are the measured values (docs/single_disk/README.md) with a
-margin; each test says what it measured.
+The tolerances are at most ~10x the measured values; each test says what
+was measured, on this code on 2026-12-03 (the 2D numbers of
+docs/single_disk/README.md come from an older build and differ slightly at
+small strain: f_norm(0.01) +1.6 % on the paper's mesh, Johnson's ratio
+1.014 instead of 1.008 at h = 0.53 mm).
 """
 
 import json
@@ -139,10 +142,10 @@ def test_rigid_rotation_sees_rolling_and_ignores_symmetric_stretch():
     stretch = x * [0.1, -0.2]
     assert abs(sd.rigid_rotation(x, cells, stretch)) < 1e-14
     # a non-affine field symmetric about both axes: its P1 interpolant on
-    # this irregular mesh is not exactly symmetric (measured 2e-6 rad)
+    # this irregular mesh is not exactly symmetric (measured 2.03e-6 rad)
     u = np.column_stack([0.1 * x[:, 0] * (1 + x[:, 1] ** 2),
                          -0.2 * x[:, 1] * (1 + x[:, 0] ** 2)])
-    assert abs(sd.rigid_rotation(x, cells, u)) < 1e-4
+    assert abs(sd.rigid_rotation(x, cells, u)) < 2e-5
 
 
 def test_put_node_up_turns_the_mesh_about_its_centre(tmp_path):
@@ -212,14 +215,15 @@ def test_command_line_writes_the_two_csv_files(coarse):
         profile["w"][profile["eps"] == 0.05], np.unique(grid_3d), atol=1e-9)
     meta = json.loads((coarse / "run_2d.json").read_text())
     assert meta["mesh"]["triangles"] == 206
-    assert meta["max_penetration_m"] < 1e-9
+    assert meta["max_penetration_m"] < 1e-9  # measured 2.2e-10 m
 
 
 def test_force_grows_monotonically_and_both_plates_agree(paper_mesh):
     """f (the mean of the two plates) increases at every output. The two
     plates' forces differ by a small vibration of the disk between them
-    (the mean cancels it): measured at most 3.5 % of f over
-    0.01 <= eps < 0.05 and 0.4 % beyond."""
+    (the mean cancels it): measured at most 2.9 % of f over
+    0.01 <= eps < 0.05 and 0.26 % beyond (2026-12-03; the README's 3.5 %
+    and 0.4 % are an older build's)."""
     result, _ = paper_mesh
     curve = result["curve"]
     assert np.all(np.diff(curve["f_norm"]) > 0)
@@ -231,8 +235,9 @@ def test_force_grows_monotonically_and_both_plates_agree(paper_mesh):
 
 
 def test_friction_pins_the_rolling_mode(paper_mesh):
-    """With friction 0.01 the disk turns by < 1e-3 rad (measured 1e-4);
-    frictionless it rolls by 0.16 rad (README)."""
+    """With friction 0.01 the disk turns by < 1e-3 rad (measured 2.5e-4
+    rad, centre drift 1.9e-4 D, 2026-12-03); frictionless it rolls by
+    0.16 rad (README)."""
     result, out = paper_mesh
     meta = json.loads((out / "run_2d.json").read_text())
     assert meta["max_rigid_rotation_rad"] < 1e-3
@@ -241,8 +246,9 @@ def test_friction_pins_the_rolling_mode(paper_mesh):
 
 def test_small_strain_limit_is_johnson_line_contact(fine_small_strain):
     """Johnson (plane strain, nu = 1/3, E* = 3 mu) at eps = 0.01: within
-    3 %. Measured f_2D/f_J = 1.008 at h = 0.53 mm, 0.992 at 0.27 mm;
-    1.038 at the paper's h = 1.065 mm (1.5 elements across the contact)."""
+    3 %. Measured f_2D/f_J = 1.014 at h = 0.53 mm (2026-12-03; the README's
+    1.008 is an older build's), 0.992 at 0.27 mm; 1.038 at the paper's
+    h = 1.065 mm (1.5 elements across the contact) (README)."""
     f = sd.value_at(fine_small_strain["curve"], 0.01)
     ratio = f / johnson_line_contact(0.01, 1.0 / 3.0)[0]
     assert abs(ratio - 1) < 0.03
@@ -251,7 +257,8 @@ def test_small_strain_limit_is_johnson_line_contact(fine_small_strain):
 def test_halving_the_element_size_changes_the_force_little(coarse,
                                                            paper_mesh):
     """h = 2 mm -> 1.065 mm changes f_norm(0.15) by < 2 % (measured
-    1.1 %); 1.065 -> 0.53 -> 0.27 mm: -0.64 %, -0.13 % (README)."""
+    1.1 %, 2026-12-03 and README); 1.065 -> 0.53 -> 0.27 mm: -0.64 %,
+    -0.13 % (README)."""
     force = _read(coarse / "force_2d.csv")
     f_coarse = np.interp(0.15, force["eps"], force["f_norm"])
     f_paper = sd.value_at(paper_mesh[0]["curve"], 0.15)
@@ -263,7 +270,8 @@ def test_2d_and_3d_forces_agree_within_the_measured_gap(paper_mesh):
     """2D (paper's mesh) vs 3D nu = 0.495 (0.5 mm P2, docs/single_disk):
     2D/3D - 1 in [-6 %, -2 %] over 0.02 <= eps <= 0.15 (measured -5.5 %,
     at eps = 0.025 where the 2D curve has a wiggle as boundary nodes touch
-    the plates, to -2.9 %; within -5 % elsewhere). The mesh-converged 2D
+    the plates, to -2.9 %; within -5 % elsewhere; 2026-12-03: -5.2 % to
+    -2.9 %). The mesh-converged 2D
     is lower still (h = 0.27 mm: -7.9 % at eps = 0.02, -3.7 % at 0.15):
     the 3D cylinder (l/D = 0.75) is stiffer than the plane-stress law the
     2D model stands for (README)."""
@@ -278,7 +286,8 @@ def test_2d_and_3d_forces_agree_within_the_measured_gap(paper_mesh):
 def test_profile_is_antisymmetric_and_grows_with_strain(paper_mesh):
     """u_x/D along Y = 0: odd in w, increasing in w (for |w| <= 0.8),
     growing with eps; at
-    w = 1, 5-15 % above the 3D mid-plane profile (measured +9 % to +10 %:
+    w = 1, 5-15 % above the 3D mid-plane profile (measured +9 % to +10 %,
+    2026-12-03 +10.5 %:
     plane strain with nu = 1/3 bulges more than the 3D cylinder's
     mid-plane, and 20 % less than its end face)."""
     profiles = paper_mesh[0]["profiles"]
@@ -286,6 +295,7 @@ def test_profile_is_antisymmetric_and_grows_with_strain(paper_mesh):
     previous = np.zeros_like(w)
     for eps in (0.05, 0.10, 0.15):
         u = profiles[eps]
+        # measured at most 1.8e-3 u.max (2026-12-03)
         np.testing.assert_allclose(u, -u[::-1], atol=2e-3 * u.max())
         # increasing, except for a flat top next to the free surface
         # (measured: dips of up to 2.2e-3 u_x(1) between |w| = 0.95 and 1)

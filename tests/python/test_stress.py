@@ -4,8 +4,10 @@ Love-Weber and wall-total estimates all give F / H), a pair in contact (the
 branch vector does not depend on which one is the candidate), centroids of
 a known shape, P and q of a known tensor, the sign and scale of the finite
 elements' estimate; and end to end, the three estimates (walls, contacts,
-the particles' own stress) agree within 2 % on the 14-disk case at rest
-(examples/isotropic_small.toml: two servo walls at 4 kPa)."""
+the particles' own stress) agree on the 14-disk case at rest
+(examples/isotropic_small.toml: two servo walls at 4 kPa) within ~10x of
+what was measured: contacts and finite elements to 3.5e-3, the walls 1 %
+away from both and allowed 2 % (docs/loading_stress.md)."""
 
 import os
 from pathlib import Path
@@ -134,17 +136,26 @@ def at_rest(tmp_path_factory):
 
 
 def test_the_three_estimates_agree_at_rest(at_rest):
+    """Measured on the last row (2026-12-03, as docs/loading_stress.md
+    reports): kinetic energy 9.2e-6 of the work; relative differences
+    walls-contacts 1.08 %, walls-FE 1.06 %, contacts-FE 3.5e-4; P of the
+    contacts and of the FE 0.60 % below the walls', 4.5e-5 apart."""
     steps, table = at_rest
     # at rest: the kinetic energy a ten-thousandth of the work done
     assert steps["kinetic_energy"][-1] < 1e-4 * steps["wall_work"][-1]
-    for column in ("difference", "difference_wall_fe",
-                   "difference_contact_fe"):
+    # the walls' estimate stays 1 % off (unexplained, docs/loading_stress.md)
+    for column in ("difference", "difference_wall_fe"):
         assert table[column][-1] < 0.02, (column, table[column][-1])
+    assert table["difference_contact_fe"][-1] < 3.5e-3, \
+        table["difference_contact_fe"][-1]
     for name in ("contact", "fe"):
         assert table[f"{name}_P"][-1] == pytest.approx(table["wall_P"][-1],
                                                        rel=0.02)
+    assert table["contact_P"][-1] == pytest.approx(table["fe_P"][-1],
+                                                   rel=5e-4)
     # the particles' own stress is symmetric (a hyperelastic law)
     assert table["fe_xy"][-1] == pytest.approx(table["fe_yx"][-1],
                                                abs=1e-9 * table["fe_P"][-1])
-    # two walls at 4 kPa: compression, below the imposed pressure (friction)
+    # two walls at 4 kPa: compression, below the imposed pressure (friction;
+    # a physical bound, not a tolerance: measured 3375 Pa)
     assert 2000.0 < table["fe_P"][-1] < 4040.0

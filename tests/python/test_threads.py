@@ -3,10 +3,11 @@
 libgomp reads OMP_WAIT_POLICY when the program loads, so the driver sets it
 and re-executes itself (driver/apps/threads.h). To see the environment the
 running driver really has, its driver.json is a named pipe: the driver blocks
-opening it, its /proc/PID/environ is read, then the pipe gets a document the
-driver refuses.
+opening it, its /proc/PID/environ is read once it has opened the pipe (after any
+re-execution), then the pipe gets a document the driver refuses.
 """
 
+import errno
 import os
 import subprocess
 import time
@@ -15,8 +16,28 @@ from pathlib import Path
 from driver_required import require_driver
 
 
+def _open_for_writing(fifo: Path, proc, timeout: float) -> int:
+    """Open the named pipe for writing once a reader has it open (the
+    driver, reading its driver.json after any re-execution): the file
+    descriptor."""
+    deadline = time.time() + timeout
+    while True:
+        try:
+            return os.open(fifo, os.O_WRONLY | os.O_NONBLOCK)
+        except OSError as error:  # ENXIO: no reader yet
+            if error.errno != errno.ENXIO:
+                raise
+        assert proc.poll() is None, (
+            f"the driver exited ({proc.returncode}) before reading "
+            f"{fifo.name}: {proc.stderr.read()}")
+        assert time.time() < deadline, f"the driver never opened {fifo.name}"
+        time.sleep(0.05)
+
+
 def _driver_environment(tmp_path: Path, env: dict) -> dict:
-    """The environment of a softpack-simulate blocked on its driver.json."""
+    """The environment of a softpack-simulate blocked reading its
+    driver.json: read once it has opened the pipe, i.e. in the image that
+    runs (a re-execution happens before), not the environment passed in."""
     exe = require_driver()
     fifo = tmp_path / "driver.json"
     os.mkfifo(fifo)
@@ -24,13 +45,9 @@ def _driver_environment(tmp_path: Path, env: dict) -> dict:
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                             text=True)
     try:
-        deadline = time.time() + 30
-        while True:  # after the re-execution, the image is the driver again
-            environ = Path(f"/proc/{proc.pid}/environ").read_bytes()
-            if b"OMP_WAIT_POLICY" in environ or time.time() > deadline:
-                break
-            time.sleep(0.05)
-        with open(fifo, "w") as f:  # unblock: an empty object is refused
+        fd = _open_for_writing(fifo, proc, timeout=30)
+        environ = Path(f"/proc/{proc.pid}/environ").read_bytes()
+        with os.fdopen(fd, "w") as f:  # unblock: an empty object is refused
             f.write("{}")
         assert proc.wait(timeout=30) == 1
         assert "schema_version" in proc.stderr.read()

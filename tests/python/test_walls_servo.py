@@ -5,8 +5,10 @@ unknown control and out-of-range values are refused naming the key; the
 walls' mass is derived from the particles. End to end on the 14-disk case
 (examples/isotropic_small.toml: right and top walls at 4 kPa, left and
 bottom fixed): once the assembly is at rest each servo wall holds its
-pressure within 1 %, the boundary and Love-Weber stresses agree within a
-few %, and the energy balance closes with the work of the imposed pressure.
+pressure, the boundary and Love-Weber stresses agree, and the energy
+balance closes with the work of the imposed pressure at every output row;
+tolerances ~10x the values measured on this run (2026-12-03, given with
+each test).
 """
 
 import os
@@ -97,26 +99,38 @@ def servo_run(tmp_path_factory):
 
 def test_the_servo_walls_hold_their_pressure_at_rest(servo_run):
     steps, stress = servo_run
-    # At rest: the kinetic energy a ten-thousandth of the work done.
+    # At rest: the kinetic energy a ten-thousandth of the work done
+    # (measured 9.2e-6).
     assert steps["kinetic_energy"][-1] < 1e-4 * steps["wall_work"][-1]
+    # measured 2026-12-03: 8.5e-4 (right), 8.6e-4 (top) below the target
     for wall in ("right", "top"):
         assert stress[f"{wall}_stress"][-1] == pytest.approx(TARGET,
-                                                             rel=1e-2)
+                                                             rel=8e-3)
     # both moved in: the box shrank in both directions
     assert stress["eps_xx"][-1] > 0.01 and stress["eps_yy"][-1] > 0.01
 
 
 def test_wall_and_contact_stresses_agree_at_rest(servo_run):
     _, stress = servo_run
-    assert stress["difference"][-1] < 0.03
+    # measured 2026-12-03: 1.08 % apart, P 0.60 % apart (the walls'
+    # estimate stays 1 % off: docs/loading_stress.md)
+    assert stress["difference"][-1] < 0.02
     assert stress["contact_P"][-1] == pytest.approx(stress["wall_P"][-1],
-                                                    rel=0.03)
+                                                    rel=0.02)
     # with wall friction the mean stress is below the imposed pressure
     assert 0.5 * TARGET < stress["wall_P"][-1] <= TARGET * 1.01
 
 
 def test_the_energy_balance_counts_the_imposed_work(servo_run):
+    """At every output row (measured 2026-12-03: at most 3.4e-5 of the work
+    done so far, the last rows; the first row has no work yet and a zero
+    residual, bounded against the final work)."""
     steps, _ = servo_run
-    work = steps["wall_work"][-1]
-    assert work > 0
-    assert abs(steps["energy_residual"][-1]) < 1e-3 * work
+    work = steps["wall_work"]
+    residual = np.abs(steps["energy_residual"])
+    assert work[-1] > 0 and work[0] == 0
+    assert np.all(residual < 3.5e-4 * work[-1]), residual.max() / work[-1]
+    done = work > 0
+    assert done.sum() == len(work) - 1
+    assert np.all(residual[done] < 3.5e-4 * work[done]), \
+        (residual[done] / work[done]).max()

@@ -116,16 +116,18 @@ TEST(BodyFactors, SolvesAgreeWithDoublePrecisionLDLT)
     const Eigen::VectorXd x = factors.solve(b, y);
     const Eigen::VectorXd x_ref = reference.solve(y);
     // float rounding (6e-8) of L's entries, amplified by the matrix's
-    // conditioning (mass-dominated at this step: ~10-100)
-    EXPECT_LT((x - x_ref).norm() / x_ref.norm(), 1e-6) << "body " << b;
+    // conditioning (mass-dominated at this step: ~10-100); measured
+    // 2026-12-03 over the five bodies at most 1.1e-8 (x), 1.2e-8 (residual),
+    // 1.2e-8 (compliance column)
+    EXPECT_LT((x - x_ref).norm() / x_ref.norm(), 1.2e-7) << "body " << b;
     EXPECT_LT((A.selfadjointView<Eigen::Lower>() * x - y).norm() / y.norm(),
-              1e-6)
+              1.2e-7)
         << "body " << b;
     // A unit right-hand side (a compliance column) takes the sparse path.
     Eigen::VectorXd e = Eigen::VectorXd::Zero(A.rows());
     e[A.rows() / 2] = 1;
     const Eigen::VectorXd c = factors.solve(b, e), c_ref = reference.solve(e);
-    EXPECT_LT((c - c_ref).norm() / c_ref.norm(), 1e-6) << "body " << b;
+    EXPECT_LT((c - c_ref).norm() / c_ref.norm(), 1.2e-7) << "body " << b;
   }
 }
 

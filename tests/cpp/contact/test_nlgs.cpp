@@ -42,8 +42,10 @@ void expect_solves_to(const FrictionContactProblem2D& p,
   EXPECT_TRUE(res.converged);
   EXPECT_LE(res.error, 1e-8);
   EXPECT_LE(res.iterations, max_sweeps);
+  // exact on the one-contact problems, at most 4.6e-10 off on the coupled
+  // ones (measured 2026-12-03)
   for (int k = 0; k < r_expected.size(); ++k)
-    EXPECT_NEAR(r[k], r_expected[k], 1e-7) << "entry " << k;
+    EXPECT_NEAR(r[k], r_expected[k], 5e-9) << "entry " << k;
 }
 } // namespace
 
@@ -111,6 +113,7 @@ TEST(Nlgs, RelaxationReachesTheSameAnswer)
     std::vector<double> r(4, 0.0), u(4);
     const NlgsResult res = solve_nlgs(p, r, u, opt);
     EXPECT_TRUE(res.converged) << omega;
+    // measured 1.8e-8 (omega 0.6) and 1.2e-8 (1.3) off, 2026-12-03
     for (int k = 0; k < 4; ++k)
       EXPECT_NEAR(r[k], r_star[k], 1e-7) << omega;
   }

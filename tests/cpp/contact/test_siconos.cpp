@@ -67,6 +67,12 @@ TEST_P(SiconosAgreement, SameReactionsAndSameError)
 
   NlgsOptions opt;
   opt.tolerance = d.tolerance;
+  // Siconos' NSGS computes its full error only once its cheap error passes;
+  // ours also every 10 sweeps by default, which stops it earlier (59 and
+  // 314 sweeps against Siconos' 66 and 343 on 00071 and 00237, reactions
+  // 1.3e-7 and 5.5e-7 apart, measured 2026-12-03). Without it the two are
+  // the same iteration.
+  opt.full_error_interval = 0;
   std::vector<double> r(n, 0.0), u(n);
   const NlgsResult ours = solve_nlgs(p, r, u, opt);
   ASSERT_TRUE(ours.converged);
@@ -85,7 +91,8 @@ TEST_P(SiconosAgreement, SameReactionsAndSameError)
               << "; ours r = 0, siconos |r| = " << norm(r_sic)
               << ", |u| = " << norm(u_check) << "\n";
     EXPECT_EQ(norm(r), 0.0);
-    EXPECT_LE(norm(u_check), 10 * std::sqrt(double(n)) * opt.q_zero_tolerance);
+    // measured |u| / |q|_inf = 2.0 (00394), 5.9 (00667) (2026-12-03)
+    EXPECT_LE(norm(u_check), 60 * std::abs(q_max));
     EXPECT_LE(sic.error, d.tolerance);
     return;
   }
@@ -95,17 +102,34 @@ TEST_P(SiconosAgreement, SameReactionsAndSameError)
             << "), error ours " << ours.error << " siconos " << sic.error
             << ", |r - r_siconos|/|r| = " << rel << "\n";
   RecordProperty("relative_distance", std::to_string(rel));
-  // Both at a natural-map error <= tol on the same problem: the reactions
-  // agree to well within what that error allows
-  EXPECT_LE(rel, 1e-6);
   EXPECT_LE(sic.error, d.tolerance);
+  if (sic.info == 0)
+  {
+    // The same iteration: the same sweeps (but where Siconos stops after its
+    // first: ours needs a second for its cheap error) and the same reactions
+    // to round-off. Measured 2026-12-03 (this test): 1.3e-16 (00071, 66
+    // sweeps), 7.2e-16 (00237, 343), 3.4e-15 (02020, 1064), 0 (00031, 00374).
+    if (sic.iterations > 1)
+      EXPECT_EQ(ours.iterations, sic.iterations);
+    EXPECT_LE(rel, 5e-14);
+  }
+  else
+  {
+    // Siconos ran to its sweep limit (the slider-crank problem: its own
+    // stopping test never passes, its natural-map error reaches 8.6e-16);
+    // ours stops at the tolerance: they differ by what that error allows,
+    // measured 4.9e-8 (2026-12-03).
+    EXPECT_LE(rel, 5e-7);
+  }
 
-  // Our error is Siconos' fc2d_compute_error, up to rounding in W r + q
+  // Our error is Siconos' fc2d_compute_error, up to rounding in W r + q:
+  // measured 2026-12-03 (this test) at most 8.2e-10 relative, or 7e-17
+  // absolute where the error itself is ~1e-16 or below
   double sic_error_of_ours = -1;
   ASSERT_EQ(siconos_fc2d_error(dat.c_str(), r.data(), n, &sic_error_of_ours),
             0);
-  EXPECT_NEAR(ours.error, sic_error_of_ours, 1e-6 * sic_error_of_ours + 1e-14);
-  EXPECT_NEAR(sic_mine.value, sic.error, 1e-6 * sic.error + 1e-14);
+  EXPECT_NEAR(ours.error, sic_error_of_ours, 1e-8 * sic_error_of_ours + 1e-15);
+  EXPECT_NEAR(sic_mine.value, sic.error, 1e-8 * sic.error + 1e-15);
 }
 
 #else

@@ -68,10 +68,11 @@ TEST(SweepOrder, AlternateReachesTheSameAnswer)
   const NlgsResult two = solve(s.problem, opt, alternate);
   ASSERT_TRUE(one.converged);
   ASSERT_TRUE(two.converged);
+  // measured 3.5e-7 and 3.7e-7 off (answers up to 1.3), 2026-12-03
   for (int k = 0; k < s.answer.size(); ++k)
   {
-    EXPECT_NEAR(in_contact_order[k], s.answer[k], 1e-5) << k;
-    EXPECT_NEAR(alternate[k], s.answer[k], 1e-5) << k;
+    EXPECT_NEAR(in_contact_order[k], s.answer[k], 4e-6) << k;
+    EXPECT_NEAR(alternate[k], s.answer[k], 4e-6) << k;
   }
 }
 

@@ -92,7 +92,9 @@ TEST(EnergyBalance, ClosesToRoundOffOnALinearDampedOscillator)
     else
       EXPECT_GT(e.numerical, 0.0);
     const double scale = e.kinetic0 + e.strain0 + std::abs(e.external_work);
-    EXPECT_NEAR(e.residual(), 0.0, 1e-13 * scale) << "theta " << th;
+    // measured |residual| / scale 3.4e-15, 4.7e-15, 8.5e-16 for theta =
+    // 0.5, 0.55, 1 (this test, 2026-12-03)
+    EXPECT_NEAR(e.residual(), 0.0, 5e-14 * scale) << "theta " << th;
   }
 }
 
@@ -128,8 +130,10 @@ TEST(EnergyBalance, ClosesOnADampedDeformingFreeDisk)
   EXPECT_EQ(e.friction + e.contact_normal, 0.0);
   EXPECT_GT(dissipated, 0.1 * e.kinetic0);
   // What is left is the trapezoidal quadrature of the nonlinear strain work
-  // (third order in the displacement increments).
-  EXPECT_LT(std::abs(e.residual()), 1e-3 * dissipated)
+  // (third order in the displacement increments): measured 2.46e-6 of the
+  // dissipated energy (this test, 2026-12-03); 6.8e-3 with the stiffness
+  // part of the dissipation dropped from the accounts.
+  EXPECT_LT(std::abs(e.residual()), 2.5e-5 * dissipated)
       << "kinetic0 " << e.kinetic0 << " kinetic " << e.kinetic << " strain "
       << e.strain << " damping " << e.damping << " numerical " << e.numerical;
   std::printf("free disk: residual / dissipated = %.2e\n",

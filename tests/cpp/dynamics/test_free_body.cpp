@@ -64,12 +64,14 @@ TEST(FreeBody, MomentumIsConservedWithoutDamping)
   }
   const std::array<double, 2> P = momentum(bodies, scheme.velocity());
   const double scale = std::hypot(P0[0], P0[1]);
-  EXPECT_NEAR(P[0], P0[0], 1e-10 * scale);
-  EXPECT_NEAR(P[1], P0[1], 1e-10 * scale);
-  // Energy: theta = 1/2 conserves it up to the quadrature of the strain work.
+  // measured 1.2e-16 of the momentum (this test, 2026-12-03)
+  EXPECT_NEAR(P[0], P0[0], 2e-15 * scale);
+  EXPECT_NEAR(P[1], P0[1], 2e-15 * scale);
+  // Energy: theta = 1/2 conserves it up to the quadrature of the strain work
+  // (measured 8.1e-7 of the initial kinetic energy, 2026-12-03).
   const dynamics::EnergyBalance& e = scheme.energy();
   EXPECT_GT(e.strain, 0.0);
-  EXPECT_LT(std::abs(e.residual()), 1e-3 * e.kinetic0);
+  EXPECT_LT(std::abs(e.residual()), 1e-5 * e.kinetic0);
 }
 
 TEST(FreeBody, TranslationDecaysAtTheRateAlpha)
@@ -91,13 +93,15 @@ TEST(FreeBody, TranslationDecaysAtTheRateAlpha)
     for (std::size_t i = 0; i < v.size(); i += 2)
     {
       // theta = 1/2 is second order: relative error ~ t alpha (h alpha)^2/12
+      // (measured at most 2.25e-4 over the 100 steps, 2026-12-03); no
+      // transverse velocity (measured 4.9e-14 m/s)
       ASSERT_NEAR(scheme.velocity()[i] / expected, 1.0, 1e-3) << "step " << s;
-      ASSERT_NEAR(scheme.velocity()[i + 1], 0.0, 1e-12);
+      ASSERT_NEAR(scheme.velocity()[i + 1], 0.0, 5e-13);
     }
   }
-  // The kinetic energy lost went into damping.
+  // The kinetic energy lost went into damping (measured 1.3e-14 apart).
   const dynamics::EnergyBalance& e = scheme.energy();
-  EXPECT_NEAR(e.damping / (e.kinetic0 - e.kinetic), 1.0, 1e-6);
+  EXPECT_NEAR(e.damping / (e.kinetic0 - e.kinetic), 1.0, 2e-13);
 }
 
 TEST(FreeBody, OptionsOutsideTheSchemaAreRefused)

@@ -4,6 +4,7 @@
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
+#include <cstdio>
 #include <dynamics/moreau_jean.h>
 #include <gtest/gtest.h>
 #include <material_registry.h>
@@ -46,19 +47,26 @@ std::vector<dynamics::Wall> plates(int n)
 }
 
 /// Press by `approach`, stop the plate and let the damping bring the
-/// bodies to rest.
+/// bodies to rest. `max_residual`: the largest |energy residual| after any
+/// step.
 void press_and_settle(dynamics::MoreauJean& scheme, double approach,
-                      int settle_steps, double& max_penetration)
+                      int settle_steps, double& max_penetration,
+                      double* max_residual = nullptr)
 {
   const int press_steps = static_cast<int>(
       std::round(approach / (speed * scheme.options().time.time_step)));
   max_penetration = 0;
+  if (max_residual)
+    *max_residual = 0;
   for (int s = 0; s < press_steps + settle_steps; ++s)
   {
     if (s == press_steps)
       scheme.walls()[1].velocity = {0, 0};
     const dynamics::StepReport r = scheme.step();
     max_penetration = std::max(max_penetration, r.max_penetration);
+    if (max_residual)
+      *max_residual =
+          std::max(*max_residual, std::abs(scheme.energy().residual()));
     ASSERT_TRUE(r.newton_converged) << "step " << s;
     ASSERT_TRUE(r.nlgs_converged)
         << "step " << s << ": NLGS error " << r.nlgs_error << " after "
@@ -102,19 +110,24 @@ TEST(Plates, DiskBetweenPlatesComesToRestInEquilibrium)
   press_and_settle(scheme, 1e-3, 300, penetration);
 
   // Non-penetration at the tolerance of the contact solve.
-  EXPECT_LT(penetration, 1e-9);
+  EXPECT_LT(penetration, 1e-12); // measured 1.1e-13 m (this test, 2026-12-03)
   const auto forces = scheme.wall_forces();
   const double F = forces[1][1]; // the top plate is pushed up
   ASSERT_GT(F, 0.0);
   // Action and reaction through the disk: the plates carry opposite forces.
-  EXPECT_NEAR(forces[0][1] / F, -1.0, 1e-4);
+  EXPECT_NEAR(forces[0][1] / F, -1.0, 2e-13); // measured 1.8e-14 (2026-12-03)
   // The body at rest: its contact forces sum to zero, its velocity vanishes.
   const auto resultant = contact_resultant(scheme, 0);
-  EXPECT_LT(std::hypot(resultant[0], resultant[1]) / F, 1e-4);
+  EXPECT_LT(std::hypot(resultant[0], resultant[1]) / F,
+            3e-11); // measured 2.8e-12 (this test, 2026-12-03)
   double vmax = 0;
   for (double v : scheme.velocity())
     vmax = std::max(vmax, std::abs(v));
-  EXPECT_LT(vmax, 1e-4 * speed);
+  EXPECT_LT(vmax, 2e-10 * speed); // measured 1.3e-11 speed (2026-12-03)
+  std::printf("one disk at rest: penetration %.2e m, plates %.2e, resultant "
+              "%.2e, v/speed %.2e\n",
+              penetration, forces[0][1] / F + 1,
+              std::hypot(resultant[0], resultant[1]) / F, vmax / speed);
 }
 
 TEST(Plates, StackedDisksTransmitTheForceFromBodyToBody)
@@ -123,30 +136,47 @@ TEST(Plates, StackedDisksTransmitTheForceFromBodyToBody)
   dynamics::MoreauJean scheme(bodies, plates(2), options(3000));
   double penetration;
   press_and_settle(scheme, 1e-3, 700, penetration);
-  EXPECT_LT(penetration, 1e-9);
+  EXPECT_LT(penetration, 1e-12); // measured 4.2e-14 m (this test, 2026-12-03)
 
   const auto forces = scheme.wall_forces();
   const double F = forces[1][1];
   ASSERT_GT(F, 0.0);
   const auto on_lower_from_upper = contact_resultant(scheme, 0, 1);
   const auto on_upper_from_lower = contact_resultant(scheme, 1, 0);
-  // Action = reaction between the two bodies
+  // Action = reaction between the two bodies (the same impulses summed
+  // with opposite signs: measured exactly 0, 2026-12-03)
   EXPECT_NEAR(on_lower_from_upper[1], -on_upper_from_lower[1], 1e-12 * F);
-  // ... and the lower body passes it on to the floor: it is at rest.
-  EXPECT_NEAR(on_lower_from_upper[1] / F, -1.0, 1e-4);
-  EXPECT_NEAR(forces[0][1] / F, -1.0, 1e-4);
+  // ... and the lower body passes it on to the floor: it is at rest (what
+  // is left is the damping of the settling stack).
+  EXPECT_NEAR(on_lower_from_upper[1] / F, -1.0,
+              2e-7); // measured 1.8e-8 (this test, 2026-12-03)
+  EXPECT_NEAR(forces[0][1] / F, -1.0,
+              4e-7); // measured 3.6e-8 (this test, 2026-12-03)
+  std::printf("two disks at rest: penetration %.2e m, lower body %.2e, "
+              "floor %.2e\n",
+              penetration, on_lower_from_upper[1] / F + 1,
+              forces[0][1] / F + 1);
 }
 
 TEST(Plates, EnergyBalanceClosesOverACompression)
 {
   bodies::BodySet bodies = column_of_disks(2);
   dynamics::MoreauJean scheme(bodies, plates(2), options(30));
-  double penetration;
-  press_and_settle(scheme, 2e-3, 0, penetration);
+  double penetration, max_residual;
+  press_and_settle(scheme, 2e-3, 0, penetration, &max_residual);
   const dynamics::EnergyBalance& e = scheme.energy();
   ASSERT_GT(e.wall_work, 0.0);
   EXPECT_GT(e.strain, 0.5 * e.wall_work);
-  EXPECT_LT(std::abs(e.residual()), 0.01 * e.wall_work)
+  // At every step (the work is 0 until the plate touches: the bound is on
+  // the final work) and at the end. Measured 2026-12-03: at most 1.6e-7 of
+  // the final work over the steps, 1.6e-7 of it at the end; with the
+  // stiffness part of the dissipation dropped from the accounts 5.7e-4
+  // (tried 2026-12-03), which the former 1 % let pass.
+  EXPECT_LT(max_residual, 2e-6 * e.wall_work);
+  std::printf("compression: |residual| / wall work = %.2e (end), %.2e (largest "
+              "over the steps)\n",
+              std::abs(e.residual()) / e.wall_work, max_residual / e.wall_work);
+  EXPECT_LT(std::abs(e.residual()), 2e-6 * e.wall_work)
       << "wall work " << e.wall_work << ", strain " << e.strain << ", kinetic "
       << e.kinetic << ", damping " << e.damping << ", friction " << e.friction
       << ", normal " << e.contact_normal;

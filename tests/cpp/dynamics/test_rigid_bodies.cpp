@@ -149,13 +149,15 @@ TEST(RigidBodies, RigidDiskBetweenSoftDisksMovesRigidlyAndTheBalanceCloses)
   EXPECT_EQ(converged, steps);
   ASSERT_GT(rigid_contacts, 0);
   // The piston moved 0.75 mm: the soft disks deformed, the rigid one not.
-  EXPECT_LT(distance_change(set, 1), 1e-12);
+  // Measured 2026-12-03 (this test): distances 2.4e-14, rigid strain energy
+  // 2.1e-13 of the work, energy residual 7.6e-5 of it.
+  EXPECT_LT(distance_change(set, 1), 3e-13);
   const std::vector<double> strain = set.body_strain_energy();
   const dynamics::EnergyBalance& e = scheme.energy();
   EXPECT_GT(e.wall_work, 0.0);
   EXPECT_GT(strain[0], 0.1 * e.wall_work);
-  EXPECT_LT(std::abs(strain[1]), 1e-10 * e.wall_work);
-  EXPECT_LT(std::abs(e.residual()), 1e-3 * e.wall_work)
+  EXPECT_LT(std::abs(strain[1]), 2e-12 * e.wall_work);
+  EXPECT_LT(std::abs(e.residual()), 8e-4 * e.wall_work)
       << "residual " << e.residual() << " of wall work " << e.wall_work;
 }
 

@@ -95,12 +95,16 @@ TEST(ServoWalls, AForceControlledPlateHoldsItsForceAtRest)
   run(scheme, 600);
   const auto forces = scheme.wall_forces();
   // At rest the plate's contacts push it back with F; the floor takes F.
-  EXPECT_NEAR(forces[1][1] / F, 1.0, 1e-2);
-  std::printf("force-controlled plate: F_contact / F = %.6f\n",
-              forces[1][1] / F);
-  EXPECT_NEAR(forces[0][1] / F, -1.0, 1e-2);
-  EXPECT_LT(std::abs(scheme.walls()[1].velocity[1]), 1e-4);
-  EXPECT_LT(max_speed(scheme), 1e-4);
+  // Measured 2026-12-03 (this test): F_contact / F - 1 = 8e-6, floor 1.4e-6,
+  // plate speed 6.9e-8 m/s, largest node speed 3.0e-7 m/s.
+  EXPECT_NEAR(forces[1][1] / F, 1.0, 1e-4);
+  std::printf("force-controlled plate: F_contact / F = %.6f, floor %.2e, "
+              "plate speed %.2e, node speed %.2e\n",
+              forces[1][1] / F, forces[0][1] / F + 1,
+              scheme.walls()[1].velocity[1], max_speed(scheme));
+  EXPECT_NEAR(forces[0][1] / F, -1.0, 2e-5);
+  EXPECT_LT(std::abs(scheme.walls()[1].velocity[1]), 1e-6);
+  EXPECT_LT(max_speed(scheme), 3e-6);
   // The plate moved down: the disk is compressed.
   EXPECT_LT(scheme.walls()[1].point[1], R - 1e-4);
 }
@@ -122,13 +126,17 @@ TEST(ServoWalls, TwoOrthogonalPressureWallsMeasureTheirLengthsOnEachOther)
   const double width = w[1].point[0] - w[0].point[0];
   EXPECT_LT(height, 2 * R - 1e-4);
   EXPECT_LT(width, 2 * R - 1e-4);
-  EXPECT_NEAR(forces[1][0] / (p * height), 1.0, 1e-2);
-  EXPECT_NEAR(forces[3][1] / (p * width), 1.0, 1e-2);
-  std::printf("pressure walls: sigma / p = %.6f (right), %.6f (top)\n",
-              forces[1][0] / (height * p), forces[3][1] / (width * p));
+  // Measured 2026-12-03 (this test): sigma / p - 1 = 3.7e-4 (right),
+  // 3.6e-4 (top), the disk still moving at 1.1e-5 m/s.
+  EXPECT_NEAR(forces[1][0] / (p * height), 1.0, 4e-3);
+  EXPECT_NEAR(forces[3][1] / (p * width), 1.0, 4e-3);
+  std::printf("pressure walls: sigma / p = %.6f (right), %.6f (top), node "
+              "speed %.2e\n",
+              forces[1][0] / (height * p), forces[3][1] / (width * p),
+              max_speed(scheme));
   EXPECT_NEAR(dynamics::wall_length(w, 1), height, 1e-15);
   EXPECT_NEAR(dynamics::wall_length(w, 3), width, 1e-15);
-  EXPECT_LT(max_speed(scheme), 1e-4);
+  EXPECT_LT(max_speed(scheme), 1e-4); // measured 1.1e-5 m/s
 }
 
 TEST(ServoWalls, TheEnergyBalanceCountsTheWorkOfTheImposedPressure)
@@ -142,7 +150,9 @@ TEST(ServoWalls, TheEnergyBalanceCountsTheWorkOfTheImposedPressure)
   const dynamics::EnergyBalance& e = scheme.energy();
   ASSERT_GT(e.wall_work, 0.0);
   EXPECT_GT(e.strain, 0.1 * e.wall_work);
-  EXPECT_LT(std::abs(e.residual()), 1e-3 * e.wall_work)
+  // measured 1.67e-6 of the work (this test, 2026-12-03); 7.7e-3 with the
+  // stiffness part of the dissipation dropped from the accounts
+  EXPECT_LT(std::abs(e.residual()), 2e-5 * e.wall_work)
       << "wall work " << e.wall_work << ", strain " << e.strain << ", kinetic "
       << e.kinetic << ", damping " << e.damping << ", numerical " << e.numerical
       << ", normal " << e.contact_normal;

@@ -184,7 +184,9 @@ TEST(FrictionPairs, EachBlockSlidesWithItsSpeciesWallCoefficient)
   scheme.set_external_force(f);
   for (int s = 0; s < 200; ++s)
     ASSERT_TRUE(scheme.step().newton_converged);
-  EXPECT_LT(std::abs(mean_vx(set, 0, scheme.velocity())), 1e-6);
+  // Measured 2026-12-03 (this test): block 0 at 1.1e-8 m/s, block 1's
+  // acceleration 7.7e-3 off (1 % kept).
+  EXPECT_LT(std::abs(mean_vx(set, 0, scheme.velocity())), 1.2e-7);
   const double a = push - 0.1 * g;
   EXPECT_NEAR(mean_vx(set, 1, scheme.velocity()) / (a * scheme.time()), 1.0,
               0.01);
@@ -229,6 +231,6 @@ TEST(FrictionPairs, BlockOnBlockSlidesWithTheSpeciesPairCoefficient)
   }
   // Block 1 slides: the pair's whole normal impulse carries mu(0, 1) of it.
   ASSERT_GT(normal, 0.0);
-  EXPECT_NEAR(tangential / normal, 0.1, 1e-4);
+  EXPECT_NEAR(tangential / normal, 0.1, 1e-15); // measured 2.8e-17
   EXPECT_GT(mean_vx(set, 1, scheme.velocity()), 0.0);
 }
