@@ -183,8 +183,11 @@ def test_a_step_retried_and_rebalanced_gives_the_serial_run(tmp_path):
     at 1e-4 s; Phi within 1.8e-10 and E within 9e-9 of the 1-rank run).
     The same retries, steps, Phi, E and contacts as on 1 rank. Not reached
     here (nor by 12 other settings of the step and Newton tried): a
-    rebalance within the attempt that then fails, where the retry's copy of
-    the step's start must have been handed over (Ownership::hand_over)."""
+    rebalance within the attempt that then fails. The retry's copy of the
+    step's start is then one of the node vectors the rebalance moves with
+    the bodies (MoreauJean::rebalance, parallel::move_bodies), which
+    tests/cpp/parallel/test_distribution.cpp (Rebalance.*) checks entry
+    for entry on 2 and 3 ranks."""
     settings = {"output.fields": False, "time.max_step_factor": 8.0,
                 "time.newton_max_iterations": 3,
                 "time.refactor_above_iterations": 50,
