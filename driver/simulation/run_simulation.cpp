@@ -273,6 +273,7 @@ private:
     nlohmann::json extra = {{"stage", label},
                             {"stage_name", name},
                             {"stages", _program.size()},
+                            {"ended_by", _program.start().ended_by},
                             {"complete", true}};
     if (check.timed_out || !check.met.empty())
       _scheme.prepare_output(); // the energies of the next stage's start
@@ -294,9 +295,10 @@ private:
       if (_program.last())
       {
         output(step, r, now, label, true);
+        extra["ended_by"].push_back(check.met);
         return finish(step, "stages", extra);
       }
-      _program.begin(label + 1, _scheme, now);
+      _program.begin(label + 1, _scheme, now, check.met);
       output(step, r, now, label);
       return std::nullopt;
     }

@@ -171,7 +171,7 @@ double StageProgram::set_drives(const parameters::Stage& stage,
 }
 
 void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
-                         std::optional<double> phi)
+                         std::optional<double> phi, const std::string& ended_by)
 {
   const parameters::Stage& stage = _stages[k];
   std::vector<dynamics::Wall> walls = scheme.walls();
@@ -188,7 +188,11 @@ void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
                          });
   else
     scheme.walls() = walls;
+  std::vector<std::string> ended = std::move(_start.ended_by);
+  if (!ended_by.empty())
+    ended.push_back(ended_by);
   _start = {};
+  _start.ended_by = std::move(ended);
   _start.index = k;
   _start.step = scheme.steps();
   _start.time = scheme.time();
@@ -322,7 +326,8 @@ void write_stage_record(const std::filesystem::path& path, long step,
                             {"start_wall_work", s.wall_work},
                             {"start_length", s.length},
                             {"phi_side", s.phi_side},
-                            {"pressure_side", s.pressure_side}};
+                            {"pressure_side", s.pressure_side},
+                            {"ended_by", s.ended_by}};
   const std::filesystem::path tmp = path.string() + ".tmp";
   {
     std::ofstream out(tmp);
@@ -357,6 +362,10 @@ StageStart read_stage_record(const std::filesystem::path& path, long step,
     s.length = j.at("start_length").get<double>();
     s.phi_side = j.at("phi_side").get<int>();
     s.pressure_side = j.at("pressure_side").get<int>();
+    // (records written before it was kept: each earlier stage unknown)
+    s.ended_by = j.contains("ended_by")
+                     ? j.at("ended_by").get<std::vector<std::string>>()
+                     : std::vector<std::string>(std::max(s.index, 0), "?");
   }
   catch (const std::exception& e)
   {

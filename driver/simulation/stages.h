@@ -6,6 +6,7 @@
 #include <io/driver_config.h>
 #include <optional>
 #include <string>
+#include <vector>
 
 /// Loading programs: a run as a sequence of stages (schema [stages],
 /// docs/loading.md), each changing the walls' drives between two time
@@ -27,6 +28,8 @@ struct StageStart
   double length = 0;
   /// +1 when Phi (pressure) started below the stage's target, -1 above
   int phi_side = 1, pressure_side = 1;
+  /// The criterion that ended each earlier stage (StageCheck::met)
+  std::vector<std::string> ended_by;
 };
 
 /// What a stage check found after a step.
@@ -92,8 +95,10 @@ public:
   bool last() const { return _start.index + 1 == size(); }
 
   /// Begin stage k after step `step`: its drives on the scheme's walls,
-  /// its start recorded.
-  void begin(int k, dynamics::MoreauJean& scheme, std::optional<double> phi);
+  /// its start recorded; `ended_by`: the criterion that ended the stage
+  /// before it (none for the first)
+  void begin(int k, dynamics::MoreauJean& scheme, std::optional<double> phi,
+             const std::string& ended_by = "");
 
   /// Set the walls' drives of stages 0..start.index (before the scheme's
   /// restore from a state) and continue that stage from `start`.

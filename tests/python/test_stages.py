@@ -154,6 +154,7 @@ def test_the_stage_column_switches_and_the_run_is_complete(stepped_run):
     done = json.loads((stepped_run / "raw" / "done.json").read_text())
     assert done["reason"] == "stages" and done["complete"] is True
     assert done["stage"] == 2 and done["stage_name"] == "stop"
+    assert done["ended_by"] == ["equilibrium", "equilibrium", "max_time"]
 
 
 def test_a_servo_wall_holds_its_new_pressure_at_rest(stepped_run):
@@ -225,6 +226,7 @@ def test_a_run_continued_from_a_state_inside_a_stage_is_the_same(
     assert done["reason"] == "steps" and done["complete"] is False
     record = json.loads((first / "raw" / "state.stage.json").read_text())
     assert record["stage"] == 1 and record["step"] == cut_at
+    assert record["ended_by"] == done["ended_by"] == ["equilibrium"]
     data["stop"]["steps"] = 0
     rest = tmp_path / "rest"
     assert run(cfg.validate(data, "rest"), rest,
@@ -234,6 +236,10 @@ def test_a_run_continued_from_a_state_inside_a_stage_is_the_same(
     for key in ("right_x", "top_y", "wall_work", "energy_residual", "stage"):
         assert steps[key][-1] == whole[key][-1], key
     assert cfg.load_config(rest / "config.toml")["stages"] == stages
+    # the stages ended before the cut are named after it too
+    assert json.loads((rest / "raw" / "done.json").read_text())[
+        "ended_by"] == json.loads((stepped_run / "raw" / "done.json")
+                                  .read_text())["ended_by"]
     # without the record a staged run refuses to continue
     lone = tmp_path / "lone"
     lone.mkdir()
