@@ -109,3 +109,31 @@ def test_the_series_is_the_reference_to_round_off(case):
             atol=ROUND_OFF * np.max(np.abs(values)),
             err_msg=f"{name}: {column} moved from the reference"
                     " (tests/python/assembly_cases.py rewrites it)")
+
+
+def test_the_summary_names_each_stage_and_its_state(tmp_path_factory):
+    """The end-of-run summary (issue 37 item 1): a line per stage naming
+    the criterion that ended it, with Phi, P, q, the box's strains and Z
+    over the particles it counts at the stage's last row."""
+    from softpack.analysis.summary import summary_lines
+
+    out = _run("servo", tmp_path_factory)
+    run = RunDirectory(out)
+    s, stress = read_table(run.series_csv), read_table(run.stress_csv)
+    stage = read_table(run.raw.steps_csv)["stage"]
+    lines = summary_lines(out)
+    assert [line.split(":")[0] for line in lines] == [
+        'stage 0 "consolidate"', 'stage 1 "axial"']
+    assert "ended by equilibrium" in lines[0]
+    assert "ended by strain" in lines[1]
+    for k, line in enumerate(lines):
+        last = int(np.flatnonzero(stage == k)[-1])
+        assert f"Phi = {s['phi'][last]:.4f}" in line
+        assert f"P = {stress['contact_P'][last] / 1e3:.4g} kPa" in line
+        assert f"eps_v = {stress['eps_v'][last]:.4f}" in line
+        total = sum(s[c][last] for c in ("retained", "rattlers",
+                                         "unbalanced"))
+        assert f"over {s['retained'][last]:.0f} of {total:.0f}" in line
+    assert total == 14
+    (line,) = summary_lines(_run("compaction", tmp_path_factory))
+    assert line.startswith("stopped by packing_fraction after 473 steps")

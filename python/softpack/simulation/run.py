@@ -437,6 +437,7 @@ def _postprocess(out: Path, say) -> int:
     """Check the driver finished, write the observables, print a summary."""
     from softpack.analysis.observables import (process_run, retained_report,
                                                z_report)
+    from softpack.analysis.summary import summary_lines
     from softpack.contract.tables import read_table
 
     finish = RunDirectory(out).done()
@@ -448,10 +449,8 @@ def _postprocess(out: Path, say) -> int:
     except (OSError, ValueError, KeyError, ConfigError) as err:
         raise RunError(f"post-processing {out}: {err}") from None
     s = read_table(series_csv)
-    last = {k: v[-1] for k, v in s.items()} if len(s["step"]) else {}
-    say(f"stopped by {finish.get('reason', '?')} after"
-        f" {finish.get('steps', '?')} steps; Phi = {last.get('phi', 0):.4f},"
-        f" eps = {last.get('eps', 0):.4f}, Z = {last.get('z', 0):.3f}")
+    for line in summary_lines(out):
+        say(line)
     for report in (z_report(s), retained_report(s)):  # Z says what it is
         if report:
             say(report)

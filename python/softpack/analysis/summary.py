@@ -1,0 +1,78 @@
+"""The end-of-run summary: one line per stage (one for a run without
+stages) from the tables the analysis wrote.
+
+Each line names how the stage (the run) ended and gives, at its last output
+row, the packing fraction, the box's pressure P and deviatoric stress q
+(Love-Weber from the contacts, which rigid bodies take part in, and from
+the walls), its volumetric and deviatoric strains eps_v and eps_q (from the
+initial box), and Z with the particles it counts (docs/observables.md).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+
+from softpack.contract.run_directory import RunDirectory
+from softpack.contract.tables import read_table
+
+
+def _number(table, column, row) -> float:
+    values = table.get(column) if table else None
+    return float(values[row]) if values is not None else math.nan
+
+
+def _state(series, stress, row) -> str:
+    """Phi, P, q, strains and Z at a row."""
+    parts = [f"Phi = {_number(series, 'phi', row):.4f}"]
+    if stress:
+        p = {e: _number(stress, f"{e}_P", row) for e in ("contact", "wall")}
+        q = _number(stress, "contact_q", row)
+        parts.append(f"P = {p['contact'] / 1e3:.4g} kPa, q = {q / 1e3:.4g}"
+                     f" kPa (contacts; walls: P = {p['wall'] / 1e3:.4g} kPa)")
+        parts.append(f"eps_v = {_number(stress, 'eps_v', row):.4f}, eps_q ="
+                     f" {_number(stress, 'eps_q', row):.4f}")
+    counts = {k: _number(series, k, row)
+              for k in ("retained", "rattlers", "unbalanced")}
+    total = sum(v for v in counts.values() if v == v)
+    z = _number(series, "z", row)
+    parts.append(f"Z = {z:.3f} over {counts['retained']:.0f} of {total:.0f}"
+                 f" particles (rattlers {counts['rattlers']:.0f}, unbalanced"
+                 f" {counts['unbalanced']:.0f})")
+    return "; ".join(parts)
+
+
+def summary_lines(run_dir) -> list[str]:
+    """The summary of a finished run (series.csv written)."""
+    run = RunDirectory(run_dir)
+    done = run.done()
+    series = read_table(run.series_csv)
+    stress = (read_table(run.stress_csv) if run.stress_csv.is_file()
+              else None)
+    rows = len(series["step"])
+    if not rows:
+        return []
+    if "stages" not in done:
+        return [f"stopped by {done.get('reason', '?')} after"
+                f" {done.get('steps', '?')} steps; "
+                + _state(series, stress, rows - 1)]
+    stage = np.asarray(read_table(run.raw.steps_csv)["stage"][:rows])
+    ended = list(done.get("ended_by", ()))
+    names = [s.get("name", "") for s in
+             json.loads(run.raw.setup_json.read_text()).get("stages", ())]
+    lines = []
+    for k in range(int(done["stages"])):
+        mine = np.flatnonzero(stage == k)
+        if not len(mine):
+            continue
+        last = int(mine[-1])
+        how = (f"ended by {ended[k]}" if k < len(ended)
+               else f"stopped by {done.get('reason', '?')} (incomplete)")
+        name = names[k] if k < len(names) else ""
+        label = f"stage {k}" + (f" \"{name}\"" if name else "")
+        lines.append(f"{label}: {how} at t = {series['time'][last]:.4g} s"
+                     f" (step {int(series['step'][last])}); "
+                     + _state(series, stress, last))
+    return lines
