@@ -165,6 +165,32 @@ def test_default_out_dir_and_progress_line(tmp_path):
     assert os.fspath(run._default_config()).endswith("examples/paper.toml")
 
 
+def test_a_staged_run_shows_its_stage_and_criterion(tmp_path):
+    """examples/biaxial_small.toml: an equilibrium stage (its fraction is
+    that of its time bound, so its ETA is an upper bound), then a stage
+    ended at 10 % strain of the right wall against the left, counted from
+    the row where the first stage ended."""
+    from softpack.scene.config import load_config
+    progress = run.Progress(load_config(paths.ROOT / "examples" /
+                                        "biaxial_small.toml"),
+                            tmp_path / "steps.csv")
+
+    def row(step, stage, right_x):
+        return {"step": step, "time": 1e-4 * step, "stage": stage,
+                "phi": 0.7, "left_x": 0.0, "right_x": right_x,
+                "bottom_y": 0.0, "top_y": 0.07, "seconds": 1e-3 * step}
+    first = [row(0, 0, 0.11), row(300, 0, 0.10)]  # 0.03 of its 0.3 s bound
+    line = progress.line(first)
+    assert line.startswith("stage 1/2 'consolidate': until equilibrium")
+    assert "(10 %)" in line and "stage ETA <= " in line
+    rows = first + [row(400, 1, 0.095), row(500, 1, 0.09)]
+    line = progress.line(rows)  # (0.10 - 0.09) / 0.10 of 10 %
+    assert line.startswith("stage 2/2 'axial': strain 0.1000 of 0.1")
+    assert "(100 %)" in line and "<=" not in line
+    assert progress.line(rows[:3]).count("strain 0.0500") == 1
+    assert progress.mark(rows[:3]) > progress.mark(first)
+
+
 def test_set_overrides_are_parsed_as_toml_values():
     from softpack.scene.config import ConfigError
     from softpack.simulation.run import _parse_settings

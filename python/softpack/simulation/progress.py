@@ -2,6 +2,11 @@
 
 The fraction done is the largest of ``(Phi - Phi0) / (target - Phi0)``,
 ``time / max_time`` and ``steps / stop.steps`` (the stopping criteria).
+A run with stages is followed stage by stage (:func:`stage_status`): the
+current stage, how far it is from its criterion (the fraction is the
+largest over its criteria: time / max_time, Phi, strain, pressure; an
+equilibrium criterion has no fraction before it is met), and the ETA of
+that stage.
 
 The ETA is not ``elapsed * (1 - f) / f``: the cost per unit of progress
 grows during a compaction (more contacts, stiffer assembly as Phi rises),
@@ -13,6 +18,7 @@ half of the history and extrapolates its trend to the end.
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 from pathlib import Path
@@ -48,6 +54,32 @@ class Progress:
         self.echo = echo
         self.tty = echo is not None and sys.stdout.isatty()
         self.logged = -1  # last 5 % mark written to the log / non-tty
+        self.stages = list(config.get("stages") or [])
+
+    def stage_line(self, rows) -> str:
+        """The progress line of a run with stages."""
+        k, stage_rows = current_stage(rows)
+        stage = self.stages[min(k, len(self.stages) - 1)]
+        fractions = [stage_status(stage["stop"], stage_rows[:i + 1])[0]
+                     for i in range(len(stage_rows))]
+        done, what = stage_status(stage["stop"], stage_rows)
+        seconds = [r.get("seconds", float("nan")) for r in stage_rows]
+        row = rows[-1]
+        # An equilibrium may come before the time bound the fraction counts
+        bound = "<= " if stage["stop"].get("equilibrium", 0) > 0 else ""
+        return (f"stage {k + 1}/{len(self.stages)} {stage['name']!r}: {what}"
+                f" ({100 * done:.0f} %)  step {int(row['step'])}  Phi ="
+                f" {row.get('phi', math.nan):.4f}  elapsed"
+                f" {duration(time.time() - self.started)}  stage ETA {bound}"
+                f"{duration(remaining_seconds(fractions, seconds))}")
+
+    def mark(self, rows) -> int:
+        """The 5 % mark reached (per stage with stages)."""
+        if not self.stages:
+            return int(20 * self.fraction(rows[-1], rows[0]["step"]))
+        k, stage_rows = current_stage(rows)
+        stage = self.stages[min(k, len(self.stages) - 1)]
+        return 21 * k + int(20 * stage_status(stage["stop"], stage_rows)[0])
 
     def fraction(self, row, first_step) -> float:
         """Fraction of the run done at ``row``, in [0, 1]."""
@@ -61,6 +93,8 @@ class Progress:
 
     def line(self, rows) -> str:
         """One progress line from the rows of ``steps.csv`` so far."""
+        if self.stages:
+            return self.stage_line(rows)
         row = rows[-1]
         first = rows[0]["step"]
         fractions = [self.fraction(r, first) for r in rows]
@@ -79,7 +113,7 @@ class Progress:
         if not rows:
             return
         text = self.line(rows)
-        mark = int(20 * self.fraction(rows[-1], rows[0]["step"]))
+        mark = self.mark(rows)
         if self.tty:
             self.echo(f"\r{text}", end="\n" if final else "")
         if mark > self.logged or final:
@@ -88,6 +122,70 @@ class Progress:
                 self.echo(text)
             log.write(f"[progress] {text}\n")
             log.flush()
+
+
+def current_stage(rows) -> tuple[int, list]:
+    """The stage of the last row and its rows, led by the row where the
+    stage before it ended (its start), when there is one."""
+    k = int(rows[-1].get("stage", 0))
+    first = next(i for i, r in enumerate(rows) if int(r.get("stage", 0)) == k)
+    return k, rows[max(first - 1, 0):]
+
+
+#: The box wall facing each box wall.
+_FACING = {"left": "right", "right": "left", "bottom": "top", "top": "bottom"}
+
+
+def _box_length(row, wall) -> float:
+    """Distance between a box wall and the one facing it (NaN if not a box
+    wall of the row)."""
+    if wall not in _FACING:
+        return math.nan
+    axis = "x" if wall in ("left", "right") else "y"
+    return abs(row.get(f"{wall}_{axis}", math.nan)
+               - row.get(f"{_FACING[wall]}_{axis}", math.nan))
+
+
+def _box_pressure(row) -> float:
+    """The box's wall pressure of a row (as the stage criterion's)."""
+    from softpack.analysis.stress import wall_normal_stresses
+    try:
+        stresses = wall_normal_stresses({k: np.array([v])
+                                         for k, v in row.items()})
+    except KeyError:
+        return math.nan
+    return float(np.mean([v[0] for v in stresses.values()]))
+
+
+def stage_status(stop: dict, rows: list) -> tuple[float, str]:
+    """How far a stage is from its criteria at its last row: the largest
+    fraction over them (in [0, 1]) and what it says, the stage's rows led
+    by its start (:func:`current_stage`)."""
+    start, row = rows[0], rows[-1]
+    elapsed = row["time"] - start["time"]
+    status = [(elapsed / stop["max_time"],
+               f"t = {elapsed:.4g} of {stop['max_time']:.4g} s")]
+    if stop.get("packing_fraction", 0) > 0:
+        phi0, phi, target = (start.get("phi", math.nan),
+                             row.get("phi", math.nan), stop["packing_fraction"])
+        status.append(((phi - phi0) / (target - phi0),
+                       f"Phi = {phi:.4f} to {target:.4f}"))
+    if stop.get("strain", 0) > 0:
+        wall = stop.get("strain_wall", "")
+        length0 = _box_length(start, wall)
+        strain = (length0 - _box_length(row, wall)) / length0
+        status.append((abs(strain) / stop["strain"],
+                       f"strain {strain:.4f} of {stop['strain']:.4g}"))
+    if stop.get("pressure", 0) > 0:
+        p0, p, target = _box_pressure(start), _box_pressure(row), \
+            stop["pressure"]
+        status.append(((p - p0) / (target - p0),
+                       f"P = {p / 1e3:.4g} to {target / 1e3:.4g} kPa"))
+    if stop.get("equilibrium", 0) > 0:
+        status.append((0.0, f"until equilibrium {stop['equilibrium']:.2g}"))
+    known = [f for f, _ in status if f == f]
+    fraction = min(max(max(known), 0.0), 1.0) if known else 0.0
+    return fraction, "; ".join(text for _, text in status[1:] + status[:1])
 
 
 def remaining_seconds(fractions, seconds) -> float:
