@@ -1,5 +1,7 @@
 #include "raw_output.h"
 
+#include <bodies/placement.h>
+
 #include <cstdio>
 #include <iomanip>
 #include <nlohmann/json.hpp>
@@ -32,7 +34,8 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
             "newton_unconverged_steps,nlgs_unconverged_steps,retried_steps,"
             "max_overlap_depth,cauchy_xx,cauchy_yy,cauchy_xy,cauchy_yx\n";
   _particles << "step,particle,area,strain_energy,reference_area,cauchy_xx,"
-                "cauchy_yy,cauchy_xy,cauchy_yx\n";
+                "cauchy_yy,cauchy_xy,cauchy_yx,centroid_x,centroid_y,"
+                "rotation\n";
 }
 
 void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
@@ -87,11 +90,13 @@ void RawOutput::write_particles(long step, const bodies::BodySet& bodies,
                                 std::span<const bodies::CauchyIntegral> cauchy)
 {
   const std::vector<double> area = bodies.body_current_area();
+  const std::vector<bodies::Placement> where = bodies::placements(bodies);
   for (int b = 0; b < bodies.num_bodies(); ++b)
     _particles << step << ',' << b << ',' << area[b] << ',' << energy[b] << ','
                << bodies.body(b).reference_area << ',' << cauchy[b][0] << ','
                << cauchy[b][1] << ',' << cauchy[b][2] << ',' << cauchy[b][3]
-               << '\n';
+               << ',' << where[b].x << ',' << where[b].y << ','
+               << where[b].rotation << '\n';
   _particles.flush();
 }
 

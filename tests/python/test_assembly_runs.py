@@ -137,3 +137,49 @@ def test_the_summary_names_each_stage_and_its_state(tmp_path_factory):
     assert total == 14
     (line,) = summary_lines(_run("compaction", tmp_path_factory))
     assert line.startswith("stopped by packing_fraction after 473 steps")
+
+
+def test_particles_csv_places_and_loads_each_particle(tmp_path_factory):
+    """particles.csv's species, rigid flag, centroid, rotation and
+    pressure (issue 37 item 2) on the rigid+soft run: the centroids and
+    rotations against the deformed mesh of the fields (area centroids of
+    the triangles; a rigid particle's rotation is that of all its nodes,
+    least squares), the pressures summed against the finite elements'
+    box pressure, and none inside a rigid particle."""
+    out = _run("mixed", tmp_path_factory)
+    run = RunDirectory(out)
+    table, stress = read_table(run.particles_csv), read_table(run.stress_csv)
+    species = np.array([0] * 5 + [1] * 5 + [2] * 2 + [3] * 2)  # the example
+    rigid = np.isin(species, (1, 3))
+    points, cells = fields.read_mesh(run.fields_h5)
+    for (t, u), step, box, fe_p in zip(fields.read_displacements(
+            run.fields_h5), stress["step"], stress["area"], stress["fe_P"]):
+        rows = table["step"] == step
+        np.testing.assert_array_equal(table["species"][rows], species)
+        np.testing.assert_array_equal(table["rigid"][rows], rigid)
+        pressure = table["pressure"][rows]
+        assert np.isnan(pressure[rigid]).all()
+        assert np.isfinite(pressure[~rigid]).all()
+        area = table["area"][rows]
+        assert np.sum(pressure[~rigid] * area[~rigid]) / box == \
+            pytest.approx(fe_p, rel=1e-9, abs=1e-9)
+        snap = fields.read_snapshot(run.fields_h5, t)
+        x = (points + u)[cells]
+        a, b = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
+        tri = 0.5 * (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+        centre = x.mean(axis=1)
+        for p in range(len(species)):
+            mine = snap.body == p
+            c = (tri[mine, None] * centre[mine]).sum(0) / tri[mine].sum()
+            assert table["centroid_x"][rows][p] == pytest.approx(c[0],
+                                                                 abs=1e-12)
+            assert table["centroid_y"][rows][p] == pytest.approx(c[1],
+                                                                 abs=1e-12)
+            if rigid[p]:
+                nodes = np.unique(cells[mine])
+                r0 = points[nodes] - points[nodes].mean(0)
+                r = (points + u)[nodes] - (points + u)[nodes].mean(0)
+                angle = np.arctan2(np.sum(r0[:, 0] * r[:, 1] - r0[:, 1]
+                                          * r[:, 0]), np.sum(r0 * r))
+                assert table["rotation"][rows][p] == pytest.approx(
+                    angle, abs=1e-12)

@@ -50,6 +50,19 @@ Z, rattlers, unbalanced particles
 piston force
     ``-(f . n)`` of the wall ``right``, f the force it receives, n its
     inward normal: positive in compression.
+species, rigid (particles.csv)
+    The index of the particle's species in ``[[species]]`` and whether its
+    material is rigid (1) or not (0).
+centroid_x, centroid_y, rotation (particles.csv)
+    The area centroid of the particle's deformed boundary (m) and its
+    rotation from the reference configuration (rad, counter-clockwise, in
+    (-pi, pi]: the least-squares rotation of its boundary nodes about
+    their centroid), from the driver (``driver/bodies/placement.h``).
+pressure (particles.csv)
+    The particle's mean pressure ``-(sigma_xx + sigma_yy) / 2`` averaged
+    over its current area (Pa, compression positive), from the integral of
+    its Cauchy stress (``raw/particles.csv``); NaN for a rigid particle,
+    whose finite elements carry no stress.
 """
 
 from __future__ import annotations
@@ -88,7 +101,13 @@ SERIES_COLUMNS = (
 PARTICLE_COLUMNS = (
     "step", "time", "phi", "particle", "radius", "reference_area", "area",
     "psi_p", "contacts", "wall_contacts", "z_contacts", "resultant_force",
-    "unbalanced", "rattler")
+    "unbalanced", "rattler", "species", "rigid", "centroid_x", "centroid_y",
+    "rotation", "pressure")
+#: The columns of ``raw/particles.csv`` read per particle (NaN when an older
+#: driver did not write them).
+RAW_PARTICLE_COLUMNS = ("reference_area", "area", "strain_energy",
+                        "cauchy_xx", "cauchy_yy", "centroid_x", "centroid_y",
+                        "rotation")
 DRIVER_COLUMNS = ("newton_iterations", "nlgs_iterations", "nlgs_error",
                   "nlgs_converged", "contacts", "active_contacts",
                   "max_penetration", "seconds")
@@ -193,8 +212,9 @@ def series_and_particles(steps: dict, particles: dict, contacts_of,
     force = piston_force(steps, setup)
     rows = []
     for k, step in enumerate(steps["step"]):
-        ref, area, energy = _per_particle(particles, step, n)
-        psi = energy / ref
+        raw = _per_particle(particles, step, n)
+        ref, area = raw["reference_area"], raw["area"]
+        psi = raw["strain_energy"] / ref
         if not np.isfinite(series["phi"][k]):
             series["phi"][k] = area.sum() / (length[k] * width[k])
         series["cv_psi"][k] = coefficient_of_variation(psi)
@@ -212,7 +232,7 @@ def series_and_particles(steps: dict, particles: dict, contacts_of,
             series["cv_psi_retained"][k] = coefficient_of_variation(
                 psi[net.retained])
         rows.append(_particle_rows(step, steps["time"][k], series["phi"][k],
-                                   setup, ref, area, psi, net))
+                                   setup, raw, psi, net))
     table = {name: np.concatenate([r[name] for r in rows]) if rows
              else np.zeros(0) for name in PARTICLE_COLUMNS}
     return series, table
@@ -259,33 +279,43 @@ def retained_report(series: dict) -> str:
             " counts them (series.csv retained, unbalanced)")
 
 
-def _per_particle(particles, step, n):
-    """Reference area, area and strain energy of each particle at a step."""
+def _per_particle(particles, step, n) -> dict:
+    """The columns :data:`RAW_PARTICLE_COLUMNS` of each particle at a step."""
     mine = particles["step"] == step
     ids = particles["particle"][mine].astype(np.int64)
-    out = []
-    for name in ("reference_area", "area", "strain_energy"):
+    out = {}
+    for name in RAW_PARTICLE_COLUMNS:
         values = np.full(n, np.nan)
-        values[ids] = particles[name][mine]
-        out.append(values)
+        if name in particles:
+            values[ids] = particles[name][mine]
+        out[name] = values
     return out
 
 
-def _particle_rows(step, time, phi, setup, ref, area, psi, net) -> dict:
+def _particle_rows(step, time, phi, setup, raw, psi, net) -> dict:
     """Columns of ``particles.csv`` for one output step."""
     n, h = setup.count, setup.thickness
     missing = np.full(n, np.nan)
+    rigid = (np.zeros(n, bool) if setup.body_rigid is None
+             else np.asarray(setup.body_rigid, bool))
+    # The body's mean Cauchy stress from its integral (tension positive) as
+    # a pressure; a rigid body's finite elements carry none.
+    pressure = -0.5 * (raw["cauchy_xx"] + raw["cauchy_yy"]) / raw["area"]
+    pressure[rigid] = np.nan
     return {
         "step": np.full(n, step), "time": np.full(n, time),
         "phi": np.full(n, phi), "particle": np.arange(n),
-        "radius": setup.radii, "reference_area": ref, "area": area,
-        "psi_p": psi,
+        "radius": setup.radii, "reference_area": raw["reference_area"],
+        "area": raw["area"], "psi_p": psi,
         "contacts": missing if net is None else net.contacts,
         "wall_contacts": missing if net is None else net.wall_contacts,
         "z_contacts": missing if net is None else net.z_contacts,
         "resultant_force": missing if net is None else h * net.resultant,
         "unbalanced": missing if net is None else net.unbalanced,
-        "rattler": missing if net is None else net.rattler}
+        "rattler": missing if net is None else net.rattler,
+        "species": setup.body_species, "rigid": rigid.astype(float),
+        "centroid_x": raw["centroid_x"], "centroid_y": raw["centroid_y"],
+        "rotation": raw["rotation"], "pressure": pressure}
 
 
 def process_run(run_dir, setup: RunSetup | None = None,
