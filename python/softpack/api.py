@@ -194,6 +194,9 @@ TABLES = {
     "particles": "particles.csv: one row per particle and output step",
     "stress": "stress.csv: the box's strains and the wall, contact and"
               " finite-element stress estimates per output step (a box)",
+    "network": "network.csv: the force-bearing contact pairs of every"
+               " output step (forces, branch vectors; docs in"
+               " softpack.analysis.network)",
     "steps": "raw/steps.csv: the driver's row per output step",
     "raw_particles": "raw/particles.csv: the driver's row per particle and"
                      " output step",
@@ -211,7 +214,8 @@ def read_run(directory, table="series", step=None):
         A run directory written by :func:`run` or ``./softpack run``.
     table : str
         One of :data:`TABLES`: ``"series"`` (default), ``"particles"``,
-        ``"stress"`` (written by the analysis of a finished run),
+        ``"stress"``, ``"network"`` (written by the analysis of a finished
+        run),
         ``"steps"``, ``"raw_particles"`` or ``"contacts"`` (the driver's,
         there as soon as it writes them).
     step : int, optional
@@ -243,6 +247,7 @@ def read_run(directory, table="series", step=None):
     path = {"series": lambda: run.series_csv,
             "particles": lambda: run.particles_csv,
             "stress": lambda: run.stress_csv,
+            "network": lambda: run.network_csv,
             "steps": lambda: run.raw.steps_csv,
             "raw_particles": lambda: run.raw.particles_csv,
             "contacts": lambda: run.raw.contact_file(step)}[table]()

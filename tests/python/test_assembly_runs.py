@@ -183,3 +183,44 @@ def test_particles_csv_places_and_loads_each_particle(tmp_path_factory):
                                           * r[:, 0]), np.sum(r0 * r))
                 assert table["rotation"][rows][p] == pytest.approx(
                     angle, abs=1e-12)
+
+
+@pytest.mark.parametrize("name", ["mixed", "servo"])
+def test_the_network_carries_each_particles_and_walls_forces(
+        name, tmp_path_factory):
+    """network.csv (issue 37 item 2) against what the driver and the
+    analysis wrote independently of it, at every output step: the pair
+    forces on each particle sum to its resultant (particles.csv, from the
+    nodal contacts), those on a wall to the force the wall received
+    (raw/steps.csv); walls press (fn > 0) and their branch vectors run
+    along their normals (measured agreement: 3e-10 of the step's largest
+    pair force, raw/contacts' 10 digits summed)."""
+    out = _run(name, tmp_path_factory)
+    run = RunDirectory(out)
+    net, table = read_table(run.network_csv), read_table(run.particles_csv)
+    steps = read_table(run.raw.steps_csv)
+    walls = [w for w in ("left", "right", "bottom", "top")]
+    thickness = 0.015  # the examples' [model] thickness
+    assert len(net["step"]) > 0
+    for k, step in enumerate(steps["step"]):
+        rows = net["step"] == step
+        a, b = net["a"][rows].astype(int), net["b"][rows].astype(int)
+        force = np.column_stack((net["fx"][rows], net["fy"][rows]))
+        count = int(np.sum(table["step"] == step))
+        total = np.zeros((count, 2))
+        np.add.at(total, a, force)
+        np.add.at(total, b[b >= 0], -force[b >= 0])
+        scale = max(np.abs(force).max(initial=0.0), 1e-30)
+        resultant = table["resultant_force"][table["step"] == step]
+        np.testing.assert_allclose(np.hypot(*total.T), resultant, rtol=0,
+                                   atol=3e-9 * scale)
+        for w, wall in enumerate(walls):
+            on_wall = -force[b == -1 - w].sum(axis=0) / thickness
+            np.testing.assert_allclose(
+                on_wall, [steps[f"{wall}_fx"][k], steps[f"{wall}_fy"][k]],
+                rtol=0, atol=3e-9 * scale / thickness)
+        to_walls = b < 0
+        assert (net["fn"][rows][to_walls] > 0).all()
+        horizontal = np.isin(b, (-1, -2))  # left, right: branch along x
+        assert (net["branch_y"][rows][horizontal] == 0).all()
+        assert (net["branch_x"][rows][np.isin(b, (-3, -4))] == 0).all()

@@ -286,6 +286,11 @@ def test_no_box_leaves_box_columns_nan(tmp_path):
     write_setup(tmp_path, length=LENGTH, width=WIDTH, thickness=THICKNESS,
                 diameters=(2 * RADIUS,), species=[0] * 5, shear_modulus=MU,
                 box=False)
+    # its contacts name the four walls of the box: not this scene's
+    with pytest.raises(ValueError, match="wall 2, the run has 2 walls"):
+        obs.process_run(tmp_path)
+    import shutil
+    shutil.rmtree(RunDirectory(tmp_path).raw.contacts)
     s = read_table(obs.process_run(tmp_path)[0])
     assert np.isnan(s["eps"]).all() and np.isnan(s["piston_force"]).all()
     assert np.isnan(s["phi"][0]) and not np.isnan(s["phi"][1])  # driver's

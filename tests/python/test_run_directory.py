@@ -29,7 +29,7 @@ def test_every_path_of_a_run(tmp_path):
         "fields.h5": run.fields_h5, "fields.xdmf": run.fields("xdmf"),
         "fields": run.field_frames,
         "series.csv": run.series_csv, "particles.csv": run.particles_csv,
-        "stress.csv": run.stress_csv}
+        "stress.csv": run.stress_csv, "network.csv": run.network_csv}
     for name, path in names.items():
         assert path == tmp_path / name, name
     # what --force replaces is what a run writes at the top level

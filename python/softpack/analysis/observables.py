@@ -76,6 +76,7 @@ from softpack.analysis.connectivity import (Z_UNDEFINED, contact_network,
                                             z_undefined_code)
 from softpack.analysis.setup import (PISTON, RunSetup, read_rules,
                                      read_setup)
+from softpack.analysis.network import write_network
 from softpack.analysis.strain import cumulative_strain
 from softpack.analysis.stress import write_stress
 from softpack.contract.run_directory import RunDirectory
@@ -320,7 +321,8 @@ def _particle_rows(step, time, phi, setup, raw, psi, net) -> dict:
 
 def process_run(run_dir, setup: RunSetup | None = None,
                 rules=None) -> tuple[Path, Path]:
-    """Write ``particles.csv``, ``stress.csv`` (a box) then ``series.csv``.
+    """Write ``particles.csv``, ``network.csv``, ``stress.csv`` (a box) then
+    ``series.csv``.
 
     ``series.csv`` is renamed into place last, so its presence means the
     post-processing finished.
@@ -353,6 +355,7 @@ def process_run(run_dir, setup: RunSetup | None = None,
                                          setup, rules)
     particles_csv = write_table(run.particles_csv, table,
                                 PARTICLE_COLUMNS)
+    write_network(run_dir, setup)
     if setup.has_box:
         # The assembly's stress (wall and Love-Weber estimates, P, q) in its
         # own table, before series.csv whose presence means "finished".

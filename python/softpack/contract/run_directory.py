@@ -22,7 +22,8 @@ import tempfile
 from pathlib import Path
 
 #: What a run writes into its directory (removed by --force, nothing else).
-RUN_OUTPUTS = ("series.csv", "particles.csv", "stress.csv", "raw",
+RUN_OUTPUTS = ("series.csv", "particles.csv", "stress.csv", "network.csv",
+               "raw",
                "fields.xdmf", "fields.h5", "fields", "mesh", "driver.json", "run.log",
                "config.toml", "raw.part", "resume-state.bin",
                "fields.part.xdmf", "fields.part.h5")
@@ -167,6 +168,11 @@ class RunDirectory:
     def field_frames(self) -> Path:
         """``fields/``: one HDF5 file per written time."""
         return self.path / "fields"
+
+    @property
+    def network_csv(self) -> Path:
+        """The contact network per output step (analysis/network.py)."""
+        return self.path / "network.csv"
 
     @property
     def series_csv(self) -> Path:
