@@ -126,7 +126,40 @@ def network_table(run_dir, setup) -> dict:
             for name, values in columns.items()}
 
 
-def write_network(run_dir, setup):
-    """Write ``network.csv``; its path."""
-    return write_table(RunDirectory(run_dir).network_csv,
-                       network_table(run_dir, setup), NETWORK_COLUMNS)
+def write_network(run_dir, table: dict):
+    """Write :func:`network_table`'s rows as ``network.csv``; its path."""
+    return write_table(RunDirectory(run_dir).network_csv, table,
+                       NETWORK_COLUMNS)
+
+
+#: The fabric columns of ``series.csv`` (:func:`fabric`).
+FABRIC_COLUMNS = ("fabric_xx", "fabric_yy", "fabric_xy", "fabric_anisotropy",
+                  "fabric_angle")
+
+
+def fabric(table: dict, steps) -> dict:
+    """The fabric tensor of the contact normals at each output step.
+
+    ``F = <n (x) n>`` over the particle-particle pairs of ``network.csv``
+    (walls left out), ``n`` the unit branch vector; trace 1. Its
+    anisotropy ``a = 2 (F_1 - F_2)`` (F_1 >= F_2 its eigenvalues: 0 for
+    isotropic normals, 2 when all are parallel) and the angle of its major
+    direction from x (rad, in (-pi/2, pi/2]). NaN at a step with no pair.
+    """
+    out = {name: np.full(len(steps), np.nan) for name in FABRIC_COLUMNS}
+    particles = table["b"] >= 0
+    for k, step in enumerate(steps):
+        mine = particles & (table["step"] == step)
+        branch = np.column_stack((table["branch_x"][mine],
+                                  table["branch_y"][mine]))
+        branch = branch[np.isfinite(branch).all(axis=1)]
+        if not len(branch):
+            continue
+        n = branch / np.hypot(*branch.T)[:, None]
+        xx, yy, xy = (np.mean(n[:, 0] ** 2), np.mean(n[:, 1] ** 2),
+                      np.mean(n[:, 0] * n[:, 1]))
+        out["fabric_xx"][k], out["fabric_yy"][k], out["fabric_xy"][k] = \
+            xx, yy, xy
+        out["fabric_anisotropy"][k] = 2 * np.hypot(xx - yy, 2 * xy)
+        out["fabric_angle"][k] = 0.5 * np.arctan2(2 * xy, xx - yy)
+    return out

@@ -50,6 +50,10 @@ Z, rattlers, unbalanced particles
 piston force
     ``-(f . n)`` of the wall ``right``, f the force it receives, n its
     inward normal: positive in compression.
+fabric_xx, fabric_yy, fabric_xy, fabric_anisotropy, fabric_angle
+    The fabric tensor of the particle-particle contact normals (unit branch
+    vectors of network.csv's pairs) and its anisotropy and major direction:
+    :func:`softpack.analysis.network.fabric`.
 species, rigid (particles.csv)
     The index of the particle's species in ``[[species]]`` and whether its
     material is rigid (1) or not (0).
@@ -76,7 +80,8 @@ from softpack.analysis.connectivity import (Z_UNDEFINED, contact_network,
                                             z_undefined_code)
 from softpack.analysis.setup import (PISTON, RunSetup, read_rules,
                                      read_setup)
-from softpack.analysis.network import write_network
+from softpack.analysis.network import (FABRIC_COLUMNS, fabric,
+                                       network_table, write_network)
 from softpack.analysis.strain import cumulative_strain
 from softpack.analysis.stress import write_stress
 from softpack.contract.run_directory import RunDirectory
@@ -98,7 +103,8 @@ SERIES_COLUMNS = (
     "cv_psi_retained", "piston_force", *ENERGY_COLUMNS,
     "energy_residual_relative", "newton_iterations", "nlgs_iterations",
     "nlgs_error", "nlgs_converged", "contacts", "active_contacts",
-    "max_penetration", "seconds", "contacts_file", *CHECK_COLUMNS)
+    "max_penetration", "seconds", "contacts_file", *CHECK_COLUMNS,
+    *FABRIC_COLUMNS)
 PARTICLE_COLUMNS = (
     "step", "time", "phi", "particle", "radius", "reference_area", "area",
     "psi_p", "contacts", "wall_contacts", "z_contacts", "resultant_force",
@@ -355,7 +361,9 @@ def process_run(run_dir, setup: RunSetup | None = None,
                                          setup, rules)
     particles_csv = write_table(run.particles_csv, table,
                                 PARTICLE_COLUMNS)
-    write_network(run_dir, setup)
+    network = network_table(run_dir, setup)
+    write_network(run_dir, network)
+    series.update(fabric(network, series["step"]))
     if setup.has_box:
         # The assembly's stress (wall and Love-Weber estimates, P, q) in its
         # own table, before series.csv whose presence means "finished".
