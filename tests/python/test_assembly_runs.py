@@ -17,7 +17,7 @@ import pytest
 from assembly_cases import CASES, read_reference, run_case, series
 from driver_required import require_driver
 from softpack.analysis import fields
-from softpack.contract.run_directory import RunDirectory
+from softpack.contract.run_directory import RunDirectory, RunError
 from softpack.contract.tables import read_table
 
 pytestmark = pytest.mark.usefixtures("registry")
@@ -224,3 +224,40 @@ def test_the_network_carries_each_particles_and_walls_forces(
         horizontal = np.isin(b, (-1, -2))  # left, right: branch along x
         assert (net["branch_y"][rows][horizontal] == 0).all()
         assert (net["branch_x"][rows][np.isin(b, (-3, -4))] == 0).all()
+
+
+def test_snapshots_draw_the_walls_where_they_are(tmp_path_factory,
+                                                 tmp_path):
+    """``./softpack plot RUN --at stage=0 --at last`` on the staged servo
+    run (issue 37 item 3): PNG and PDF written; in each panel the four
+    walls are drawn at their positions of raw/steps.csv at the frame
+    drawn (the servo walls moved: a box [0, L - delta] x [0, W] would not
+    be)."""
+    pytest.importorskip("matplotlib")
+    import matplotlib
+    matplotlib.use("Agg")
+    from softpack.plots import paper, snapshots
+
+    out = _run("servo", tmp_path_factory)
+    figures = tmp_path / "fig"
+    assert paper.main([str(out), "--at", "stage=0", "--at", "last",
+                       "--out", str(figures)]) == 0
+    for name in ("snapshots.png", "snapshots.pdf"):
+        assert (figures / name).stat().st_size > 10_000
+    steps = read_table(RunDirectory(out).raw.steps_csv)
+    stage_end = int(np.flatnonzero(np.diff(steps["stage"]))[0])
+    fig = snapshots.snapshot_figure(out, [("stage", 0.0), ("last", np.nan)])
+    for ax, k in zip(fig.axes, (stage_end, len(steps["step"]) - 1)):
+        walls = {line.get_gid(): line for line in ax.lines
+                 if (line.get_gid() or "").startswith("wall:")}
+        assert sorted(walls) == ["wall:bottom", "wall:left", "wall:right",
+                                 "wall:top"]
+        x0, x1 = steps["left_x"][k], steps["right_x"][k]
+        y0, y1 = steps["bottom_y"][k], steps["top_y"][k]
+        assert list(walls["wall:right"].get_xdata()) == [x1, x1]
+        assert list(walls["wall:top"].get_ydata()) == [y1, y1]
+        assert list(walls["wall:left"].get_ydata()) == [y0, y1]
+        assert list(walls["wall:bottom"].get_xdata()) == [x0, x1]
+    assert steps["right_x"][stage_end] != steps["right_x"][-1]
+    with pytest.raises(RunError, match="stage=5"):
+        snapshots.snapshot_figure(out, [("stage", 5.0)])

@@ -115,3 +115,12 @@ def test_incomplete_runs_are_skipped(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "no series.csv" in err and "no complete run" in err
     assert "setup.json missing" in err
+
+
+def test_a_state_that_is_not_one_is_refused(tmp_path, capsys):
+    run = fake_run(tmp_path / "run", 0.3, 0)
+    for bad in ("foo", "phi=x", "speed=3"):
+        with pytest.raises(SystemExit) as caught:
+            plots.main([str(run), "--at", bad])
+        assert caught.value.code == 2
+        assert "--at" in capsys.readouterr().err

@@ -19,10 +19,15 @@ fig4_phi_eps.png
     Phi against eps (paper Fig. 4).
 fig6_energy.png
     E/(W H L mu) against Phi (Fig. 6).
-fig7_snapshots.png
+fig7_snapshots.png (and .pdf)
     Deformed particles coloured by Psi / mu at Phi = 0.78, 0.83, 0.88 (Fig. 7),
-    for one run (mu_f = 0.3 if present, lowest seed), from ``fields.h5``.
-    Skipped, with a message, when fields are missing.
+    for one run (mu_f = 0.3 if present, lowest seed), from its fields, as
+    :mod:`.snapshots` draws them (walls where they are, outlines, scale
+    bar). Skipped, with a message, when fields are missing or the run does
+    not reach these Phi.
+snapshots.png (and .pdf; ``snapshots-DIR.png`` with several runs)
+    With ``--at STATE`` (repeated): each run's particles at those states
+    (:mod:`.snapshots`: ``phi=``, ``time=``, ``stage=``, ``last``).
 fig8_connectivity.png, fig8_fit.txt
     Z against Phi (Fig. 8), with and without wall contacts, and the fit of
     Eq. 14 of each group (:func:`softpack.analysis.fits.fit_runs`: its
@@ -40,11 +45,10 @@ from pathlib import Path
 
 import numpy as np
 
-from softpack.analysis.fields import read_snapshot
 from softpack.analysis.setup import SetupError, read_setup
-from softpack.contract.run_directory import RunDirectory
+from softpack.contract.run_directory import RunDirectory, RunError
 from softpack.contract.tables import read_table
-from softpack.plots import write_figure
+from softpack.plots import snapshots, style
 from softpack.plots.curves import Run, plot_connectivity, plot_curves
 
 #: Packing fractions of the paper's snapshots (Fig. 7).
@@ -90,72 +94,51 @@ def plot_snapshots(run: Run, path) -> str:
     h5 = RunDirectory(run.path).fields_h5
     if not h5.is_file():
         return f"fig7: {h5} missing (run with [output] fields = true); skipped"
-    phi, time = run.series["phi"], run.series["time"]
-    delta = run.series["piston_displacement"]
-    picks, targets = [], []
-    for target in SNAPSHOT_PHIS:
-        k = int(np.nanargmin(np.abs(phi - target)))
-        if abs(phi[k] - target) <= SNAPSHOT_TOLERANCE:
-            picks.append((phi[k], time[k], run.length - delta[k]))
-            targets.append(target)
-    if not picks:
-        return (f"fig7: {run.path} never came within {SNAPSHOT_TOLERANCE}"
-                f" of Phi = {SNAPSHOT_PHIS}; skipped")
     try:
-        snaps = [read_snapshot(h5, t) for _, t, _ in picks]
+        states = snapshots.RunStates(run.path)
     except (KeyError, OSError) as err:
         return f"fig7: cannot read {h5}: {err}; skipped"
-    if any(snap.psi is None for snap in snaps):
-        return f"fig7: {h5} has no Psi; skipped"
-    # The frame drawn is the stored one nearest each pick: label it with
-    # its own Phi, and leave out a frame too far from the Phi asked for.
-    framed = [(float(np.interp(snap.time, time, phi)), snap.time,
-               run.length - float(np.interp(snap.time, time, delta)))
-              for snap in snaps]
-    near = [abs(p - target) <= SNAPSHOT_TOLERANCE
-            for (p, _, _), target in zip(framed, targets)]
-    far = "".join(f"; no frame near Phi = {target:.3f} (nearest {p:.3f})"
-                  for (p, _, _), target, ok in zip(framed, targets, near)
-                  if not ok)
-    if not any(near):
+    phi = np.asarray(states.series["phi"], float)
+    picks, far = [], ""
+    for target in SNAPSHOT_PHIS:
+        try:
+            k = snapshots.pick_row(states.series, states.stages, "phi",
+                                   target)
+        except RunError:
+            continue
+        # The frame drawn is the stored one nearest the row: it must be
+        # near the Phi asked for too.
+        frame = states.frame_row(k)
+        if abs(phi[frame] - target) > SNAPSHOT_TOLERANCE:
+            far += (f"; no frame near Phi = {target:.3f} (nearest"
+                    f" {phi[frame]:.3f})")
+            continue
+        picks.append(("time", float(states.series["time"][frame])))
+    if not picks and not far:
+        return (f"fig7: {run.path} never came within {SNAPSHOT_TOLERANCE}"
+                f" of Phi = {SNAPSHOT_PHIS}; skipped")
+    if not picks:
         return f"fig7: {h5}: no frame within {SNAPSHOT_TOLERANCE}{far}; skipped"
-    picks = [f for f, ok in zip(framed, near) if ok]
-    _draw_snapshots(run, picks, [s for s, ok in zip(snaps, near) if ok],
-                    path)
+    style.save(snapshots.snapshot_figure(run.path, picks), path)
+    rows = [int(np.argmin(np.abs(states.series["time"] - t)))
+            for _, t in picks]
     return (f"fig7: {run.path}, Phi = "
-            + ", ".join(f"{p:.3f}" for p, _, _ in picks) + far)
+            + ", ".join(f"{phi[k]:.3f}" for k in rows) + far)
 
 
-def _draw_snapshots(run, picks, snaps, path) -> None:
-    """Panels of deformed particles coloured by Psi / mu (Psi in Pa when the
-    law has no mu), one colour scale, in the current box (black), all at the
-    scale of the initial box."""
-    import matplotlib.pyplot as plt
-    from matplotlib.tri import Triangulation
-
-    has_mu = np.isfinite(run.shear_modulus)
-    scale = run.shear_modulus if has_mu else 1.0
-    scaled = [snap.psi / scale for snap in snaps]
-    vmax = max(float(np.percentile(s, 99.5)) for s in scaled) or 1.0
-    fig, axes = plt.subplots(1, len(snaps), figsize=(4.2 * len(snaps), 3.6),
-                             squeeze=False)
-    for ax, (phi, _, length), snap, psi in zip(axes[0], picks, snaps,
-                                                scaled):
-        x, t = snap.current, snap.time
-        image = ax.tripcolor(Triangulation(x[:, 0], x[:, 1], snap.cells),
-                             facecolors=psi, vmin=0, vmax=vmax,
-                             cmap="viridis")
-        ax.plot([0, length, length, 0, 0], [0, 0, run.width, run.width, 0],
-                "k-", lw=1.5)
-        ax.set_xlim(-0.01 * run.length, 1.01 * run.length)
-        ax.set_ylim(-0.01 * run.width, 1.01 * run.width)
-        ax.set_aspect("equal")
-        ax.set_title(f"Phi = {phi:.3f} (t = {t:.3g} s)", fontsize=9)
-        ax.axis("off")
-    fig.colorbar(image, ax=axes[0].tolist(),
-                 label="Psi / mu" if has_mu else "Psi (Pa)", shrink=0.8)
-    fig.suptitle(f"mu_f = {run.friction:g}, seed {run.seed}", fontsize=9)
-    write_figure(fig, path, tight=False)
+def draw_states(runs, states, out) -> list:
+    """``--at``: each run's snapshots (``snapshots.png``, or
+    ``snapshots-NAME.png`` with several runs); the files written."""
+    written = []
+    for run in runs:
+        name = ("snapshots.png" if len(runs) == 1
+                else f"snapshots-{run.path.name}.png")
+        try:
+            written += snapshots.write_snapshots(run.path, states, out / name)
+        except (RunError, KeyError, OSError) as err:
+            print(f"softpack plot: {run.path}: {err}; no snapshots",
+                  file=sys.stderr)
+    return written
 
 
 def snapshot_run(groups) -> Run:
@@ -175,6 +158,12 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, metavar="FIGDIR",
                    help="figure directory (default: the first DIR's"
                    " figures/; nothing is written in the current directory)")
+    p.add_argument("--at", action="append", metavar="STATE", default=[],
+                   help="draw each DIR's particles at this state into"
+                   " snapshots[-DIR].png/.pdf: phi=VALUE (the output row"
+                   " nearest in Phi, within 0.01), time=SECONDS, stage=K"
+                   " (the end of stage K, as raw/steps.csv's stage column)"
+                   " or last; repeat for several panels")
     seeds = p.add_mutually_exclusive_group()
     seeds.add_argument("--export-seeds", type=Path, metavar="SEEDDIR",
                        help="write each DIR's per-seed CSV (series and Z"
@@ -199,6 +188,10 @@ def main(argv=None) -> int:
         return main_seeds(args)
     if not args.runs:
         parser.error("expected run directories DIR...")
+    try:
+        states = [snapshots.parse_at(text) for text in args.at]
+    except ValueError as err:
+        parser.error(str(err))
     runs = load_runs(args.runs)
     if not runs:
         print("softpack plot: no complete run to plot", file=sys.stderr)
@@ -222,6 +215,8 @@ def main(argv=None) -> int:
     print(message)
     if not message.endswith("skipped"):
         written.append(out / "fig7_snapshots.png")
+    if states:
+        written += draw_states(runs, states, out)
     print(f"softpack plot: {len(runs)} run(s) in {len(groups)} friction"
           f" group(s); wrote {', '.join(str(p) for p in written)}")
     return 0
