@@ -34,3 +34,18 @@ def test_a_second_build_waits_for_the_lock():
     _, err = proc.communicate(timeout=900)
     assert proc.returncode == 0, err
     assert "waiting for another softpack command to finish building" in err
+
+
+@pytest.mark.parametrize("argv", [["plot", "--help"], ["plot-loading", "-h"],
+                                  ["run", "--help"], ["bench", "--help"]])
+def test_what_needs_no_build_does_not_build(argv, tmp_path):
+    """Issue 37 item 5: the figures and a subcommand's --help run without
+    configuring or building (an empty build directory stays empty)."""
+    build = tmp_path / "build"
+    build.mkdir()
+    env = dict(os.environ, SOFTPACK_BUILD_DIR=str(build))
+    result = subprocess.run([str(paths.ROOT / "softpack"), *argv], env=env,
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "usage: softpack" in result.stdout
+    assert list(build.iterdir()) == []
