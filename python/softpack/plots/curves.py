@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from softpack.analysis import fits
-from softpack.plots import write_figure
+from softpack.plots import style, write_figure
 
 #: Points of the common grid of a group's curves.
 GRID_POINTS = 25
@@ -90,58 +90,68 @@ def _style(index):
 def _label(mu, runs):
     """Legend text of a friction group (or of a group named by a text)."""
     seeds = f"{len(runs)} seeds" if len(runs) > 1 else f"seed {runs[0].seed}"
-    name = mu if isinstance(mu, str) else f"mu_f = {mu:g}"
+    name = mu if isinstance(mu, str) else rf"$\mu_f$ = {mu:g}"
     return f"{name} ({seeds})"
+
+
+def _figure():
+    """A one-column figure in softpack's style."""
+    import matplotlib.pyplot as plt
+
+    with style.context():
+        return plt.subplots(figsize=(style.SINGLE_COLUMN,
+                                     0.78 * style.SINGLE_COLUMN))
 
 
 def plot_curves(groups, x_name, y_name, xlabel, ylabel, path, extra=None):
     """Mean +- std over seeds of ``y(x)`` for each friction group."""
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    fig, ax = _figure()
     for i, (mu, runs) in enumerate(groups.items()):
         grid, mean, std = mean_over_seeds(
             [(r.series[x_name], r.series[y_name]) for r in runs])
         if len(grid):
             ax.errorbar(grid, mean, yerr=std if len(runs) > 1 else None,
-                        ms=4, mfc="none", lw=1, capsize=2,
+                        ms=3, mfc="none", lw=1, capsize=1.5,
                         label=_label(mu, runs), **_style(i))
     if extra is not None:
         extra(ax)
-    return _save(fig, ax, xlabel, ylabel, path, legend_size=8)
+    return _save(fig, ax, xlabel, ylabel, path)
 
 
-def _save(fig, ax, xlabel, ylabel, path, legend_size):
-    """Label, grid and legend one plot, write it as PNG and close it."""
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=legend_size)
-    write_figure(fig, path)
+def _save(fig, ax, xlabel, ylabel, path):
+    """Label, grid and legend one plot, write it (PNG and PDF), close it."""
+    with style.context():
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=6, frameon=False, loc="upper center",
+                  bbox_to_anchor=(0.5, -0.2), ncols=2)
+        write_figure(fig, path)
     return path
 
 
 def plot_connectivity(groups, path) -> list[str]:
-    """Fig. 8 with each group's fit; returns the fit report lines."""
-    import matplotlib.pyplot as plt
-
+    """Fig. 8 with each group's fit and, where the runs reach its range,
+    the paper's law; returns the fit report lines."""
     lines = [f"paper: Phi_T = {fits.PAPER_PHI_T} +- {fits.PAPER_PHI_T_ERROR}"
              f" (Z_T = {fits.Z_T:g}, Z_1 = {fits.Z_1:g},"
              f" Phi_1 = {fits.PHI_1:g})"]
-    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    fig, ax = _figure()
+    phi_max = -np.inf
     for i, (mu, runs) in enumerate(groups.items()):
-        style = _style(i)
+        marks = _style(i)
         for column, filled in (("z", True), ("z_without_walls", False)):
             grid, mean, std = mean_over_seeds(
                 [(r.series["phi"], r.series[column]) for r in runs])
             if not len(grid):
                 continue
+            phi_max = max(phi_max, grid.max())
             ax.errorbar(grid, mean, yerr=std if len(runs) > 1 else None,
-                        ms=4, lw=0, elinewidth=1, capsize=2,
-                        mfc=style["color"] if filled else "none",
+                        ms=3, lw=0, elinewidth=1, capsize=1.5,
+                        mfc=marks["color"] if filled else "none",
                         label=_label(mu, runs) + ("" if filled else
                                                   ", no wall contacts"),
-                        **style)
+                        **marks)
         fit = fits.fit_runs([(r.series["phi"], r.series["z"])
                              for r in runs])
         name = mu if isinstance(mu, str) else f"mu_f = {mu:g}"
@@ -150,12 +160,14 @@ def plot_connectivity(groups, path) -> list[str]:
             x = np.linspace(fit.phi_t, np.nanmax(
                 np.concatenate([r.series["phi"] for r in runs])), 100)
             ax.plot(x, fits.connectivity_law(x, fit.phi_t),
-                    color=style["color"], lw=1,
-                    label=f"fit, Phi_T = {fit.phi_t:.3f}")
-    x = np.linspace(fits.PAPER_PHI_T, 0.89, 100)
-    ax.plot(x, fits.connectivity_law(x, fits.PAPER_PHI_T), "k--", lw=1,
-            label=f"paper, Phi_T = {fits.PAPER_PHI_T}")
-    _save(fig, ax, "Phi", "Z", path, legend_size=7)
+                    color=marks["color"], lw=1,
+                    label=rf"fit, $\Phi_T$ = {fit.phi_t:.3f}")
+    # The paper's curve where the runs reach its range (axes from the data)
+    if phi_max > fits.PAPER_PHI_T:
+        x = np.linspace(fits.PAPER_PHI_T, min(0.89, phi_max), 100)
+        ax.plot(x, fits.connectivity_law(x, fits.PAPER_PHI_T), "k--", lw=1,
+                label=rf"paper, $\Phi_T$ = {fits.PAPER_PHI_T}")
+    _save(fig, ax, r"$\Phi$", "$Z$", path)
     return lines
 
 

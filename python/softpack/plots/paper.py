@@ -200,11 +200,12 @@ def main(argv=None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     groups = group_by_friction(runs)
     written = [
-        plot_curves(groups, "eps", "phi", "eps = -ln(1 - delta / L)", "Phi",
+        plot_curves(groups, "eps", "phi",
+                    r"$\varepsilon = -\ln(1 - \delta / L)$", r"$\Phi$",
                     out / "fig4_phi_eps.png"),
-        plot_curves(groups, "phi", "E_over_WHLmu", "Phi", "E / (W H L mu)",
+        plot_curves(groups, "phi", "E_over_WHLmu", r"$\Phi$", r"$E/(WHL\mu)$",
                     out / "fig6_energy.png"),
-        plot_curves(groups, "phi", "cv_psi", "Phi", "c_v(Psi_p)",
+        plot_curves(groups, "phi", "cv_psi", r"$\Phi$", r"$c_v(\Psi_p)$",
                     out / "fig9_cv_psi.png")]
     fit = plot_connectivity(groups, out / "fig8_connectivity.png")
     written.append(out / "fig8_connectivity.png")

@@ -306,13 +306,13 @@ def regenerate(seed_dir, out) -> list[Path]:
                                           s.width, s.series) for s in seeds]
             for label, seeds in groups.items()}
     written = [
-        curves.plot_curves(runs, "eps", "phi", "eps = -ln(1 - delta / L0)",
-                          "Phi", out / "fig4_phi_eps.png"),
-        curves.plot_curves(runs, "phi", "E_over_WHLmu", "Phi",
-                          "E / (W H L mu), L = the run's initial length",
-                          out / "fig6_energy.png"),
-        curves.plot_curves(runs, "phi", "cv_psi", "Phi", "c_v(Psi_p)",
-                          out / "fig9_cv_psi.png")]
+        curves.plot_curves(runs, "eps", "phi",
+                           r"$\varepsilon = -\ln(1 - \delta / L_0)$",
+                           r"$\Phi$", out / "fig4_phi_eps.png"),
+        curves.plot_curves(runs, "phi", "E_over_WHLmu", r"$\Phi$",
+                           r"$E/(WHL_0\mu)$", out / "fig6_energy.png"),
+        curves.plot_curves(runs, "phi", "cv_psi", r"$\Phi$",
+                           r"$c_v(\Psi_p)$", out / "fig9_cv_psi.png")]
     fit = curves.plot_connectivity(runs, out / "fig8_connectivity.png")
     written.append(out / "fig8_connectivity.png")
     (out / "fig8_fit.txt").write_text("\n".join(fit) + "\n")
