@@ -1,4 +1,4 @@
-"""Figures of a loading run: compaction and shear (issue 12 item 4).
+"""Figures of a loading run: compaction and shear.
 
 ``./softpack plot-loading RUN [--out DIR] [--estimate fe|contact|wall]
 [--rest R]`` writes, from a run directory (its analysis, ``series.csv`` and

@@ -152,7 +152,8 @@ def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="softpack plot",
         description="Draw the paper's Figs. 4, 6, 7, 8, 9 from run"
-        " directories (grouped by friction, averaged over seeds).")
+        " directories (grouped by friction, averaged over seeds); with --at,"
+        " each run's particles at the states asked for.")
     p.add_argument("runs", nargs="*", type=Path, metavar="DIR",
                    help="run directories written by ./softpack run")
     p.add_argument("--out", type=Path, metavar="FIGDIR",

@@ -1,4 +1,4 @@
-"""``./softpack run [CONFIG] [--out DIR]``: one compaction, start to finish.
+"""``./softpack run [CONFIG] [--out DIR]``: one run, start to finish.
 
 1. Validate CONFIG (default ``examples/paper.toml``,
    :mod:`softpack.scene.config`) with the command-line overrides
@@ -78,9 +78,12 @@ def _parser() -> argparse.ArgumentParser:
     """Command line of ``./softpack run``."""
     p = argparse.ArgumentParser(
         prog="softpack run",
-        description="Compress an assembly of soft disks with the piston up"
-        " to the target packing fraction; write raw output, series.csv and"
-        " particles.csv into the run directory.")
+        description="Run the assembly a TOML file describes: particles of"
+        " any shape and material (soft or rigid), walls driven by velocity,"
+        " pressure or force, loading stages (default: examples/paper.toml,"
+        " the paper's 100 soft disks compressed by a piston to Phi = 0.88);"
+        " write the raw output, series.csv, particles.csv, network.csv and"
+        " (in a box) stress.csv into the run directory.")
     p.add_argument("config", nargs="?", type=Path,
                    help="TOML configuration (default: examples/paper.toml)")
     p.add_argument("--out", type=Path, metavar="DIR",
@@ -111,8 +114,9 @@ def _parser() -> argparse.ArgumentParser:
                    " space, each rank computing its own (1 to the number"
                    " of bodies; default 1)")
     p.add_argument("--observables-only", action="store_true",
-                   help="only recompute series.csv, particles.csv and"
-                   " stress.csv of the run in --out DIR from its raw output"
+                   help="only recompute series.csv, particles.csv,"
+                   " network.csv and stress.csv of the run in --out DIR from"
+                   " its raw output"
                    " and the [observables] rules of DIR/config.toml, which"
                    " --set observables.KEY=VALUE changes first")
     return p
