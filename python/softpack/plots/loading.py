@@ -38,7 +38,7 @@ from softpack.analysis.setup import read_setup
 from softpack.contract.run_directory import RunDirectory, RunError
 from softpack.contract.tables import read_table
 from softpack.cli import positive_float
-from softpack.plots import write_figure
+from softpack.plots import style, write_figure
 
 ESTIMATES = ("wall", "contact", "fe")
 LABELS = {"wall": "walls", "contact": "Love-Weber (contacts)",
@@ -57,13 +57,32 @@ def load(run_dir) -> tuple[dict, dict]:
     return read_table(run.series_csv), read_table(run.stress_csv)
 
 
+def _figure(rows=1):
+    """A one-column figure (``rows`` panels) in softpack's style."""
+    import matplotlib.pyplot as plt
+    with style.context():
+        return plt.subplots(rows, 1, sharex=True, figsize=(
+            style.SINGLE_COLUMN, 0.78 * style.SINGLE_COLUMN * rows ** 0.8))
+
+
 def _save(fig, ax, xlabel, ylabel, path) -> str:
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=8)
-    write_figure(fig, path)
+    with style.context():
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=6, frameon=False)
+        write_figure(fig, path)
     return str(path)
+
+
+def mark_stages(ax, steps, stage) -> None:
+    """A dotted line at each step where a stage begins, labelled with it."""
+    stage = np.asarray(stage)
+    for k in np.flatnonzero(np.diff(stage)) + 1:
+        ax.axvline(steps[k], color="0.5", ls=":", lw=0.8)
+        ax.text(steps[k], 1.0, f" stage {int(stage[k])}", rotation=90,
+                va="top", ha="left", fontsize=6, color="0.4",
+                transform=ax.get_xaxis_transform())
 
 
 def rows_at_rest(steps: dict, rest: float) -> np.ndarray:
@@ -75,8 +94,7 @@ def rows_at_rest(steps: dict, rest: float) -> np.ndarray:
 
 def plot_pressure(phi, stress, fit, estimate, rest, path) -> str:
     """P(Phi) of each estimate (rows at rest filled), the law on one."""
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+    fig, ax = _figure()
     for i, name in enumerate(ESTIMATES):
         p = np.asarray(stress[f"{name}_P"], float)
         if np.isfinite(p).any():
@@ -90,28 +108,26 @@ def plot_pressure(phi, stress, fit, estimate, rest, path) -> str:
         grid = np.linspace(v["phi_0"], min(np.nanmax(phi) + 0.01,
                                            v["phi_max"] - 1e-4), 200)
         ax.plot(grid, compaction_law.pressure(grid, **v) / 1e3, "k-", lw=1,
-                label=f"law on {estimate}: Phi_max = {v['phi_max']:.4f}"
-                      f" +- {fit.errors['phi_max']:.4f}")
+                label=rf"law on {estimate}: $\Phi_{{max}}$ ="
+                      f" {v['phi_max']:.4f} +- {fit.errors['phi_max']:.4f}")
         ax.axvline(v["phi_max"], color="k", ls=":", lw=0.8)
     else:
         ax.set_title(fit.summary(), fontsize=7, wrap=True)
-    return _save(fig, ax, "packing fraction Phi", "P (kPa, per unit length)",
-                 path)
+    return _save(fig, ax, r"packing fraction $\Phi$", "$P$ (kPa)", path)
 
 
 def plot_connectivity(series, path) -> str:
     """Z(Phi) of the analysis."""
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(5.5, 4.2))
-    ax.plot(series["phi"], series["z"], "o", ms=3, mfc="none", label="Z")
-    return _save(fig, ax, "packing fraction Phi", "coordination number Z",
-                 path)
+    fig, ax = _figure()
+    ax.plot(series["phi"], series["z"], "o", ms=3, mfc="none", label="$Z$")
+    return _save(fig, ax, r"packing fraction $\Phi$",
+                 "coordination number $Z$", path)
 
 
-def plot_differences(stress, path) -> str:
-    """Relative differences of the three estimates against the step."""
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(5.5, 4.2))
+def plot_differences(stress, path, stage=None) -> str:
+    """Relative differences of the three estimates against the step, the
+    stages marked."""
+    fig, ax = _figure()
     for column, label in (("difference", "walls vs contacts"),
                           ("difference_wall_fe", "walls vs FE"),
                           ("difference_contact_fe", "contacts vs FE")):
@@ -119,21 +135,24 @@ def plot_differences(stress, path) -> str:
         if np.isfinite(values).any():
             ax.semilogy(stress["step"], values, ".", ms=3, label=label)
     ax.axhline(0.02, color="k", ls=":", lw=0.8)
-    return _save(fig, ax, "step", "relative difference |a - b| / |a|", path)
+    if stage is not None:
+        mark_stages(ax, np.asarray(stress["step"]), stage)
+    return _save(fig, ax, "step", "relative difference $|a - b|/|a|$", path)
 
 
 def plot_shear(shear, path, stage=0) -> str:
     """q/P and eps_v against eps_q (two panels), strains from the stage's
     start."""
-    import matplotlib.pyplot as plt
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(5.5, 6), sharex=True)
-    top.set_title(f"stage {stage}, strains from its start", fontsize=9)
+    fig, (top, bottom) = _figure(2)
+    top.set_title(f"stage {stage}, strains from its start", fontsize=8)
     top.plot(shear["eps_q"], shear["q_over_p"], "-", lw=1)
-    top.set_ylabel("q / P")
+    top.set_ylabel("$q/P$")
     bottom.plot(shear["eps_q"], shear["eps_v"], "-", lw=1)
     bottom.axhline(0, color="k", lw=0.5)
-    return _save(fig, bottom, "deviatoric strain eps_q = eps_xx - eps_yy",
-                 "volumetric strain eps_v (compression > 0)", path)
+    return _save(fig, bottom,
+                 r"deviatoric strain $\varepsilon_q = \varepsilon_{xx} -"
+                 r" \varepsilon_{yy}$",
+                 r"volumetric strain $\varepsilon_v$", path)
 
 
 def choose_estimate(stress: dict, rigid: int = 0) -> str:
@@ -203,7 +222,8 @@ def write_figures(run_dir, out, estimate=None, rest=None,
     files = [plot_pressure(phi, stress, fit, estimate, at_rest,
                            out / "pressure_phi.png"),
              plot_connectivity(series, out / "z_phi.png"),
-             plot_differences(stress, out / "stress_estimates.png"),
+             plot_differences(stress, out / "stress_estimates.png",
+                              stage[:len(stress["step"])]),
              plot_shear(shear, out / "shear.png", shear_stage)]
     last = {c: float(stress[c][-1]) for c in stress
             if c.startswith(tuple(f"{e}_" for e in ESTIMATES))
