@@ -38,7 +38,9 @@ SMALL = sorted([EXAMPLES / "small.toml", *EXAMPLES.glob("*_small.toml")])
 # Phi = 0.80 without such a chain (docs/materials.md).
 
 # The largest kinetic energy written (raw/steps.csv, every output step) of
-# each example is 0.19-0.84 J (2026-12-02; mixture_small 0.63 J); the jam of
+# each example is 0.19-0.84 J (2026-12-02; mixture_small 0.63 J;
+# two_stage_small 1.36 J on 2026-12-03, its servo walls closing a loose
+# packing of ellipses); the jam of
 # mixture_small with seed 0 launched its rigid disks: 6-80 J.
 MAX_KINETIC_ENERGY = 2.0
 
