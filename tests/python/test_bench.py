@@ -86,3 +86,21 @@ def test_a_run_on_other_ranks_is_compared_step_by_step(tmp_path):
                                        contact_text="1,2,3,-1,5.5\n"))
     assert forces["contacts_in_one_run_only"] == {}
     assert forces["fn_max_rel_diff"] == pytest.approx(0.1)
+
+
+def test_times_are_normalised_to_the_reference_yardstick():
+    """Issue 41 item 2: a time measured while the yardstick ran at half the
+    reference's speed is half as long at the reference's; the tables say
+    both."""
+    from softpack.bench import paper
+    from softpack.bench.common import REFERENCE_YARDSTICK, normalised
+
+    assert normalised(600.0, REFERENCE_YARDSTICK / 2) == 300.0
+    assert normalised(600.0, REFERENCE_YARDSTICK) == 600.0
+    assert normalised(600.0, None) != normalised(600.0, None)  # NaN
+    report = {"nlgs": {"sweeps_per_second": 2 * REFERENCE_YARDSTICK},
+              "detection": [], "paper": [],
+              "full": {"minutes": 10.0, "seconds": 600.0, "steps": 7524}}
+    text = paper.table(report)
+    assert "85600 sweeps/s" in text
+    assert "full paper case (defaults): 10.0 min (1200 s at 42,800" in text

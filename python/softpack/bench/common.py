@@ -28,6 +28,24 @@ RESULTS = paths.ROOT / "bench" / "results"
 PAPER_TOML = paths.ROOT / "examples" / "paper.toml"
 #: The loaded wall of the paper's box (the piston).
 PISTON = "right"
+#: The NLGS yardstick times are normalised to (sweeps per second on the
+#: 2020-contact FCLIB problem, this machine idle on 2026-12-02): the host
+#: behind it changed speed by 3x between days, the yardstick with it.
+REFERENCE_YARDSTICK = 42_800.0
+
+
+def normalised(seconds: float, yardstick: float) -> float:
+    """A time measured when the yardstick ran at ``yardstick`` sweeps/s,
+    as it would be at :data:`REFERENCE_YARDSTICK` (NaN if unknown)."""
+    if not yardstick or yardstick != yardstick:
+        return math.nan
+    return seconds * yardstick / REFERENCE_YARDSTICK
+
+
+def normalised_text(seconds: float, yardstick: float) -> str:
+    """``"(123 s at 42,800 sweeps/s)"``: a time in the reference's terms."""
+    return (f"({normalised(seconds, yardstick):.0f} s at"
+            f" {REFERENCE_YARDSTICK:,.0f} sweeps/s)")
 
 #: The paper's numerical settings (examples/paper_9us.toml) ...
 PAPER = {"time.time_step": 9e-6, "time.max_step_factor": 1.0,

@@ -31,7 +31,8 @@ from pathlib import Path
 
 from softpack.analysis.strain import cumulative_strain
 from softpack.bench.common import (FAST, PISTON, WORK, bench_nlgs,
-                                   run_driver, scaled_config)
+                                   normalised_text, run_driver,
+                                   scaled_config)
 from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table
 from softpack.scene.build import build_scene
@@ -85,7 +86,8 @@ def table(r: dict) -> str:
         f"scene (packing + meshing): {r['scene_seconds']:.1f} s",
         f"driver: {r['driver_seconds']:.0f} s wall, {r['ms_per_step']:.0f}"
         f" ms per step ({parts})",
-        f"whole: {r['whole_seconds'] / 60:.1f} min;"
+        f"whole: {r['whole_seconds'] / 60:.1f} min"
+        f" {normalised_text(r['whole_seconds'], r['nlgs_yardstick'])};"
         f" {r['seconds_per_unit_strain']:.0f} s per unit strain",
         f"peak memory of the driver: {r['peak_memory_mb']:.0f} MB"
         + (f" (per rank: {', '.join(f'{m:.0f}' for m in r['peak_memory_mb_per_rank'])}"

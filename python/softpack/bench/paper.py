@@ -17,7 +17,8 @@ from pathlib import Path
 
 from softpack.analysis.strain import approach, cumulative_strain
 from softpack.bench.common import (FAST, PAPER, PAPER_TOML, PARTS, PISTON,
-                                   WORK, run_driver, scaled_config, scene_for)
+                                   WORK, normalised_text, run_driver,
+                                   scaled_config, scene_for)
 from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table
 from softpack.scene.config import load_config
@@ -146,7 +147,10 @@ def bench_full() -> dict:
 
 
 def table(report: dict) -> str:
-    lines = [f"NLGS, 2020 contacts: {report['nlgs'].get('sweeps_per_second', report['nlgs'])}"]
+    """A few lines for a person; times also normalised to the reference
+    yardstick (the NLGS sweeps per second of the same run)."""
+    yardstick = report["nlgs"].get("sweeps_per_second", float("nan"))
+    lines = [f"NLGS, 2020 contacts (the yardstick): {yardstick:.0f} sweeps/s"]
     for row in report["detection"]:
         if row.get("bench") == "detection":
             lines.append(f"detection, {row['bodies']:5d} bodies:"
@@ -168,13 +172,16 @@ def table(report: dict) -> str:
         s = report["scaling"]
         for row in s["rows"]:
             lines.append(f"{row['disks']:4d} disks to Phi = {row['final_phi']:.3f}:"
-                         f" {row['seconds']:.0f} s, {row['steps']} steps,"
+                         f" {row['seconds']:.0f} s"
+                         f" {normalised_text(row['seconds'], yardstick)},"
+                         f" {row['steps']} steps,"
                          f" {row['seconds_per_unit_strain']:.0f} s per unit strain")
         lines.append(f"cost per unit strain ~ N^p: p = {s['exponent_25_400']:.2f}"
                      f" (25-400), {s['exponent_100_400']:.2f} (100-400)")
     if "full" in report:
         f = report["full"]
-        lines.append(f"full paper case (defaults): {f['minutes']:.1f} min,"
+        lines.append(f"full paper case (defaults): {f['minutes']:.1f} min"
+                     f" {normalised_text(f['seconds'], yardstick)},"
                      f" {f['steps']} steps")
     return "\n".join(lines)
 
