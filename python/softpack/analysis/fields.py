@@ -153,15 +153,6 @@ def _nearest(index: dict, time) -> float:
     return min(index, key=lambda t: abs(t - time))
 
 
-def _function_group(f, name, path):
-    """The group ``/Function/<name>`` (case-insensitive), or KeyError."""
-    names = {key.lower(): key for key in f.get("Function", {})}
-    if name.lower() not in names:
-        raise KeyError(f"{path}: no function {name!r}, has"
-                       f" {sorted(names.values())}")
-    return f["Function"][names[name.lower()]]
-
-
 def _times(group) -> dict:
     """``{stored time: key}`` of a function group."""
     return {float(key.replace("_", ".")): key for key in group}

@@ -67,7 +67,8 @@ from softpack.simulation.interrupt import (Stopped, echo, reclaim_signals,
                                            silence_stdout, stop_on_signals,
                                            why)
 from softpack.simulation.progress import Progress, duration as _duration
-from softpack.contract.run_directory import (EXIT_DONE, EXIT_FLAGGED,
+from softpack.contract.run_directory import (EXIT_DONE, EXIT_FAILED,
+                                             EXIT_FLAGGED, EXIT_USAGE,
                                              RunDirectory, RunError,
                                              RunLock, UsageError,
                                              is_run_directory,
@@ -160,12 +161,8 @@ def main(argv=None) -> int:
             return resume(config, out, ranks=args.ranks)
         return run(config, out, force=args.force,
                    initial_state=args.from_state, ranks=args.ranks)
-    except UsageError as err:
-        print(f"softpack run: {err}", file=sys.stderr)
-        return 2
     except RunError as err:
-        print(f"softpack run: {err}", file=sys.stderr)
-        return 1
+        return _said(err)
     except (KeyboardInterrupt, Stopped) as err:
         signum = getattr(err, "signum", signal.SIGINT)
         if signum == signal.SIGPIPE:  # nowhere to print; no exit traceback
@@ -213,12 +210,14 @@ def _observables_only(args) -> int:
             return _postprocess(out, None)
     except ConfigError as err:
         return refuse(str(err))
-    except UsageError as err:
-        print(f"softpack run: {err}", file=sys.stderr)
-        return 2
     except RunError as err:
-        print(f"softpack run: {err}", file=sys.stderr)
-        return 1
+        return _said(err)
+
+
+def _said(err) -> int:
+    """Say a UsageError (exit status 2) or another RunError (1); the status."""
+    print(f"softpack run: {err}", file=sys.stderr)
+    return EXIT_USAGE if isinstance(err, UsageError) else EXIT_FAILED
 
 
 def _parse_settings(settings) -> dict:
