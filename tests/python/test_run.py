@@ -202,3 +202,19 @@ def test_set_overrides_are_parsed_as_toml_values():
     for bad in ("time_step=1", "time.time_step", "material.law=x"):
         with pytest.raises(ConfigError, match="--set"):
             _parse_settings([bad])
+
+
+def test_the_last_progress_line_is_written_once(tmp_path):
+    """A run's final row was logged twice (its 5 % mark, then as final)."""
+    import io
+    from softpack.scene.config import load_config
+    steps = tmp_path / "steps.csv"
+    steps.write_text("step,time,phi\n0,0,0.70\n100,0.01,0.80\n")
+    said = []
+    progress = run.Progress(load_config(SMALL), steps,
+                            lambda text, end="\n": said.append(text))
+    log = io.StringIO()
+    progress.update(log)
+    progress.update(log, final=True)
+    assert len(said) == 1 and "100.0 %" in said[0]
+    assert log.getvalue().count("[progress]") == 1

@@ -54,6 +54,7 @@ class Progress:
         self.echo = echo
         self.tty = echo is not None and sys.stdout.isatty()
         self.logged = -1  # last 5 % mark written to the log / non-tty
+        self.logged_rows = 0  # the rows it had
         self.stages = list(config.get("stages") or [])
 
     def stage_line(self, rows) -> str:
@@ -116,8 +117,9 @@ class Progress:
         mark = self.mark(rows)
         if self.tty:
             self.echo(f"\r{text}", end="\n" if final else "")
-        if mark > self.logged or final:
-            self.logged = mark
+        # the final row once: not again when its mark was just written
+        if mark > self.logged or (final and len(rows) != self.logged_rows):
+            self.logged, self.logged_rows = mark, len(rows)
             if self.echo is not None and not self.tty:
                 self.echo(text)
             log.write(f"[progress] {text}\n")
