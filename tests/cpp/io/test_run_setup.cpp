@@ -230,7 +230,7 @@ TEST(RunSetup, MaterialErrorsNameTheFileAndTheKey)
       << e;
   EXPECT_NE(e.find("shear_modulus, lame_lambda"), std::string::npos) << e;
   bad = doc;
-  bad["material"]["law"] = "mooney_rivlin";
+  bad["material"]["law"] = "rubber";
   e = error_of(bad);
   EXPECT_NE(e.find("material.law"), std::string::npos) << e;
   EXPECT_NE(e.find("neo_hookean"), std::string::npos) << e;
