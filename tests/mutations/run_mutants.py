@@ -20,16 +20,20 @@ Each mutant of ``tests/mutations/mutants.toml`` is a realistic single defect
 
 The suite is the one of ``./softpack test``: CTest in ``build/`` and
 ``pytest -q -rs tests/python`` with ``SOFTPACK_STRICT_SKIPS=1``, under the
-environment of ``./softpack env``. A phase that runs past ``--timeout``
-seconds is stopped and counts as a kill ("timeout"), as a test that hangs
-fails the suite.
+environment of ``./softpack env``. A test that hangs fails the suite, so
+a hang counts as a kill: each CTest test is stopped after
+``--test-timeout`` seconds (default 120; unmutated, the longest takes
+under 2 s) and each half of the suite after ``--timeout`` seconds (default
+1800; pytest has no per-test timeout here). On SIGTERM or Ctrl-C the
+running tests are stopped and the scratch copy removed.
 
-Usage (from the repository root; stdlib only; not part of CI: about an
-hour on two cores)::
+Usage (from the repository root; stdlib only; not part of CI: about 20
+minutes on two cores)::
 
     source /work/ccache.env   # optional: compiler cache for the builds
     /usr/bin/python3 tests/mutations/run_mutants.py [--only ID]...
-        [--no-baseline] [--keep] [--jobs N] [--timeout S] [--table FILE]
+        [--no-baseline] [--keep] [--jobs N] [--timeout S]
+        [--test-timeout S] [--table FILE] [--list]
 
 Only committed files are used: the copy is of HEAD (the script says so
 when the work tree has changes). With ``CMAKE_CXX_COMPILER_LAUNCHER`` set
@@ -107,8 +111,10 @@ def log(message: str) -> None:
 class Scratch:
     """A detached worktree of HEAD in a temporary directory."""
 
-    def __init__(self, jobs: int, timeout: float, keep: bool):
+    def __init__(self, jobs: int, timeout: float, test_timeout: float,
+                 keep: bool):
         self.jobs, self.timeout, self.keep = jobs, timeout, keep
+        self.test_timeout = test_timeout
         self.tmp = Path(tempfile.mkdtemp(prefix="softpack-mutants-"))
         self.root = self.tmp / "repo"
         self.commit = git("rev-parse", "HEAD").strip()
@@ -118,7 +124,7 @@ class Scratch:
         if shared.exists():
             (self.tmp / "shared").symlink_to(shared.resolve())
         self.env = dict(os.environ, PYTHONDONTWRITEBYTECODE="1",
-                        SOFTPACK_JOBS=str(jobs))
+                        SOFTPACK_JOBS=str(jobs), SOFTPACK_STRICT_SKIPS="1")
         if "CMAKE_CXX_COMPILER_LAUNCHER" in self.env:
             self.env["CCACHE_BASEDIR"] = str(self.tmp)
         self.junit = self.tmp / "junit"
@@ -135,21 +141,23 @@ class Scratch:
 
     def build(self) -> bool:
         """``./softpack build``; False (the log's tail shown) on failure."""
-        result = subprocess.run(["./softpack", "build"], cwd=self.root,
-                                env=self.env, stdout=subprocess.PIPE,
-                                stderr=subprocess.STDOUT, text=True)
-        if result.returncode != 0:
-            log("build failed:\n" + result.stdout[-3000:])
-        return result.returncode == 0
+        status, out = self._spawn(["./softpack", "build"])
+        if status != 0:
+            log("build failed:\n" + out[-3000:])
+        return status == 0
 
     def _run(self, command: list[str], cwd: Path) -> tuple[int | None, str]:
-        """Run ``command`` under ``./softpack env``; (status, output), status
-        None on timeout (the process group killed)."""
+        """Run ``command`` in ``cwd`` under ``./softpack env``."""
         script = 'eval "$(./softpack env)" && cd "$0" && exec "$@"'
+        return self._spawn(["bash", "-c", script, str(cwd), *command])
+
+    def _spawn(self, command: list[str]) -> tuple[int | None, str]:
+        """Run ``command`` in the copy in its own process group; (status,
+        output), status None on timeout. On a timeout or an exception
+        (SIGTERM, Ctrl-C) the whole group is killed."""
         proc = subprocess.Popen(
-            ["bash", "-c", script, str(cwd), *command], cwd=self.root,
-            env=self.env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-            text=True, start_new_session=True)
+            command, cwd=self.root, env=self.env, stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT, text=True, start_new_session=True)
         try:
             out, _ = proc.communicate(timeout=self.timeout)
             return proc.returncode, out
@@ -157,14 +165,18 @@ class Scratch:
             os.killpg(proc.pid, signal.SIGKILL)
             out, _ = proc.communicate()
             return None, out
+        except BaseException:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+            raise
 
     def ctest(self, stop_early: bool) -> tuple[bool | None, list[str], str]:
         """CTest; (passed, failing test names, output); passed None on a
         timeout."""
         report = self.junit / "ctest.xml"
         report.unlink(missing_ok=True)
-        command = ["ctest", "-j", str(self.jobs), "--output-junit",
-                   str(report)]
+        command = ["ctest", "-j", str(self.jobs), "--timeout",
+                   str(self.test_timeout), "--output-junit", str(report)]
         if stop_early:
             command.append("--stop-on-failure")
         status, out = self._run(command, self.root / "build")
@@ -184,7 +196,6 @@ class Scratch:
                    str(self.root / "tests" / "python")]
         if stop_early:
             command.insert(3, "-x")
-        self.env["SOFTPACK_STRICT_SKIPS"] = "1"
         status, out = self._run(command, self.root)
         failed = junit_failures(report)
         if status is None:
@@ -309,6 +320,8 @@ def main(argv=None) -> int:
     parser.add_argument("--timeout", type=float, default=1800,
                         help="seconds for one half of the suite (default"
                              " 1800); past it the half counts as failed")
+    parser.add_argument("--test-timeout", type=float, default=120,
+                        help="seconds for one CTest test (default 120)")
     parser.add_argument("--table", type=Path,
                         help="also write the markdown table to this file")
     args = parser.parse_args(argv)
@@ -332,7 +345,9 @@ def main(argv=None) -> int:
         log("note: the work tree has uncommitted changes; the copy is of"
             " HEAD without them")
     begin = time.monotonic()
-    scratch = Scratch(args.jobs, args.timeout, args.keep)
+    # SIGTERM as Ctrl-C: the tests stopped, the copy removed (finally).
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(128 + signal.SIGTERM))
+    scratch = Scratch(args.jobs, args.timeout, args.test_timeout, args.keep)
     outcomes: dict[str, Outcome] = {}
     try:
         log(f"scratch copy of {scratch.commit[:10]} in {scratch.root};"
