@@ -50,6 +50,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -180,7 +181,10 @@ class Scratch:
         if stop_early:
             command.append("--stop-on-failure")
         status, out = self._run(command, self.root / "build")
-        failed = junit_failures(report)
+        # A test past --test-timeout: "Test #N: NAME ....***Timeout"
+        failed = [f"{name} (hung: stopped at {self.test_timeout:.0f} s)"
+                  if re.search(re.escape(name) + r"[ .]*\*\*\*Timeout", out)
+                  else name for name in junit_failures(report)]
         if status is None:
             return None, failed or ["timeout (ctest)"], out
         if status != 0 and not failed:
