@@ -32,7 +32,7 @@ Usage (from the repository root; stdlib only; not part of CI: about 10
 minutes on two cores, of which the unmutated suite 3-4 and a mutant 5 s to
 2 min)::
 
-    source /work/ccache.env   # optional: compiler cache for the builds
+    export CMAKE_CXX_COMPILER_LAUNCHER=ccache   # optional: cached builds
     /usr/bin/python3 tests/mutations/run_mutants.py [--only ID]...
         [--all] [--no-baseline] [--keep] [--jobs N] [--timeout S]
         [--test-timeout S] [--table FILE] [--list]
