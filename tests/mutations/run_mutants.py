@@ -248,7 +248,9 @@ def junit_failures(path: Path) -> list[str]:
             child.tag in ("failure", "error") for child in case)
         if bad:
             cls = case.get("classname", "")
-            name = case.get("name", "")
+            # A value-parametrized GoogleTest's name ends in "  # GetParam()
+            # = <bytes>": the name without it
+            name = case.get("name", "").split("  # GetParam()")[0]
             names.append(f"{cls}::{name}" if cls and cls != name else name)
     return names
 
