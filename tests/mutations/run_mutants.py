@@ -28,9 +28,9 @@ under 2 s) and each half of the suite after ``--timeout`` seconds (default
 1800; pytest has no per-test timeout here). On SIGTERM or Ctrl-C the
 running tests are stopped and the scratch copy removed.
 
-Usage (from the repository root; stdlib only; not part of CI: about 10
-minutes on two cores, of which the unmutated suite 3-4 and a mutant 5 s to
-2 min)::
+Usage (from the repository root; stdlib only; not part of CI: about 13
+minutes on two cores, of which the build 1-2, the unmutated suite 4 and a
+mutant 5 s to 2 min)::
 
     export CMAKE_CXX_COMPILER_LAUNCHER=ccache   # optional: cached builds
     /usr/bin/python3 tests/mutations/run_mutants.py [--only ID]...
@@ -322,7 +322,7 @@ def main(argv=None) -> int:
                              " occurs once in HEAD; build nothing")
     parser.add_argument("--all", action="store_true",
                         help="run the whole suite on each mutant and list"
-                             " every failing test (slow: ~4 min a mutant)")
+                             " every failing test (slow: 5-20 min a mutant)")
     parser.add_argument("--no-baseline", action="store_true",
                         help="skip the unmutated suite (the build is still"
                              " checked)")
