@@ -35,7 +35,7 @@ import numpy as np
 
 from softpack.analysis.connectivity import read_contacts
 from softpack.contract.run_directory import RunDirectory
-from softpack.contract.tables import read_table, write_table
+from softpack.contract.tables import write_table
 
 NETWORK_COLUMNS = ("step", "time", "a", "b", "nodes", "fx", "fy", "fn", "ft",
                    "branch_x", "branch_y")
@@ -93,12 +93,11 @@ def _branch(a, b, centroids, walls) -> np.ndarray:
     return -np.dot(centroids[a] - point, normal) * normal
 
 
-def network_table(run_dir, setup) -> dict:
+def network_table(run_dir, setup, steps: dict, particles: dict) -> dict:
     """The rows of ``network.csv`` of a run (every output step with a
-    contacts file)."""
+    contacts file), from its ``raw/steps.csv`` and ``raw/particles.csv``
+    (read by the caller)."""
     run = RunDirectory(run_dir)
-    steps = read_table(run.raw.steps_csv)
-    particles = read_table(run.raw.particles_csv)
     names = list(setup.walls)
     columns = {name: [] for name in NETWORK_COLUMNS}
     for k, step in enumerate(steps["step"]):

@@ -361,7 +361,7 @@ def process_run(run_dir, setup: RunSetup | None = None,
                                          setup, rules)
     particles_csv = write_table(run.particles_csv, table,
                                 PARTICLE_COLUMNS)
-    network = network_table(run_dir, setup)
+    network = network_table(run_dir, setup, steps, particles)
     write_network(run_dir, network)
     series.update(fabric(network, series["step"]))
     if setup.has_box:

@@ -74,6 +74,8 @@ class RunSetup:
         ``[mesh] element_size`` of the run (m).
     body_rigid : ndarray of bool, shape (n,)
         Whether each body is rigid (its species' material is).
+    stage_names : tuple of str
+        The names of the loading program's stages (none without stages).
     notes : tuple of str
         What could not be read and why.
     """
@@ -93,6 +95,7 @@ class RunSetup:
     diameters: np.ndarray
     element_size: float = math.nan
     body_rigid: np.ndarray = None
+    stage_names: tuple = ()
     notes: tuple = field(default=())
 
     @property
@@ -214,7 +217,9 @@ def _from_document(path, doc) -> RunSetup:
         diameters=diameters,
         element_size=float(scene.get("mesh", {}).get("element_size",
                                                       math.nan)),
-        body_rigid=species_rigid[species_of], notes=tuple(notes))
+        body_rigid=species_rigid[species_of],
+        stage_names=tuple(s.get("name", "") for s in doc.get("stages", ())),
+        notes=tuple(notes))
 
 
 def read_rules(run_dir) -> Rules:

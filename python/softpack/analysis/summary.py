@@ -10,11 +10,11 @@ initial box), and Z with the particles it counts (docs/observables.md).
 
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
 
+from softpack.analysis.setup import read_setup
 from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table
 
@@ -60,8 +60,7 @@ def summary_lines(run_dir) -> list[str]:
                 + _state(series, stress, rows - 1)]
     stage = np.asarray(read_table(run.raw.steps_csv)["stage"][:rows])
     ended = list(done.get("ended_by", ()))
-    names = [s.get("name", "") for s in
-             json.loads(run.raw.setup_json.read_text()).get("stages", ())]
+    names = read_setup(run_dir).stage_names
     lines = []
     for k in range(int(done["stages"])):
         mine = np.flatnonzero(stage == k)

@@ -16,7 +16,6 @@ walls where they are at that output (``raw/steps.csv``), and a scale bar.
 
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
@@ -79,9 +78,7 @@ class RunStates:
         self.steps = (read_table(self.run.raw.steps_csv)
                       if self.run.raw.steps_csv.is_file() else None)
         self.times = stored_times(self.run.fields_h5)
-        self.stage_names = [
-            s.get("name", "") for s in
-            json.loads(self.run.raw.setup_json.read_text()).get("stages", ())]
+        self.stage_names = self.setup.stage_names
 
     @property
     def stages(self):

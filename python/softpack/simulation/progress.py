@@ -61,9 +61,10 @@ class Progress:
         """The progress line of a run with stages."""
         k, stage_rows = current_stage(rows)
         stage = self.stages[min(k, len(self.stages) - 1)]
-        fractions = [stage_status(stage["stop"], stage_rows[:i + 1])[0]
-                     for i in range(len(stage_rows))]
-        done, what = stage_status(stage["stop"], stage_rows)
+        start = stage_rows[0]
+        fractions = [stage_status(stage["stop"], start, row)[0]
+                     for row in stage_rows]
+        done, what = stage_status(stage["stop"], start, stage_rows[-1])
         seconds = [r.get("seconds", float("nan")) for r in stage_rows]
         row = rows[-1]
         # An equilibrium may come before the time bound the fraction counts
@@ -80,7 +81,8 @@ class Progress:
             return int(20 * self.fraction(rows[-1], rows[0]["step"]))
         k, stage_rows = current_stage(rows)
         stage = self.stages[min(k, len(self.stages) - 1)]
-        return 21 * k + int(20 * stage_status(stage["stop"], stage_rows)[0])
+        done = stage_status(stage["stop"], stage_rows[0], stage_rows[-1])[0]
+        return 21 * k + int(20 * done)
 
     def fraction(self, row, first_step) -> float:
         """Fraction of the run done at ``row``, in [0, 1]."""
@@ -159,11 +161,10 @@ def _box_pressure(row) -> float:
     return float(np.mean([v[0] for v in stresses.values()]))
 
 
-def stage_status(stop: dict, rows: list) -> tuple[float, str]:
-    """How far a stage is from its criteria at its last row: the largest
-    fraction over them (in [0, 1]) and what it says, the stage's rows led
-    by its start (:func:`current_stage`)."""
-    start, row = rows[0], rows[-1]
+def stage_status(stop: dict, start: dict, row: dict) -> tuple[float, str]:
+    """How far a stage is from its criteria at ``row``: the largest
+    fraction over them (in [0, 1]) and what it says; ``start`` the row where
+    the stage began (:func:`current_stage`)."""
     elapsed = row["time"] - start["time"]
     status = [(elapsed / stop["max_time"],
                f"t = {elapsed:.4g} of {stop['max_time']:.4g} s")]
