@@ -270,7 +270,7 @@ StepReport MoreauJean::step()
       report.seconds += abandoned;
       // A new step size changes the iteration matrix: the next step
       // refactors.
-      if (_step_size.update(report))
+      if (_step_size.update(report, window_energy(report)))
         _matrix_age = -1;
       return report;
     }
@@ -279,6 +279,18 @@ StepReport MoreauJean::step()
     abandoned += report.seconds;
     return_to_step_start();
   }
+}
+
+std::optional<StepSize::WindowEnergy>
+MoreauJean::window_energy(const StepReport& report)
+{
+  if (!_step_size.needs_energy(report))
+    return std::nullopt;
+  // A collective where distributed: every rank's StepSize sees the same
+  // reports, so all of them ask at the same step.
+  prepare_output();
+  const EnergyBalance& e = energy();
+  return StepSize::WindowEnergy{e.residual(), e.wall_work + e.external_work};
 }
 
 void MoreauJean::return_to_step_start()

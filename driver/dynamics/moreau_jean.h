@@ -209,6 +209,9 @@ private:
   struct Attempt;
   /// Back to the step's start after an attempt failed (a retry at h / 2)
   void return_to_step_start();
+  /// The accounts after a finished step when the adaptive step judges a
+  /// window there (StepSize::needs_energy; a collective then)
+  std::optional<StepSize::WindowEnergy> window_energy(const StepReport& report);
   /// Detection, the contact problem and the Newton iterations of one
   /// attempt at the step, from the current state at step size _h
   Attempt attempt();

@@ -4,6 +4,7 @@
 #include "step_report.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace softpack::dynamics
@@ -18,17 +19,55 @@ StepSize::StepSize(double base, double largest, int hard_above_iterations)
         "StepSize: the largest step must be >= time.time_step > 0");
 }
 
-bool StepSize::update(const StepReport& report)
+namespace
+{
+bool solved(const StepReport& report)
+{
+  return report.newton_converged && report.nlgs_converged &&
+         report.unsolved_contact_solves == 0;
+}
+} // namespace
+
+bool StepSize::needs_energy(const StepReport& report) const
 {
   if (_largest == _base)
     return false;
-  const bool solved = report.newton_converged && report.nlgs_converged &&
-                      report.unsolved_contact_solves == 0;
-  if (!solved || report.newton_iterations > _hard_above)
+  return !solved(report) || report.newton_iterations > _hard_above ||
+         _calm_steps + 1 >= window;
+}
+
+StepSize::EnergyVerdict
+StepSize::judge(const std::optional<WindowEnergy>& end) const
+{
+  if (!end)
+    return EnergyVerdict::within;
+  const double grown = std::abs(end->residual - _window_start.residual);
+  const double supplied = std::abs(end->supplied - _window_start.supplied);
+  if (!std::isfinite(grown) || !std::isfinite(supplied))
+    return EnergyVerdict::unknown;
+  return grown <= energy_tolerance * supplied ? EnergyVerdict::within
+                                              : EnergyVerdict::beyond;
+}
+
+void StepSize::restart_window(const std::optional<WindowEnergy>& energy)
+{
+  _calm_steps = 0;
+  _window_iterations = 0;
+  // Without the accounts the next window's start is unknown: it is judged
+  // by its iterations alone.
+  const double unknown = std::nan("");
+  _window_start = energy.value_or(WindowEnergy{unknown, unknown});
+}
+
+bool StepSize::update(const StepReport& report,
+                      std::optional<WindowEnergy> energy)
+{
+  if (_largest == _base)
+    return false;
+  const double before = _h;
+  if (!solved(report) || report.newton_iterations > _hard_above)
   {
-    _calm_steps = 0;
-    _window_iterations = 0;
-    const double before = _h;
+    restart_window(energy);
     _h = std::max(_base, _h / 2);
     return _h != before;
   }
@@ -37,12 +76,11 @@ bool StepSize::update(const StepReport& report)
   if (_calm_steps < window)
     return false;
   const double mean = static_cast<double>(_window_iterations) / window;
-  _calm_steps = 0;
-  _window_iterations = 0;
-  const double before = _h;
-  if (mean > shrink_above_iterations)
+  const EnergyVerdict verdict = judge(energy);
+  restart_window(energy);
+  if (mean > shrink_above_iterations || verdict == EnergyVerdict::beyond)
     _h = std::max(_base, _h / 2);
-  else if (mean <= grow_below_iterations)
+  else if (mean <= grow_below_iterations && verdict == EnergyVerdict::within)
     _h = std::min(_largest, 2 * _h);
   return _h != before;
 }
@@ -62,6 +100,7 @@ void StepSize::restore(const State& s)
   _h = s.h > 0 ? std::clamp(s.h, _base, _largest) : _base;
   _calm_steps = s.calm_steps;
   _window_iterations = s.window_iterations;
+  _window_start = s.window_start;
 }
 
 } // namespace softpack::dynamics

@@ -11,7 +11,10 @@ namespace softpack::io
 {
 namespace
 {
-constexpr std::string_view magic = "softpack-state-5";
+constexpr std::string_view magic = "softpack-state-6";
+/// Layout 5 is layout 6 without the accounts at the adaptive step's window
+/// start (read: that window is judged by its iterations alone)
+constexpr std::string_view magic_v5 = "softpack-state-5";
 /// Layout 3 is layout 5 without the adaptive time step (read: the base step)
 constexpr std::string_view magic_v3 = "softpack-state-3";
 /// Layout 4 was written by a lever that was reverted (one more double)
@@ -117,11 +120,13 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
   put(out, static_cast<std::int64_t>(tangent ? s.u_tangent.size() : 0));
   if (tangent)
     put(out, s.u_tangent);
-  // The adaptive time step (layout 5).
+  // The adaptive time step (layout 5) and its window's start (6).
   put(out, s.step_size.h);
   put(out, static_cast<std::int64_t>(s.step_size.calm_steps));
   put(out, static_cast<std::int64_t>(s.step_size.window_iterations));
   put(out, static_cast<std::int64_t>(c.total.retried_steps));
+  put(out, s.step_size.window_start.residual);
+  put(out, s.step_size.window_start.supplied);
   return out;
 }
 
@@ -145,7 +150,7 @@ void check_layout(const std::string& bytes, const std::filesystem::path& path)
         path.string() + ": state layout softpack-state-4 (written by a "
                         "driver of 2026-11-30 whose lever was reverted) is "
                         "not read: rerun the run that wrote it");
-  if (head != magic && head != magic_v3)
+  if (head != magic && head != magic_v5 && head != magic_v3)
     throw std::runtime_error(path.string() + ": not a softpack state file");
   if (bytes.size() < magic.size() + sizeof(std::uint64_t))
     throw std::runtime_error(path.string() + ": state file is truncated");
@@ -287,12 +292,18 @@ StateFile read_state_file(const std::filesystem::path& path,
     throw std::runtime_error(path.string() + ": state file has bad sizes");
   s.u_tangent.resize(nt);
   r.get(s.u_tangent.data(), sizeof(double) * nt);
-  if (std::string_view(bytes.data(), magic.size()) == magic)
+  const std::string_view head(bytes.data(), magic.size());
+  if (head == magic || head == magic_v5)
   {
     s.step_size.h = r.get<double>();
     s.step_size.calm_steps = static_cast<int>(r.get<std::int64_t>());
     s.step_size.window_iterations = static_cast<int>(r.get<std::int64_t>());
     c.total.retried_steps = r.get<std::int64_t>();
+  }
+  if (head == magic)
+  {
+    s.step_size.window_start.residual = r.get<double>();
+    s.step_size.window_start.supplied = r.get<double>();
   }
   if (r.at + sizeof(std::uint64_t) != bytes.size())
     throw std::runtime_error(path.string() + ": state file has bad sizes");

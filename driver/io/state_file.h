@@ -42,7 +42,7 @@ struct StateFile
 /// parses it (`softpack-simulate --state-info FILE` prints its step and
 /// time).
 ///
-/// Layout (native little-endian): the 16 bytes "softpack-state-3", the
+/// Layout (native little-endian): the 16 bytes "softpack-state-6", the
 /// identity (2 uint64), int64 counts (DOFs, walls, reactions, wall
 /// velocities: 0 or the wall count), time (double), steps (int64), u, v,
 /// the wall points (2 doubles each), the reactions (3 int32 keys and 2
@@ -50,8 +50,12 @@ struct StateFile
 /// velocities, the run checks (4 int64, a double, an int64), the kept
 /// iteration matrix (its age, -1 for none, the last step's Newton
 /// iterations and the count of the displacement it was assembled at, 0 or
-/// the DOFs, as int64, then that displacement), and last the FNV-1a 64 hash
-/// of every byte before it.
+/// the DOFs, as int64, then that displacement), the adaptive time step
+/// (the current step, a double; the window's calm steps and Newton
+/// iterations and the retried steps, int64; the energy residual and the
+/// energy supplied at the window's start, 2 doubles), and last the FNV-1a
+/// 64 hash of every byte before it. Layout 5 (without the window's start)
+/// and layout 3 (without the adaptive step) are still read.
 void write_state(const std::filesystem::path& path,
                  const dynamics::SchemeState& state,
                  const StateIdentity& identity = {},

@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from softpack.bench.paper import compare_series
+from softpack.bench.invariance import compare_series
 
 
-def _series(scale_phi=1.0, shift_z=0.0):
-    eps = np.linspace(0.0, 0.05, 11)
+def _series(scale_phi=1.0, shift_z=0.0, points=11):
+    eps = np.linspace(0.0, 0.05, points)
     phi = 0.75 * np.exp(eps) * scale_phi
     return {"eps": list(eps), "phi": list(phi),
             "E_over_WHLmu": list((phi - 0.74) ** 2),
@@ -26,6 +26,72 @@ def test_known_differences_are_measured():
     d = compare_series(_series(), _series(scale_phi=1.001, shift_z=0.03))
     assert d["phi_max_relative_difference"] == pytest.approx(1e-3, rel=1e-6)
     assert d["z_max_difference"] == pytest.approx(0.03, abs=2e-3)
+
+
+def test_z_is_binned_at_the_width_asked():
+    """Z means over bins of 0.005 in Phi (issue 41's budget): a difference
+    confined to one bin shows in full in the narrow bins and diluted in
+    the default 0.01 ones."""
+    ref = _series(points=41)  # >= 3 points in each bin of 0.005
+    other = _series(points=41)
+    phi = np.array(other["phi"])
+    inside = (phi >= 0.77) & (phi < 0.775)
+    assert inside.sum() >= 3
+    other["z"] = list(np.array(other["z"]) + 0.1 * inside)
+    narrow = compare_series(ref, other, z_bin=0.005)
+    wide = compare_series(ref, other)
+    assert narrow["z_binned_max_difference"] == pytest.approx(0.1)
+    assert wide["z_binned_max_difference"] < 0.1
+
+
+def _series_csv(path, e_scale=1.0, residual=1e-7):
+    """A series.csv (the columns judge reads) and a done.json."""
+    import json
+
+    s = _series(points=41)
+    n = len(s["eps"])
+    cols = {**s, "E_over_WHLmu": [e * e_scale for e in s["E_over_WHLmu"]],
+            "wall_work": list(np.linspace(0, 1, n)),
+            "external_work": [0.0] * n, "energy_residual": [residual] * n}
+    (path / "raw").mkdir(parents=True)
+    lines = [",".join(cols)] + [",".join(repr(float(cols[c][i])) for c in cols)
+                                for i in range(n)]
+    (path / "series.csv").write_text("\n".join(lines) + "\n")
+    (path / "raw" / "done.json").write_text(json.dumps(
+        {"converged": True, "steps": 10, "seconds": 1.0,
+         "newton_iterations": 20, "nlgs_sweeps": 100, "retried_steps": 0}))
+    from softpack.contract.run_directory import RunDirectory
+    return RunDirectory(path)
+
+
+def test_a_lever_is_judged_against_each_bound_of_the_budget(tmp_path):
+    """E 0.2 % off is within the 0.3 % mean and 0.6 % max; 0.4 % misses
+    the mean; a residual of 2e-4 of the work misses its bound."""
+    from softpack.bench.invariance import BUDGET, judge
+
+    ref = _series_csv(tmp_path / "ref")
+    ok = judge(ref, _series_csv(tmp_path / "ok", e_scale=1.002))
+    assert ok["energy_mean_relative_difference"] == pytest.approx(2e-3)
+    assert ok["within_budget"], ok
+    off = judge(ref, _series_csv(tmp_path / "off", e_scale=1.004))
+    assert not off["within"]["energy_mean_relative_difference"]
+    assert off["within"]["energy_max_relative_difference"]
+    assert not off["within_budget"]
+    loose = judge(ref, _series_csv(tmp_path / "loose", residual=2e-4))
+    assert loose["energy_residual_of_work"] == pytest.approx(2e-4)
+    assert not loose["within"]["energy_residual_of_work"]
+    assert BUDGET["energy_residual_of_work"] == 1e-4
+
+
+def test_levers_are_parsed_or_refused():
+    from softpack.bench.invariance import parse_lever
+
+    assert parse_lever("f4tol:time.max_step_factor=4,contact.nlgs_tolerance"
+                       "=1e-5") == ("f4tol", {"time.max_step_factor": 4,
+                                              "contact.nlgs_tolerance": 1e-5})
+    for bad in ("f4", "f4:", ":time.theta=0.5", "f4:time.theta"):
+        with pytest.raises(ValueError, match="--lever"):
+            parse_lever(bad)
 
 
 def test_bench_configs_are_validated_with_their_overrides(registry):

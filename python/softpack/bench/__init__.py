@@ -30,6 +30,11 @@ the crowded end of the compaction without recomputing its start.
 
 ``--full`` also runs the whole paper case (fast settings, seed 0) with
 ``./softpack run`` and reports its wall time.
+
+``--invariance [--lever NAME:KEY=VALUE,...] [--whole]`` judges the
+defaults and each lever against a 9-us reference and issue 41's accuracy
+budget (:mod:`softpack.bench.invariance`); exit status 3 when the defaults
+miss it.
 """
 
 from __future__ import annotations
@@ -60,12 +65,19 @@ def _parser() -> argparse.ArgumentParser:
                         " from its state")
     parser.add_argument("--full", action="store_true",
                         help="also run the whole paper case (the defaults)")
-    parser.add_argument("--invariance", type=float, metavar="EPS",
-                        help="only compare the defaults and the paper's settings"
-                        " from the start to this strain")
-    parser.add_argument("--invariance-from", type=Path, metavar="STATE",
-                        help="only compare the defaults and the paper's settings"
-                        " from this state (seed 0) to --to-phi")
+    parser.add_argument("--invariance", action="store_true",
+                        help="only judge the defaults and each --lever"
+                        " against the 9-us reference and the accuracy"
+                        " budget, Phi 0.80 -> 0.84 (softpack.bench.invariance)")
+    parser.add_argument("--lever", action="append", default=[],
+                        metavar="NAME:KEY=VALUE,...",
+                        help="with --invariance: a lever to judge, e.g."
+                        " f4:time.max_step_factor=4 (repeatable)")
+    parser.add_argument("--whole", action="store_true",
+                        help="with --invariance: also from the initial"
+                        " packing to Phi 0.88")
+    parser.add_argument("--fresh", action="store_true",
+                        help="with --invariance: rerun the kept runs")
     parser.add_argument("--sharing", action="store_true",
                         help="only time the driver alone, beside a busy"
                         " process and beside another run (issue 18)")
@@ -84,8 +96,6 @@ def _parser() -> argparse.ArgumentParser:
                         help="run --disks on R MPI ranks (default 1)")
     parser.add_argument("--disks-phi", type=float, default=0.88,
                         help="packing fraction that ends --disks")
-    parser.add_argument("--to-phi", type=float, default=0.84,
-                        help="packing fraction that ends --invariance-from")
     return parser
 
 
@@ -109,25 +119,27 @@ def main(argv=None) -> int:
                            to_phi=args.mpi_to_phi)
         print(table(report))
         return _save(report, f"mpi-{_stamp()}.json")
-    if args.invariance or args.invariance_from:
+    if args.invariance:
         return _invariance(args)
     return _default(args)
 
 
 def _invariance(args) -> int:
-    """``--invariance EPS`` or ``--invariance-from STATE``."""
-    from softpack.bench.paper import bench_invariance
+    """``--invariance [--lever ...] [--whole] [--fresh]``."""
+    from softpack.bench.invariance import bench_invariance, parse_lever, table
 
-    if args.invariance_from:
-        result = bench_invariance(state=args.invariance_from,
-                                  to_phi=args.to_phi)
-        result["from_state"] = str(args.invariance_from)
-        name = (f"invariance-{args.invariance_from.stem}-to-"
-                f"{args.to_phi:g}.json")
-    else:
-        result = bench_invariance(args.invariance)
-        name = "invariance.json"
-    return _save(result, name)
+    try:
+        levers = [parse_lever(text) for text in args.lever]
+    except ValueError as e:
+        print(f"softpack bench: {e}")
+        return 2
+    report = bench_invariance(levers, whole=args.whole, fresh=args.fresh)
+    print(table(report))
+    _save_quiet(report, f"invariance-{_stamp()}.json")
+    # Defaults outside the budget: a finding the exit status carries.
+    defaults = [report[part]["rows"]["defaults"]
+                for part in ("interval", "whole") if part in report]
+    return 0 if all(r["within_budget"] for r in defaults) else 3
 
 
 def _default(args) -> int:
@@ -166,7 +178,14 @@ def _stamp() -> str:
 
 def _save(result: dict, name: str) -> int:
     """Write a result under bench/results/ and print it."""
+    _save_quiet(result, name)
+    print(json.dumps(result, indent=2))
+    return 0
+
+
+def _save_quiet(result: dict, name: str) -> int:
+    """Write a result under bench/results/ and name the file."""
     RESULTS.mkdir(parents=True, exist_ok=True)
     (RESULTS / name).write_text(json.dumps(result, indent=2) + "\n")
-    print(json.dumps(result, indent=2))
+    print(f"\nwritten: {RESULTS / name}")
     return 0

@@ -2,10 +2,10 @@
 
 The per-step cost of the paper case at the paper's settings and at the
 defaults (:func:`bench_paper`), the cost per unit strain of 25, 100 and
-400 disks (:func:`bench_scaling`), the fast settings against the paper's
-(:func:`bench_invariance`, :func:`compare_series`) and the whole paper
-case through ``./softpack run`` (:func:`bench_full`); the package doc
-(:mod:`softpack.bench`) says what each measures.
+400 disks (:func:`bench_scaling`) and the whole paper case through
+``./softpack run`` (:func:`bench_full`); the package doc
+(:mod:`softpack.bench`) says what each measures. The defaults' accuracy
+against a reference: :mod:`softpack.bench.invariance`.
 """
 
 from __future__ import annotations
@@ -15,13 +15,12 @@ import subprocess
 import sys
 from pathlib import Path
 
-from softpack.analysis.strain import approach, cumulative_strain
+from softpack.analysis.strain import cumulative_strain
 from softpack.bench.common import (FAST, PAPER, PAPER_TOML, PARTS, PISTON,
                                    WORK, normalised_text, run_driver,
                                    scaled_config, scene_for)
 from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table
-from softpack.scene.config import load_config
 
 
 def bench_paper(steps: int, state: Path | None = None) -> list[dict]:
@@ -62,73 +61,6 @@ def bench_scaling(target_phi: float) -> dict:
     return {"rows": rows,
             "exponent_25_400": exponent("seconds_per_unit_strain", 0, 2),
             "exponent_100_400": exponent("seconds_per_unit_strain", 1, 2)}
-
-
-def bench_invariance(max_strain: float | None = None,
-                     state: Path | None = None,
-                     to_phi: float | None = None) -> dict:
-    """Phi(eps), E(Phi) and Z(Phi) at the fast settings against the paper's
-    settings (seed 0): from the initial packing to eps = max_strain, or from
-    a saved state to the packing fraction to_phi."""
-    from softpack.simulation.run import run
-
-    series = {}
-    for label, overrides in (("paper", PAPER), ("fast", FAST)):
-        sets = dict(overrides)
-        sets["output.every_steps"] = round(9e-4 / sets["time.time_step"])
-        sets["output.fields"] = False
-        if to_phi is not None:
-            sets["stop.packing_fraction"] = to_phi
-        if max_strain is not None:
-            base = load_config(PAPER_TOML)
-            speed = math.hypot(*base["walls"][PISTON]["velocity"])
-            sets["stop.max_time"] = float(approach(
-                max_strain, base["box"]["length"])) / speed
-        config = load_config(PAPER_TOML, sets)
-        out = WORK / f"invariance-{label}"
-        status = run(config, out, force=True, initial_state=state)
-        if status != 0:  # 3: finished flagged (run_flags), not comparable
-            raise RuntimeError(f"invariance run {label} ended with exit"
-                               f" status {status} (see {out}/run.log)")
-        series[label] = {k: list(v) for k, v in
-                         read_table(RunDirectory(out).series_csv).items()}
-    return compare_series(series["paper"], series["fast"])
-
-
-def compare_series(reference: dict, other: dict) -> dict:
-    """Largest differences of Phi(eps), E(Phi) and Z(Phi) between two runs,
-    on the reference's output points inside the common range."""
-    import numpy as np
-
-    def on(x_key, y_key):
-        x0, y0 = np.array(reference[x_key]), np.array(reference[y_key])
-        x1, y1 = np.array(other[x_key]), np.array(other[y_key])
-        keep = (x0 >= x1.min()) & (x0 <= x1.max()) & np.isfinite(y0)
-        return x0[keep], y0[keep], np.interp(x0[keep], x1, y1)
-
-    eps, phi0, phi1 = on("eps", "phi")
-    _, e0, e1 = on("phi", "E_over_WHLmu")
-    big = e0 > 0.05 * np.nanmax(e0)  # relative differences where E matters
-    phis, z0, z1 = on("phi", "z")
-    both = np.isfinite(z0) & np.isfinite(z1)
-    # Z of one output step scatters by a few tenths (rearrangements, the
-    # count over the retained particles); its mean over windows of
-    # 0.01 in Phi is the curve of Fig. 8.
-    edges = np.arange(np.floor(phis.min() * 100) / 100, phis.max() + 0.01, 0.01)
-    binned = []
-    for lo, hi in zip(edges[:-1], edges[1:]):
-        inside = both & (phis >= lo) & (phis < hi)
-        if inside.sum() >= 3:
-            binned.append(abs(z1[inside].mean() - z0[inside].mean()))
-    return {"eps_range": [float(eps.min()), float(eps.max())],
-            "energy_mean_relative_difference":
-                float(np.mean(np.abs(e1[big] / e0[big] - 1))) if big.any() else None,
-            "z_binned_max_difference": float(max(binned)) if binned else None,
-            "phi_max_relative_difference": float(np.max(np.abs(phi1 / phi0 - 1))),
-            "energy_max_relative_difference":
-                float(np.max(np.abs(e1[big] / e0[big] - 1))) if big.any() else None,
-            "z_max_difference": float(np.max(np.abs(z1[both] - z0[both])))
-                if both.any() else None}
 
 
 def bench_full() -> dict:

@@ -1,5 +1,6 @@
 // The adaptive time step's rule on reports made by hand: when it doubles,
 // when it halves, its bounds, and its state.
+#include <cmath>
 #include <dynamics/moreau_jean.h>
 #include <dynamics/step_size.h>
 #include <gtest/gtest.h>
@@ -124,4 +125,62 @@ TEST(StepSize, RetryHalvesDownToTheBaseOnly)
   StepSize fixed(1e-4, 1e-4, 5);
   EXPECT_FALSE(fixed.can_retry());
   EXPECT_FALSE(fixed.retry());
+}
+
+namespace
+{
+/// Feed a window of calm steps (2 Newton iterations each) whose last step
+/// reports the accounts `end`; whether the step changed.
+bool window_ending_at(StepSize& s, StepSize::WindowEnergy end)
+{
+  for (int k = 0; k < StepSize::window - 1; ++k)
+  {
+    EXPECT_FALSE(s.needs_energy(step(2)));
+    s.update(step(2));
+  }
+  EXPECT_TRUE(s.needs_energy(step(2)));
+  return s.update(step(2), end);
+}
+} // namespace
+
+TEST(StepSize, AWindowWhoseEnergyResidualGrewHalvesItAndKeepsItFromGrowing)
+{
+  const double tol = StepSize::energy_tolerance;
+  StepSize s(1e-4, 8e-4, 5);
+  // 1 J supplied, the residual grew by just under tol: the step doubles.
+  EXPECT_TRUE(window_ending_at(s, {0.99 * tol, 1.0}));
+  EXPECT_EQ(s.current(), 2e-4);
+  // The next window supplies 1 J more and the residual grows by 2 tol: the
+  // step halves although the iterations are few.
+  EXPECT_TRUE(window_ending_at(s, {0.99 * tol + 2 * tol, 2.0}));
+  EXPECT_EQ(s.current(), 1e-4);
+  // At the base step a window beyond the tolerance keeps the base step.
+  EXPECT_FALSE(window_ending_at(s, {1.0, 3.0}));
+  EXPECT_EQ(s.current(), 1e-4);
+  // Nothing supplied and nothing left over (bodies at rest): may grow.
+  EXPECT_TRUE(window_ending_at(s, {1.0, 3.0}));
+  EXPECT_EQ(s.current(), 2e-4);
+  // A hard step asks for the accounts: the next window starts there.
+  EXPECT_TRUE(s.needs_energy(step(9)));
+  EXPECT_TRUE(s.update(step(9), StepSize::WindowEnergy{2.0, 4.0}));
+  EXPECT_EQ(s.current(), 1e-4);
+  EXPECT_FALSE(window_ending_at(s, {2.0 + 2 * tol, 5.0}));
+  // At fixed steps the accounts are never asked for.
+  StepSize fixed(1e-4, 1e-4, 5);
+  EXPECT_FALSE(fixed.needs_energy(step(2)));
+  EXPECT_FALSE(fixed.needs_energy(step(9)));
+}
+
+TEST(StepSize, AWindowStartedWithoutItsAccountsIsJudgedByIterationsAlone)
+{
+  // A state of layout 5 has no accounts at its window's start: that window
+  // neither doubles nor halves on energy; the next one is judged again.
+  StepSize s(1e-4, 8e-4, 5);
+  StepSize::State old{2e-4, 0, 0};
+  old.window_start = {std::nan(""), std::nan("")};
+  s.restore(old);
+  EXPECT_FALSE(window_ending_at(s, {1.0, 1.0}));
+  EXPECT_EQ(s.current(), 2e-4);
+  EXPECT_TRUE(window_ending_at(s, {1.0, 2.0}));
+  EXPECT_EQ(s.current(), 4e-4);
 }

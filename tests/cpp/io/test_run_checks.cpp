@@ -306,3 +306,38 @@ TEST(StateFile, RefusesCorruptedFilesAndStatesOfOtherRuns)
     std::filesystem::remove_all(next);
   }
 }
+
+TEST(StateFile, ReadsLayoutFiveWithoutTheAdaptiveWindowsStart)
+{
+  const std::filesystem::path dir = test::fresh_directory("state-layout5");
+  json doc = test::driver_json(dir, two_disks(dir, 0.03), 2, 0.06, 0.04, 0.01);
+  doc["stop"]["steps"] = 2;
+  doc["output"]["fields"] = false;
+  run(doc, dir);
+  const std::filesystem::path state = dir / "raw" / "state.bin";
+  const dynamics::SchemeState now = softpack::io::read_state(state);
+  EXPECT_EQ(now.step_size.window_start.residual, 0.0);
+  EXPECT_EQ(now.step_size.window_start.supplied, 0.0);
+
+  // The same file as layout 5 wrote it: without the window's start (the
+  // two doubles before the checksum), its FNV-1a 64 hash recomputed.
+  std::string bytes;
+  {
+    std::ifstream in(state, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  bytes.erase(bytes.size() - 8 - 16);
+  bytes.replace(0, 16, "softpack-state-5");
+  std::uint64_t hash = 0xcbf29ce484222325ULL;
+  for (unsigned char c : bytes)
+    hash = (hash ^ c) * 0x100000001b3ULL;
+  bytes.append(reinterpret_cast<const char*>(&hash), sizeof(hash));
+  std::ofstream(state, std::ios::binary | std::ios::trunc) << bytes;
+  const dynamics::SchemeState old = softpack::io::read_state(state);
+  EXPECT_EQ(old.steps, now.steps);
+  EXPECT_EQ(old.step_size.h, now.step_size.h);
+  EXPECT_TRUE(std::isnan(old.step_size.window_start.residual));
+  EXPECT_TRUE(std::isnan(old.step_size.window_start.supplied));
+  if (!HasFailure())
+    std::filesystem::remove_all(dir);
+}
