@@ -4,7 +4,8 @@ stages) from the tables the analysis wrote.
 Each line names how the stage (the run) ended and gives, at its last output
 row, the packing fraction, the box's pressure P and deviatoric stress q
 (Love-Weber from the contacts, which rigid bodies take part in, and from
-the walls), its volumetric and deviatoric strains eps_v and eps_q (from the
+the walls; :func:`stress_source` when the contact estimate is missing),
+its volumetric and deviatoric strains eps_v and eps_q (from the
 initial box), and Z with the particles it counts (docs/observables.md).
 """
 
@@ -24,14 +25,32 @@ def _number(table, column, row) -> float:
     return float(values[row]) if values is not None else math.nan
 
 
-def _state(series, stress, row) -> str:
+def stress_source(stress, row, rigid: bool) -> tuple[str, str]:
+    """The estimate of P and q a summary gives at a row, and what it is:
+    the contacts' (Love-Weber, rigid bodies included), else the particles'
+    own stress (the contact estimate needs the deformed boundaries of
+    output.fields; the particles' own misses rigid bodies, so not with
+    them), else the walls'."""
+    if math.isfinite(_number(stress, "contact_P", row)):
+        return "contact", "contacts"
+    if not rigid and math.isfinite(_number(stress, "fe_P", row)):
+        return "fe", ("the particles' own stress: the contact estimate"
+                      " needs output.fields")
+    return "wall", "walls: the contact estimate needs output.fields"
+
+
+def _state(series, stress, row, rigid=False) -> str:
     """Phi, P, q, strains and Z at a row."""
     parts = [f"Phi = {_number(series, 'phi', row):.4f}"]
     if stress:
-        p = {e: _number(stress, f"{e}_P", row) for e in ("contact", "wall")}
-        q = _number(stress, "contact_q", row)
-        parts.append(f"P = {p['contact'] / 1e3:.4g} kPa, q = {q / 1e3:.4g}"
-                     f" kPa (contacts; walls: P = {p['wall'] / 1e3:.4g} kPa)")
+        source, what = stress_source(stress, row, rigid)
+        p = _number(stress, f"{source}_P", row)
+        q = _number(stress, f"{source}_q", row)
+        walls = ("" if source == "wall" else
+                 f"; walls: P = {_number(stress, 'wall_P', row) / 1e3:.4g}"
+                 " kPa")
+        parts.append(f"P = {p / 1e3:.4g} kPa, q = {q / 1e3:.4g} kPa"
+                     f" ({what}{walls})")
         parts.append(f"eps_v = {_number(stress, 'eps_v', row):.4f}, eps_q ="
                      f" {_number(stress, 'eps_q', row):.4f}")
     counts = {k: _number(series, k, row)
@@ -54,13 +73,15 @@ def summary_lines(run_dir) -> list[str]:
     rows = len(series["step"])
     if not rows:
         return []
+    setup = read_setup(run_dir)
+    rigid = bool(np.any(setup.body_rigid))
     if "stages" not in done:
         return [f"stopped by {done.get('reason', '?')} after"
                 f" {done.get('steps', '?')} steps; "
-                + _state(series, stress, rows - 1)]
+                + _state(series, stress, rows - 1, rigid)]
     stage = np.asarray(read_table(run.raw.steps_csv)["stage"][:rows])
     ended = list(done.get("ended_by", ()))
-    names = read_setup(run_dir).stage_names
+    names = setup.stage_names
     lines = []
     for k in range(int(done["stages"])):
         mine = np.flatnonzero(stage == k)
@@ -73,5 +94,5 @@ def summary_lines(run_dir) -> list[str]:
         label = f"stage {k}" + (f" \"{name}\"" if name else "")
         lines.append(f"{label}: {how} at t = {series['time'][last]:.4g} s"
                      f" (step {int(series['step'][last])}); "
-                     + _state(series, stress, last))
+                     + _state(series, stress, last, rigid))
     return lines
