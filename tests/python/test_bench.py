@@ -52,13 +52,14 @@ def _series_csv(path, e_scale=1.0, residual=1e-7):
     n = len(s["eps"])
     cols = {**s, "E_over_WHLmu": [e * e_scale for e in s["E_over_WHLmu"]],
             "wall_work": list(np.linspace(0, 1, n)),
-            "external_work": [0.0] * n, "energy_residual": [residual] * n}
+            "external_work": [0.0] * n, "energy_residual": [residual] * n,
+            "step": list(range(0, 10 * n, 10))}
     (path / "raw").mkdir(parents=True)
     lines = [",".join(cols)] + [",".join(repr(float(cols[c][i])) for c in cols)
                                 for i in range(n)]
     (path / "series.csv").write_text("\n".join(lines) + "\n")
     (path / "raw" / "done.json").write_text(json.dumps(
-        {"converged": True, "steps": 10, "seconds": 1.0,
+        {"converged": True, "steps": 10 * (n - 1), "seconds": 1.0,
          "newton_iterations": 20, "nlgs_sweeps": 100, "retried_steps": 0}))
     from softpack.contract.run_directory import RunDirectory
     return RunDirectory(path)

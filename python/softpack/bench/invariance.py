@@ -117,9 +117,10 @@ def judge(reference: RunDirectory, other: RunDirectory) -> dict:
     residual = max(abs(float(r)) for r in run["energy_residual"])
     row["energy_residual_of_work"] = residual / work if work > 0 else None
     row["converged"] = bool(done["converged"])
-    for key in ("steps", "seconds", "newton_iterations", "nlgs_sweeps",
+    for key in ("seconds", "newton_iterations", "nlgs_sweeps",
                 "retried_steps"):
-        row[key] = done[key]
+        row[key] = done[key]  # this run's, not counting its start state's
+    row["steps"] = done["steps"] - int(run["step"][0])
     row["within"] = {k: row[k] is not None and row[k] <= v
                      for k, v in BUDGET.items()}
     row["within_budget"] = row["converged"] and all(row["within"].values())
