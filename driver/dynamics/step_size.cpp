@@ -90,6 +90,9 @@ bool StepSize::retry()
   if (!can_retry())
     return false;
   _h = std::max(_base, _h / 2);
+  // The window restarts; its energy start stays the last one read (the
+  // accounts at this step's start are not read again): the next window is
+  // judged over the steps since then.
   _calm_steps = 0;
   _window_iterations = 0;
   return true;
