@@ -67,13 +67,18 @@ inline void relax(const FrictionContactProblem2D& problem, double* r,
       Eigen::Vector2d(problem.q[2 * a], problem.q[2 * a + 1]) +
       W.offdiagonal_product(a, r);
   const double mu = problem.friction[a];
-  Eigen::Vector2d ra = solve_local(W.diagonal(a), qa, mu).r;
+  const double c = problem.cohesion_of(a);
+  Eigen::Vector2d ra = solve_local(W.diagonal(a), qa, mu, c).r;
   const Eigen::Vector2d old(r[2 * a], r[2 * a + 1]);
   if (omega != 1.0)
   {
     ra = omega * ra + (1.0 - omega) * old;
+    // (a cohesive contact's cone is in r + c e_n)
     if (omega > 1.0)
-      ra = project_on_cone(ra, mu);
+      ra = c == 0
+               ? project_on_cone(ra, mu)
+               : Eigen::Vector2d(project_on_cone(shifted_reaction(ra, c), mu) -
+                                 Eigen::Vector2d(c, 0));
   }
   sums.change += (ra - old).squaredNorm();
   sums.norm += ra.squaredNorm();
@@ -355,10 +360,13 @@ SweepPlan::SweepPlan(const FrictionContactProblem2D& problem,
   position.resize(n);
   this->problem.q.resize(2 * n);
   this->problem.friction.resize(n);
+  this->problem.cohesion.resize(problem.cohesion.empty() ? 0 : n);
   for (std::size_t i = 0; i < n; ++i)
   {
     position[order[i]] = static_cast<std::int32_t>(i);
     this->problem.friction[i] = problem.friction[order[i]];
+    if (!problem.cohesion.empty())
+      this->problem.cohesion[i] = problem.cohesion[order[i]];
   }
   this->problem.W = problem.W.renumbered(order);
 }
