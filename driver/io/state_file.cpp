@@ -11,7 +11,9 @@ namespace softpack::io
 {
 namespace
 {
-constexpr std::string_view magic = "softpack-state-5";
+constexpr std::string_view magic = "softpack-state-6";
+/// Layout 5 is layout 6 without the cohesion account (read: 0)
+constexpr std::string_view magic_v5 = "softpack-state-5";
 /// Layout 3 is layout 5 without the adaptive time step (read: the base step)
 constexpr std::string_view magic_v3 = "softpack-state-3";
 /// Layout 4 was written by a lever that was reverted (one more double)
@@ -122,6 +124,8 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
   put(out, static_cast<std::int64_t>(s.step_size.calm_steps));
   put(out, static_cast<std::int64_t>(s.step_size.window_iterations));
   put(out, static_cast<std::int64_t>(c.total.retried_steps));
+  // The cohesion account (layout 6).
+  put(out, s.energy.cohesion);
   return out;
 }
 
@@ -145,7 +149,7 @@ void check_layout(const std::string& bytes, const std::filesystem::path& path)
         path.string() + ": state layout softpack-state-4 (written by a "
                         "driver of 2026-11-30 whose lever was reverted) is "
                         "not read: rerun the run that wrote it");
-  if (head != magic && head != magic_v3)
+  if (head != magic && head != magic_v5 && head != magic_v3)
     throw std::runtime_error(path.string() + ": not a softpack state file");
   if (bytes.size() < magic.size() + sizeof(std::uint64_t))
     throw std::runtime_error(path.string() + ": state file is truncated");
@@ -287,13 +291,16 @@ StateFile read_state_file(const std::filesystem::path& path,
     throw std::runtime_error(path.string() + ": state file has bad sizes");
   s.u_tangent.resize(nt);
   r.get(s.u_tangent.data(), sizeof(double) * nt);
-  if (std::string_view(bytes.data(), magic.size()) == magic)
+  const std::string_view head(bytes.data(), magic.size());
+  if (head != magic_v3)
   {
     s.step_size.h = r.get<double>();
     s.step_size.calm_steps = static_cast<int>(r.get<std::int64_t>());
     s.step_size.window_iterations = static_cast<int>(r.get<std::int64_t>());
     c.total.retried_steps = r.get<std::int64_t>();
   }
+  if (head == magic)
+    s.energy.cohesion = r.get<double>();
   if (r.at + sizeof(std::uint64_t) != bytes.size())
     throw std::runtime_error(path.string() + ": state file has bad sizes");
   if (expected)
