@@ -306,3 +306,40 @@ TEST(StateFile, RefusesCorruptedFilesAndStatesOfOtherRuns)
     std::filesystem::remove_all(next);
   }
 }
+
+TEST(StateFile, KeepsTheCohesionAccountAndReadsLayout5AsNone)
+{
+  const std::filesystem::path dir = test::fresh_directory("state-cohesion");
+  dynamics::SchemeState s;
+  s.time = 0.5;
+  s.steps = 7;
+  s.u = s.v = {1.0, 2.0};
+  s.energy.friction = 0.25;
+  s.energy.cohesion = -1.5e-3;
+  const std::filesystem::path path = dir / "state.bin";
+  softpack::io::write_state(path, s);
+  const dynamics::SchemeState back = softpack::io::read_state(path);
+  EXPECT_EQ(back.energy.cohesion, -1.5e-3);
+  EXPECT_EQ(back.energy.friction, 0.25);
+
+  // Layout 5: the same bytes without the trailing cohesion, its own magic
+  // and checksum (FNV-1a 64 over the payload)
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  bytes.resize(bytes.size() - 2 * sizeof(double));
+  bytes.replace(0, 16, "softpack-state-5");
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const char c : bytes)
+    h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
+  bytes.append(reinterpret_cast<const char*>(&h), sizeof(h));
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  const dynamics::SchemeState old = softpack::io::read_state(path);
+  EXPECT_EQ(old.energy.cohesion, 0.0);
+  EXPECT_EQ(old.energy.friction, 0.25);
+  EXPECT_EQ(old.steps, 7);
+  if (!HasFailure())
+    std::filesystem::remove_all(dir);
+}
