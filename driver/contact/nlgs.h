@@ -145,9 +145,9 @@ bool renumbers(const FrictionContactProblem2D& problem,
 /// original one, in the same order: the same bits.
 ///
 /// Made from W, the friction and the cohesion; q is filled in by each
-/// solve. solve_nlgs()
-/// makes one per call unless it is given one: a caller that solves with
-/// one W and several q (the Newton iterations of a time step) makes it once.
+/// solve. solve_nlgs() makes one per call unless it is given one: a caller
+/// that solves with one W and several q (the Newton iterations of a time
+/// step) makes it once.
 struct SweepPlan
 {
   /// @param[in] problem Its W, friction and cohesion (q is not read)

@@ -185,9 +185,9 @@ def validate_friction(checker, section, items, sections) -> list:
 
     Each names a pair: ``species`` (a species name) and ``against`` (a
     species name, a wall name or ``"walls"``: every wall), and its law
-    (:func:`check_law`). A pair may be
-    named once (in either order); a wall named both by itself and through
-    ``"walls"`` for the same species is refused too.
+    (:func:`check_law`). A pair may be named once (in either order); a wall
+    named both by itself and through ``"walls"`` for the same species is
+    refused too.
 
     Parameters
     ----------
