@@ -110,7 +110,8 @@ TEST_P(CohesiveFclib, CohesionIsTheShiftedPlainProblem)
             << " sweeps, error " << s.result.error << ", shifted problem's "
             << e.value << ", " << tensile << " of " << nc << " tensile\n";
   // the two errors differ by their scales only (|r| against |r + c|, |q|
-  // against |q'|): within a factor 3 on this set (measured 2026-12-03)
+  // against |q'|): the shifted problem's error measured 0.35 to 0.89 of
+  // the tolerance on this set (2026-12-03)
   EXPECT_LE(e.value, 3 * d.tolerance);
   for (std::size_t k = 0; k < u.size(); ++k)
     EXPECT_NEAR(u[k], s.u[k], 1e-12 * (1 + q_max)) << "entry " << k;
