@@ -154,3 +154,23 @@ TEST(CohesiveNlgs, ValidateRefusesABadCohesion)
   p.cohesion = {0.5};
   EXPECT_NO_THROW(validate(p));
 }
+
+TEST(CohesiveNlgs, ADumpedCohesiveProblemReadsBackWithItsCohesion)
+{
+  // An unsolved cohesive problem of a run is written for replay
+  // (./softpack fclib FILE): its cohesion travels in vectors/cohesion,
+  // and a plain problem's file has none
+  TempDir dir;
+  FrictionContactProblem2D p =
+      read_fclib_local(hdf5_file("FrictionContactProblem00071"));
+  EXPECT_TRUE(p.cohesion.empty());
+  for (std::size_t a = 0; a < p.num_contacts(); ++a)
+    p.cohesion.push_back(0.01 * static_cast<double>(a));
+  const std::filesystem::path path = dir.path() / "cohesive.hdf5";
+  dump_problem(p, path);
+  const FrictionContactProblem2D back = read_fclib_local(path);
+  EXPECT_EQ(back.cohesion, p.cohesion);
+  EXPECT_EQ(back.q, p.q);
+  const NlgsOptions opt = options(1e-8, 1.0);
+  EXPECT_EQ(solve(back, opt).r, solve(p, opt).r);
+}
