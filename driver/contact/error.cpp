@@ -48,7 +48,8 @@ void add_contact(ErrorSums& sums, const FrictionContactProblem2D& problem,
   u[2 * a] = ua[0];
   u[2 * a + 1] = ua[1];
   const Eigen::Vector2d ra(r[2 * a], r[2 * a + 1]);
-  sums.residual += natural_map_residual_squared(ra, ua, problem.friction[a]);
+  sums.residual += natural_map_residual_squared(
+      shifted_reaction(ra, problem.cohesion_of(a)), ua, problem.friction[a]);
   sums.r += ra.squaredNorm();
   sums.u += ua.squaredNorm();
   sums.q += qa.squaredNorm();

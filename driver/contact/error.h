@@ -28,6 +28,17 @@ Eigen::Vector2d project_on_cone(const Eigen::Vector2d& x, double mu);
 double natural_map_residual_squared(const Eigen::Vector2d& r,
                                     const Eigen::Vector2d& u, double mu);
 
+/// The reaction of a cohesive contact in the variable of its cone,
+/// \f$r' = r + c e_n\f$ (r itself when c = 0)
+/// @param[in] r Reaction (n, t)
+/// @param[in] c Cohesion, an impulse
+inline Eigen::Vector2d shifted_reaction(Eigen::Vector2d r, double c)
+{
+  if (c != 0)
+    r[0] += c;
+  return r;
+}
+
 /// The error of a candidate solution (Siconos `fc2d_compute_error`).
 struct NaturalMapError
 {
@@ -73,6 +84,8 @@ ErrorSums error_sums(const FrictionContactProblem2D& problem,
 NaturalMapError natural_map_error(const ErrorSums& sums, bool q_zero);
 
 /// Full error of (r, u = W r + q), u recomputed here (one pass over W).
+/// A cohesive contact's residual is that of its shifted reaction
+/// (shifted_reaction()); its norm in the scale is that of r itself.
 /// \f[
 ///   e = \frac{\big(\sum_a \|r_a - \mathrm{proj}_{K_{\mu_a}}(r_a - \tilde
 ///   u_a)\|^2\big)^{1/2}}{\max(\|r\|, \|u\|, \|q\|)}

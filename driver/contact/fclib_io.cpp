@@ -193,6 +193,11 @@ FclibLocalFile read_open_file(hid_t file)
          std::to_string(nc) + " contacts in mu)");
   }
   problem.W = read_delassus(file, nc);
+  // softpack's own dataset, beside FCLIB's: a cohesive problem's c
+  // (problem.h); absent from FCLIB's files, where c = 0
+  if (std::optional<std::vector<double>> c =
+          optional_vector(file, local + "/vectors/cohesion", nc))
+    problem.cohesion = std::move(*c);
   try
   {
     validate(problem);
@@ -276,6 +281,8 @@ void write_problem(hid_t file, const FrictionContactProblem2D& problem,
   h5::write_doubles(file, local + "/W/x", W.x);
   h5::write_doubles(file, local + "/vectors/q", problem.q);
   h5::write_doubles(file, local + "/vectors/mu", problem.friction);
+  if (!problem.cohesion.empty())
+    h5::write_doubles(file, local + "/vectors/cohesion", problem.cohesion);
   h5::write_string(file, local + "/info/title", title);
   h5::write_string(file, local + "/info/description", description);
 }

@@ -42,7 +42,9 @@ struct FclibLocalFile
 /// Read a 2D problem stored in the FCLIB HDF5 local layout `/fclib_local`:
 /// `spacedim` (= 2), `W/{m,n,nz,nzmax,p,i,x}` a CSparse matrix (nz = -2
 /// compressed rows, nz = -1 compressed columns, nz >= 0 triplets),
-/// `vectors/q` (2 per contact, (n, t)), `vectors/mu` (one per contact).
+/// `vectors/q` (2 per contact, (n, t)), `vectors/mu` (one per contact),
+/// and softpack's own `vectors/cohesion` (one per contact) when present:
+/// a cohesive problem dumped by dump_problem().
 /// W is converted to its 2x2 block form without forming it dense.
 /// @param[in] path The HDF5 file
 /// @return The problem and the optional title, solution and guess
@@ -56,7 +58,8 @@ FclibLocalFile read_fclib_local_file(const std::filesystem::path& path);
 FrictionContactProblem2D read_fclib_local(const std::filesystem::path& path);
 
 /// Write a problem in the same `/fclib_local` layout (W as compressed rows
-/// of its stored blocks), so that a failed solve can be replayed by a test.
+/// of its stored blocks), so that a failed solve can be replayed by a test;
+/// a problem with a cohesion also gets `vectors/cohesion`.
 /// @param[in] problem The problem (finalized W)
 /// @param[in] path The HDF5 file, created or truncated
 /// @param[in] description Stored as /fclib_local/info/description

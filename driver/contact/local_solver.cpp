@@ -80,3 +80,14 @@ LocalSolution softpack::contact::solve_local(const Eigen::Matrix2d& W,
   return best;
 }
 //-----------------------------------------------------------------------------
+LocalSolution softpack::contact::solve_local(const Eigen::Matrix2d& W,
+                                             const Eigen::Vector2d& q,
+                                             double mu, double c)
+{
+  if (c == 0)
+    return solve_local(W, q, mu);
+  LocalSolution s = solve_local(W, q - c * W.col(0), mu);
+  s.r[0] -= c;
+  return s;
+}
+//-----------------------------------------------------------------------------

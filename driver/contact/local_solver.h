@@ -6,7 +6,11 @@
 namespace softpack::contact
 {
 
-/// Which branch of the 2D Signorini–Coulomb law a contact is on.
+/// Which branch of the 2D Signorini–Coulomb law a contact is on. With a
+/// cohesion c the conditions hold for the shifted reaction
+/// \f$r' = r + c e_n\f$: `separated` is then the open cohesive contact,
+/// \f$r = (-c, 0)\f$, `stick` the adhesive stick (a tensile \f$r_n\f$
+/// possible) and the slides have \f$|r_t| = \mu (r_n + c)\f$.
 enum class ContactStatus : std::uint8_t
 {
   separated,      ///< \f$r = 0\f$, \f$u_n \ge 0\f$
@@ -43,5 +47,15 @@ struct LocalSolution
 /// @return The reaction and its branch
 LocalSolution solve_local(const Eigen::Matrix2d& W, const Eigen::Vector2d& q,
                           double mu);
+
+/// Solve the 2x2 local problem of a cohesive contact exactly: the law of
+/// solve_local(W, q, mu) in the shifted reaction \f$r' = r + c e_n\f$,
+/// \f$0 \le u_n \perp r_n + c \ge 0\f$, \f$|r_t| \le \mu (r_n + c)\f$.
+/// Since \f$u = W r' + (q - c W e_n)\f$, it is solve_local() with the
+/// free velocity \f$q' = q - c W e_n\f$, its reaction shifted back.
+/// With c = 0 it is solve_local(W, q, mu) itself (the same operations).
+/// @param[in] c Cohesion, an impulse, \f$c \ge 0\f$
+LocalSolution solve_local(const Eigen::Matrix2d& W, const Eigen::Vector2d& q,
+                          double mu, double c);
 
 } // namespace softpack::contact

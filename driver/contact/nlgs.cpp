@@ -10,6 +10,7 @@
 #include <numeric>
 #include <omp.h>
 #include <optional>
+#include <ranges>
 #include <stdexcept>
 
 using namespace softpack::contact;
@@ -58,7 +59,11 @@ struct SweepSums
 };
 //-----------------------------------------------------------------------------
 /// Contact a's Gauss–Seidel update (relaxed, projected on its cone when
-/// over-relaxed), its change and norm added to `sums`
+/// over-relaxed), its change and norm added to `sums`. `Cohesive`: the
+/// problem has a cohesion vector; without one the update is the plain
+/// Signorini–Coulomb one, instruction for instruction (the sweep is the
+/// simulator's hot loop).
+template <bool Cohesive>
 inline void relax(const FrictionContactProblem2D& problem, double* r,
                   double omega, std::size_t a, SweepSums& sums)
 {
@@ -67,13 +72,22 @@ inline void relax(const FrictionContactProblem2D& problem, double* r,
       Eigen::Vector2d(problem.q[2 * a], problem.q[2 * a + 1]) +
       W.offdiagonal_product(a, r);
   const double mu = problem.friction[a];
-  Eigen::Vector2d ra = solve_local(W.diagonal(a), qa, mu).r;
+  const double c = Cohesive ? problem.cohesion[a] : 0.0;
+  Eigen::Vector2d ra = Cohesive ? solve_local(W.diagonal(a), qa, mu, c).r
+                                : solve_local(W.diagonal(a), qa, mu).r;
   const Eigen::Vector2d old(r[2 * a], r[2 * a + 1]);
   if (omega != 1.0)
   {
     ra = omega * ra + (1.0 - omega) * old;
+    // (a cohesive contact's cone is in r + c e_n)
     if (omega > 1.0)
-      ra = project_on_cone(ra, mu);
+    {
+      if constexpr (Cohesive)
+        ra = project_on_cone(shifted_reaction(ra, c), mu) -
+             Eigen::Vector2d(c, 0);
+      else
+        ra = project_on_cone(ra, mu);
+    }
   }
   sums.change += (ra - old).squaredNorm();
   sums.norm += ra.squaredNorm();
@@ -81,24 +95,38 @@ inline void relax(const FrictionContactProblem2D& problem, double* r,
   r[2 * a + 1] = ra[1];
 }
 //-----------------------------------------------------------------------------
+/// Gauss–Seidel over the contacts, in the order `contacts` gives them
+template <bool Cohesive, typename Contacts>
+SweepSums sweep_contacts(const FrictionContactProblem2D& problem, double* r,
+                         double omega, const Contacts& contacts)
+{
+  SweepSums sums;
+  for (const auto a : contacts)
+    relax<Cohesive>(problem, r, omega, static_cast<std::size_t>(a), sums);
+  return sums;
+}
+//-----------------------------------------------------------------------------
+template <typename Contacts>
+SweepSums sweep_contacts(const FrictionContactProblem2D& problem, double* r,
+                         double omega, const Contacts& contacts)
+{
+  return problem.cohesion.empty()
+             ? sweep_contacts<false>(problem, r, omega, contacts)
+             : sweep_contacts<true>(problem, r, omega, contacts);
+}
+//-----------------------------------------------------------------------------
 /// Gauss–Seidel over the contacts [begin, end), in order
 SweepSums sweep(const FrictionContactProblem2D& problem, double* r,
                 double omega, std::size_t begin, std::size_t end)
 {
-  SweepSums sums;
-  for (std::size_t a = begin; a < end; ++a)
-    relax(problem, r, omega, a, sums);
-  return sums;
+  return sweep_contacts(problem, r, omega, std::views::iota(begin, end));
 }
 //-----------------------------------------------------------------------------
 /// Gauss–Seidel over the listed contacts, in their order (a domain's stage)
 SweepSums sweep(const FrictionContactProblem2D& problem, double* r,
                 double omega, std::span<const std::int32_t> contacts)
 {
-  SweepSums sums;
-  for (const std::int32_t a : contacts)
-    relax(problem, r, omega, static_cast<std::size_t>(a), sums);
-  return sums;
+  return sweep_contacts(problem, r, omega, contacts);
 }
 //-----------------------------------------------------------------------------
 /// The sets swept in the order the options ask for (SweepOrder)
@@ -355,10 +383,13 @@ SweepPlan::SweepPlan(const FrictionContactProblem2D& problem,
   position.resize(n);
   this->problem.q.resize(2 * n);
   this->problem.friction.resize(n);
+  this->problem.cohesion.resize(problem.cohesion.empty() ? 0 : n);
   for (std::size_t i = 0; i < n; ++i)
   {
     position[order[i]] = static_cast<std::int32_t>(i);
     this->problem.friction[i] = problem.friction[order[i]];
+    if (!problem.cohesion.empty())
+      this->problem.cohesion[i] = problem.cohesion[order[i]];
   }
   this->problem.W = problem.W.renumbered(order);
 }

@@ -144,12 +144,13 @@ bool renumbers(const FrictionContactProblem2D& problem,
 /// (docs/performance.md); renumbered, every product and sum is the
 /// original one, in the same order: the same bits.
 ///
-/// Made from W and the friction; q is filled in by each solve. solve_nlgs()
-/// makes one per call unless it is given one: a caller that solves with
-/// one W and several q (the Newton iterations of a time step) makes it once.
+/// Made from W, the friction and the cohesion; q is filled in by each
+/// solve. solve_nlgs() makes one per call unless it is given one: a caller
+/// that solves with one W and several q (the Newton iterations of a time
+/// step) makes it once.
 struct SweepPlan
 {
-  /// @param[in] problem Its W and friction (q is not read)
+  /// @param[in] problem Its W, friction and cohesion (q is not read)
   /// @param[in] options Its order, split_min_contacts
   SweepPlan(const FrictionContactProblem2D& problem,
             const NlgsOptions& options);

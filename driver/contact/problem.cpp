@@ -34,6 +34,12 @@ void validate_sizes(const FrictionContactProblem2D& p)
     fail("q has " + std::to_string(p.q.size()) + " entries, expected " +
          std::to_string(2 * nc) + " (2 per contact)");
   }
+  if (!p.cohesion.empty() and p.cohesion.size() != nc)
+  {
+    fail("cohesion has " + std::to_string(p.cohesion.size()) +
+         " entries, expected " + std::to_string(nc) +
+         " (1 per contact) or none");
+  }
 }
 //-----------------------------------------------------------------------------
 void validate_values(const FrictionContactProblem2D& p)
@@ -51,6 +57,10 @@ void validate_values(const FrictionContactProblem2D& p)
            "] = " + std::to_string(p.friction[a]) + " is negative");
     }
   }
+  for (std::size_t a = 0; a < p.cohesion.size(); ++a)
+    if (!(std::isfinite(p.cohesion[a]) and p.cohesion[a] >= 0))
+      fail("cohesion[" + std::to_string(a) + "] = " +
+           std::to_string(p.cohesion[a]) + " is not a finite value >= 0");
 }
 //-----------------------------------------------------------------------------
 void validate_blocks(const DelassusMatrix& W)

@@ -18,6 +18,13 @@ namespace softpack::contact
 ///   \text{ if } u_{t,a} \ne 0,
 /// \f]
 /// for every contact \f$a\f$, each vector holding (n, t) per contact.
+///
+/// A contact with a cohesion \f$c_a > 0\f$ (an impulse: docs/contact_laws.md)
+/// obeys the same law in the shifted reaction \f$r'_a = r_a + c_a e_n\f$:
+/// \f$0 \le u_{n,a} \perp r_{n,a} + c_a \ge 0\f$,
+/// \f$|r_{t,a}| \le \mu_a (r_{n,a} + c_a)\f$, sliding as above; so its
+/// normal reaction may be tensile down to \f$-c_a\f$, which it is whenever
+/// the contact opens (\f$u_{n,a} > 0\f$).
 /// Plain data: the algorithms take it by const reference.
 struct FrictionContactProblem2D
 {
@@ -31,12 +38,24 @@ struct FrictionContactProblem2D
   /// files call it vectors/mu)
   std::vector<double> friction;
 
+  /// Cohesion \f$c_a \ge 0\f$ of each contact, an impulse (force times
+  /// the time step); empty: 0 for every contact (the plain
+  /// Signorini–Coulomb problem, solved by the very same operations)
+  std::vector<double> cohesion;
+
+  /// @return The cohesion of contact a (0 when none is given)
+  double cohesion_of(std::size_t a) const
+  {
+    return cohesion.empty() ? 0.0 : cohesion[a];
+  }
+
   /// @return Number of contacts
   std::size_t num_contacts() const { return friction.size(); }
 };
 
 /// Check that a problem is well formed: W finalized with one block row per
-/// contact, sizes of q and friction, finite values, \f$\mu \ge 0\f$ and a
+/// contact, sizes of q, friction and cohesion (empty or one per contact),
+/// finite values, \f$\mu \ge 0\f$, \f$c \ge 0\f$ and a
 /// positive normal compliance \f$(W_{aa})_{nn} > 0\f$ on every diagonal block.
 /// @param[in] problem The problem
 /// @throws std::invalid_argument naming the first violation found

@@ -2,6 +2,9 @@
 
 #include "detection.h"
 
+#include <bodies/BodySet.h>
+#include <cmath>
+
 #include <stdexcept>
 
 namespace softpack::dynamics
@@ -25,14 +28,29 @@ FrictionTable::FrictionTable(std::vector<int> body_species, int num_species,
                                   std::to_string(s) + " out of range");
 }
 
-void FrictionTable::set(int a, int b, double coefficient)
+void FrictionTable::set(int a, int b, double coefficient, Cohesion cohesion)
 {
   if (a < 0 || b < 0 || a >= _num_parties || b >= _num_parties)
     throw std::invalid_argument("FrictionTable: party out of range");
   if (!(coefficient >= 0))
     throw std::invalid_argument("FrictionTable: negative coefficient");
+  if (!(cohesion.traction >= 0 && cohesion.distance >= 0))
+    throw std::invalid_argument("FrictionTable: negative cohesion");
   _coefficient[a * _num_parties + b] = coefficient;
   _coefficient[b * _num_parties + a] = coefficient;
+  if (cohesion.traction == 0 && _cohesion.empty())
+    return; // a table without cohesion stores none
+  _cohesion.resize(_coefficient.size());
+  _cohesion[a * _num_parties + b] = cohesion;
+  _cohesion[b * _num_parties + a] = cohesion;
+}
+
+int FrictionTable::pair(const Contact& c) const
+{
+  const int a = _body_species[c.candidate_body];
+  const int b =
+      c.wall >= 0 ? wall_party(c.wall) : _body_species[c.antagonist_body];
+  return a * _num_parties + b;
 }
 
 double FrictionTable::operator()(const Contact& c,
@@ -40,11 +58,56 @@ double FrictionTable::operator()(const Contact& c,
 {
   if (_body_species.empty())
     return default_coefficient;
-  const int a = _body_species[c.candidate_body];
-  const int b =
-      c.wall >= 0 ? wall_party(c.wall) : _body_species[c.antagonist_body];
-  const double set = _coefficient[a * _num_parties + b];
+  const double set = _coefficient[pair(c)];
   return set == unset ? default_coefficient : set;
+}
+
+Cohesion FrictionTable::cohesion(const Contact& c) const
+{
+  if (_cohesion.empty())
+    return {};
+  return _cohesion[pair(c)];
+}
+
+namespace
+{
+/// Half the reference lengths of the two boundary segments at a body's
+/// boundary node (m)
+double boundary_share(const bodies::BodySet& bodies, int b, int node)
+{
+  const bodies::Body& body = bodies.body(b);
+  const std::span<const double> X = bodies.reference_coordinates();
+  double share = 0;
+  for (const std::int32_t s : {body.segment_from[node], body.segment_to[node]})
+  {
+    if (s < 0)
+      continue;
+    const auto& [p, q] = body.boundary_segments[s];
+    const std::int32_t gp = body.nodes[p], gq = body.nodes[q];
+    share +=
+        0.5 * std::hypot(X[2 * gq] - X[2 * gp], X[2 * gq + 1] - X[2 * gp + 1]);
+  }
+  return share;
+}
+} // namespace
+
+std::vector<double> cohesion_impulses(const FrictionTable& table,
+                                      const bodies::BodySet& bodies,
+                                      const std::vector<Contact>& contacts,
+                                      double h)
+{
+  std::vector<double> c(contacts.size(), 0.0);
+  for (std::size_t a = 0; a < contacts.size(); ++a)
+  {
+    const Contact& k = contacts[a];
+    const Cohesion law = table.cohesion(k);
+    if (law.traction == 0 || k.gap > law.distance)
+      continue;
+    const double sides = k.wall >= 0 ? 1.0 : 0.5;
+    c[a] = law.traction * sides *
+           boundary_share(bodies, k.candidate_body, k.candidate_node) * h;
+  }
+  return c;
 }
 
 } // namespace softpack::dynamics

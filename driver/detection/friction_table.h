@@ -3,18 +3,35 @@
 #include <string>
 #include <vector>
 
+namespace softpack::bodies
+{
+class BodySet;
+}
+
 namespace softpack::dynamics
 {
 struct Contact;
 
-/// The Coulomb friction coefficient of every pair of parties in contact:
-/// the species of the bodies, and the walls (docs/materials.md).
+/// The cohesive law of a pair of parties (docs/contact_laws.md)
+struct Cohesion
+{
+  /// Largest tensile traction (Pa: N per m of boundary per m of
+  /// thickness); 0: plain Signorini–Coulomb
+  double traction = 0;
+  /// The cohesion acts on a contact whose gap at the start of the step is
+  /// at most this (m)
+  double distance = 0;
+};
+
+/// The contact law of every pair of parties in contact: the species of the
+/// bodies, and the walls (docs/materials.md, docs/contact_laws.md): its
+/// Coulomb friction coefficient and its cohesion.
 ///
 /// Party p < num_species is species p; party num_species + w is wall w.
 /// The table is symmetric and holds the pairs set ([[friction]]); every
 /// other pair, and every contact of an empty table (no species), has the
 /// default coefficient the caller passes ([contact] friction, stored there
-/// only).
+/// only) and no cohesion.
 class FrictionTable
 {
 public:
@@ -25,8 +42,9 @@ public:
   /// @param[in] num_walls Number of walls
   FrictionTable(std::vector<int> body_species, int num_species, int num_walls);
 
-  /// Set the coefficient of a pair (both orders).
-  void set(int party_a, int party_b, double coefficient);
+  /// Set the coefficient and the cohesion of a pair (both orders).
+  void set(int party_a, int party_b, double coefficient,
+           Cohesion cohesion = {});
 
   /// The party of species s and of wall w
   int species_party(int s) const { return s; }
@@ -37,11 +55,38 @@ public:
   /// `default_coefficient`.
   double operator()(const Contact& c, double default_coefficient) const;
 
+  /// true when a pair has a cohesion (else every contact's is 0)
+  bool cohesive() const { return !_cohesion.empty(); }
+
+  /// The cohesion of a contact's pair (none when not set)
+  Cohesion cohesion(const Contact& c) const;
+
 private:
+  /// The index of a contact's pair in the tables
+  int pair(const Contact& c) const;
   std::vector<int> _body_species;
   int _num_species = 0, _num_parties = 0;
   /// Per pair of parties: the coefficient set, or < 0 (not set)
   std::vector<double> _coefficient;
+  /// Per pair of parties: the cohesion (empty while no pair has one)
+  std::vector<Cohesion> _cohesion;
 };
+
+/// The cohesion impulse of each contact of a step (docs/contact_laws.md):
+/// \f$c_a = \sigma_c \, s_a \, \ell_k \, h\f$ when the contact's gap at
+/// the start of the step is at most its pair's cohesive distance, else 0;
+/// \f$\sigma_c\f$ the pair's traction, \f$\ell_k\f$ the candidate node's
+/// share of its body's boundary (half its two boundary segments, reference
+/// lengths), \f$s_a = 1\f$ against a wall and 1/2 against a body (the
+/// nodes of both bodies are candidates on their interface).
+/// @param[in] table The pairs' laws (cohesive())
+/// @param[in] bodies The bodies (boundaries and reference coordinates)
+/// @param[in] contacts The step's contacts
+/// @param[in] h Time step
+/// @return One impulse per contact (N s per m of thickness)
+std::vector<double> cohesion_impulses(const FrictionTable& table,
+                                      const bodies::BodySet& bodies,
+                                      const std::vector<Contact>& contacts,
+                                      double h);
 
 } // namespace softpack::dynamics

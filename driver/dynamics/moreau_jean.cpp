@@ -114,6 +114,8 @@ MoreauJean::prepare_contacts(const std::vector<double>& v_old)
   for (std::size_t a = 0; a < sc.size(); ++a)
     sc.shift[2 * a] =
         (_contacts[a].gap + h * (1 - th) * U_old[2 * a]) / (h * th);
+  if (_options.friction.cohesive())
+    sc.cohesion = cohesion_impulses(_options.friction, _bodies, _contacts, h);
   sc.contact_nodes.resize(_bodies.num_bodies());
   for (std::size_t a = 0; a < sc.size(); ++a)
     for (const NodeTerm& term : sc.H.terms(a))
@@ -137,6 +139,7 @@ MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
   for (std::size_t a = 0; a < sc.size(); ++a)
     problem.friction[a] =
         _options.friction(_contacts[a], _options.contact.friction);
+  problem.cohesion = sc.cohesion;
   problem.q.resize(2 * sc.size());
   if (needs_refactorization())
   {
@@ -408,12 +411,14 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
                        stiffness_numerical);
   account_servo_walls(sc.servo, _walls, sc.H, _energy, h, th);
   const std::vector<double> U_mid = sc.H.relative_velocity(_bodies, v_mid);
-  add_contact_terms(_energy, sc.H, _contacts, _walls, _R, U_mid);
+  add_contact_terms(_energy, sc.H, _contacts, _walls, _R, U_mid, sc.cohesion);
   for (std::size_t a = 0; a < sc.size(); ++a)
   {
     const double gap = _contacts[a].gap + h * U_mid[2 * a];
     report.max_penetration = std::max(report.max_penetration, -gap);
-    if (_R[2 * a] > 0)
+    // (closed: the reaction in its cone's variable, r + c, is positive)
+    const double c = sc.cohesion.empty() ? 0.0 : sc.cohesion[a];
+    if (_R[2 * a] + c > 0)
       ++report.active_contacts;
   }
   _history.record(_contacts, _R);

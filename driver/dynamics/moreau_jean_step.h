@@ -22,6 +22,9 @@ struct MoreauJean::StepContacts
   ContactOperator H;
   /// Gap part of the solver's normal velocity: g~/(h th) - U_n+
   std::vector<double> shift;
+  /// Cohesion impulse of each contact (cohesion_impulses in
+  /// detection/friction_table.h); empty when no pair is cohesive
+  std::vector<double> cohesion;
   /// Local nodes of each body that carry a contact term (unique)
   std::vector<std::vector<std::int32_t>> contact_nodes;
   /// The servo walls: their free velocity in H, their coupling in W

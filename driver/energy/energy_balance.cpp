@@ -45,12 +45,20 @@ void add_body_terms(EnergyBalance& energy, double h, double theta,
 void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
                        const std::vector<Contact>& contacts,
                        const std::vector<Wall>& walls,
-                       std::span<const double> R, std::span<const double> U_mid)
+                       std::span<const double> R, std::span<const double> U_mid,
+                       std::span<const double> cohesion)
 {
   for (std::size_t a = 0; a < contacts.size(); ++a)
   {
     energy.friction -= R[2 * a + 1] * U_mid[2 * a + 1];
-    energy.contact_normal -= R[2 * a] * U_mid[2 * a];
+    const double c = cohesion.empty() ? 0.0 : cohesion[a];
+    if (c == 0)
+      energy.contact_normal -= R[2 * a] * U_mid[2 * a];
+    else
+    {
+      energy.contact_normal -= (R[2 * a] + c) * U_mid[2 * a];
+      energy.cohesion += c * U_mid[2 * a];
+    }
     if (contacts[a].wall >= 0 && !walls[contacts[a].wall].servo())
       energy.wall_work += R[2 * a] * H.wall_velocity(a)[0] +
                           R[2 * a + 1] * H.wall_velocity(a)[1];

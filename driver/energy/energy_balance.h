@@ -15,7 +15,8 @@ using BodyVectors = std::vector<Eigen::VectorXd>;
 /// Energy bookkeeping since the start (J per unit length along z).
 ///
 /// Balance: wall_work + external_work = kinetic + strain (their changes)
-/// + damping + contact_dissipation + numerical; residual() is what is left.
+/// + damping + contact_dissipation + cohesion + numerical; residual() is
+/// what is left.
 struct EnergyBalance
 {
   double wall_work = 0;
@@ -25,8 +26,13 @@ struct EnergyBalance
   double damping = 0;
   /// Friction (tangential) part of the contact dissipation
   double friction = 0;
-  /// Normal part (nonzero only through gap corrections)
+  /// Normal part of the compressive (shifted) reactions: -(R_n + c) U_n
+  /// (nonzero only through gap corrections)
   double contact_normal = 0;
+  /// Work done against the cohesive reactions, c U_n (docs/contact_laws.md):
+  /// stored while a bond holds (given back when it closes again), kept
+  /// when it breaks
+  double cohesion = 0;
   /// Dissipation of the theta scheme, (theta - 1/2) (|v+ - v-|_M^2 +
   /// dq . (F_int(q+) - F_int(q-))), dq = q+ - q-
   double numerical = 0;
@@ -36,7 +42,7 @@ struct EnergyBalance
   {
     return wall_work + external_work -
            (kinetic - kinetic0 + strain - strain0 + damping + friction +
-            contact_normal + numerical);
+            contact_normal + cohesion + numerical);
   }
 };
 
@@ -94,20 +100,24 @@ void add_body_terms(EnergyBalance& energy, double h, double theta,
                     const BodyStep& step, std::span<const int> bodies);
 
 /// Add the contact terms of one step: the friction and normal dissipation
-/// -R . U_th and the work of the velocity-controlled walls R . U_wall
-/// (impulses on the candidates, U_th the relative velocity at th v+ + (1 -
-/// th) v-). A servo wall's work is that of its imposed force
-/// (account_servo_walls in servo_walls.h), not counted here.
+/// -R . U_th (the normal one split into contact_normal and cohesion) and the
+/// work of the velocity-controlled walls R . U_wall (impulses on the
+/// candidates, U_th the relative velocity at th v+ + (1 - th) v-). A servo
+/// wall's work is that of its imposed force (account_servo_walls in
+/// servo_walls.h), not counted here.
 /// @param[in,out] energy The accounts
 /// @param[in] H The step's contact operator
 /// @param[in] contacts The step's contacts
 /// @param[in] walls The walls
 /// @param[in] R Impulses, 2 per contact (n, t)
 /// @param[in] U_mid Relative velocities at v_th, 2 per contact (n, t)
+/// @param[in] cohesion Cohesion impulse of each contact (empty: none): its
+///   part of -R_n U_n, c U_n, is the `cohesion` account, the rest
+///   -(R_n + c) U_n `contact_normal`
 void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
                        const std::vector<Contact>& contacts,
                        const std::vector<Wall>& walls,
-                       std::span<const double> R,
-                       std::span<const double> U_mid);
+                       std::span<const double> R, std::span<const double> U_mid,
+                       std::span<const double> cohesion = {});
 
 } // namespace softpack::dynamics

@@ -86,6 +86,27 @@ BodyMaterials read_body_materials(const json& doc, const DriverConfig& c)
   return out;
 }
 
+namespace
+{
+/// A pair's cohesion: its law's rule (scene/species.py check_law) checked
+/// once more here, where driver.json is read
+dynamics::Cohesion pair_cohesion(const DriverConfig& c, const std::string& key,
+                                 const parameters::FrictionPair& e)
+{
+  if (e.law == "coulomb")
+  {
+    if (e.cohesion != 0 || e.cohesive_distance != 0)
+      fail(c, key,
+           "law \"coulomb\" with a cohesion or cohesive_distance (only "
+           "law \"cohesive\" has them)");
+    return {};
+  }
+  if (!(e.cohesion > 0))
+    fail(c, key + ".cohesion", "must be > 0 for law \"cohesive\"");
+  return {e.cohesion, e.cohesive_distance};
+}
+} // namespace
+
 dynamics::FrictionTable read_friction_table(const json& doc,
                                             const DriverConfig& c)
 {
@@ -116,9 +137,10 @@ dynamics::FrictionTable read_friction_table(const json& doc,
   {
     const std::string key = "friction[" + std::to_string(i) + "]";
     const parameters::FrictionPair& e = pairs[i];
+    const dynamics::Cohesion cohesion = pair_cohesion(c, key, e);
     for (int a : parties(e.species, key + ".species", false))
       for (int b : parties(e.against, key + ".against", true))
-        table.set(a, b, e.coefficient);
+        table.set(a, b, e.coefficient, cohesion);
   }
   return table;
 }

@@ -28,7 +28,8 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
     _steps << ',' << w.name << "_x," << w.name << "_y," << w.name << "_fx,"
            << w.name << "_fy";
   _steps << ",phi,strain_energy,kinetic_energy,wall_work,external_work,"
-            "damping,friction,contact_normal,numerical,energy_residual,"
+            "damping,friction,contact_normal,cohesion,numerical,energy_"
+            "residual,"
             "seconds,seconds_detection,seconds_assembly,seconds_factorization,"
             "seconds_delassus,seconds_nlgs,seconds_solves,refactorized,"
             "newton_unconverged_steps,nlgs_unconverged_steps,retried_steps,"
@@ -62,13 +63,13 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
     _steps << *phi;
   _steps << ',' << e.strain << ',' << e.kinetic << ',' << e.wall_work << ','
          << e.external_work << ',' << e.damping << ',' << e.friction << ','
-         << e.contact_normal << ',' << e.numerical << ',' << e.residual() << ','
-         << seconds << ',' << spent.detection << ',' << spent.assembly << ','
-         << spent.factorization << ',' << spent.delassus << ',' << spent.nlgs
-         << ',' << spent.solves << ',' << (r.refactorized ? 1 : 0) << ','
-         << interval.newton_unconverged_steps << ','
-         << interval.nlgs_unconverged_steps << ',' << interval.retried_steps
-         << ',' << overlap_depth;
+         << e.contact_normal << ',' << e.cohesion << ',' << e.numerical << ','
+         << e.residual() << ',' << seconds << ',' << spent.detection << ','
+         << spent.assembly << ',' << spent.factorization << ','
+         << spent.delassus << ',' << spent.nlgs << ',' << spent.solves << ','
+         << (r.refactorized ? 1 : 0) << ',' << interval.newton_unconverged_steps
+         << ',' << interval.nlgs_unconverged_steps << ','
+         << interval.retried_steps << ',' << overlap_depth;
   // Each body's integral of its Cauchy stress (stress_average.h), summed
   // over the bodies: the finite elements' estimate of the mean stress times
   // the box area, for analysis/stress.py.

@@ -13,7 +13,8 @@ namespace
 {
 constexpr std::string_view magic = "softpack-state-6";
 /// Layout 5 is layout 6 without the accounts at the adaptive step's window
-/// start (read: that window is judged by its iterations alone)
+/// start (read: that window is judged by its iterations alone) and without
+/// the cohesion account (read: 0)
 constexpr std::string_view magic_v5 = "softpack-state-5";
 /// Layout 3 is layout 5 without the adaptive time step (read: the base step)
 constexpr std::string_view magic_v3 = "softpack-state-3";
@@ -125,8 +126,10 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
   put(out, static_cast<std::int64_t>(s.step_size.calm_steps));
   put(out, static_cast<std::int64_t>(s.step_size.window_iterations));
   put(out, static_cast<std::int64_t>(c.total.retried_steps));
+  // The adaptive step's window start and the cohesion account (layout 6).
   put(out, s.step_size.window_start.residual);
   put(out, s.step_size.window_start.supplied);
+  put(out, s.energy.cohesion);
   return out;
 }
 
@@ -293,7 +296,7 @@ StateFile read_state_file(const std::filesystem::path& path,
   s.u_tangent.resize(nt);
   r.get(s.u_tangent.data(), sizeof(double) * nt);
   const std::string_view head(bytes.data(), magic.size());
-  if (head == magic || head == magic_v5)
+  if (head != magic_v3)
   {
     s.step_size.h = r.get<double>();
     s.step_size.calm_steps = static_cast<int>(r.get<std::int64_t>());
@@ -304,6 +307,7 @@ StateFile read_state_file(const std::filesystem::path& path,
   {
     s.step_size.window_start.residual = r.get<double>();
     s.step_size.window_start.supplied = r.get<double>();
+    s.energy.cohesion = r.get<double>();
   }
   if (r.at + sizeof(std::uint64_t) != bytes.size())
     throw std::runtime_error(path.string() + ": state file has bad sizes");

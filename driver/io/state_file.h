@@ -53,9 +53,10 @@ struct StateFile
 /// the DOFs, as int64, then that displacement), the adaptive time step
 /// (the current step, a double; the window's calm steps and Newton
 /// iterations and the retried steps, int64; the energy residual and the
-/// energy supplied at the window's start, 2 doubles), and last the FNV-1a
-/// 64 hash of every byte before it. Layout 5 (without the window's start)
-/// and layout 3 (without the adaptive step) are still read.
+/// energy supplied at the window's start, 2 doubles), the cohesion account
+/// (a double), and last the FNV-1a 64 hash of every byte before it. Layout
+/// 5 (without the window's start and the cohesion) and layout 3 (without
+/// the adaptive step) are still read.
 void write_state(const std::filesystem::path& path,
                  const dynamics::SchemeState& state,
                  const StateIdentity& identity = {},

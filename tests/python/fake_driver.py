@@ -54,7 +54,7 @@ if mode == "slow":  # a long run (0.2 s a step): its pid for kill tests
     open(out / "driver.pid", "w").write(str(os.getpid()))
 print("fake driver: %d bodies" % len(areas), flush=True)
 energies = "strain_energy,kinetic_energy,wall_work,external_work,damping,"\
-    "friction,contact_normal,numerical,energy_residual"
+    "friction,contact_normal,cohesion,numerical,energy_residual"
 head = "step,time,newton_iterations,nlgs_iterations,nlgs_error,"\
     "nlgs_converged,contacts,active_contacts,max_penetration," + "".join(
         "%s_x,%s_y,%s_fx,%s_fy," % ((w["name"],) * 4) for w in walls) \
@@ -77,7 +77,7 @@ while True:
         # like the real driver: no force averaged yet on a state's row
         fx = 0 if step == resumed_at else 10
         steps.write("%d,%r,2,5,1e-7,true,%d,%d,0,0,0,-10,0,%r,0,%d,0,"
-                    "0,0,0,1,0,%r,0,-1,%r,%r,0,%r,0,0,0,0,0,0,0.1\n"
+                    "0,0,0,1,0,%r,0,-1,%r,%r,0,%r,0,0,0,0,0,0,0,0.1\n"
                     % (step, t, 4 * len(areas), 4 * len(areas), x, fx,
                        width, phi, e, 2 * e))
         steps.flush()

@@ -290,7 +290,7 @@ def test_validate_leaves_its_input_alone():
     assert data == {"walls": {"right": {"velocity": [-0.1, 0.0]}}}
 
 
-@pytest.mark.parametrize("name", ["paper", "small", "paper_9us"])
+@pytest.mark.parametrize("name", ["paper", "small", "paper_9us", "adhesive_small"])
 def test_toml_round_trip(tmp_path, name):
     c = load_config(EXAMPLES / f"{name}.toml")
     again = load_config(write(tmp_path, to_toml(c), "resolved.toml"))

@@ -184,7 +184,7 @@ def write_fake_run(run_dir, n_steps=3):
         step = 10 * k
         x = LENGTH - 1e-3 * k
         phi = "" if k == 0 else repr(5 * ref / (x * WIDTH))
-        energies = [1e-3 * k, 0, 2e-3 * k, 0, 5e-4 * k, 4e-4 * k, 0, 0,
+        energies = [1e-3 * k, 0, 2e-3 * k, 0, 5e-4 * k, 4e-4 * k, 0, 0, 0,
                     1e-4 * k]
         steps.append(
             f"{step},{1e-4 * step},2,7,1e-7,true,12,11,1e-6,"
@@ -200,6 +200,19 @@ def write_fake_run(run_dir, n_steps=3):
         RunDirectory(run_dir).raw.contact_file(step).write_text("".join(lines))
     (run_dir / "raw" / "steps.csv").write_text("".join(steps))
     (run_dir / "raw" / "particles.csv").write_text("".join(parts))
+
+
+def test_a_run_without_the_cohesion_column_reads_it_as_zero(tmp_path):
+    # raw/steps.csv of a driver older than the cohesive law
+    write_fake_run(tmp_path)
+    path = tmp_path / "raw" / "steps.csv"
+    rows = [line.split(",") for line in path.read_text().splitlines()]
+    drop = rows[0].index("cohesion")
+    path.write_text("".join(",".join(r[:drop] + r[drop + 1:]) + "\n"
+                            for r in rows))
+    s = read_table(obs.process_run(tmp_path)[0])
+    assert s["cohesion"].tolist() == [0.0] * 3
+    assert np.allclose(s["energy_residual_relative"][1:], 0.05)
 
 
 def test_process_run(tmp_path):

@@ -69,9 +69,11 @@ def test_named_materials_species_and_pairs(tmp_path):
     assert stiff["parameters"] == {"shear_modulus": 1.5e6,
                                    "lame_lambda": 3.0e6}
     assert [s["material"] for s in config["species"]] == ["", "stiff"]
+    coulomb = {"law": "coulomb", "cohesion": 0.0, "cohesive_distance": 0.0}
     assert config["friction"] == [
-        {"species": "soft", "against": "hard", "coefficient": 0.5},
-        {"species": "hard", "against": "walls", "coefficient": 0.1}]
+        {"species": "soft", "against": "hard", "coefficient": 0.5, **coulomb},
+        {"species": "hard", "against": "walls", "coefficient": 0.1,
+         **coulomb}]
     # The resolved copy reloads to the same configuration.
     assert validate(tomllib.loads(to_toml(config))) == config
 
@@ -119,12 +121,37 @@ def test_driver_json_carries_materials_and_pairs(tmp_path):
      "[friction.1] coefficient = -0.1: must be >= 0"),
     (("coefficient = 0.1", "coefficent = 0.1"),
      "unknown key [friction.1] coefficent (allowed: species, against,"
-     " coefficient)"),
+     " coefficient, law, cohesion, cohesive_distance)"),
+    (("coefficient = 0.1", 'coefficient = 0.1\nlaw = "glue"'),
+     '[friction.1] law = "glue": must be one of'),
+    (("coefficient = 0.1", "coefficient = 0.1\ncohesion = 100.0"),
+     "[friction.1] cohesion = 100.0: only law = \"cohesive\" has a"
+     " cohesion"),
+    (("coefficient = 0.1", 'coefficient = 0.1\nlaw = "cohesive"'),
+     "[friction.1] cohesion = 0.0: law = \"cohesive\" needs a cohesion > 0"),
+    (("coefficient = 0.1", 'coefficient = 0.1\nlaw = "cohesive"\n'
+      "cohesion = 100.0\ncohesive_distance = 1.0"),
+     "[friction.1] cohesive_distance = 1.0: must be <= [contact]"
+     " alert_distance"),
+    (("coefficient = 0.1", 'coefficient = 0.1\nlaw = "cohesive"\n'
+      "cohesion = -1.0"),
+     "[friction.1] cohesion = -1.0: must be >= 0"),
 ])
 def test_bad_input_is_refused_in_one_line(tmp_path, change, expected):
     old, new = change
     assert old in MIXTURE
     assert expected in error_of(tmp_path, MIXTURE.replace(old, new, 1))
+
+
+def test_a_cohesive_pair_reaches_driver_json(tmp_path):
+    text = MIXTURE.replace("coefficient = 0.1", 'coefficient = 0.1\nlaw ='
+                           ' "cohesive"\ncohesion = 2.0e3\n'
+                           "cohesive_distance = 5.0e-5", 1)
+    config = load(tmp_path, text)
+    assert config["friction"][1] == {
+        "species": "hard", "against": "walls", "coefficient": 0.1,
+        "law": "cohesive", "cohesion": 2.0e3, "cohesive_distance": 5.0e-5}
+    assert validate(tomllib.loads(to_toml(config))) == config
 
 
 def test_a_wall_given_twice_for_a_species_is_refused(tmp_path):

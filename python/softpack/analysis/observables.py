@@ -89,7 +89,7 @@ from softpack.contract.tables import read_table, write_table
 
 ENERGY_COLUMNS = ("strain_energy", "kinetic_energy", "wall_work",
                   "external_work", "damping", "friction", "contact_normal",
-                  "numerical", "energy_residual")
+                  "cohesion", "numerical", "energy_residual")
 #: Copied from ``raw/steps.csv`` when the driver wrote them (NaN otherwise):
 #: steps since the previous row whose Newton iterations or contact solves
 #: did not converge, and the overlap depth measured from the deformed
@@ -182,7 +182,9 @@ def series_from_steps(steps: dict, setup: RunSetup) -> dict:
     if "phi" in steps:
         series["phi"] = np.array(steps["phi"], dtype=float)
     for name in ENERGY_COLUMNS:
-        series[name] = h * steps[name]
+        # (a run written before the cohesion account had none: 0)
+        series[name] = h * (steps[name] if name in steps
+                            else np.zeros(len(steps["step"])))
     supplied = np.abs(steps["wall_work"]) + np.abs(steps["external_work"])
     series["energy_residual_relative"] = np.divide(
         steps["energy_residual"], supplied,

@@ -147,13 +147,47 @@ def check_materials(sections) -> None:
                 f" {allowed}; empty: [material])")
 
 
+def check_law(entry, title, contact) -> None:
+    """Refuse a [[friction]] table whose law and cohesion keys disagree.
+
+    A ``cohesive`` pair needs ``cohesion > 0`` and ``cohesive_distance`` at
+    most ``[contact] alert_distance`` (farther pairs are no contact
+    candidates, so a longer reach would not act); a ``coulomb`` pair has
+    neither (docs/contact_laws.md).
+
+    Raises
+    ------
+    SpeciesError
+        Naming the table, the key and what is allowed.
+    """
+    if entry["law"] == "coulomb":
+        for key in ("cohesion", "cohesive_distance"):
+            if entry[key] != 0:
+                raise SpeciesError(
+                    f"[{title}] {key} = {entry[key]!r}: only law ="
+                    f" \"cohesive\" has a {key} (this pair's law is"
+                    " \"coulomb\"; allowed: 0, or law = \"cohesive\")")
+        return
+    if not entry["cohesion"] > 0:
+        raise SpeciesError(
+            f"[{title}] cohesion = {entry['cohesion']!r}: law = \"cohesive\""
+            " needs a cohesion > 0 (Pa; law = \"coulomb\" for none)")
+    if entry["cohesive_distance"] > contact["alert_distance"]:
+        raise SpeciesError(
+            f"[{title}] cohesive_distance = {entry['cohesive_distance']!r}:"
+            " must be <= [contact] alert_distance ="
+            f" {contact['alert_distance']!r} (farther pairs are not contact"
+            " candidates)")
+
+
 def validate_friction(checker, section, items, sections) -> list:
     """Check the [[friction]] tables; return them complete.
 
     Each names a pair: ``species`` (a species name) and ``against`` (a
-    species name, a wall name or ``"walls"``: every wall). A pair may be
-    named once (in either order); a wall named both by itself and through
-    ``"walls"`` for the same species is refused too.
+    species name, a wall name or ``"walls"``: every wall), and its law
+    (:func:`check_law`). A pair may be named once (in either order); a wall
+    named both by itself and through ``"walls"`` for the same species is
+    refused too.
 
     Parameters
     ----------
@@ -190,6 +224,7 @@ def validate_friction(checker, section, items, sections) -> list:
             if key not in item:
                 raise SpeciesError(f"[{title}] {key} missing")
         entry = checker.table(section, item, title, [section.name, i])
+        check_law(entry, title, sections["contact"])
         if entry["species"] not in species:
             raise SpeciesError(
                 f"[{title}] species = {entry['species']!r}: not a species"

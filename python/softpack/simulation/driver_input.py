@@ -10,7 +10,8 @@ the schema, not from a list of keys here: a parameter added to
 - ``material``: law, density, rigid and the law's ``parameters`` (the
   default material); ``materials``: the named ones, a list of the same
   tables each with its ``name`` (a species' ``material`` names one);
-- ``friction``: the [[friction]] tables (species, against, coefficient);
+- ``friction``: the [[friction]] tables (species, against, coefficient,
+  law, cohesion, cohesive_distance);
 - ``walls``: a list, box walls first (left, right, bottom, top), then the
   others in the TOML file's order;
 - every other driver-stage section as a table of its keys.

@@ -14,6 +14,14 @@ using nlohmann::json;
 
 namespace
 {
+/// A Signorini–Coulomb [[friction]] pair as driver.json has it
+json pair(const char* species, const char* against, double coefficient)
+{
+  return {
+      {"species", species}, {"against", against}, {"coefficient", coefficient},
+      {"law", "coulomb"},   {"cohesion", 0.0},    {"cohesive_distance", 0.0}};
+}
+
 /// Body 0 of species "soft" (the default material), bodies 1 and 2 of
 /// species "hard" (materials[0], "stiff"); three friction pairs; walls
 /// left, right, bottom, top (indices 0-3); [contact] friction 0.3.
@@ -36,10 +44,9 @@ json two_species()
         {"density", 3000.0},
         {"rigid", false},
         {"parameters", {{"shear_modulus", 1e6}, {"lame_lambda", 2e6}}}}});
-  doc["friction"] = json::array(
-      {{{"species", "soft"}, {"against", "hard"}, {"coefficient", 0.1}},
-       {{"species", "hard"}, {"against", "right"}, {"coefficient", 0.7}},
-       {{"species", "soft"}, {"against", "walls"}, {"coefficient", 0.5}}});
+  doc["friction"] =
+      json::array({pair("soft", "hard", 0.1), pair("hard", "right", 0.7),
+                   pair("soft", "walls", 0.5)});
   return doc;
 }
 
@@ -119,6 +126,32 @@ TEST(MaterialConfig, EveryPairTakesItsCoefficientOrTheDefault)
   // A table with no pair set (0.5: the default is the caller's)
   EXPECT_EQ(d(between_bodies(0, 1), 0.5), 0.5);
   EXPECT_EQ(d(against_wall(0, 2), 0.5), 0.5);
+  EXPECT_FALSE(f.cohesive());
+}
+
+TEST(MaterialConfig, ACohesivePairCarriesItsCohesion)
+{
+  json doc = two_species();
+  doc["friction"][1]["law"] = "cohesive";
+  doc["friction"][1]["cohesion"] = 2e3;
+  doc["friction"][1]["cohesive_distance"] = 5e-5;
+  const dynamics::FrictionTable f = read(doc).friction;
+  ASSERT_TRUE(f.cohesive());
+  EXPECT_EQ(f(against_wall(1, 1), 0.3), 0.7);
+  EXPECT_EQ(f.cohesion(against_wall(1, 1)).traction, 2e3);
+  EXPECT_EQ(f.cohesion(against_wall(1, 1)).distance, 5e-5);
+  // the other pairs have none
+  EXPECT_EQ(f.cohesion(against_wall(1, 0)).traction, 0.0);
+  EXPECT_EQ(f.cohesion(between_bodies(0, 1)).traction, 0.0);
+
+  doc["friction"][1]["cohesion"] = 0.0;
+  refused(doc, "friction[1].cohesion");
+  doc["friction"][1]["law"] = "coulomb";
+  doc["friction"][1]["cohesion"] = 1.0;
+  refused(doc, "friction[1]");
+  doc["friction"][1]["law"] = "glue";
+  const std::string law = refused(doc, "friction[1].law");
+  EXPECT_NE(law.find("cohesive"), std::string::npos) << law;
 }
 
 TEST(MaterialConfig, UnknownNamesAreRefusedNamingTheKey)

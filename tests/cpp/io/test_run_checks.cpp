@@ -307,35 +307,45 @@ TEST(StateFile, RefusesCorruptedFilesAndStatesOfOtherRuns)
   }
 }
 
-TEST(StateFile, ReadsLayoutFiveWithoutTheAdaptiveWindowsStart)
+TEST(StateFile, KeepsTheWindowStartAndCohesionAndReadsLayout5WithoutThem)
 {
-  const std::filesystem::path dir = test::fresh_directory("state-layout5");
-  json doc = test::driver_json(dir, two_disks(dir, 0.03), 2, 0.06, 0.04, 0.01);
-  doc["stop"]["steps"] = 2;
-  doc["output"]["fields"] = false;
-  run(doc, dir);
-  const std::filesystem::path state = dir / "raw" / "state.bin";
-  const dynamics::SchemeState now = softpack::io::read_state(state);
-  EXPECT_EQ(now.step_size.window_start.residual, 0.0);
-  EXPECT_EQ(now.step_size.window_start.supplied, 0.0);
+  const std::filesystem::path dir = test::fresh_directory("state-layout6");
+  dynamics::SchemeState s;
+  s.time = 0.5;
+  s.steps = 7;
+  s.u = s.v = {1.0, 2.0};
+  s.energy.friction = 0.25;
+  s.energy.cohesion = -1.5e-3;
+  s.step_size.h = 2e-4;
+  s.step_size.window_start = {1e-7, 0.75};
+  const std::filesystem::path path = dir / "state.bin";
+  softpack::io::write_state(path, s);
+  const dynamics::SchemeState back = softpack::io::read_state(path);
+  EXPECT_EQ(back.energy.cohesion, -1.5e-3);
+  EXPECT_EQ(back.energy.friction, 0.25);
+  EXPECT_EQ(back.step_size.window_start.residual, 1e-7);
+  EXPECT_EQ(back.step_size.window_start.supplied, 0.75);
 
-  // The same file as layout 5 wrote it: without the window's start (the
-  // two doubles before the checksum), its FNV-1a 64 hash recomputed.
+  // Layout 5: the same bytes without the trailing window start and
+  // cohesion (three doubles), its own magic and checksum (FNV-1a 64 over
+  // the payload)
   std::string bytes;
   {
-    std::ifstream in(state, std::ios::binary);
+    std::ifstream in(path, std::ios::binary);
     bytes.assign(std::istreambuf_iterator<char>(in), {});
   }
-  bytes.erase(bytes.size() - 8 - 16);
+  bytes.resize(bytes.size() - 4 * sizeof(double));
   bytes.replace(0, 16, "softpack-state-5");
-  std::uint64_t hash = 0xcbf29ce484222325ULL;
-  for (unsigned char c : bytes)
-    hash = (hash ^ c) * 0x100000001b3ULL;
-  bytes.append(reinterpret_cast<const char*>(&hash), sizeof(hash));
-  std::ofstream(state, std::ios::binary | std::ios::trunc) << bytes;
-  const dynamics::SchemeState old = softpack::io::read_state(state);
-  EXPECT_EQ(old.steps, now.steps);
-  EXPECT_EQ(old.step_size.h, now.step_size.h);
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const char c : bytes)
+    h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
+  bytes.append(reinterpret_cast<const char*>(&h), sizeof(h));
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  const dynamics::SchemeState old = softpack::io::read_state(path);
+  EXPECT_EQ(old.energy.cohesion, 0.0);
+  EXPECT_EQ(old.energy.friction, 0.25);
+  EXPECT_EQ(old.steps, 7);
+  EXPECT_EQ(old.step_size.h, 2e-4);
   EXPECT_TRUE(std::isnan(old.step_size.window_start.residual));
   EXPECT_TRUE(std::isnan(old.step_size.window_start.supplied));
   if (!HasFailure())
