@@ -124,3 +124,81 @@ def test_a_state_that_is_not_one_is_refused(tmp_path, capsys):
             plots.main([str(run), "--at", bad])
         assert caught.value.code == 2
         assert "--at" in capsys.readouterr().err
+
+
+def _capture_figures(monkeypatch, module):
+    """Keep the figures ``module`` writes (they are still written)."""
+    from softpack.plots import write_figure
+
+    kept = []
+
+    def keep(fig, path, tight=True):
+        fig.canvas.draw()
+        kept.append(fig)
+        return write_figure(fig, path, tight)
+
+    monkeypatch.setattr(module, "write_figure", keep)
+    return kept
+
+
+def _below(legend, axes):
+    """Whether the legend lies wholly under every one of the axes."""
+    renderer = legend.figure.canvas.get_renderer()
+    top = legend.get_window_extent(renderer).y1
+    return all(top <= ax.get_window_extent(renderer).y0 + 1e-6 for ax in axes)
+
+
+def test_plates_figure_is_two_columns_with_the_legend_under_the_panels(
+        tmp_path, monkeypatch):
+    import json
+
+    from softpack.plots import shapes, style
+
+    dirs = []
+    for shape in ("square", "pentagon"):
+        for h in (2e-3, 1e-3):
+            d = tmp_path / f"{shape}-{h:g}"
+            d.mkdir()
+            (d / "plates.json").write_text(json.dumps({
+                "params": {"shape": shape, "element_size": h},
+                "mesh": {"triangles": int(4e-4 / h ** 2)},
+                "height_H0_m": 0.02}))
+            eps = np.linspace(0.0, 0.2, 41)
+            write_table(d / "force_dolfinx.csv", {"eps": eps, "f_norm": 3 * eps})
+            write_table(d / "force_softpack.csv",
+                        {"eps": eps, "f_norm": 3 * eps * (1 + h)})
+            dirs.append(d)
+    kept = _capture_figures(monkeypatch, shapes)
+    with style.context():
+        shapes.plates_figures(dirs, tmp_path)
+    assert (tmp_path / "plates_force.png").read_bytes().startswith(PNG)
+    assert (tmp_path / "plates_force.pdf").is_file()
+    fig, = kept
+    assert fig.get_figwidth() == pytest.approx(style.DOUBLE_COLUMN)
+    legend, = fig.legends
+    assert len(legend.get_texts()) == 4  # softpack and dolfinx per mesh
+    assert _below(legend, fig.axes)
+
+
+def test_single_disk_figures_in_one_column_with_the_legend_under_the_axes(
+        tmp_path, monkeypatch):
+    from softpack.plots import single_disk, style
+
+    eps = np.linspace(0.0, 0.25, 26)
+    write_table(tmp_path / "force_2d.csv", {"eps": eps, "f_norm": eps})
+    write_table(tmp_path / "force_3d_nu0495.csv", {"eps": eps, "f_norm": 1.05 * eps})
+    w = np.tile(np.linspace(-1, 1, 21), 4)
+    strains = np.repeat(single_disk.PROFILE_STRAINS, 21)
+    write_table(tmp_path / "profile_2d.csv",
+                {"eps": strains, "w": w, "ux_over_D": 0.15 * strains * w})
+    kept = _capture_figures(monkeypatch, single_disk)
+    assert single_disk.main([str(tmp_path)]) == 0
+    for name in ("fig2_force", "fig3_profile"):
+        assert (tmp_path / f"{name}.png").read_bytes().startswith(PNG)
+        assert (tmp_path / f"{name}.pdf").is_file()
+    assert len(kept) == 2
+    for fig in kept:
+        assert fig.get_figwidth() == pytest.approx(style.SINGLE_COLUMN)
+        ax, = fig.axes
+        assert "$" in ax.get_xlabel() and "$" in ax.get_ylabel()
+        assert _below(ax.get_legend(), [ax])
