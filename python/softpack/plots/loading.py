@@ -32,6 +32,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -99,9 +100,11 @@ def plot_pressure(phi, stress, fit, estimate, rest, path, note="") -> str:
     """P(Phi) of each estimate (rows at rest filled), the law on one;
     ``note``: a title (else the refusal's reason when there is one)."""
     fig, ax = _figure()
+    top = 0.0
     for i, name in enumerate(ESTIMATES):
         p = np.asarray(stress[f"{name}_P"], float)
         if np.isfinite(p).any():
+            top = max(top, float(np.nanmax(p)) / 1e3)
             line, = ax.plot(phi, p / 1e3, ("o", "s", "^")[i], ms=2.5,
                             mfc="none", alpha=0.35)
             ax.plot(phi[rest], p[rest] / 1e3, ("o", "s", "^")[i], ms=3.5,
@@ -115,8 +118,11 @@ def plot_pressure(phi, stress, fit, estimate, rest, path, note="") -> str:
                 label=rf"law on {estimate}: $\Phi_{{max}}$ ="
                       f" {v['phi_max']:.4f} +- {fit.errors['phi_max']:.4f}")
         ax.axvline(v["phi_max"], color="k", ls=":", lw=0.8)
+        if top > 0:  # the law diverges at Phi_max: the data's range
+            ax.set_ylim(top=1.15 * top)
     if note or not fit.ok:
-        ax.set_title(note or fit.summary(), fontsize=7, wrap=True)
+        # wrapped by hand: a long line widens the one-column figure
+        ax.set_title(textwrap.fill(note or fit.summary(), 60), fontsize=7)
     return _save(fig, ax, r"packing fraction $\Phi$", "$P$ (kPa)", path)
 
 

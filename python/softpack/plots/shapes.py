@@ -230,7 +230,7 @@ def plates_figures(directories, out) -> None:
         handles, labels = axes[0, 0].get_legend_handles_labels()
         fig.tight_layout()
         fig.legend(handles, labels, loc="upper center", frameon=False,
-                   bbox_to_anchor=(0.5, 0.0), ncols=min(4, len(labels)))
+                   bbox_to_anchor=(0.5, 0.0), ncols=max(1, len(labels) // 2))
         write_figure(fig, Path(out) / "plates_force.png", tight=False)
     rows = refinement(directories)
     lines = [",".join(rows[0])]
