@@ -202,3 +202,18 @@ def test_single_disk_figures_in_one_column_with_the_legend_under_the_axes(
         ax, = fig.axes
         assert "$" in ax.get_xlabel() and "$" in ax.get_ylabel()
         assert _below(ax.get_legend(), [ax])
+
+
+def test_snapshot_panels_fill_the_figure_height(tmp_path):
+    """Equal-aspect boxes in a figure of a fixed height leave empty bands
+    above and below them (and a colour bar taller than they are): the
+    figure's height is fitted to the panels."""
+    from softpack.plots import snapshots
+
+    run = fake_run(tmp_path / "run", 0.3, 0, fields=True)
+    fig = snapshots.snapshot_figure(run, [("phi", 0.78), ("phi", 0.85)])
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    spare = (ax.get_position(original=True).height
+             - ax.get_position().height) * fig.get_figheight()
+    assert spare < 0.05  # inches (0.5 in a figure 0.42 x its width tall)
