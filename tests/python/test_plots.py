@@ -217,3 +217,24 @@ def test_snapshot_panels_fill_the_figure_height(tmp_path):
     spare = (ax.get_position(original=True).height
              - ax.get_position().height) * fig.get_figheight()
     assert spare < 0.05  # inches (0.5 in a figure 0.42 x its width tall)
+
+
+def test_shape_distributions_leave_out_runs_without_fields(tmp_path,
+                                                           monkeypatch):
+    """A run without fields.h5 gets no (empty) column, and the legends sit
+    above the bars."""
+    from softpack.plots import shapes
+    from softpack.plots.paper import load_runs
+
+    with_fields = fake_run(tmp_path / "a", 0.3, 0, fields=True)
+    without = fake_run(tmp_path / "b", 0.3, 1)
+    runs = [(load_runs([with_fields])[0], "a"), (load_runs([without])[0], "b")]
+    kept = _capture_figures(monkeypatch, shapes)
+    messages = shapes.shape_distributions(runs, tmp_path / "shapes.png")
+    assert any("fields.h5 missing" in m for m in messages)
+    fig, = kept
+    assert len(fig.axes) == 3  # one column: run a's
+    for ax in fig.axes:
+        counts = max(p.get_path().vertices[:, 1].max() for p in ax.patches)
+        assert counts <= ax.get_ylim()[1] / 1.4
+    assert (tmp_path / "shapes.pdf").is_file()

@@ -112,24 +112,28 @@ def shape_distributions(runs, path) -> list[str]:
     from softpack.analysis.fields import stored_times
     from softpack.analysis.shape import shapes_at
 
-    messages = []
-    with style.context():
-        fig, axes = plt.subplots(
-            3, len(runs), squeeze=False,
-            figsize=(style.DOUBLE_COLUMN if len(runs) > 1
-                     else style.SINGLE_COLUMN, 2.0 * 3))
-    for col, (run, label) in enumerate(runs):
+    messages, drawn = [], []
+    for run, label in runs:  # only runs with fields get a column
         h5 = RunDirectory(run.path).fields_h5
         if not h5.is_file():
             messages.append(f"shape_distributions: {h5} missing; skipped")
             continue
         try:
             times = stored_times(h5)
-            snaps = [shapes_at(h5, t) for t in (times[0], times[-1])]
+            drawn.append((run, label, [shapes_at(h5, t)
+                                       for t in (times[0], times[-1])]))
         except (OSError, KeyError) as err:
             messages.append(f"shape_distributions: cannot read {h5}: {err};"
                             " skipped")
-            continue
+    if not drawn:
+        messages.append("shape_distributions: no run with fields; no figure")
+        return messages
+    with style.context():
+        fig, axes = plt.subplots(
+            3, len(drawn), squeeze=False,
+            figsize=(style.DOUBLE_COLUMN if len(drawn) > 1
+                     else style.SINGLE_COLUMN, 2.0 * 3))
+    for col, (run, label, snaps) in enumerate(drawn):
         for s in snaps:
             phi = float(np.interp(s["time"], run.series["time"],
                                   run.series["phi"]))
@@ -156,7 +160,9 @@ def shape_distributions(runs, path) -> list[str]:
             axes[2, col].set_xlabel("rotation since the start (deg)")
             for ax in axes[:, col]:
                 ax.set_ylabel("particles")
-                ax.legend(frameon=False)
+                # room above the bars for the legend, which would cover them
+                ax.set_ylim(top=1.45 * ax.get_ylim()[1])
+                ax.legend(frameon=False, loc="upper right")
     with style.context():
         write_figure(fig, path)
     return messages
