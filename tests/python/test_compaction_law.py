@@ -178,3 +178,33 @@ def test_another_curve_is_refused_as_a_systematic_misfit():
     fit = law.fit_compaction(phi, p)
     assert not fit.ok
     assert "systematic misfit" in fit.reason, fit.reason
+
+
+def test_an_unchecked_fit_draws_what_the_checks_refuse(tmp_path):
+    # the convex power law of the test above: refused as a misfit, but
+    # fitted (and drawn, labelled for illustration) with the checks off
+    rng = np.random.default_rng(4)
+    phi = np.linspace(0.79, 0.88, 200)
+    p = 2e6 * (phi - 0.78) ** 2 * (1 + 0.002 * rng.standard_normal(200))
+    free = law.fit_compaction(phi, p, checked=False)
+    assert free.ok and np.isfinite(free.values["phi_max"])
+    assert "checks switched off" in free.method
+    assert np.isfinite(free.errors["phi_max"])
+    pytest.importorskip("matplotlib")
+    import json
+
+    from fake_runs import write_loading_run
+    from softpack.plots import loading
+
+    run = write_loading_run(tmp_path / "run", phi, p)
+    out = tmp_path / "fig"
+    assert loading.main([str(run), "--out", str(out), "--unchecked"]) == 0
+    summary = json.loads((out / "loading.json").read_text())
+    assert summary["fit"]["reason"]  # the checked fit is still refused
+    assert summary["fit_unchecked"]["reason"] == ""
+    assert summary["fit_unchecked"]["values"]["phi_max"] == pytest.approx(
+        free.values["phi_max"])
+    for name in ("law_unchecked.png", "law_unchecked.pdf"):
+        assert (out / name).is_file()
+    assert loading.main([str(run), "--out", str(tmp_path / "plain")]) == 0
+    assert not (tmp_path / "plain" / "law_unchecked.png").exists()

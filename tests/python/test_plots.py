@@ -124,3 +124,117 @@ def test_a_state_that_is_not_one_is_refused(tmp_path, capsys):
             plots.main([str(run), "--at", bad])
         assert caught.value.code == 2
         assert "--at" in capsys.readouterr().err
+
+
+def _capture_figures(monkeypatch, module):
+    """Keep the figures ``module`` writes (they are still written)."""
+    from softpack.plots import write_figure
+
+    kept = []
+
+    def keep(fig, path, tight=True):
+        fig.canvas.draw()
+        kept.append(fig)
+        return write_figure(fig, path, tight)
+
+    monkeypatch.setattr(module, "write_figure", keep)
+    return kept
+
+
+def _below(legend, axes):
+    """Whether the legend lies wholly under every one of the axes."""
+    renderer = legend.figure.canvas.get_renderer()
+    top = legend.get_window_extent(renderer).y1
+    return all(top <= ax.get_window_extent(renderer).y0 + 1e-6 for ax in axes)
+
+
+def test_plates_figure_is_two_columns_with_the_legend_under_the_panels(
+        tmp_path, monkeypatch):
+    import json
+
+    from softpack.plots import shapes, style
+
+    dirs = []
+    for shape in ("square", "pentagon"):
+        for h in (2e-3, 1e-3):
+            d = tmp_path / f"{shape}-{h:g}"
+            d.mkdir()
+            (d / "plates.json").write_text(json.dumps({
+                "params": {"shape": shape, "element_size": h},
+                "mesh": {"triangles": int(4e-4 / h ** 2)},
+                "height_H0_m": 0.02}))
+            eps = np.linspace(0.0, 0.2, 41)
+            write_table(d / "force_dolfinx.csv", {"eps": eps, "f_norm": 3 * eps})
+            write_table(d / "force_softpack.csv",
+                        {"eps": eps, "f_norm": 3 * eps * (1 + h)})
+            dirs.append(d)
+    kept = _capture_figures(monkeypatch, shapes)
+    with style.context():
+        shapes.plates_figures(dirs, tmp_path)
+    assert (tmp_path / "plates_force.png").read_bytes().startswith(PNG)
+    assert (tmp_path / "plates_force.pdf").is_file()
+    fig, = kept
+    assert fig.get_figwidth() == pytest.approx(style.DOUBLE_COLUMN)
+    legend, = fig.legends
+    assert len(legend.get_texts()) == 4  # softpack and dolfinx per mesh
+    assert _below(legend, fig.axes)
+
+
+def test_single_disk_figures_in_one_column_with_the_legend_under_the_axes(
+        tmp_path, monkeypatch):
+    from softpack.plots import single_disk, style
+
+    eps = np.linspace(0.0, 0.25, 26)
+    write_table(tmp_path / "force_2d.csv", {"eps": eps, "f_norm": eps})
+    write_table(tmp_path / "force_3d_nu0495.csv", {"eps": eps, "f_norm": 1.05 * eps})
+    w = np.tile(np.linspace(-1, 1, 21), 4)
+    strains = np.repeat(single_disk.PROFILE_STRAINS, 21)
+    write_table(tmp_path / "profile_2d.csv",
+                {"eps": strains, "w": w, "ux_over_D": 0.15 * strains * w})
+    kept = _capture_figures(monkeypatch, single_disk)
+    assert single_disk.main([str(tmp_path)]) == 0
+    for name in ("fig2_force", "fig3_profile"):
+        assert (tmp_path / f"{name}.png").read_bytes().startswith(PNG)
+        assert (tmp_path / f"{name}.pdf").is_file()
+    assert len(kept) == 2
+    for fig in kept:
+        assert fig.get_figwidth() == pytest.approx(style.SINGLE_COLUMN)
+        ax, = fig.axes
+        assert "$" in ax.get_xlabel() and "$" in ax.get_ylabel()
+        assert _below(ax.get_legend(), [ax])
+
+
+def test_snapshot_panels_fill_the_figure_height(tmp_path):
+    """Equal-aspect boxes in a figure of a fixed height leave empty bands
+    above and below them (and a colour bar taller than they are): the
+    figure's height is fitted to the panels."""
+    from softpack.plots import snapshots
+
+    run = fake_run(tmp_path / "run", 0.3, 0, fields=True)
+    fig = snapshots.snapshot_figure(run, [("phi", 0.78), ("phi", 0.85)])
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    spare = (ax.get_position(original=True).height
+             - ax.get_position().height) * fig.get_figheight()
+    assert spare < 0.05  # inches (0.5 in a figure 0.42 x its width tall)
+
+
+def test_shape_distributions_leave_out_runs_without_fields(tmp_path,
+                                                           monkeypatch):
+    """A run without fields.h5 gets no (empty) column, and the legends sit
+    above the bars."""
+    from softpack.plots import shapes
+    from softpack.plots.paper import load_runs
+
+    with_fields = fake_run(tmp_path / "a", 0.3, 0, fields=True)
+    without = fake_run(tmp_path / "b", 0.3, 1)
+    runs = [(load_runs([with_fields])[0], "a"), (load_runs([without])[0], "b")]
+    kept = _capture_figures(monkeypatch, shapes)
+    messages = shapes.shape_distributions(runs, tmp_path / "shapes.png")
+    assert any("fields.h5 missing" in m for m in messages)
+    fig, = kept
+    assert len(fig.axes) == 3  # one column: run a's
+    for ax in fig.axes:
+        counts = max(p.get_path().vertices[:, 1].max() for p in ax.patches)
+        assert counts <= ax.get_ylim()[1] / 1.4
+    assert (tmp_path / "shapes.pdf").is_file()

@@ -12,10 +12,8 @@ few seconds on one core:
   for Johnson's small-strain limit.
 
 The tolerances are at most ~10x the measured values; each test says what
-was measured, on this code on 2026-12-03 (the 2D numbers of
-docs/single_disk/README.md come from an older build and differ slightly at
-small strain: f_norm(0.01) +1.6 % on the paper's mesh, Johnson's ratio
-1.014 instead of 1.008 at h = 0.53 mm).
+was measured, on this code on 2026-12-03 (as the 2D numbers of
+docs/single_disk/README.md, regenerated that day).
 """
 
 import json
@@ -222,8 +220,7 @@ def test_force_grows_monotonically_and_both_plates_agree(paper_mesh):
     """f (the mean of the two plates) increases at every output. The two
     plates' forces differ by a small vibration of the disk between them
     (the mean cancels it): measured at most 2.9 % of f over
-    0.01 <= eps < 0.05 and 0.26 % beyond (2026-12-03; the README's 3.5 %
-    and 0.4 % are an older build's)."""
+    0.01 <= eps < 0.05 and 0.26 % beyond (2026-12-03, README)."""
     result, _ = paper_mesh
     curve = result["curve"]
     assert np.all(np.diff(curve["f_norm"]) > 0)
@@ -246,9 +243,9 @@ def test_friction_pins_the_rolling_mode(paper_mesh):
 
 def test_small_strain_limit_is_johnson_line_contact(fine_small_strain):
     """Johnson (plane strain, nu = 1/3, E* = 3 mu) at eps = 0.01: within
-    3 %. Measured f_2D/f_J = 1.014 at h = 0.53 mm (2026-12-03; the README's
-    1.008 is an older build's), 0.992 at 0.27 mm; 1.038 at the paper's
-    h = 1.065 mm (1.5 elements across the contact) (README)."""
+    3 %. Measured f_2D/f_J = 1.014 at h = 0.53 mm, 0.999 at 0.27 mm, 1.054
+    at the paper's h = 1.065 mm (1.5 elements across the contact)
+    (2026-12-03, README)."""
     f = sd.value_at(fine_small_strain["curve"], 0.01)
     ratio = f / johnson_line_contact(0.01, 1.0 / 3.0)[0]
     assert abs(ratio - 1) < 0.03
@@ -257,7 +254,7 @@ def test_small_strain_limit_is_johnson_line_contact(fine_small_strain):
 def test_halving_the_element_size_changes_the_force_little(coarse,
                                                            paper_mesh):
     """h = 2 mm -> 1.065 mm changes f_norm(0.15) by < 2 % (measured
-    1.1 %, 2026-12-03 and README); 1.065 -> 0.53 -> 0.27 mm: -0.64 %,
+    1.1 %, 2026-12-03 and README); 1.065 -> 0.53 -> 0.27 mm: -0.65 %,
     -0.13 % (README)."""
     force = _read(coarse / "force_2d.csv")
     f_coarse = np.interp(0.15, force["eps"], force["f_norm"])
@@ -268,11 +265,11 @@ def test_halving_the_element_size_changes_the_force_little(coarse,
 @pytest.mark.skipif(not FORCE_3D.exists(), reason="no 3D reference CSV")
 def test_2d_and_3d_forces_agree_within_the_measured_gap(paper_mesh):
     """2D (paper's mesh) vs 3D nu = 0.495 (0.5 mm P2, docs/single_disk):
-    2D/3D - 1 in [-6 %, -2 %] over 0.02 <= eps <= 0.15 (measured -5.5 %,
+    2D/3D - 1 in [-6 %, -2 %] over 0.02 <= eps <= 0.15 (measured -5.2 %,
     at eps = 0.025 where the 2D curve has a wiggle as boundary nodes touch
-    the plates, to -2.9 %; within -5 % elsewhere; 2026-12-03: -5.2 % to
-    -2.9 %). The mesh-converged 2D
-    is lower still (h = 0.27 mm: -7.9 % at eps = 0.02, -3.7 % at 0.15):
+    the plates, to -2.9 %; within -5 % elsewhere; 2026-12-03). The
+    mesh-converged 2D
+    is lower still (h = 0.27 mm: -7.6 % at eps = 0.02, -3.6 % at 0.15):
     the 3D cylinder (l/D = 0.75) is stiffer than the plane-stress law the
     2D model stands for (README)."""
     ref = _read(FORCE_3D)

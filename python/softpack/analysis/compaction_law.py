@@ -230,7 +230,7 @@ def _at_an_edge(best, phi, p) -> str:
 
 
 def fit_compaction(phi, p, settings: CompactionSettings = CompactionSettings(),
-                   groups=None) -> CompactionFit:
+                   groups=None, checked: bool = True) -> CompactionFit:
     """Fit the compaction law to one run's rows (Phi, P).
 
     Parameters
@@ -242,17 +242,22 @@ def fit_compaction(phi, p, settings: CompactionSettings = CompactionSettings(),
     groups : array_like, optional
         A label per row (e.g. the loading stage): the bootstrap resamples
         whole groups. Default: moving blocks of rows.
+    checked : bool
+        False: none of the refusals of the module doc except a least
+        squares that does not converge (and fewer than two bootstrap
+        refits); the law as it fits data it may not describe, for
+        illustration only (``method`` says so).
     """
     s = settings
     labels = np.zeros(len(np.asarray(p))) if groups is None else groups
     phi, p, labels = _usable(phi, p, s, labels)
     n = len(p)
     p_max = float(p.max()) if n else float("nan")
-    if n < s.min_points:
+    if checked and n < s.min_points:
         return _refused(f"{n} usable rows (P > 0), fewer than"
                         f" {s.min_points}", n, p_max)
     distinct = len(np.unique(labels))
-    if groups is not None and distinct < s.min_groups:
+    if checked and groups is not None and distinct < s.min_groups:
         return _refused(f"{distinct} groups (equilibria), fewer than"
                         f" {s.min_groups}", n, p_max)
     try:
@@ -262,15 +267,15 @@ def fit_compaction(phi, p, settings: CompactionSettings = CompactionSettings(),
                         p_max)
     phi_0, phi_max, kappa = best
     edge = _at_an_edge(best, phi, p)
-    if edge:
+    if checked and edge:
         return _refused(edge, n, p_max)
     z = _runs_z(phi - packing_fraction(p, *best), labels)
-    if z < s.min_runs_z:
+    if checked and z < s.min_runs_z:
         return _refused(f"systematic misfit: the residuals' signs form too"
                         f" few runs (runs test z = {z:.1f} <"
                         f" {s.min_runs_z:g}); the data follow another"
                         " curve", n, p_max)
-    if p_max / kappa < s.min_saturation:
+    if checked and p_max / kappa < s.min_saturation:
         return _refused(f"the data reach P/kappa = {p_max / kappa:.2g} <"
                         f" {s.min_saturation:g}: they do not approach"
                         " Phi_max, only the initial slope is measured", n,
@@ -285,7 +290,7 @@ def fit_compaction(phi, p, settings: CompactionSettings = CompactionSettings(),
         except (RuntimeError, ValueError):
             continue
     failed = 1 - len(refits) / s.resamples
-    if failed > s.max_failed_fraction:
+    if (failed > s.max_failed_fraction if checked else len(refits) < 2):
         return _refused(f"{failed:.0%} of the bootstrap refits failed", n,
                         p_max)
     spread = np.std(np.array(refits), axis=0, ddof=1)
@@ -293,7 +298,7 @@ def fit_compaction(phi, p, settings: CompactionSettings = CompactionSettings(),
                                       kappa])
     for name, error, limit in zip(("Phi_0", "Phi_max", "kappa"), spread,
                                   limits):
-        if error > limit:
+        if checked and error > limit:
             return _refused(f"bootstrap spread of {name} {error:.3g} >"
                             f" {s.max_spread:g} x "
                             + ("kappa" if name == "kappa"
@@ -302,7 +307,10 @@ def fit_compaction(phi, p, settings: CompactionSettings = CompactionSettings(),
                          dict(zip(PARAMETERS, map(float, spread))), "",
                          (f"block bootstrap over {n} output rows"
                           if groups is None else f"bootstrap over {distinct}"
-                          f" groups ({n} rows)") + f", {len(refits)} refits",
+                          f" groups ({n} rows)") + f", {len(refits)} refits"
+                         + ("" if checked else "; checks switched off (runs"
+                            f" test z = {z:.1f}; {edge or 'within the data'}):"
+                            " for illustration only"),
                          n, p_max)
 
 

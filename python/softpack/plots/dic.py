@@ -33,7 +33,7 @@ from softpack.analysis import fields as fields_io
 from softpack.analysis.setup import read_setup
 from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import write_table
-from softpack.plots import write_figure
+from softpack.plots import style, write_figure
 
 #: Packing fractions at which the summary states E_DIC / E_FE.
 SUMMARY_PHI = (0.80, 0.84, 0.88)
@@ -89,15 +89,15 @@ def plot_energy(series, path) -> None:
     """E/(W H L mu) against Phi, DIC and FE, and their ratio."""
     import matplotlib.pyplot as plt
 
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9.0, 3.6))
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(style.DOUBLE_COLUMN, 2.6))
     ax.plot(series["phi"], series["E_fe_over_WHLmu"], "k-",
             label="finite elements (plane strain, $\\tilde\\lambda=2\\mu$)")
-    ax.plot(series["phi"], series["E_dic_over_WHLmu"], "rs", ms=3,
-            label="DIC estimator (Eqs. 2, 12-13)")
+    ax.plot(series["phi"], series["E_dic_over_WHLmu"], "rs", ms=2, mfc="none",
+            mew=0.6, label="DIC estimator (Eqs. 2, 12-13)")
     ax.set_xlabel("$\\Phi$")
     ax.set_ylabel("$\\mathcal{E}/WHL\\mu$")
-    ax.legend(fontsize=7)
-    bx.plot(series["phi"], series["ratio"], "ro-", ms=3)
+    ax.legend(frameon=False)
+    bx.plot(series["phi"], series["ratio"], "ro-", ms=2)
     bx.axhline(1.0, color="0.5", lw=0.8)
     bx.set_xlabel("$\\Phi$")
     bx.set_ylabel("$\\mathcal{E}_{DIC}/\\mathcal{E}_{FE}$")
@@ -110,7 +110,7 @@ def plot_i1_pdf(run_dir, picks, path) -> list[str]:
 
     setup = read_setup(run_dir)
     h5 = RunDirectory(run_dir).fields_h5
-    fig, ax = plt.subplots(figsize=(5.0, 3.6))
+    fig, ax = plt.subplots(figsize=(style.SINGLE_COLUMN, 0.78 * style.SINGLE_COLUMN))
     lines, drawn = [], set()
     estimates = {time: dic.dic_energy(fields_io.read_snapshot(h5, time),
                                       setup.shear_modulus, setup.thickness,
@@ -125,7 +125,7 @@ def plot_i1_pdf(run_dir, picks, path) -> list[str]:
         if time not in drawn:  # a run short of a target repeats a field
             drawn.add(time)
             ax.semilogy(centres, np.where(density > 0, density, np.nan),
-                        ".-", ms=3, label=f"$\\Phi$ = {phi:.3f}{note}")
+                        ".-", ms=2, label=f"$\\Phi$ = {phi:.3f}{note}")
         lines.append(f"Phi = {phi:.4f} (target {target:.2f}"
                      f"{'' if within else ', NOT within 0.005'}), t = "
                      f"{time:.5g} s: mean I1 = "
@@ -134,7 +134,7 @@ def plot_i1_pdf(run_dir, picks, path) -> list[str]:
         lines.append("    " + particle_spread(estimate))
     ax.set_xlabel("$I_1$ (Eq. 13)")
     ax.set_ylabel("$P(I_1)$")
-    ax.legend(fontsize=7)
+    ax.legend(frameon=False)
     write_figure(fig, path)
     return lines
 
@@ -145,10 +145,11 @@ def write_outputs(run_dir, out_dir) -> str:
     out_dir.mkdir(parents=True, exist_ok=True)
     series = dic.dic_series(run_dir)
     write_table(out_dir / "dic_series.csv", series)
-    plot_energy(series, out_dir / "dic_energy.png")
     picks = dic.nearest_field_times(run_dir)
-    pdf_lines = plot_i1_pdf(run_dir, picks, out_dir / "dic_i1_pdf.png")
-    lines = [f"run: {Path(run_dir).resolve()}",
+    with style.context():
+        plot_energy(series, out_dir / "dic_energy.png")
+        pdf_lines = plot_i1_pdf(run_dir, picks, out_dir / "dic_i1_pdf.png")
+    lines = [f"run: {Path(run_dir).as_posix()}",
              f"fields at {len(series['time'])} times,"
              f" Phi {np.nanmin(series['phi']):.4f} to"
              f" {np.nanmax(series['phi']):.4f}",

@@ -1,7 +1,7 @@
 """Figures of a loading run: compaction and shear.
 
 ``./softpack plot-loading RUN [--out DIR] [--estimate fe|contact|wall]
-[--rest R]`` writes, from a run directory (its analysis, ``series.csv`` and
+[--rest R] [--stage K] [--unchecked]`` writes, from a run directory (its analysis, ``series.csv`` and
 ``stress.csv``, is done first when missing):
 
 - ``pressure_phi.png``: P(Phi) of the three stress estimates and the fitted
@@ -19,7 +19,10 @@
   estimates against the step (they must vanish at rest);
 - ``shear.png``: q/P and eps_v against eps_q (a shear test);
 - ``loading.json``: the fit (values, errors, method or reason) and the
-  last row's P, q and differences.
+  last row's P, q and differences;
+- with ``--unchecked``, ``law_unchecked.png`` and ``fit_unchecked`` in
+  ``loading.json``: the law fitted to the same rows with every refusal
+  switched off (what a refused fit would have drawn), for illustration.
 
 Figures only: every number comes from the analysis modules.
 """
@@ -29,6 +32,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -92,12 +96,15 @@ def rows_at_rest(steps: dict, rest: float) -> np.ndarray:
     return (strain > 0) & (kinetic <= rest * strain)
 
 
-def plot_pressure(phi, stress, fit, estimate, rest, path) -> str:
-    """P(Phi) of each estimate (rows at rest filled), the law on one."""
+def plot_pressure(phi, stress, fit, estimate, rest, path, note="") -> str:
+    """P(Phi) of each estimate (rows at rest filled), the law on one;
+    ``note``: a title (else the refusal's reason when there is one)."""
     fig, ax = _figure()
+    top = 0.0
     for i, name in enumerate(ESTIMATES):
         p = np.asarray(stress[f"{name}_P"], float)
         if np.isfinite(p).any():
+            top = max(top, float(np.nanmax(p)) / 1e3)
             line, = ax.plot(phi, p / 1e3, ("o", "s", "^")[i], ms=2.5,
                             mfc="none", alpha=0.35)
             ax.plot(phi[rest], p[rest] / 1e3, ("o", "s", "^")[i], ms=3.5,
@@ -111,8 +118,11 @@ def plot_pressure(phi, stress, fit, estimate, rest, path) -> str:
                 label=rf"law on {estimate}: $\Phi_{{max}}$ ="
                       f" {v['phi_max']:.4f} +- {fit.errors['phi_max']:.4f}")
         ax.axvline(v["phi_max"], color="k", ls=":", lw=0.8)
-    else:
-        ax.set_title(fit.summary(), fontsize=7, wrap=True)
+        if top > 0:  # the law diverges at Phi_max: the data's range
+            ax.set_ylim(top=1.15 * top)
+    if note or not fit.ok:
+        # wrapped by hand: a long line widens the one-column figure
+        ax.set_title(textwrap.fill(note or fit.summary(), 60), fontsize=7)
     return _save(fig, ax, r"packing fraction $\Phi$", "$P$ (kPa)", path)
 
 
@@ -189,11 +199,14 @@ def stage_shear(stress: dict, estimate: str, rows) -> dict:
 
 
 def write_figures(run_dir, out, estimate=None, rest=None,
-                  shear_stage=None) -> dict:
+                  shear_stage=None, unchecked=False) -> dict:
     """Write the figures and ``loading.json``; return the summary dict.
 
     ``shear_stage``: the stage (index) whose q/P and strains ``shear.png``
-    draws; default the last stage (the whole run without stages)."""
+    draws; default the last stage (the whole run without stages).
+    ``unchecked``: also ``law_unchecked.png`` and ``fit_unchecked``, the
+    law fitted to the same rows with its refusals switched off (for
+    illustration only: a curve the law does not describe)."""
     import matplotlib
     matplotlib.use("Agg")
     out = Path(out)
@@ -225,6 +238,14 @@ def write_figures(run_dir, out, estimate=None, rest=None,
              plot_differences(stress, out / "stress_estimates.png",
                               stage[:len(stress["step"])]),
              plot_shear(shear, out / "shear.png", shear_stage)]
+    free = None
+    if unchecked:
+        free = compaction_law.fit_compaction(phi[at_rest], p[at_rest],
+                                             groups=groups, checked=False)
+        files.append(plot_pressure(
+            phi, stress, free, estimate, at_rest, out / "law_unchecked.png",
+            note="the law with its checks switched off: for illustration"
+                 " only" if free.ok else ""))
     last = {c: float(stress[c][-1]) for c in stress
             if c.startswith(tuple(f"{e}_" for e in ESTIMATES))
             and c.endswith(("_P", "_q")) or c.startswith("difference")}
@@ -237,6 +258,10 @@ def write_figures(run_dir, out, estimate=None, rest=None,
                        "points": fit.points,
                        "pressure_max": fit.pressure_max},
                "last_row": last,
+               **({} if free is None else {"fit_unchecked": {
+                   "values": free.values, "errors": free.errors,
+                   "method": free.method, "reason": free.reason,
+                   "points": free.points}}),
                "shear": {"stage": shear_stage, "estimate": estimate,
                          **{f"{k}_end": float(v[-1]) for k, v in
                             shear.items()},
@@ -266,6 +291,9 @@ def main(argv=None) -> int:
     parser.add_argument("--stage", type=int, metavar="K",
                         help="the stage (index, as raw/steps.csv's stage"
                         " column) of the shear figure (default: the last)")
+    parser.add_argument("--unchecked", action="store_true",
+                        help="also law_unchecked.png: the law fitted with"
+                        " its refusals switched off, for illustration only")
     args = parser.parse_args(argv)
     run = Path(args.run)
     if not RunDirectory(run).raw.steps_csv.is_file():
@@ -273,7 +301,7 @@ def main(argv=None) -> int:
     out = Path(args.out) if args.out else run / "figures" / "loading"
     try:
         summary = write_figures(run, out, args.estimate, args.rest,
-                                args.stage)
+                                args.stage, args.unchecked)
     except RunError as err:
         print(f"softpack plot-loading: {err}", file=sys.stderr)
         return 2

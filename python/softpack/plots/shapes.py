@@ -45,7 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from softpack.contract.run_directory import RunDirectory
-from softpack.plots import write_figure
+from softpack.plots import style, write_figure
 
 #: Packing fractions of summary.csv.
 SUMMARY_PHIS = (0.70, 0.75, 0.80, 0.83, 0.85, 0.88)
@@ -87,17 +87,22 @@ def at_phi(series, targets=SUMMARY_PHIS) -> list[dict]:
 
 
 def _curves(runs, x_name, y_name, xlabel, ylabel, path):
+    """One curve per run of ``y(x)``, in softpack's one-column style."""
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(5, 3.8))
-    for (run, label), marker in zip(runs, "osD^v<>"):
-        x, y = run.series[x_name], run.series[y_name]
-        ok = np.isfinite(x) & np.isfinite(y)
-        ax.plot(x[ok], y[ok], marker=marker, ms=3, lw=1, label=label)
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.legend(fontsize=8)
-    write_figure(fig, path)
+    with style.context():
+        fig, ax = plt.subplots(figsize=(style.SINGLE_COLUMN,
+                                        0.78 * style.SINGLE_COLUMN))
+        for (run, label), marker in zip(runs, "osD^v<>"):
+            x, y = run.series[x_name], run.series[y_name]
+            ok = np.isfinite(x) & np.isfinite(y)
+            ax.plot(x[ok], y[ok], marker=marker, ms=2, mfc="none", lw=0.8,
+                    markevery=max(1, int(ok.sum()) // 40), label=label)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        ax.grid(alpha=0.3)
+        ax.legend(frameon=False)
+        write_figure(fig, path)
 
 
 def shape_distributions(runs, path) -> list[str]:
@@ -107,48 +112,59 @@ def shape_distributions(runs, path) -> list[str]:
     from softpack.analysis.fields import stored_times
     from softpack.analysis.shape import shapes_at
 
-    messages = []
-    fig, axes = plt.subplots(3, len(runs), figsize=(4 * len(runs), 9),
-                             squeeze=False)
-    for col, (run, label) in enumerate(runs):
+    messages, drawn = [], []
+    for run, label in runs:  # only runs with fields get a column
         h5 = RunDirectory(run.path).fields_h5
         if not h5.is_file():
             messages.append(f"shape_distributions: {h5} missing; skipped")
             continue
         try:
             times = stored_times(h5)
-            snaps = [shapes_at(h5, t) for t in (times[0], times[-1])]
+            drawn.append((run, label, [shapes_at(h5, t)
+                                       for t in (times[0], times[-1])]))
         except (OSError, KeyError) as err:
             messages.append(f"shape_distributions: cannot read {h5}: {err};"
                             " skipped")
-            continue
+    if not drawn:
+        messages.append("shape_distributions: no run with fields; no figure")
+        return messages
+    with style.context():
+        fig, axes = plt.subplots(
+            3, len(drawn), squeeze=False,
+            figsize=(style.DOUBLE_COLUMN if len(drawn) > 1
+                     else style.SINGLE_COLUMN, 2.0 * 3))
+    for col, (run, label, snaps) in enumerate(drawn):
         for s in snaps:
             phi = float(np.interp(s["time"], run.series["time"],
                                   run.series["phi"]))
             oriented = np.isfinite(s["orientation"])
             axes[0, col].hist(np.degrees(s["orientation"][oriented]),
                               bins=np.linspace(0, 180, 19), histtype="step",
-                              lw=1.5, label=f"Phi = {phi:.3f}"
+                              lw=1.2, label=rf"$\Phi$ = {phi:.3f}"
                               f" ({(~oriented).sum()} without axis)")
             axes[1, col].hist(s["asphericity"], bins=20, histtype="step",
-                              lw=1.5, label=f"Phi = {phi:.3f}")
+                              lw=1.2, label=rf"$\Phi$ = {phi:.3f}")
             axes[2, col].hist(np.degrees(s["rotation"]), bins=20,
-                              histtype="step", lw=1.5,
-                              label=f"Phi = {phi:.3f}")
+                              histtype="step", lw=1.2,
+                              label=rf"$\Phi$ = {phi:.3f}")
             messages.append(
                 f"shape_distributions: {label} at Phi = {phi:.3f}:"
                 f" asphericity mean {s['asphericity'].mean():.4f}, max"
                 f" {s['asphericity'].max():.4f}; elongation mean"
                 f" {s['elongation'].mean():.4f}; |rotation| mean"
                 f" {np.degrees(np.abs(s['rotation'])).mean():.2f} deg")
-        axes[0, col].set_title(label, fontsize=9)
-        axes[0, col].set_xlabel("orientation (deg)")
-        axes[1, col].set_xlabel("asphericity P^2 / (4 pi A)")
-        axes[2, col].set_xlabel("rotation since the start (deg)")
-        for ax in axes[:, col]:
-            ax.set_ylabel("particles")
-            ax.legend(fontsize=7)
-    write_figure(fig, path)
+        with style.context():
+            axes[0, col].set_title(label)
+            axes[0, col].set_xlabel("orientation (deg)")
+            axes[1, col].set_xlabel(r"asphericity $P^2/(4\pi A)$")
+            axes[2, col].set_xlabel("rotation since the start (deg)")
+            for ax in axes[:, col]:
+                ax.set_ylabel("particles")
+                # room above the bars for the legend, which would cover them
+                ax.set_ylim(top=1.45 * ax.get_ylim()[1])
+                ax.legend(frameon=False, loc="upper right")
+    with style.context():
+        write_figure(fig, path)
     return messages
 
 
@@ -163,6 +179,31 @@ def write_summary(runs, path) -> None:
         if not at_phi(run.series):
             lines.append(f"{label},,,,,{phi_max:.6g}")
     Path(path).write_text("\n".join(lines) + "\n")
+
+
+def _plates_panel(axes, shape, runs) -> None:
+    """One shape's force (top) and softpack/dolfinx - 1 (bottom), one
+    colour per element size, finest last."""
+    top, bottom = axes
+    mine = sorted(runs, key=lambda r: -r[1])
+    for (_, h, sp, dx), colour in zip(mine, ("C0", "C1", "C2", "C3")):
+        label = f"$h$ = {h * 1e3:g} mm"
+        top.plot(dx["eps"], dx["f_norm"], "-", color=colour, lw=0.8,
+                 label=f"dolfinx, {label}")
+        step = max(1, len(sp["eps"]) // 25)
+        top.plot(sp["eps"][::step], sp["f_norm"][::step], "o", color=colour,
+                 mfc="none", ms=3, mew=0.6, label=f"softpack, {label}")
+        eps = dx["eps"][dx["eps"] >= 0.005]
+        diff = np.interp(eps, sp["eps"], sp["f_norm"]) / np.interp(
+            eps, dx["eps"], dx["f_norm"]) - 1
+        bottom.plot(eps, 100 * diff, "o-", color=colour, ms=2, lw=0.8,
+                    label=label)
+    top.set_title(f"rounded {shape} between two plates")
+    top.set_ylabel(r"$f / (H_0 \mu)$")
+    top.set_ylim(bottom=0)
+    bottom.axhline(0, color="k", lw=0.5)
+    bottom.set_ylabel(r"softpack / dolfinx $- 1$ (%)")
+    bottom.set_xlabel(r"$\varepsilon = -\ln(1 - \delta / H_0)$")
 
 
 def plates_figures(directories, out) -> None:
@@ -181,31 +222,22 @@ def plates_figures(directories, out) -> None:
                      read_table(d / "force_softpack.csv"),
                      read_table(d / "force_dolfinx.csv")))
     shapes = sorted({r[0] for r in runs})
-    fig, axes = plt.subplots(2, len(shapes), figsize=(5 * len(shapes), 6.5),
-                             squeeze=False, sharex=True,
-                             gridspec_kw={"height_ratios": [2, 1]})
-    for col, shape in enumerate(shapes):
-        mine = sorted((r for r in runs if r[0] == shape), key=lambda r: -r[1])
-        for (_, h, sp, dx), colour in zip(mine, ("C0", "C1", "C2", "C3")):
-            label = f"h = {h * 1e3:g} mm"
-            axes[0, col].plot(dx["eps"], dx["f_norm"], "-", color=colour,
-                              lw=1, label=f"dolfinx, {label}")
-            step = max(1, len(sp["eps"]) // 40)
-            axes[0, col].plot(sp["eps"][::step], sp["f_norm"][::step], "o",
-                              color=colour, mfc="none", ms=4,
-                              label=f"softpack, {label}")
-            eps = dx["eps"][dx["eps"] >= 0.005]
-            diff = np.interp(eps, sp["eps"], sp["f_norm"]) / np.interp(
-                eps, dx["eps"], dx["f_norm"]) - 1
-            axes[1, col].plot(eps, 100 * diff, "o-", color=colour, ms=3,
-                              lw=1, label=label)
-        axes[0, col].set_title(f"rounded {shape} between two plates")
-        axes[0, col].set_ylabel("f / (H0 mu)")
-        axes[0, col].legend(fontsize=7)
-        axes[1, col].axhline(0, color="k", lw=0.5)
-        axes[1, col].set_ylabel("softpack / dolfinx - 1 (%)")
-        axes[1, col].set_xlabel("eps = -ln(1 - delta / H0)")
-    write_figure(fig, Path(out) / "plates_force.png")
+    with style.context():
+        fig, axes = plt.subplots(
+            2, len(shapes), squeeze=False, sharex=True,
+            figsize=(style.DOUBLE_COLUMN if len(shapes) > 1
+                     else style.SINGLE_COLUMN, 4.2),
+            gridspec_kw={"height_ratios": [2, 1]})
+        for col, shape in enumerate(shapes):
+            _plates_panel(axes[:, col], shape,
+                          [r for r in runs if r[0] == shape])
+        # one legend for the figure, under the panels: colours are the
+        # element sizes, markers softpack and lines dolfinx
+        handles, labels = axes[0, 0].get_legend_handles_labels()
+        fig.tight_layout()
+        fig.legend(handles, labels, loc="upper center", frameon=False,
+                   bbox_to_anchor=(0.5, 0.0), ncols=max(1, len(labels) // 2))
+        write_figure(fig, Path(out) / "plates_force.png", tight=False)
     rows = refinement(directories)
     lines = [",".join(rows[0])]
     for row in rows:
@@ -228,7 +260,8 @@ def main(argv=None) -> int:
         p.add_argument("--out", type=Path, required=True)
         args = p.parse_args(argv)
         args.out.mkdir(parents=True, exist_ok=True)
-        plates_figures(args.dirs, args.out)
+        with style.context():
+            plates_figures(args.dirs, args.out)
         print(f"wrote {args.out}/plates_force.png, plates_refinement.csv")
         return 0
 
@@ -251,15 +284,17 @@ def main(argv=None) -> int:
         return 1
     out = args.out
     out.mkdir(parents=True, exist_ok=True)
-    _curves(runs, "eps", "phi", "eps", "Phi", out / "phi_eps.png")
-    _curves(runs, "phi", "E_over_WHLmu", "Phi", "E / (W H L mu)",
-            out / "energy.png")
-    _curves(runs, "phi", "z", "Phi", "Z", out / "z_phi.png")
-    for message in shape_distributions(runs, out /
-                                       "shape_distributions.png"):
-        print(message)
-    for run, label in runs:
-        print(plot_snapshots(run, out / f"snapshots_{label}.png"))
+    with style.context():
+        _curves(runs, "eps", "phi", r"$\varepsilon = -\ln(1 - \delta / L_0)$",
+                r"$\Phi$", out / "phi_eps.png")
+        _curves(runs, "phi", "E_over_WHLmu", r"$\Phi$", r"$E/(WHL\mu)$",
+                out / "energy.png")
+        _curves(runs, "phi", "z", r"$\Phi$", "$Z$", out / "z_phi.png")
+        for message in shape_distributions(runs, out /
+                                           "shape_distributions.png"):
+            print(message)
+        for run, label in runs:
+            print(plot_snapshots(run, out / f"snapshots_{label}.png"))
     write_summary(runs, out / "summary.csv")
     print(f"softpack plots.shapes: wrote {out}/phi_eps.png, energy.png,"
           " z_phi.png, shape_distributions.png, snapshots_*.png,"

@@ -143,9 +143,35 @@ def snapshot_figure(run_dir, selectors, width=style.DOUBLE_COLUMN):
         style.scale_bar(axes[0][0])
         for ax in axes[0][1:]:
             ax.set_ylim(axes[0][0].get_ylim())
+        fig.set_figheight(_panel_height(axes[0][0], width, n))
         fig.colorbar(image, ax=axes[0].tolist(), label=label, shrink=0.85)
+        _fit_height(fig, axes[0][0])
         _species_legend(fig, states)
     return fig
+
+
+def _panel_height(ax, width, n) -> float:
+    """The figure height (inches) at which ``n`` panels of ``ax``'s limits
+    (equal aspect) side by side in ``width`` fill it, with room for the
+    titles: no empty band above and below the boxes, and a colour bar as
+    tall as they are."""
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    panel = (width - 0.9) / n  # the colour bar and its label take ~0.9 in
+    return panel * (y1 - y0) / (x1 - x0) + 0.45
+
+
+def _fit_height(fig, ax, passes=2) -> None:
+    """Take off the figure's height the band that the equal aspect leaves
+    empty above and below ``ax`` (laid out, then measured)."""
+    for _ in range(passes):
+        fig.canvas.draw()
+        slot = ax.get_position(original=True).height
+        used = ax.get_position(original=False).height
+        spare = (slot - used) * fig.get_figheight()
+        if spare < 0.02:
+            return
+        fig.set_figheight(fig.get_figheight() - spare)
 
 
 def _draw_panel(ax, states, k, snap, scale, vmax):
