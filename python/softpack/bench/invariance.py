@@ -75,12 +75,13 @@ def parse_lever(text: str) -> tuple[str, dict]:
     return name, sets
 
 
-def _run(name: str, sets: dict, interval: str, fresh: bool) -> RunDirectory:
-    """One run of the paper case in HOME/interval/name, reused when a run
-    of the same configuration finished there."""
+def _run(name: str, sets: dict, interval: str, fresh: bool,
+         state: Path | None = None) -> RunDirectory:
+    """One run of the paper case in HOME/interval/name (from ``state``),
+    reused when a run of the same configuration finished there."""
     from softpack.simulation.run import run
 
-    start, target = INTERVALS[interval]
+    target = INTERVALS[interval][1]
     sets = {"output.fields": False, "stop.packing_fraction": target, **sets}
     config = load_config(PAPER_TOML, sets)
     out = HOME / interval / name
@@ -90,7 +91,6 @@ def _run(name: str, sets: dict, interval: str, fresh: bool) -> RunDirectory:
     if (not fresh and record.exists() and record.read_text() == wanted
             and directory.raw.done_json.exists()):
         return directory
-    state = _start_state(fresh) if start is not None else None
     status = run(config, out, force=True, initial_state=state)
     if status != 0:  # 3: finished but flagged (run_flags): reported below
         print(f"softpack bench: {interval}/{name} ended with exit status"
@@ -135,10 +135,13 @@ def bench_invariance(levers: list[tuple[str, dict]], whole: bool = False,
               "start": START, "levers": {n: s for n, s in levers},
               "yardstick_before": bench_nlgs()["sweeps_per_second"]}
     for interval in ("interval", "whole") if whole else ("interval",):
-        reference = _run("reference", REFERENCE, interval, fresh)
+        state = (_start_state(fresh) if INTERVALS[interval][0] is not None
+                 else None)
+        reference = _run("reference", REFERENCE, interval, fresh, state)
         rows = {}
         for name, sets in [("defaults", {}), *levers]:
-            rows[name] = judge(reference, _run(name, sets, interval, fresh))
+            rows[name] = judge(reference,
+                               _run(name, sets, interval, fresh, state))
         ref_done = json.loads(reference.raw.done_json.read_text())
         report[interval] = {"reference_seconds": ref_done["seconds"],
                             "reference_steps": ref_done["steps"],
