@@ -34,6 +34,8 @@ from softpack.contract.tables import read_table
 from softpack.scene.config import load_config
 
 HOME = WORK / "invariance"
+#: A kept run's record: its settings and the yardstick of its day.
+RECORD = "invariance_run.json"
 #: The reference: the paper's 9-us step with softpack's theta, the
 #: paper's tolerances.
 REFERENCE = {"time.time_step": 9e-6, "time.max_step_factor": 1.0,
@@ -85,18 +87,27 @@ def _run(name: str, sets: dict, interval: str, fresh: bool,
     sets = {"output.fields": False, "stop.packing_fraction": target, **sets}
     config = load_config(PAPER_TOML, sets)
     out = HOME / interval / name
-    record = out / "invariance_sets.json"
-    wanted = json.dumps(sets, sort_keys=True)
     directory = RunDirectory(out)
-    if (not fresh and record.exists() and record.read_text() == wanted
-            and directory.raw.done_json.exists()):
+    if not fresh and _record(out).get("sets") == sets \
+            and directory.raw.done_json.exists():
         return directory
+    yardstick = bench_nlgs()["sweeps_per_second"]
     status = run(config, out, force=True, initial_state=state)
     if status != 0:  # 3: finished but flagged (run_flags): reported below
         print(f"softpack bench: {interval}/{name} ended with exit status"
               f" {status} (see {out}/run.log)")
-    record.write_text(wanted)
+    (out / RECORD).write_text(json.dumps(
+        {"sets": sets, "yardstick": yardstick}, indent=2, sort_keys=True))
     return directory
+
+
+def _record(out: Path) -> dict:
+    """A kept run's settings and the yardstick measured before it ({} when
+    it has none)."""
+    try:
+        return json.loads((out / RECORD).read_text())
+    except (OSError, ValueError):
+        return {}
 
 
 def _start_state(fresh: bool) -> Path:
@@ -121,6 +132,7 @@ def judge(reference: RunDirectory, other: RunDirectory) -> dict:
                 "retried_steps"):
         row[key] = done[key]  # this run's, not counting its start state's
     row["steps"] = done["steps"] - int(run["step"][0])
+    row["yardstick"] = _record(other.path).get("yardstick")
     row["within"] = {k: row[k] is not None and row[k] <= v
                      for k, v in BUDGET.items()}
     row["within_budget"] = row["converged"] and all(row["within"].values())
@@ -143,21 +155,21 @@ def bench_invariance(levers: list[tuple[str, dict]], whole: bool = False,
             rows[name] = judge(reference,
                                _run(name, sets, interval, fresh, state))
         ref_done = json.loads(reference.raw.done_json.read_text())
+        first = int(read_table(reference.series_csv)["step"][0])
         report[interval] = {"reference_seconds": ref_done["seconds"],
-                            "reference_steps": ref_done["steps"],
+                            "reference_steps": ref_done["steps"] - first,
                             "rows": rows}
     report["yardstick_after"] = bench_nlgs()["sweeps_per_second"]
     return report
 
 
 def table(report: dict) -> str:
-    """The rows as a Markdown table, times also normalised (yardstick: the
-    mean of the bench run's two measurements; reused runs carry their own
-    day's time)."""
-    yardstick = 0.5 * (report["yardstick_before"] + report["yardstick_after"])
+    """The rows as a Markdown table, each time also normalised by the
+    yardstick measured just before its run (a kept run keeps its own)."""
     lines = [f"NLGS yardstick {report['yardstick_before']:.0f} /"
-             f" {report['yardstick_after']:.0f} sweeps/s (before / after);"
-             f" times normalised to {REFERENCE_YARDSTICK:,.0f}"]
+             f" {report['yardstick_after']:.0f} sweeps/s (this bench run,"
+             f" before / after); each time also normalised to"
+             f" {REFERENCE_YARDSTICK:,.0f} by the yardstick before its run"]
     head = ("| lever | driver s (normalised) | steps | Newton | sweeps |"
             " E mean / max | Phi(eps) | Z binned | residual / work |"
             " within budget |")
@@ -171,7 +183,8 @@ def table(report: dict) -> str:
         for name, r in part["rows"].items():
             lines.append(
                 f"| {name} | {r['seconds']:.0f}"
-                f" ({normalised(r['seconds'], yardstick):.0f}) | {r['steps']}"
+                f" ({normalised(r['seconds'], r['yardstick'] or 0):.0f})"
+                f" | {r['steps']}"
                 f" | {r['newton_iterations']} | {r['nlgs_sweeps']} |"
                 f" {_pct(r['energy_mean_relative_difference'])} /"
                 f" {_pct(r['energy_max_relative_difference'])} |"
