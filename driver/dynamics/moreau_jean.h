@@ -124,6 +124,9 @@ public:
   const std::vector<Wall>& walls() const { return _walls; }
   /// Options
   const MoreauJeanOptions& options() const { return _options; }
+  /// The friction coefficient of the pairs the friction table does not set
+  /// ([contact] friction), from the next step on (a stage's contact.friction)
+  void set_default_friction(double mu) { _options.contact.friction = mu; }
   /// The state after the last step, its vectors global (2 entries per
   /// mesh node)
   /// @throws std::logic_error on a distributed run (no process holds every

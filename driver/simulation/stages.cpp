@@ -174,6 +174,7 @@ void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
                          std::optional<double> phi, const std::string& ended_by)
 {
   const parameters::Stage& stage = _stages[k];
+  scheme.set_default_friction(stage.contact.friction);
   std::vector<dynamics::Wall> walls = scheme.walls();
   const double returned = set_drives(stage, walls);
   if (returned != 0)
@@ -212,6 +213,7 @@ void StageProgram::resume(const StageStart& start, dynamics::MoreauJean& scheme)
 {
   for (int k = 0; k <= start.index; ++k)
     set_drives(_stages[k], scheme.walls());
+  scheme.set_default_friction(_stages[start.index].contact.friction);
   _start = start;
 }
 

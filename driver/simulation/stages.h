@@ -94,13 +94,14 @@ public:
   const StageStart& start() const { return _start; }
   bool last() const { return _start.index + 1 == size(); }
 
-  /// Begin stage k after step `step`: its drives on the scheme's walls,
-  /// its start recorded; `ended_by`: the criterion that ended the stage
-  /// before it (none for the first)
+  /// Begin stage k after step `step`: its drives on the scheme's walls and
+  /// its friction, its start recorded; `ended_by`: the criterion that ended the
+  /// stage before it (none for the first)
   void begin(int k, dynamics::MoreauJean& scheme, std::optional<double> phi,
              const std::string& ended_by = "");
 
-  /// Set the walls' drives of stages 0..start.index (before the scheme's
+  /// Set the walls' drives of stages 0..start.index and that stage's
+  /// friction (before the scheme's
   /// restore from a state) and continue that stage from `start`.
   void resume(const StageStart& start, dynamics::MoreauJean& scheme);
 

@@ -1,4 +1,5 @@
-"""Loading stages ([[stages]], docs/loading.md; issue 12 item 2).
+"""Loading stages ([[stages]], docs/loading.md; issue 12 item 2; a stage's
+friction, issue 38 item 4).
 
 Validation: a wall driven two ways in a stage, unknown walls and keys, a
 stage without a time bound and a global Phi target with stages are refused
@@ -250,3 +251,90 @@ def test_a_run_continued_from_a_state_inside_a_stage_is_the_same(
             initial_state=lone / "state.bin")
     log = "".join(p.read_text() for p in (tmp_path / "lone-run").glob("*.log"))
     assert "state.stage.json: missing" in log
+
+
+def test_a_stage_friction_is_validated_and_kept_by_the_next_stages():
+    c = cfg.validate(stages_config([
+        {"contact": {"friction": 0.0},
+         "stop": {"equilibrium": 1e-3, "max_time": 0.2}},
+        {"stop": {"max_time": 0.1}},
+        {"contact": {"friction": 0.5}, "stop": {"max_time": 0.1}},
+    ]), "a.toml")
+    assert [s["contact"]["friction"] for s in c["stages"]] == [0.0, 0.0, 0.5]
+    assert c["contact"]["friction"] == 0.3  # the run's own stays
+    first = cfg.validate(stages_config([{"stop": {"max_time": 0.1}}]), "b")
+    assert first["stages"][0]["contact"]["friction"] == 0.3
+    for table, match in [({"friction": -0.1}, r"a.toml: \[stages.0\]"
+                          r" contact.friction = -0.1: must be >= 0"),
+                         ({"frictio": 0.1}, r"unknown key"
+                          r" \[stages.0.contact\] frictio"),
+                         (0.2, r"\[stages.0\] contact must be a table")]:
+        with pytest.raises(cfg.ConfigError, match=match):
+            cfg.validate(stages_config([{"contact": table,
+                                         "stop": {"max_time": 0.1}}]),
+                         "a.toml")
+
+
+FRICTION_STAGES = [
+    {"name": "frictionless", "contact": {"friction": 0.0},
+     "stop": {"max_time": 0.1}},
+    {"name": "pushed", "contact": {"friction": 0.5},
+     "walls": {"right": {"velocity": [-0.05, 0.0]}},
+     "stop": {"max_time": 0.03}},
+]
+
+
+@pytest.fixture(scope="module")
+def friction_run(tmp_path_factory):
+    """A preparation protocol in small: consolidated without friction at
+    4 kPa, then pushed by the right wall with friction 0.5 ([contact]
+    friction 0.3)."""
+    require_driver()
+    out = tmp_path_factory.mktemp("stages") / "friction"
+    assert run(small_config(FRICTION_STAGES), out) == 0
+    return out
+
+
+def test_each_stage_solves_contacts_with_its_own_friction(friction_run,
+                                                         tmp_path):
+    """No frictional dissipation while loaded contacts slide without
+    friction; dissipation once friction is on; and the value the stage
+    sets is the one used: the same program under [contact] friction 0.5
+    gives the same raw steps, bit for bit."""
+    steps = read_table(friction_run / "raw" / "steps.csv")
+    stage = np.asarray(steps["stage"])
+    dissipated = np.asarray(steps["friction"])
+    assert np.all(dissipated[stage == 0] == 0)
+    assert np.max(np.asarray(steps["contacts"])[stage == 0]) > 0
+    assert np.asarray(steps["wall_work"])[stage == 0][-1] > 0
+    assert dissipated[-1] > 1e-3 * steps["wall_work"][-1]
+    other = tmp_path / "contact-0.5"
+    config = small_config(FRICTION_STAGES)
+    config["contact"]["friction"] = 0.5
+    assert run(config, other) == 0
+    again = read_table(other / "raw" / "steps.csv")
+    for key in steps:
+        if not key.startswith("seconds"):
+            assert np.array_equal(np.asarray(again[key]),
+                                  np.asarray(steps[key])), key
+
+
+def test_a_run_continued_inside_a_friction_stage_is_the_same(friction_run,
+                                                             tmp_path):
+    whole = read_table(friction_run / "raw" / "steps.csv")
+    in_pushed = np.flatnonzero(np.asarray(whole["stage"]) == 1)
+    cut_at = int(whole["step"][in_pushed[len(in_pushed) // 2]])
+    data = tomllib.loads(cfg.to_toml(cfg.load_config(friction_run /
+                                                     "config.toml")))
+    data["stop"]["steps"] = cut_at
+    first = tmp_path / "first"
+    assert run(cfg.validate(data, "cut"), first) == EXIT_FLAGGED
+    data["stop"]["steps"] = 0
+    rest = tmp_path / "rest"
+    assert run(cfg.validate(data, "rest"), rest,
+               initial_state=first / "raw" / "state.bin") == 0
+    steps = read_table(rest / "raw" / "steps.csv")
+    assert steps["step"][-1] == whole["step"][-1]
+    for key in ("right_x", "top_y", "wall_work", "friction",
+                "energy_residual"):  # friction: the stage's 0.5 restored
+        assert steps[key][-1] == whole[key][-1], key

@@ -450,8 +450,10 @@ def _stage_lines(program) -> list:
             control = d[CONTROL]
             lines.append(f"walls.{wall} = {{ {CONTROL} = {_show(control)},"
                          f" {control} = {_show(d[control])} }}")
-        keys = ", ".join(f"{k} = {_show(v)}" for k, v in stage["stop"].items())
-        lines.append(f"stop = {{ {keys} }}")
+        for table in ("contact", "stop"):
+            keys = ", ".join(f"{k} = {_show(v)}"
+                             for k, v in stage[table].items())
+            lines.append(f"{table} = {{ {keys} }}")
     return lines
 
 

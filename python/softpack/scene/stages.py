@@ -8,14 +8,16 @@ criterion. In the TOML file::
     name = "consolidate"
     walls.right = { control = "pressure", pressure = 1e4 }
     walls.top = { pressure = 1e4 }          # control "pressure" implied
+    contact = { friction = 0.0 }            # from here on; else kept
     stop = { equilibrium = 1e-3, max_time = 0.5 }
 
 A :class:`~softpack.scene.config.Config` holds every stage complete, as
 driver.json takes it: ``{"name", "walls": {NAME: {"control", "velocity",
-"pressure", "force"}}, "stop": {KEY: value}}`` with every stop key of the
-schema (``stop.KEY``) set, the derived ``max_time`` and ``strain_wall``
-computed. Walls a stage does not name keep the drive they had; the first
-stage starts from ``[walls]``.
+"pressure", "force"}}, "contact": {KEY: value}, "stop": {KEY: value}}``
+with every contact and stop key of the schema (``contact.KEY``,
+``stop.KEY``) set, the derived ``max_time`` and ``strain_wall`` computed.
+Walls a stage does not name keep the drive they had, and a contact key its
+value; the first stage starts from ``[walls]`` and ``[contact]``.
 
 Errors name the file, the stage (``[stages.INDEX]``) and the key, like
 the rest of the configuration's.
@@ -32,9 +34,11 @@ from softpack.contract.schema import load_schema
 from softpack.scene.walls import CONTROL, check_drive, drive_keys
 
 #: The keys of one stage.
-STAGE_KEYS = ("name", "walls", "stop")
+STAGE_KEYS = ("name", "walls", "contact", "stop")
 #: The prefix of the stop keys in the schema's [stages] section.
 STOP = "stop."
+#: The prefix of the contact keys in the schema's [stages] section.
+CONTACT = "contact."
 #: Normals whose dot product is below -1 + this face each other.
 FACING_TOLERANCE = 1e-9
 
@@ -45,8 +49,13 @@ class StageError(ValueError):
 
 def stop_specs(section) -> dict:
     """``key -> Parameter`` of the stop keys (without ``stop.``)."""
-    return {key[len(STOP):]: spec for key, spec in section.parameters.items()
-            if key.startswith(STOP)}
+    return _prefixed(section, STOP)
+
+
+def _prefixed(section, prefix) -> dict:
+    """``key -> Parameter`` of the keys ``PREFIX.KEY`` (without it)."""
+    return {key[len(prefix):]: spec for key, spec in
+            section.parameters.items() if key.startswith(prefix)}
 
 
 def validate(checker, section, items, sections, given_stop) -> list:
@@ -78,6 +87,8 @@ def validate(checker, section, items, sections, given_stop) -> list:
         raise StageError("[[stages]] must be one or more tables")
     drives = {name: {k: w[k] for k in drive_keys()}
               for name, w in sections["walls"].items()}
+    contact = {key: sections["contact"][key]
+               for key in _prefixed(section, CONTACT)}
     out = []
     for i, item in enumerate(items):
         title = f"stages.{i}"
@@ -87,12 +98,14 @@ def validate(checker, section, items, sections, given_stop) -> list:
                              section.parameters["name"], name) or f"stage{i}"
         drives = _apply_walls(checker, i, item.get("walls", {}), drives,
                               sections)
+        contact = _contact(checker, section, i, item.get("contact", {}),
+                           contact)
         stop = _stop(checker, section, i, item.get("stop", {}), drives,
                      sections)
         out.append({"name": name,
                      "walls": {w: dict(d) for w, d in drives.items()
                                if w in item.get("walls", {})},
-                     "stop": stop})
+                     "contact": dict(contact), "stop": stop})
     names = [s["name"] for s in out]
     if len(set(names)) != len(names):
         raise StageError(f"[[stages]] names {names!r}: must differ")
@@ -162,6 +175,20 @@ def _check_speed(where, drive, sections) -> None:
             f"{where}.velocity = {drive['velocity']!r}: moves"
             f" {speed * step:.3g} m per step of {key}, more than [contact]"
             f" alert_distance or max_penetration ({limit:g} m)")
+
+
+def _contact(checker, section, index, table, before) -> dict:
+    """A stage's contact keys: given, else the stage before's (the first
+    stage's: [contact]'s)."""
+    title = f"stages.{index}"
+    specs = _prefixed(section, CONTACT)
+    if not isinstance(table, dict):
+        raise StageError(f"[{title}] contact must be a table (keys:"
+                         f" {', '.join(specs)})")
+    checker.keys(f"{title}.contact", table, list(specs))
+    return {key: checker.value(title, ["stages", index, "contact", key],
+                               spec, table[key]) if key in table
+            else before[key] for key, spec in specs.items()}
 
 
 def _stop(checker, section, index, table, drives, sections) -> dict:

@@ -177,6 +177,7 @@ TEST(RunSetup, SetupRecordsTheStages)
                     {"velocity", {-0.02, 0.0}},
                     {"pressure", 0.0},
                     {"force", 0.0}}}}},
+                {"contact", {{"friction", 0.3}}},
                 {"stop", stop}};
   json hold = press;
   hold["name"] = "hold";
@@ -186,6 +187,7 @@ TEST(RunSetup, SetupRecordsTheStages)
   hold["stop"]["strain"] = 0.0;
   hold["stop"]["strain_wall"] = "";
   hold["stop"]["equilibrium"] = 1e-3;
+  hold["contact"]["friction"] = 0.0;
   doc["stages"] = json::array({press, hold});
   test::write_json(doc, dir / "driver.json");
   simulation::run_simulation(
@@ -198,6 +200,7 @@ TEST(RunSetup, SetupRecordsTheStages)
             json({-0.02, 0.0}));
   EXPECT_EQ(stages[0].at("stop").at("strain_wall"), "right");
   EXPECT_EQ(stages[1].at("walls").at("right").at("control"), "force");
+  EXPECT_EQ(stages[1].at("contact").at("friction"), 0.0);
   EXPECT_EQ(stages[1].at("stop").at("equilibrium"), 1e-3);
   EXPECT_EQ(stages, doc.at("stages"));
   if (!HasFailure())

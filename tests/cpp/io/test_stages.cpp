@@ -1,6 +1,7 @@
-// Loading stages in driver.json (docs/loading.md): read with every key,
-// bad drives and stop keys refused naming the key path; the box's wall
-// pressure and a wall's facing distance against values by hand.
+// Loading stages in driver.json (docs/loading.md): read with every key (a
+// stage's friction too), bad drives and stop keys refused naming the key
+// path; the box's wall pressure and a wall's facing distance against values
+// by hand.
 #include "read_driver_json.h"
 #include <gtest/gtest.h>
 #include <io/driver_config.h>
@@ -27,6 +28,7 @@ json two_stages()
                                {"velocity", {0.0, 0.0}},
                                {"pressure", 1e4},
                                {"force", 0.0}}}}},
+                           {"contact", {{"friction", 0.0}}},
                            {"stop", stop}});
   json axial = stop;
   axial["strain"] = 0.1;
@@ -39,6 +41,7 @@ json two_stages()
                                {"velocity", {-0.1, 0.0}},
                                {"pressure", 0.0},
                                {"force", 0.0}}}}},
+                           {"contact", {{"friction", 0.3}}},
                            {"stop", axial}});
   return doc;
 }
@@ -66,6 +69,8 @@ TEST(Stages, AreReadWithTheirWallsAndStopKeys)
   EXPECT_EQ(c.stages[0].stop.equilibrium, 1e-3);
   EXPECT_EQ(c.stages[1].stop.strain_wall, "right");
   EXPECT_EQ(c.stages[1].stop.strain, 0.1);
+  EXPECT_EQ(c.stages[0].contact.friction, 0.0);
+  EXPECT_EQ(c.stages[1].contact.friction, 0.3);
   // the Newton test's velocity scale sees the stages' speeds
   EXPECT_EQ(c.velocity_scale, 0.1);
 }
@@ -114,6 +119,14 @@ TEST(Stages, BadOnesAreRefusedNamingTheKey)
   doc["stages"][1]["stop"]["strain_wall"] = "lid";
   EXPECT_NE(error_of(doc).find("stages[1].stop.strain_wall"),
             std::string::npos);
+  doc = two_stages();
+  doc["stages"][1]["contact"]["friction"] = -0.1;
+  EXPECT_NE(error_of(doc).find("stages[1].contact.friction"), std::string::npos)
+      << error_of(doc);
+  doc = two_stages();
+  doc["stages"][0].erase("contact");
+  EXPECT_NE(error_of(doc).find("stages[0].contact"), std::string::npos)
+      << error_of(doc);
   doc = two_stages();
   doc["stop"]["packing_fraction"] = 0.88;
   EXPECT_NE(error_of(doc).find("stop.packing_fraction"), std::string::npos);
