@@ -369,7 +369,7 @@ def test_seed_groups_separate_element_sizes_and_read_old_indexes(tmp_path):
     assert labels == [phi0, f"{phi0}, h = {default / np.sqrt(2) * 1e3:.3g} mm"]
     index = seeds / "runs.csv"
     lines = index.read_text().splitlines()
-    old = [",".join(line.split(",")[:-1]) for line in lines]
+    old = [",".join(line.split(",")[:-2]) for line in lines]
     index.write_text("\n".join(old) + "\n")  # the 8-column layout
     assert {s.element_size for g in paper_seeds.load_seeds(seeds).values()
             for s in g} == {default}
@@ -377,3 +377,35 @@ def test_seed_groups_separate_element_sizes_and_read_old_indexes(tmp_path):
     assert all(len(line.split(",")) == len(paper_seeds.RUN_COLUMNS)
                for line in index.read_text().splitlines())
     assert len(paper_seeds.load_seeds(seeds)) == 2
+
+
+def test_seed_groups_separate_preparation_protocols(tmp_path):
+    """A run whose first stage compacts with another friction than the
+    run's (examples/paper_prepared.toml) is its own group, named by it; a
+    stage list at the run's friction is no preparation."""
+    from softpack.plots import paper_seeds
+
+    runs = []
+    for name, frictions in (("random", None), ("prepared", (1.0, None)),
+                            ("staged", (None, None))):
+        run = tmp_path / name
+        run.mkdir()
+        write_fake_run(run, n_steps=3)
+        if frictions:
+            own = read_setup(run).friction  # None: the run's own
+            frictions = [own if mu is None else mu for mu in frictions]
+            doc = json.loads((run / "raw" / "setup.json").read_text())
+            doc["stages"] = [
+                {"name": f"s{k}", "contact": {"friction": mu},
+                 "stop": {"packing_fraction": phi}}
+                for k, (mu, phi) in enumerate(zip(frictions, (0.78, 0.88)))]
+            (run / "raw" / "setup.json").write_text(json.dumps(doc))
+        obs.process_run(run)
+        runs.append(run)
+    assert [paper_seeds.protocol(read_setup(r)) for r in runs] == [
+        "", "mu_f 1 to Phi 0.78", ""]
+    paper_seeds.export_seeds(runs, tmp_path / "seeds")
+    groups = paper_seeds.load_seeds(tmp_path / "seeds")
+    phi0 = min(groups, key=len)
+    assert sorted(groups) == [phi0, f"{phi0}, prepared: mu_f 1 to Phi 0.78"]
+    assert sorted(s.name for s in groups[phi0]) == ["random", "staged"]

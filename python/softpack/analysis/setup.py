@@ -76,6 +76,11 @@ class RunSetup:
         Whether each body is rigid (its species' material is).
     stage_names : tuple of str
         The names of the loading program's stages (none without stages).
+    stage_frictions : tuple of float
+        Each stage's friction (``contact.friction``; the run's ``friction``
+        for a stage recorded without one).
+    stage_phis : tuple of float
+        Each stage's ``stop.packing_fraction`` (0: no such criterion).
     notes : tuple of str
         What could not be read and why.
     """
@@ -96,6 +101,8 @@ class RunSetup:
     element_size: float = math.nan
     body_rigid: np.ndarray = None
     stage_names: tuple = ()
+    stage_frictions: tuple = ()
+    stage_phis: tuple = ()
     notes: tuple = field(default=())
 
     @property
@@ -208,17 +215,24 @@ def _from_document(path, doc) -> RunSetup:
     rigid = {m["name"] for m in doc.get("materials", ()) if m.get("rigid")}
     species_rigid = np.array([s.get("material", "") in rigid
                               for s in species] or [False])
+    friction = float(doc["parameters"]["contact"]["friction"])
+    stages = doc.get("stages", ())
     return RunSetup(
         path=path, thickness=float(scene["model"]["thickness"]), walls=walls,
         length=length, width=width, shear_modulus=mu, law=material["law"],
-        friction=float(doc["parameters"]["contact"]["friction"]),
+        friction=friction,
         seed=int(scene["packing"]["seed"]), species=species,
         body_species=species_of, reference_area=reference_area,
         diameters=diameters,
         element_size=float(scene.get("mesh", {}).get("element_size",
                                                       math.nan)),
         body_rigid=species_rigid[species_of],
-        stage_names=tuple(s.get("name", "") for s in doc.get("stages", ())),
+        stage_names=tuple(s.get("name", "") for s in stages),
+        stage_frictions=tuple(float(s.get("contact", {}).get("friction",
+                                                             friction))
+                              for s in stages),
+        stage_phis=tuple(float(s["stop"].get("packing_fraction", 0.0))
+                         for s in stages),
         notes=tuple(notes))
 
 

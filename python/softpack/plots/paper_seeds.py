@@ -13,7 +13,9 @@ those files only: Figs. 4, 6, 8, 9 (Phi0 groups averaged over seeds),
 mean and spread over seeds) and ``exclusion_table.md`` (max |dZ| between
 f_p* = 0.05 % and 0.1 % under each reading). Runs are grouped by their
 nominal initial packing fraction (``phi0`` of ``runs.csv``: the disks'
-area over the initial box, rounded to 3 digits).
+area over the initial box, rounded to 3 digits), their element size and
+their preparation (``protocol``: the stages that compact with a friction
+other than the run's, e.g. ``mu_f 1 to Phi 0.78``; empty without).
 
 E is given in J (``E_J``) and normalised in the summary with the paper's
 set-up, L = 286 mm (:data:`PAPER_LENGTH`), for every group: a run started
@@ -50,7 +52,9 @@ PAPER_LENGTH = 0.286
 #: Packing fractions of the summary table.
 SUMMARY_PHIS = (0.80, 0.84, 0.88)
 RUN_COLUMNS = ("name", "seed", "phi0", "length", "width", "thickness",
-               "shear_modulus", "friction", "element_size")
+               "shear_modulus", "friction", "element_size", "protocol")
+#: The numeric columns of runs.csv (after the name).
+NUMERIC = RUN_COLUMNS[1:-1]
 
 
 def reading_column(reference, excluded, threshold) -> str:
@@ -105,9 +109,7 @@ def export_seeds(run_dirs, seed_dir) -> list[Path]:
     seed_dir = Path(seed_dir)
     seed_dir.mkdir(parents=True, exist_ok=True)
     index = seed_dir / "runs.csv"
-    rows = {name: values + [default_element_size()] * (len(RUN_COLUMNS) - 1
-                                                       - len(values))
-            for name, values in _read_index(index).items()}
+    rows = _read_index(index)
     written = []
     for run_dir in map(Path, run_dirs):
         columns, setup = seed_columns(run_dir)
@@ -117,23 +119,41 @@ def export_seeds(run_dirs, seed_dir) -> list[Path]:
         # are 0.14 % smaller, so series.csv's first phi is a little lower
         phi0 = float(np.sum(np.pi * setup.radii**2)
                      / (setup.length * setup.width))
-        rows[run_dir.name] = [setup.seed, phi0,
-                              setup.length, setup.width, setup.thickness,
-                              setup.shear_modulus, setup.friction,
-                              setup.element_size]
+        rows[run_dir.name] = ([setup.seed, phi0,
+                               setup.length, setup.width, setup.thickness,
+                               setup.shear_modulus, setup.friction,
+                               setup.element_size], protocol(setup))
     lines = [",".join(RUN_COLUMNS)] + [
-        ",".join([name, *(repr(v) for v in values)])
-        for name, values in sorted(rows.items())]
+        ",".join([name, *(repr(v) for v in values), label])
+        for name, (values, label) in sorted(rows.items())]
     index.write_text("\n".join(lines) + "\n")
     return written
 
 
+def protocol(setup) -> str:
+    """The run's preparation: each stage that compacts to a Phi with a
+    friction other than the run's (``mu_f 1 to Phi 0.78``; ``; `` between
+    two), or ``""``."""
+    return "; ".join(f"mu_f {mu:g} to Phi {phi:g}" for mu, phi in
+                     zip(setup.stage_frictions, setup.stage_phis)
+                     if mu != setup.friction and phi > 0)
+
+
 def _read_index(path) -> dict:
+    """``name -> (numbers, protocol)``; an index written before a column
+    existed reads element_size as the paper's mesh and no protocol."""
     if not path.is_file():
         return {}
-    lines = path.read_text().splitlines()[1:]
-    return {f[0]: [float(v) for v in f[1:]]
-            for f in (line.split(",") for line in lines if line)}
+    out = {}
+    for line in path.read_text().splitlines()[1:]:
+        if not line:
+            continue
+        f = line.split(",")
+        values = [float(v) for v in f[1:1 + len(NUMERIC)]]
+        values += [default_element_size()] * (len(NUMERIC) - len(values))
+        out[f[0]] = (values, f[1 + len(NUMERIC)] if len(f) > 1 + len(NUMERIC)
+                     else "")
+    return out
 
 
 def _rounded(columns) -> dict:
@@ -175,13 +195,13 @@ def load_seeds(seed_dir) -> dict:
     default size."""
     seed_dir = Path(seed_dir)
     groups = {}
-    for name, values in _read_index(seed_dir / "runs.csv").items():
-        seed, phi0, length, width, thickness, mu, _ = values[:7]
-        h = values[7] if len(values) > 7 else default_element_size()
+    for name, (values, prepared) in _read_index(seed_dir
+                                                / "runs.csv").items():
+        seed, phi0, length, width, thickness, mu, _, h = values
         series = read_table(seed_dir / f"{name}.csv")
         s = Seed(name, int(seed), phi0, length, width, thickness, mu, series,
                  h)
-        groups.setdefault(group_label(phi0, h), []).append(s)
+        groups.setdefault(group_label(phi0, h, prepared), []).append(s)
     return {k: sorted(v, key=lambda s: s.seed)
             for k, v in sorted(groups.items())}
 
@@ -193,13 +213,14 @@ def default_element_size() -> float:
     return float(load_schema()["mesh"].parameters["element_size"].default)
 
 
-def group_label(phi0, element_size) -> str:
-    """``0.748``, or ``0.748, h = 0.753 mm`` off the paper's mesh (an
-    unknown size, NaN, is not marked)."""
-    if not np.isfinite(element_size) or np.isclose(
+def group_label(phi0, element_size, prepared="") -> str:
+    """``0.748``, ``0.748, h = 0.753 mm`` off the paper's mesh (an unknown
+    size, NaN, is not marked), ``0.748, prepared: mu_f 1 to Phi 0.78``."""
+    label = f"{phi0:.3f}"
+    if np.isfinite(element_size) and not np.isclose(
             element_size, default_element_size(), rtol=1e-6):
-        return f"{phi0:.3f}"
-    return f"{phi0:.3f}, h = {element_size * 1e3:.3g} mm"
+        label += f", h = {element_size * 1e3:.3g} mm"
+    return label + (f", prepared: {prepared}" if prepared else "")
 
 
 def energy(seed, phi) -> float:
