@@ -101,3 +101,16 @@ def test_one_good_run_among_refused_ones_says_so():
     fit = fits.fit_runs([good, bad])
     assert fit.ok and fit.method.endswith("1 of 2 runs refused")
     assert not fits.fit_runs([bad, bad]).ok
+
+
+def test_the_onset_is_where_binned_z_first_exceeds_z_t():
+    phi = np.linspace(0.75, 0.88, 261)
+    z = np.where(phi < 0.8, 2.5, 3.6)
+    onset = fits.rigidity_onset(phi, z)
+    # the first bin (0.005 wide, on a 0.0025 grid) whose mean passes 3
+    assert 0.8 - fits.ONSET_BIN / 2 <= onset <= 0.8 + fits.ONSET_BIN / 2
+    assert np.isnan(fits.rigidity_onset(phi, np.full_like(phi, 2.9)))
+    assert np.isnan(fits.rigidity_onset(phi[:0], z[:0]))
+    # the law's data leave 3 at Phi_T, within a bin
+    law = fits.connectivity_law(phi, 0.79)
+    assert abs(fits.rigidity_onset(phi, law) - 0.79) <= fits.ONSET_BIN

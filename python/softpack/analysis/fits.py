@@ -262,3 +262,26 @@ def fit_runs(curves, settings: FitSettings = FitSettings()
     return TransitionFit(float(values.mean()), float(values.std(ddof=1)), "",
                          f"std over {len(good)} seeds{note}", points,
                          sum(f.points_above for f in good), fits)
+
+
+#: Width in Phi of the bins of :func:`rigidity_onset`.
+ONSET_BIN = 0.005
+
+
+def rigidity_onset(phi, z, bin_width=ONSET_BIN) -> float:
+    """Where Z first leaves Z_T: the smallest Phi whose bin (``bin_width``
+    wide, centred on a grid of half that step from the smallest Phi of the
+    data) holds points with a mean Z above Z_T; NaN when none does.
+
+    A reading of the transition that assumes no law above it (Eq. 14
+    fixes the slope through Z_1 at Phi_1, so its Phi_T also answers for the
+    whole curve up to Phi_1).
+    """
+    phi, z = _usable(phi, z)
+    if not len(phi):
+        return float("nan")
+    for centre in np.arange(phi[0], phi[-1], bin_width / 2):
+        inside = np.abs(phi - centre) <= bin_width / 2
+        if inside.any() and z[inside].mean() > Z_T:
+            return float(centre)
+    return float("nan")

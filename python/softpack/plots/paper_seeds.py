@@ -9,8 +9,8 @@ and adds the run's constants to ``SEEDDIR/runs.csv``.
 
 ``./softpack plot --seeds SEEDDIR --out FIGDIR`` then regenerates, from
 those files only: Figs. 4, 6, 8, 9 (Phi0 groups averaged over seeds),
-``fig8_fit.txt``, ``summary.md`` (Phi_T, E and c_v at Phi 0.80, 0.84, 0.88,
-mean and spread over seeds) and ``exclusion_table.md`` (max |dZ| between
+``fig8_fit.txt``, ``summary.md`` (Phi_T, where Z leaves 3, E and c_v at
+Phi 0.80, 0.84, 0.88, mean and spread over seeds) and ``exclusion_table.md`` (max |dZ| between
 f_p* = 0.05 % and 0.1 % under each reading). Runs are grouped by their
 nominal initial packing fraction (``phi0`` of ``runs.csv``: the disks'
 area over the initial box, rounded to 3 digits), their element size and
@@ -240,19 +240,21 @@ def _spread(values) -> str:
 
 def summary(groups) -> list[str]:
     """The summary table (markdown lines): Phi_T of Eq. 14 with the default
-    rules (``z``) and without the exclusion, Z at Phi = 0.88, E and c_v at
-    :data:`SUMMARY_PHIS`, mean +- std over seeds."""
+    rules (``z``) and without the exclusion, where Z first leaves Z_T
+    (:func:`~softpack.analysis.fits.rigidity_onset`), Z at Phi = 0.88, E
+    and c_v at :data:`SUMMARY_PHIS`, mean +- std over seeds."""
     head = ["| Phi0 | seeds | Phi_T (Eq. 14) | Phi_T, no exclusion |"
-            " Z at 0.88 |"
+            " Z > 3 from | Z at 0.88 |"
             + "".join(f" E/(WHLmu) at {p:.2f} |" for p in SUMMARY_PHIS)
             + "".join(f" c_v at {p:.2f} |" for p in SUMMARY_PHIS),
-            "|" + " --- |" * (5 + 2 * len(SUMMARY_PHIS))]
+            "|" + " --- |" * (6 + 2 * len(SUMMARY_PHIS))]
     rows = []
     for label, seeds in groups.items():
         rows.append(
             f"| {label} | {', '.join(str(s.seed) for s in seeds)} |"
             f" {_fit_text(seeds, 'z')} |"
             f" {_fit_text(seeds, 'z_no_exclusion')} |"
+            f" {_onset_text(seeds)} |"
             f" {_spread([s.at('z', 0.88 - 1e-9) for s in seeds])} |"
             + "".join(f" {_spread([energy(s, p) for s in seeds])} |"
                       for p in SUMMARY_PHIS)
@@ -301,6 +303,18 @@ def exclusion_table(groups, ranges=((0.80, 0.88), (0.82, 0.88))
         lines.append(f"| {label} | (no exclusion) | |" + " |" * len(ranges)
                      + f" | 0 / 0 / 0 | {_fit_text(seeds, 'z_no_exclusion')} |")
     return lines
+
+
+def _onset_text(seeds) -> str:
+    """Mean +- std over seeds of the Phi where Z first leaves Z_T."""
+    v = np.array([fits.rigidity_onset(s.series["phi"], s.series["z"])
+                  for s in seeds])
+    v = v[np.isfinite(v)]
+    if not len(v):
+        return "n/a"
+    if len(v) == 1:
+        return f"{v[0]:.4f} (1 seed)"
+    return f"{v.mean():.4f} +- {v.std(ddof=1):.4f}"
 
 
 def _fit_text(seeds, column) -> str:
