@@ -118,14 +118,30 @@ def plot_curves(groups, x_name, y_name, xlabel, ylabel, path, extra=None):
     return _save(fig, ax, xlabel, ylabel, path)
 
 
+#: Legend entries longer than this go one per row (two columns would be
+#: wider than a one-column figure and squeeze the axes).
+LEGEND_TWO_COLUMNS = 38
+#: Legend rows below the axes that the figure's height holds as it is;
+#: each row beyond adds LEGEND_ROW inches, so the axes keep their size.
+LEGEND_ROWS, LEGEND_ROW = 4, 0.135
+
+
 def _save(fig, ax, xlabel, ylabel, path):
     """Label, grid and legend one plot, write it (PNG and PDF), close it."""
     with style.context():
         ax.set_xlabel(xlabel)
         ax.set_ylabel(ylabel)
         ax.grid(alpha=0.3)
+        labels = ax.get_legend_handles_labels()[1]
+        ncols = 2 if max(map(len, labels), default=0) <= LEGEND_TWO_COLUMNS \
+            else 1
+        rows = -(-len(labels) // ncols)
+        if rows > LEGEND_ROWS:
+            width, height = fig.get_size_inches()
+            fig.set_size_inches(width, height
+                                + (rows - LEGEND_ROWS) * LEGEND_ROW)
         ax.legend(fontsize=6, frameon=False, loc="upper center",
-                  bbox_to_anchor=(0.5, -0.2), ncols=2)
+                  bbox_to_anchor=(0.5, -0.2), ncols=ncols)
         write_figure(fig, path)
     return path
 
