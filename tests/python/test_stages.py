@@ -215,25 +215,14 @@ def test_a_run_continued_from_a_state_inside_a_stage_is_the_same(
     inside the 8 kPa stage ([stop] steps) and continued from its state ends
     where the uninterrupted one does, bit for bit."""
     whole = read_table(stepped_run / "raw" / "steps.csv")
-    in_p8k = np.flatnonzero(np.asarray(whole["stage"]) == 1)
-    cut_at = int(whole["step"][in_p8k[len(in_p8k) // 2]])
     stages = cfg.load_config(stepped_run / "config.toml")["stages"]
-    data = tomllib.loads(cfg.to_toml(cfg.load_config(stepped_run /
-                                                     "config.toml")))
-    data["stop"]["steps"] = cut_at
-    first = tmp_path / "first"
-    assert run(cfg.validate(data, "cut"), first) == EXIT_FLAGGED
+    data, cut_at, first, rest, steps = _cut_and_continue(stepped_run, 1,
+                                                         tmp_path)
     done = json.loads((first / "raw" / "done.json").read_text())
     assert done["reason"] == "steps" and done["complete"] is False
     record = json.loads((first / "raw" / "state.stage.json").read_text())
     assert record["stage"] == 1 and record["step"] == cut_at
     assert record["ended_by"] == done["ended_by"] == ["equilibrium"]
-    data["stop"]["steps"] = 0
-    rest = tmp_path / "rest"
-    assert run(cfg.validate(data, "rest"), rest,
-               initial_state=first / "raw" / "state.bin") == 0
-    steps = read_table(rest / "raw" / "steps.csv")
-    assert steps["step"][-1] == whole["step"][-1]
     for key in ("right_x", "top_y", "wall_work", "energy_residual", "stage"):
         assert steps[key][-1] == whole[key][-1], key
     assert cfg.load_config(rest / "config.toml")["stages"] == stages
@@ -319,12 +308,15 @@ def test_each_stage_solves_contacts_with_its_own_friction(friction_run,
                                   np.asarray(steps[key])), key
 
 
-def test_a_run_continued_inside_a_friction_stage_is_the_same(friction_run,
-                                                             tmp_path):
-    whole = read_table(friction_run / "raw" / "steps.csv")
-    in_pushed = np.flatnonzero(np.asarray(whole["stage"]) == 1)
-    cut_at = int(whole["step"][in_pushed[len(in_pushed) // 2]])
-    data = tomllib.loads(cfg.to_toml(cfg.load_config(friction_run /
+def _cut_and_continue(run_dir, stage, tmp_path):
+    """The run's program cut in the middle of ``stage`` ([stop] steps) and
+    continued from the cut's state: (the program, the step cut at, the cut
+    run, the continued run, its steps), the continued run ending at the
+    uninterrupted one's last step."""
+    whole = read_table(run_dir / "raw" / "steps.csv")
+    inside = np.flatnonzero(np.asarray(whole["stage"]) == stage)
+    cut_at = int(whole["step"][inside[len(inside) // 2]])
+    data = tomllib.loads(cfg.to_toml(cfg.load_config(run_dir /
                                                      "config.toml")))
     data["stop"]["steps"] = cut_at
     first = tmp_path / "first"
@@ -335,6 +327,13 @@ def test_a_run_continued_inside_a_friction_stage_is_the_same(friction_run,
                initial_state=first / "raw" / "state.bin") == 0
     steps = read_table(rest / "raw" / "steps.csv")
     assert steps["step"][-1] == whole["step"][-1]
+    return data, cut_at, first, rest, steps
+
+
+def test_a_run_continued_inside_a_friction_stage_is_the_same(friction_run,
+                                                             tmp_path):
+    whole = read_table(friction_run / "raw" / "steps.csv")
+    steps = _cut_and_continue(friction_run, 1, tmp_path)[-1]
     for key in ("right_x", "top_y", "wall_work", "friction",
                 "energy_residual"):  # friction: the stage's 0.5 restored
         assert steps[key][-1] == whole[key][-1], key
