@@ -67,6 +67,7 @@ json setup_json(const DriverConfig& config, const bodies::BodySet& bodies)
             {"contact", parameters::to_json(p.contact)},
             {"time", parameters::to_json(p.time)},
             {"damping", parameters::to_json(p.damping)},
+            {"gravity", parameters::to_json(p.gravity)},
             {"output", parameters::to_json(p.output)},
             {"parallel", parameters::to_json(p.parallel)}}},
           {"initial_state", config.initial_state

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bodies/BodySet.h>
+#include <bodies/body_forces.h>
 #include <bodies/body_geometry.h>
 #include <bodies/stress_average.h>
 #include <chrono>
@@ -174,6 +175,9 @@ public:
                    : nullptr),
         _program(config)
   {
+    if (_p.gravity.acceleration != std::array<double, 2>{0, 0})
+      _scheme.set_external_force(
+          bodies::weight(_bodies, _p.gravity.acceleration));
     if (config.initial_state)
     {
       io::StateFile f = io::read_state_file(*config.initial_state, &_identity);

@@ -1,5 +1,7 @@
 #include "stages.h"
 
+#include <bodies/body_forces.h>
+
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -92,13 +94,21 @@ double servo_wall_ratio(const dynamics::MoreauJean& scheme)
 } // namespace
 
 double unbalanced_force_ratio(const dynamics::MoreauJean& scheme,
-                              int num_bodies)
+                              const bodies::BodySet& bodies,
+                              const std::array<double, 2>& gravity)
 {
   const std::vector<dynamics::Contact>& contacts = scheme.contacts();
   const std::vector<double>& R = scheme.impulses();
   // The particles' ratio is taken on impulses (forces x h), as the
   // contacts give them; the walls' on forces.
-  std::vector<std::array<double, 2>> resultant(num_bodies, {0, 0});
+  std::vector<std::array<double, 2>> resultant(bodies.num_bodies(), {0, 0});
+  if (gravity != std::array<double, 2>{0, 0})
+    for (int b = 0; b < bodies.num_bodies(); ++b)
+    {
+      const std::array<double, 2> w = bodies::body_weight(bodies, b, gravity);
+      for (int d = 0; d < 2; ++d)
+        resultant[b][d] = w[d] * scheme.time_step();
+    }
   // A pair: (candidate, antagonist body) or (candidate, -1 - wall).
   std::map<std::pair<int, int>, std::array<double, 2>> pairs;
   for (std::size_t a = 0; a < contacts.size(); ++a)
@@ -132,16 +142,17 @@ double unbalanced_force_ratio(const dynamics::MoreauJean& scheme,
       sum += std::hypot(f[0], f[1]);
       ++n;
     }
-  if (n == 0)
-    return 0;
   double largest = 0;
   for (const auto& f : resultant)
     largest = std::max(largest, std::hypot(f[0], f[1]));
+  // No contact force: at rest, unless a weight pulls a body in flight
+  if (n == 0)
+    return largest > 0 ? std::numeric_limits<double>::infinity() : 0;
   return std::max(largest / (sum / n), servo_wall_ratio(scheme));
 }
 
 StageProgram::StageProgram(const io::DriverConfig& config)
-    : _stages(config.stages)
+    : _stages(config.stages), _gravity(config.parameters.gravity.acceleration)
 {
 }
 
@@ -198,6 +209,7 @@ void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
   _start.step = scheme.steps();
   _start.time = scheme.time();
   _start.wall_work = scheme.energy().wall_work;
+  _start.external_work = scheme.energy().external_work;
   if (!stage.stop.strain_wall.empty())
     _start.length = facing_distance(
         scheme.walls(), io::wall_index(scheme.walls(), stage.stop.strain_wall));
@@ -230,12 +242,13 @@ Balance StageProgram::balance(const dynamics::MoreauJean& scheme,
                               const bodies::BodySet& bodies) const
 {
   const dynamics::EnergyBalance& e = scheme.energy();
-  const double work = std::abs(e.wall_work - _start.wall_work);
+  const double work = std::abs(e.wall_work - _start.wall_work +
+                               e.external_work - _start.external_work);
   Balance b;
   b.kinetic =
       work > 0 ? e.kinetic / work
                : (e.kinetic > 0 ? std::numeric_limits<double>::infinity() : 0);
-  b.force = unbalanced_force_ratio(scheme, bodies.num_bodies());
+  b.force = unbalanced_force_ratio(scheme, bodies, _gravity);
   return b;
 }
 
@@ -326,6 +339,7 @@ void write_stage_record(const std::filesystem::path& path, long step,
                             {"start_step", s.step},
                             {"start_time", s.time},
                             {"start_wall_work", s.wall_work},
+                            {"start_external_work", s.external_work},
                             {"start_length", s.length},
                             {"phi_side", s.phi_side},
                             {"pressure_side", s.pressure_side},
@@ -361,6 +375,8 @@ StageStart read_stage_record(const std::filesystem::path& path, long step,
     s.step = j.at("start_step").get<long>();
     s.time = j.at("start_time").get<double>();
     s.wall_work = j.at("start_wall_work").get<double>();
+    // (records written before gravity existed: no external work)
+    s.external_work = j.value("start_external_work", 0.0);
     s.length = j.at("start_length").get<double>();
     s.phi_side = j.at("phi_side").get<int>();
     s.pressure_side = j.at("pressure_side").get<int>();

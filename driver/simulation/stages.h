@@ -22,8 +22,9 @@ struct StageStart
   /// Time step and time at which it started
   long step = 0;
   double time = 0;
-  /// The energy accounts' wall_work at its start (after the drive change)
-  double wall_work = 0;
+  /// The energy accounts' wall_work and external_work (gravity) at its
+  /// start (after the drive change)
+  double wall_work = 0, external_work = 0;
   /// Distance between the strain wall and the wall facing it (0: none)
   double length = 0;
   /// +1 when Phi (pressure) started below the stage's target, -1 above
@@ -46,14 +47,14 @@ struct StageCheck
 struct Balance
 {
   /// K / |W_stage|: kinetic energy of the bodies and servo walls over the
-  /// wall work done since the stage's start (inf when that work is 0 and
-  /// K > 0)
+  /// work supplied since the stage's start, by the walls and gravity (inf
+  /// when that work is 0 and K > 0)
   double kinetic = 0;
-  /// The larger of max_p |f_p| / <|f_c|> (the largest resultant contact
-  /// force on a particle over the mean magnitude of the nonzero pair contact
-  /// forces, each pair's nodal forces summed; 0 without contact forces) and,
-  /// for each servo wall, |F_imposed - F_received| / |F_imposed| (its
-  /// imposed force against the normal contact force it received)
+  /// The larger of max_p |f_p| / <|f_c|> (the largest resultant force,
+  /// contacts and weight, on a particle over the mean magnitude of the nonzero
+  /// pair contact forces, each pair's nodal forces summed; 0 without contact
+  /// forces) and, for each servo wall, |F_imposed - F_received| / |F_imposed|
+  /// (its imposed force against the normal contact force it received)
   double force = 0;
 };
 
@@ -73,9 +74,11 @@ int facing_wall(const std::vector<dynamics::Wall>& walls, int w);
 double facing_distance(const std::vector<dynamics::Wall>& walls, int w);
 
 /// max_p |f_p| / <|f_c|> from the last step's contacts and impulses
-/// (Balance::force).
+/// (Balance::force); f_p includes the particle's weight under `gravity`
+/// (schema [gravity]), so that a particle at rest on others is balanced.
 double unbalanced_force_ratio(const dynamics::MoreauJean& scheme,
-                              int num_bodies);
+                              const bodies::BodySet& bodies,
+                              const std::array<double, 2>& gravity);
 
 /// The stages of a run and the current one.
 ///
@@ -128,6 +131,8 @@ private:
   double strain(const std::vector<dynamics::Wall>& walls) const;
 
   std::vector<parameters::Stage> _stages;
+  /// [gravity] acceleration: the particles' weight enters their balance
+  std::array<double, 2> _gravity;
   StageStart _start;
 };
 

@@ -186,7 +186,7 @@ class ContactNetwork:
 
 
 def contact_network(contacts: dict, n_particles: int, piston_force: float,
-                    rules: Rules) -> ContactNetwork:
+                    rules: Rules, body_forces=None) -> ContactNetwork:
     """Connectivity, rattlers and unbalanced particles of one output step.
 
     Parameters
@@ -200,6 +200,10 @@ def contact_network(contacts: dict, n_particles: int, piston_force: float,
         Relative thresholds of :func:`active_mask` and of f_p*, the
         two-node rule, the reading of f and of the excluded particles'
         contacts (see the module doc).
+    body_forces : array_like, shape (n_particles, 2), optional
+        Forces on the particles besides the contacts (their weight under
+        [gravity]), added to each resultant: a particle resting on others
+        is balanced.
 
     Returns
     -------
@@ -210,9 +214,12 @@ def contact_network(contacts: dict, n_particles: int, piston_force: float,
                                 contacts["antagonist"], active, rules.rule)
     walls = force_bearing_walls(contacts["candidate"], contacts["node"],
                                 contacts["wall"], active)
-    resultant = np.linalg.norm(resultant_forces(
-        contacts["candidate"], contacts["antagonist"], contacts["fx"],
-        contacts["fy"], n_particles), axis=1)
+    resultant = resultant_forces(contacts["candidate"],
+                                 contacts["antagonist"], contacts["fx"],
+                                 contacts["fy"], n_particles)
+    if body_forces is not None:
+        resultant = resultant + np.asarray(body_forces, float)
+    resultant = np.linalg.norm(resultant, axis=1)
     reference = reference_force(contacts, piston_force,
                                 _rule(rules, "unbalanced_reference"))
     unbalanced = resultant > rules.unbalanced_threshold * reference

@@ -230,7 +230,7 @@ def series_and_particles(steps: dict, particles: dict, contacts_of,
         contacts = contacts_of(step)
         series["contacts_file"][k] = contacts is not None
         net = None if contacts is None else contact_network(
-            contacts, n, force[k], rules)
+            contacts, n, force[k], rules, setup.body_weight)
         series["z_undefined"][k] = z_undefined_code(net)
         if net is not None:
             series["z"][k], series["z_without_walls"][k] = \

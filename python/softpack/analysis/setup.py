@@ -81,6 +81,9 @@ class RunSetup:
         for a stage recorded without one).
     stage_phis : tuple of float
         Each stage's ``stop.packing_fraction`` (0: no such criterion).
+    body_weight : ndarray, shape (n, 2)
+        Each body's weight under ``[gravity] acceleration`` (N/m: density
+        x reference area x g; zeros without gravity).
     notes : tuple of str
         What could not be read and why.
     """
@@ -103,6 +106,7 @@ class RunSetup:
     stage_names: tuple = ()
     stage_frictions: tuple = ()
     stage_phis: tuple = ()
+    body_weight: np.ndarray = None
     notes: tuple = field(default=())
 
     @property
@@ -213,6 +217,13 @@ def _from_document(path, doc) -> RunSetup:
                          f"{len(species_of)} species, {len(reference_area)}"
                          " reference areas")
     rigid = {m["name"] for m in doc.get("materials", ()) if m.get("rigid")}
+    density = {m["name"]: float(m["density"])
+               for m in doc.get("materials", ())}
+    species_density = np.array([density.get(s.get("material", ""),
+                                            float(material["density"]))
+                                for s in species] or [0.0])
+    gravity = np.asarray(doc["parameters"].get("gravity", {}).get(
+        "acceleration", (0.0, 0.0)), dtype=float)
     species_rigid = np.array([s.get("material", "") in rigid
                               for s in species] or [False])
     friction = float(doc["parameters"]["contact"]["friction"])
@@ -233,6 +244,8 @@ def _from_document(path, doc) -> RunSetup:
                               for s in stages),
         stage_phis=tuple(float(s["stop"].get("packing_fraction", 0.0))
                          for s in stages),
+        body_weight=np.outer(species_density[species_of] * reference_area,
+                             gravity),
         notes=tuple(notes))
 
 

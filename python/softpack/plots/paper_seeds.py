@@ -92,14 +92,14 @@ def seed_columns(run_dir) -> dict:
                     contacts, setup.count, force[k], dataclasses.replace(
                         rules, unbalanced_threshold=threshold,
                         unbalanced_reference=reference,
-                        excluded_contacts=excluded))
+                        excluded_contacts=excluded), setup.body_weight)
                 extra[reading_column(reference, excluded, threshold)][k] = \
                     net.z
                 extra[unbalanced_column(reference, threshold)][k] = \
                     net.unbalanced.sum()
         extra["z_no_exclusion"][k] = net_.contact_network(
             contacts, setup.count, force[k], dataclasses.replace(
-                rules, unbalanced_threshold=np.inf)).z
+                rules, unbalanced_threshold=np.inf), setup.body_weight).z
     out.update(extra)
     return out, setup
 

@@ -2,6 +2,7 @@
 // mu_f N and slides above it, with the Coulomb friction force mu_f N.
 #include "scheme_options.h"
 #include <bodies/BodySet.h>
+#include <bodies/body_forces.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
 #include <dynamics/moreau_jean.h>
@@ -33,19 +34,6 @@ Block block()
 }
 
 /// Uniform body force (per unit mass) g = (gx, gy), lumped on the nodes.
-std::vector<double> body_force(const bodies::BodySet& b, double gx, double gy)
-{
-  std::vector<double> f(b.num_dofs(), 0.0);
-  const bodies::Body& body = b.body(0);
-  const Eigen::VectorXd& m = b.lumped_mass()[0];
-  for (std::size_t k = 0; k < body.nodes.size(); ++k)
-  {
-    f[2 * body.nodes[k]] = m[2 * k] * gx;
-    f[2 * body.nodes[k] + 1] = m[2 * k + 1] * gy;
-  }
-  return f;
-}
-
 dynamics::MoreauJeanOptions options(double alpha, double beta)
 {
   dynamics::MoreauJeanOptions o = test::exact_options(1e-4, 0.01);
@@ -78,7 +66,7 @@ TEST(Friction, BlockSticksBelowTheCoulombThreshold)
   Block blk = block();
   const double g = 50, N = blk.mass * g, T = 0.5 * friction * N;
   dynamics::MoreauJean scheme(blk.bodies, floor_wall, options(300, 1e-4));
-  scheme.set_external_force(body_force(blk.bodies, T / blk.mass, -g));
+  scheme.set_external_force(bodies::weight(blk.bodies, {T / blk.mass, -g}));
   for (int s = 0; s < 400; ++s)
     ASSERT_TRUE(scheme.step().newton_converged);
   const auto F = scheme.wall_forces()[0];
@@ -97,7 +85,7 @@ TEST(Friction, BlockSlidesAboveTheThresholdWithForceMuN)
   // Stiffness damping calms the block's vibrations (which make a node
   // stick now and then) and leaves its rigid translation free.
   dynamics::MoreauJean scheme(blk.bodies, floor_wall, options(0, 1e-4));
-  scheme.set_external_force(body_force(blk.bodies, T / blk.mass, -g));
+  scheme.set_external_force(bodies::weight(blk.bodies, {T / blk.mass, -g}));
   const int steps = 200;
   for (int s = 0; s < steps; ++s)
   {

@@ -60,6 +60,7 @@ inline nlohmann::json driver_json(const std::filesystem::path& directory,
              "full_newton": false, "tangent_reuse_steps": 50,
              "refactor_above_iterations": 5},
     "damping": {"alpha": 30.0, "beta": 1e-5},
+    "gravity": {"acceleration": [0.0, 0.0]},
     "output": {"every_steps": 12, "fields": true, "fields_every": 10,
                "state": true},
     "parallel": {"rebalance_tolerance": 0.1}
