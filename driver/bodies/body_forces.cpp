@@ -7,7 +7,7 @@ namespace softpack::bodies
 std::vector<double> weight(const BodySet& bodies,
                            const std::array<double, 2>& g)
 {
-  std::vector<double> f(bodies.num_global_dofs(), 0.0);
+  std::vector<double> f(bodies.num_dofs(), 0.0);
   const std::vector<char> kept = bodies.kept_masses();
   for (int b = 0; b < bodies.num_bodies(); ++b)
   {

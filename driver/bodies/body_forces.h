@@ -10,10 +10,11 @@ class BodySet;
 /// The nodal forces of a uniform acceleration g on the bodies (schema
 /// [gravity]): \f$F = M (\mathbf{1} \otimes g)\f$, the consistent mass
 /// applied to the uniform field, which is each node's lumped mass (the row
-/// sums) times g, per unit length along z. Global and interleaved (2 per
-/// mesh node); a body whose masses this process does not keep
-/// (BodySet::kept_masses) gets zeros, which MoreauJean::set_external_force
-/// never reads (it keeps the local bodies' share).
+/// sums) times g, per unit length along z. A node vector of the bodies'
+/// storage (interleaved, Body::nodes' numbering: global on one process,
+/// BodySet::to_global makes it global on several); a body whose masses
+/// this process does not keep (BodySet::kept_masses) gets zeros, which no
+/// process integrates (each its local bodies).
 std::vector<double> weight(const BodySet& bodies,
                            const std::array<double, 2>& g);
 

@@ -177,7 +177,7 @@ public:
   {
     if (_p.gravity.acceleration != std::array<double, 2>{0, 0})
       _scheme.set_external_force(
-          bodies::weight(_bodies, _p.gravity.acceleration));
+          _bodies.to_global(bodies::weight(_bodies, _p.gravity.acceleration)));
     if (config.initial_state)
     {
       io::StateFile f = io::read_state_file(*config.initial_state, &_identity);
