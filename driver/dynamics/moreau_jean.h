@@ -22,6 +22,7 @@
 #include <parallel/contact_exchange.h>
 #include <softpack/parameters.h>
 #include <vector>
+#include <walls/periodic_cell.h>
 #include <walls/walls.h>
 
 /// Nonsmooth contact dynamics of deformable bodies (Moreau–Jean).
@@ -144,6 +145,15 @@ public:
   /// energy()).
   void continue_with(std::vector<Wall> walls,
                      const std::function<void(SchemeState&)>& edit);
+  /// Make the run a periodic cell (docs/periodic_cell.md), before the
+  /// first step: contacts with the images of the bodies, the cell moved by
+  /// its velocity gradient at each step and the bodies re-wrapped into it.
+  /// @throws std::logic_error after the first step
+  /// @throws std::runtime_error on several processes, with rigid bodies or
+  /// a cell of no positive area (not yet: refused)
+  void set_cell(const PeriodicCell& cell);
+  /// The periodic cell as it is now (none: a run with walls)
+  const std::optional<PeriodicCell>& cell() const { return _cell; }
   /// Steps done so far (including those before a restore)
   long steps() const { return _steps; }
   /// Factorizations of the iteration matrix so far
@@ -222,6 +232,10 @@ private:
   /// Displacement, internal force, time and walls at the end of the step
   void finish_step(StepContacts& sc, const StepStart& start,
                    StepReport& report);
+  /// The periodic cell's end of step: its edges advanced, every body whose
+  /// centroid left it moved back by a whole cell vector (u -= h k, v -= L h
+  /// k), the contacts' images and the accounts changed with them
+  void finish_cell_step(double h);
   /// The step's energy terms, contact report and impulse history
   void account_step(StepContacts& sc, const StepStart& start,
                     StepReport& report, double stiffness_numerical);
@@ -243,6 +257,8 @@ private:
   /// iterations
   std::optional<contact::SweepPlan> _sweep_plan;
   std::vector<Wall> _walls;
+  /// The periodic cell (none: walls only)
+  std::optional<PeriodicCell> _cell;
   MoreauJeanOptions _options;
   DetectionOptions _detection;
   contact::NlgsOptions _nlgs;

@@ -125,6 +125,31 @@ void read_stages(const Reader& r, const json& stages, DriverConfig& c)
   }
 }
 
+/// cell: a periodic cell excludes the box, the walls and stages (not
+/// yet), refused naming the keys.
+void read_cell(const Reader& r, DriverConfig& c)
+{
+  const parameters::Cell& p = c.parameters.cell;
+  if (!p.enabled)
+    return;
+  if (c.box)
+    r.fail("cell.enabled", "= true with scene.box.enabled = true: a "
+                           "periodic cell has no walls (set [box] enabled "
+                           "= false)");
+  if (!c.walls.empty())
+    r.fail("walls", "a periodic cell (cell.enabled) has no walls: both "
+                    "directions are periodic (walls." +
+                        c.walls.front().name + " given)");
+  if (!c.stages.empty())
+    r.fail("stages", "a periodic cell (cell.enabled) with [[stages]] is not "
+                     "supported yet");
+  c.cell = dynamics::PeriodicCell{p.a1, p.a2, p.velocity_gradient_x,
+                                  p.velocity_gradient_y};
+  if (!(c.cell->area() > 0))
+    r.fail("cell.a1", "and cell.a2 must span a positive area, a2 "
+                      "counter-clockwise from a1");
+}
+
 /// scene: the driver uses box.enabled and bodies; the rest is the scene
 /// stage's record, kept for raw/setup.json.
 void read_scene(const Reader& r, const json& scene, DriverConfig& c)
@@ -225,11 +250,14 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
                        [&](const dynamics::Wall& w) { return w.name == name; }))
         r.fail("walls", "scene.box.enabled needs a wall named \"" + name +
                             "\" (the box walls are left, right, bottom, top)");
-  if (c.parameters.stop.packing_fraction > 0 && !c.box)
+  if (c.parameters.stop.packing_fraction > 0 && !c.box &&
+      !c.parameters.cell.enabled)
     r.fail("stop.packing_fraction",
-           "> 0 needs a box (scene.box.enabled): Phi is measured inside it");
+           "> 0 needs a box (scene.box.enabled) or a cell (cell.enabled): "
+           "Phi is measured inside it");
   read_stages(r, doc.at("stages"), c);
   c.stage_program = doc.at("stages");
+  read_cell(r, c);
   if (!c.stages.empty() && c.parameters.stop.packing_fraction > 0)
     r.fail("stop.packing_fraction",
            "must be 0 with stages (each stage has its own)");
@@ -238,6 +266,8 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
     for (const auto& [name, drive] : stage.walls)
       moving.push_back({"", {0, 0}, {1, 0}, drive.velocity});
   c.velocity_scale = fastest_wall_speed(moving);
+  if (c.cell && c.cell->speed() > 0 && c.walls.empty())
+    c.velocity_scale = c.cell->speed();
   return c;
 }
 

@@ -68,7 +68,8 @@ json setup_json(const DriverConfig& config, const bodies::BodySet& bodies)
             {"time", parameters::to_json(p.time)},
             {"damping", parameters::to_json(p.damping)},
             {"output", parameters::to_json(p.output)},
-            {"parallel", parameters::to_json(p.parallel)}}},
+            {"parallel", parameters::to_json(p.parallel)},
+            {"cell", parameters::to_json(p.cell)}}},
           {"initial_state", config.initial_state
                                 ? json(config.initial_state->string())
                                 : json(nullptr)},
