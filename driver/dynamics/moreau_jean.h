@@ -149,8 +149,9 @@ public:
   /// first step: contacts with the images of the bodies, the cell moved by
   /// its velocity gradient at each step and the bodies re-wrapped into it.
   /// @throws std::logic_error after the first step
-  /// @throws std::runtime_error on several processes, with rigid bodies or
-  /// a cell of no positive area (not yet: refused)
+  /// @throws std::runtime_error on several processes, with rigid bodies, a
+  /// mass-proportional damping or a cell of no positive area (not yet:
+  /// refused)
   void set_cell(const PeriodicCell& cell);
   /// The periodic cell as it is now (none: a run with walls)
   const std::optional<PeriodicCell>& cell() const { return _cell; }

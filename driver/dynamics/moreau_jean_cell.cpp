@@ -19,6 +19,12 @@ void MoreauJean::set_cell(const PeriodicCell& cell)
   if (!_rigid.empty())
     throw std::runtime_error("periodic cell ([cell] enabled): rigid "
                              "materials are not supported in a cell yet");
+  if (_damping.alpha != 0)
+    throw std::runtime_error(
+        "periodic cell ([cell] enabled): [damping] alpha must be 0: a "
+        "mass-proportional damping acts on the bodies' velocities, which "
+        "differ by the cell's rate between a body and its images (beta is "
+        "kept)");
   if (!(cell.area() > 0))
     throw std::runtime_error(
         "periodic cell: [cell] a1, a2 must span a positive area, a2 "

@@ -72,10 +72,11 @@ json parse(const std::filesystem::path& path)
 
 /// walls: every entry read by the reader generated from the schema's
 /// [walls]; names unique, normals normalised, one drive per wall.
-void read_walls(const Reader& r, const json& walls, DriverConfig& c)
+void read_walls(const Reader& r, const json& walls, DriverConfig& c, bool cell)
 {
-  if (!walls.is_array() || walls.empty())
-    r.fail("walls", "must be a non-empty list of walls");
+  if (!walls.is_array() || (walls.empty() && !cell))
+    r.fail("walls", "must be a non-empty list of walls (none: a periodic "
+                    "cell, cell.enabled)");
   parameters::read(walls, c.walls, r.file());
   for (std::size_t i = 0; i < c.walls.size(); ++i)
   {
@@ -143,8 +144,8 @@ void read_cell(const Reader& r, DriverConfig& c)
   if (!c.stages.empty())
     r.fail("stages", "a periodic cell (cell.enabled) with [[stages]] is not "
                      "supported yet");
-  c.cell = dynamics::PeriodicCell{p.a1, p.a2, p.velocity_gradient_x,
-                                  p.velocity_gradient_y};
+  c.cell = dynamics::PeriodicCell::moving(p.a1, p.a2, p.velocity_gradient_x,
+                                          p.velocity_gradient_y);
   if (!(c.cell->area() > 0))
     r.fail("cell.a1", "and cell.a2 must span a positive area, a2 "
                       "counter-clockwise from a1");
@@ -238,7 +239,10 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
   if (!doc.at("initial_state").is_null())
     c.initial_state = r.string(doc.at("initial_state"), "initial_state");
   read_scene(r, doc.at("scene"), c);
-  read_walls(r, doc.at("walls"), c);
+  // (an empty list is a periodic cell's: checked with the cell)
+  const json& cell = doc.at("cell");
+  read_walls(r, doc.at("walls"), c,
+             cell.is_object() && cell.value("enabled", false) == true);
   parameters::read(doc, c.parameters, r.file());
   c.body_materials = read_body_materials(doc, c);
   c.friction = read_friction_table(doc, c);

@@ -8,12 +8,17 @@
 namespace softpack::dynamics
 {
 
-std::array<double, 2> PeriodicCell::rate(const ImageShift& k) const
+PeriodicCell PeriodicCell::moving(const std::array<double, 2>& a1,
+                                  const std::array<double, 2>& a2,
+                                  const std::array<double, 2>& gradient_x,
+                                  const std::array<double, 2>& gradient_y)
 {
-  const std::array<double, 2> s = shift(k);
-  const auto& gx = velocity_gradient_x;
-  const auto& gy = velocity_gradient_y;
-  return {gx[0] * s[0] + gx[1] * s[1], gy[0] * s[0] + gy[1] * s[1]};
+  auto times = [&](const std::array<double, 2>& a) -> std::array<double, 2>
+  {
+    return {gradient_x[0] * a[0] + gradient_x[1] * a[1],
+            gradient_y[0] * a[0] + gradient_y[1] * a[1]};
+  };
+  return {a1, a2, times(a1), times(a2)};
 }
 
 std::array<double, 2>
@@ -32,17 +37,16 @@ std::array<double, 2> PeriodicCell::widths() const
 
 double PeriodicCell::speed() const
 {
-  const std::array<double, 2> r1 = rate({1, 0}), r2 = rate({0, 1});
-  return std::max(std::hypot(r1[0], r1[1]), std::hypot(r2[0], r2[1]));
+  return std::max(std::hypot(a1_rate[0], a1_rate[1]),
+                  std::hypot(a2_rate[0], a2_rate[1]));
 }
 
 void PeriodicCell::advance(double dt)
 {
-  const std::array<double, 2> r1 = rate({1, 0}), r2 = rate({0, 1});
   for (int d = 0; d < 2; ++d)
   {
-    a1[d] += dt * r1[d];
-    a2[d] += dt * r2[d];
+    a1[d] += dt * a1_rate[d];
+    a2[d] += dt * a2_rate[d];
   }
 }
 

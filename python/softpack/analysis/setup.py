@@ -76,6 +76,10 @@ class RunSetup:
         Whether each body is rigid (its species' material is).
     stage_names : tuple of str
         The names of the loading program's stages (none without stages).
+    cell : bool
+        A periodic cell's run (``parameters.cell.enabled``;
+        docs/periodic_cell.md): its edges are columns of ``raw/steps.csv``
+        and each contact has its antagonist's image.
     notes : tuple of str
         What could not be read and why.
     """
@@ -97,6 +101,7 @@ class RunSetup:
     body_rigid: np.ndarray = None
     stage_names: tuple = ()
     notes: tuple = field(default=())
+    cell: bool = False
 
     @property
     def has_box(self) -> bool:
@@ -182,9 +187,12 @@ def _from_document(path, doc) -> RunSetup:
                                                     "velocity")))
              for w in doc["walls"]}
     notes = []
+    cell = bool(doc["parameters"].get("cell", {}).get("enabled", False))
     if all(name in walls for name in BOX_WALLS):
         length = float(walls["right"].point[0] - walls["left"].point[0])
         width = float(walls["top"].point[1] - walls["bottom"].point[1])
+    elif cell:
+        length = width = math.nan  # the cell's are in raw/steps.csv
     else:
         length = width = math.nan
         notes.append("no box (walls left/right/bottom/top): L0, W0, the"
@@ -219,7 +227,7 @@ def _from_document(path, doc) -> RunSetup:
                                                       math.nan)),
         body_rigid=species_rigid[species_of],
         stage_names=tuple(s.get("name", "") for s in doc.get("stages", ())),
-        notes=tuple(notes))
+        notes=tuple(notes), cell=cell)
 
 
 def read_rules(run_dir) -> Rules:

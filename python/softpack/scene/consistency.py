@@ -178,6 +178,12 @@ def _check_cell(sections) -> None:
     if sections["stages"]:
         raise Inconsistent("[[stages]] with [cell] enabled: not supported"
                            " yet")
+    if sections["damping"]["alpha"] != 0:
+        raise Inconsistent(
+            f"[damping] alpha = {sections['damping']['alpha']!r}: must be 0"
+            " with [cell] enabled (a mass-proportional damping acts on the"
+            " bodies' velocities, which differ by the cell's rate between a"
+            " body and its images; beta is kept)")
     try:
         length, width = cell_sides(cell)
     except PackingError as err:
