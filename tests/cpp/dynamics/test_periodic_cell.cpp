@@ -241,3 +241,48 @@ TEST(PeriodicCell, TranslatedOrWrappedDifferentlyTheSeriesIsTheSame)
   EXPECT_LT(largest_difference(reference, translated), 1e-8);
   EXPECT_LT(largest_difference(reference, wrapped), 1e-8);
 }
+
+TEST(PeriodicCell, ARunContinuedFromItsStateIsTheUninterruptedOne)
+{
+  // The translated six-disk compaction: disks are re-wrapped before and
+  // after the state is taken
+  const double c = 0.07;
+  std::vector<std::array<double, 2>> centres = {
+      {0.033, 0.0425}, {0.056, 0.0475}, {0.079, 0.0445},
+      {0.042, 0.0745}, {0.068, 0.0725}, {0.081, 0.0925}};
+  const auto cell =
+      dynamics::PeriodicCell::moving({c, 0}, {0, c}, {-5, 0}, {0, -5});
+  dynamics::MoreauJeanOptions options = test::exact_options(5e-5, 0.5);
+  options.damping.beta = 1e-5;
+  options.time.full_newton = false; // the kept tangent is state too
+  options.time.tangent_reuse_steps = 7;
+  bodies::BodySet whole = disks(centres);
+  dynamics::MoreauJean uninterrupted(whole, {}, options);
+  uninterrupted.set_cell(cell);
+  dynamics::SchemeState middle;
+  for (int s = 0; s < 120; ++s)
+  {
+    uninterrupted.step();
+    if (s == 59)
+      middle = uninterrupted.state();
+  }
+  bodies::BodySet again = disks(centres);
+  dynamics::MoreauJean continued(again, {}, options);
+  continued.set_cell(cell);
+  continued.restore(middle);
+  ASSERT_EQ(middle.cell.size(), 4u);
+  EXPECT_EQ(continued.cell()->a1[0], middle.cell[0]);
+  for (int s = 60; s < 120; ++s)
+    continued.step();
+  const dynamics::EnergyBalance& a = uninterrupted.energy();
+  const dynamics::EnergyBalance& b = continued.energy();
+  EXPECT_GT(a.rewrap, 0.0);
+  EXPECT_EQ(a.strain, b.strain);
+  EXPECT_EQ(a.cell_work, b.cell_work);
+  EXPECT_EQ(a.rewrap, b.rewrap);
+  EXPECT_EQ(a.kinetic, b.kinetic);
+  EXPECT_EQ(uninterrupted.cell()->a2, continued.cell()->a2);
+  const std::vector<double> ua = whole.current_coordinates(),
+                            ub = again.current_coordinates();
+  EXPECT_EQ(ua, ub);
+}
