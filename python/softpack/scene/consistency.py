@@ -194,7 +194,7 @@ def _check_cell(sections) -> None:
     if not d_max < min(length, width) / 2:
         raise Inconsistent(
             f"[species.{k}] (species {largest['name']!r})"
-            f" {species_sizes.size_bound_keys(largest, 'max')} = {d_max:g} m:"
+            f" {species_sizes.size_bound_keys(largest, 'max')} m:"
             f" must be smaller than half the cell ([cell] a1 = {cell['a1']},"
             f" a2 = {cell['a2']}: half is {min(length, width) / 2:g} m), or a"
             " particle would touch two images of a neighbour")
