@@ -167,3 +167,19 @@ def test_the_stress_and_branch_vectors_reach_the_images(two_runs):
         assert abs(st["contact_P"][last] - st["fe_P"][last]) \
             < 0.1 * st["fe_P"][last]
         assert np.isnan(st["wall_P"]).all()
+
+
+def test_a_snapshot_draws_the_cell_where_it_is(two_runs):
+    import matplotlib
+    matplotlib.use("Agg")
+    from matplotlib import pyplot
+    from softpack.plots import snapshots
+    fig = snapshots.snapshot_figure(two_runs[0], [("last", 0)])
+    lines = [line for ax in fig.axes for line in ax.get_lines()
+             if line.get_gid() == "cell"]
+    assert len(lines) == 1
+    s = read_table(two_runs[0] / "raw" / "steps.csv")
+    x, y = lines[0].get_data()
+    assert max(x) == pytest.approx(s["cell_a1x"][-1])
+    assert max(y) == pytest.approx(s["cell_a2y"][-1])
+    pyplot.close(fig)
