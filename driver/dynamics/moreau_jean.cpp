@@ -294,8 +294,8 @@ MoreauJean::window_energy(const StepReport& report)
   // reports, so all of them ask at the same step.
   prepare_output();
   const EnergyBalance& e = energy();
-  return StepSize::WindowEnergy{e.residual(),
-                                e.wall_work + e.external_work + e.cell_work};
+  return StepSize::WindowEnergy{e.residual(), e.wall_work + e.external_work +
+                                                  e.cell_work + e.rewrap};
 }
 
 void MoreauJean::return_to_step_start()

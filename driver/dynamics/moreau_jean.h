@@ -42,7 +42,8 @@ namespace softpack::dynamics
 /// Newton stops when the estimated error of the iterate, ||v_{k+1} -
 /// v_k||_inf rho / (1 - rho) with rho the observed contraction rate (or the
 /// increment itself while rho >= 1/2), is at most time.newton_tolerance *
-/// max(||v||_inf, velocity_scale). With time.full_newton = false the
+/// max(||v||_inf, velocity_scale) (in a periodic cell: velocity_scale, the
+/// edges' speed, alone). With time.full_newton = false the
 /// iteration matrix (and the per-body compliances behind the Delassus
 /// operator) is kept for up to time.tangent_reuse_steps steps, and
 /// refactored after a step that needed more than
