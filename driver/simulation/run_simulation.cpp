@@ -355,7 +355,8 @@ private:
   double check_overlap(long step)
   {
     const double depth =
-        max_overlap_depth(deformed_boundaries(_bodies), _scheme.walls());
+        max_overlap_depth(deformed_boundaries(_bodies), _scheme.walls(),
+                          _scheme.cell() ? &*_scheme.cell() : nullptr);
     _checks.max_overlap_depth = std::max(_checks.max_overlap_depth, depth);
     // A continued run's first row is the state's step, counted already.
     const bool counted = _config.initial_state && step == _first;

@@ -249,6 +249,16 @@ TEST(OverlapCheck, DepthOfNonConvexAndWalls)
   wall.point = {0, 0.25};
   wall.normal = {0, 1};
   EXPECT_NEAR(simulation::max_overlap_depth({ring(L)}, {wall}), 0.25, 1e-15);
+  // In a periodic cell 5 x 5 the square at (4.9, 0.5) has an image at
+  // (-0.1, 0.5), over the L: its corner (0.9, 0.5) is 0.5 inside the L (from
+  // the L's bottom); unseen without the cell
+  const auto cell =
+      dynamics::PeriodicCell::moving({5, 0}, {0, 5}, {0, 0}, {0, 0});
+  EXPECT_EQ(simulation::max_overlap_depth({ring(L), square(4.9, 0.5)}, {}),
+            0.0);
+  EXPECT_NEAR(
+      simulation::max_overlap_depth({ring(L), square(4.9, 0.5)}, {}, &cell),
+      0.5, 1e-14);
 }
 
 TEST(StateFile, RefusesCorruptedFilesAndStatesOfOtherRuns)
