@@ -49,6 +49,9 @@ def with_(**sections):
     (with_(cell={**CELL, "a1": [0.1, 0.01]}), ["[cell] a1", "rectangular"]),
     (with_(damping={"alpha": 30.0}), ["[damping] alpha"]),
     (with_(time={"time_step": 1e-2}), ["[time] time_step", "alert_distance"]),
+    (with_(contact={"alert_distance": 1e-3, "max_penetration": 1e-5}),
+     ["[contact] max_penetration", "images"]),
+    (with_(stages=[{"stop": {"max_time": 0.01}}]), ["[[stages]]"]),
 ])
 def test_bad_cells_are_refused_naming_the_keys(data, keys):
     with pytest.raises(ConfigError) as err:

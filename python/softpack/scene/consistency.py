@@ -207,6 +207,12 @@ def _check_cell(sections) -> None:
             " alert_distance / the speed of the cell's edges, |L a1| and"
             " |L a2| from [cell]: no image may move more than the alert"
             " distance in one step)")
+    penetration = sections["contact"]["max_penetration"]
+    if speed * step > penetration:
+        raise Inconsistent(
+            f"[contact] max_penetration = {penetration!r}: must be >="
+            f" {speed * step:.4g} m (the travel of the cell's images in one"
+            f" step of {key}): a deeper detection is ignored as wrong-side")
     target = sections["stop"]["packing_fraction"]
     phi0 = total_area(sections["species"]) / (length * width)
     limit = min(target, HEXAGONAL_FRACTION) if target > 0 \
