@@ -4,7 +4,8 @@ namespace softpack::dynamics
 {
 
 ContactOperator::ContactOperator(const std::vector<Contact>& contacts,
-                                 const std::vector<Wall>& walls)
+                                 const std::vector<Wall>& walls,
+                                 const PeriodicCell* cell)
 {
   _offsets.push_back(0);
   for (const Contact& c : contacts)
@@ -23,6 +24,11 @@ ContactOperator::ContactOperator(const std::vector<Contact>& contacts,
     if (c.wall >= 0)
       vw = frame.transpose() * Eigen::Vector2d(walls[c.wall].velocity[0],
                                                walls[c.wall].velocity[1]);
+    else if (cell && (c.image[0] != 0 || c.image[1] != 0))
+    {
+      const std::array<double, 2> rate = cell->rate(c.image);
+      vw = frame.transpose() * Eigen::Vector2d(rate[0], rate[1]);
+    }
     _wall_velocity.push_back(vw);
   }
 }

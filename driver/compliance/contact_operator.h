@@ -26,8 +26,12 @@ class ContactOperator
 public:
   /// @param[in] contacts Contacts (frames fixed for the time step)
   /// @param[in] walls Walls (their velocities enter U)
+  /// @param[in] cell A periodic cell (nullptr: none): an image contact's
+  /// antagonist moves with the cell's rate at its shift, L h k, which enters
+  /// U as a wall's velocity does (docs/periodic_cell.md)
   ContactOperator(const std::vector<Contact>& contacts,
-                  const std::vector<Wall>& walls);
+                  const std::vector<Wall>& walls,
+                  const PeriodicCell* cell = nullptr);
 
   /// Number of contacts
   std::size_t size() const { return _frames.size(); }
@@ -41,7 +45,8 @@ public:
   /// Frame (n, t) of contact a as the columns of a 2x2 matrix
   const Eigen::Matrix2d& frame(std::size_t a) const { return _frames[a]; }
 
-  /// Local relative velocity of the wall, (n, t) (zero for bodies)
+  /// Local velocity of the wall, (n, t), or of the antagonist's image
+  /// relative to its body (a periodic cell); zero otherwise
   const Eigen::Vector2d& wall_velocity(std::size_t a) const
   {
     return _wall_velocity[a];

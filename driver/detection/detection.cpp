@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
+#include <tuple>
 #include <unordered_map>
 
 namespace softpack::dynamics
@@ -46,6 +49,56 @@ std::vector<Box> body_boxes(const bodies::BodySet& bodies,
   }
   return boxes;
 }
+
+/// Boxes binned on a uniform grid by their lower-left corners (cell = the
+/// largest box extent plus the margin): a box spans at most two cells per
+/// direction, so the boxes near one live in the 3x3 cells around its bin.
+class BoxGrid
+{
+public:
+  BoxGrid(const std::vector<Box>& boxes, double margin)
+      : _xmin(boxes[0].x0), _ymin(boxes[0].y0)
+  {
+    for (const Box& b : boxes)
+    {
+      _cell = std::max({_cell, b.x1 - b.x0 + margin, b.y1 - b.y0 + margin});
+      _xmin = std::min(_xmin, b.x0);
+      _ymin = std::min(_ymin, b.y0);
+    }
+    for (std::size_t b = 0; b < boxes.size(); ++b)
+    {
+      const auto [i, j] = bin(boxes[b]);
+      _grid[key(i, j)].push_back(static_cast<int>(b));
+    }
+  }
+
+  /// Call f(index) for every box binned in the 3x3 cells around `box`
+  template <typename F> void near(const Box& box, F f) const
+  {
+    const auto [i, j] = bin(box);
+    for (std::int64_t di = -1; di <= 1; ++di)
+      for (std::int64_t dj = -1; dj <= 1; ++dj)
+      {
+        auto it = _grid.find(key(i + di, j + dj));
+        if (it != _grid.end())
+          for (int b : it->second)
+            f(b);
+      }
+  }
+
+private:
+  static std::int64_t key(std::int64_t i, std::int64_t j)
+  {
+    return (i << 32) ^ j;
+  }
+  std::array<std::int64_t, 2> bin(const Box& b) const
+  {
+    return {static_cast<std::int64_t>((b.x0 - _xmin) / _cell),
+            static_cast<std::int64_t>((b.y0 - _ymin) / _cell)};
+  }
+  double _cell = 0, _xmin, _ymin;
+  std::unordered_map<std::int64_t, std::vector<int>> _grid;
+};
 
 /// Outward unit normal of a counter-clockwise boundary segment (the
 /// tangent turned clockwise).
@@ -107,15 +160,19 @@ NearestFeature nearest_feature(const bodies::Body& ant,
 /// boundary: a face (the node projects inside a segment) or, in the shadow
 /// of a convex vertex, the vertex itself with the bisector of its two
 /// segments' normals as the contact normal. Appends the contact if the gap
-/// is within the window [-max_penetration, alert_distance].
+/// is within the window [-max_penetration, alert_distance]. Against the
+/// image of the antagonist shifted by `offset` = h k (a periodic cell), the
+/// candidate point is moved by -offset instead: the gap, normal and xi are
+/// the same.
 void node_to_body(const bodies::BodySet& bodies, std::span<const double> x,
                   int cand_body, std::int32_t cand_node, int ant_body,
                   const DetectionOptions& options,
-                  std::vector<Contact>& contacts)
+                  std::vector<Contact>& contacts, const ImageShift& image,
+                  const std::array<double, 2>& offset)
 {
   const bodies::Body& ant = bodies.body(ant_body);
   const std::int32_t gc = bodies.body(cand_body).nodes[cand_node];
-  const double px = x[2 * gc], py = x[2 * gc + 1];
+  const double px = x[2 * gc] - offset[0], py = x[2 * gc + 1] - offset[1];
   const auto [face_distance2, vertex_distance2, face, vertex, face_xi] =
       nearest_feature(ant, x, px, py);
   Contact c{cand_body, cand_node, ant_body, -1, {-1, -1},
@@ -146,6 +203,7 @@ void node_to_body(const bodies::BodySet& bodies, std::span<const double> x,
   const double qy = (1 - c.xi) * x[2 * ga + 1] + c.xi * x[2 * gb + 1];
   c.gap = (px - qx) * c.n[0] + (py - qy) * c.n[1];
   c.t = {-c.n[1], c.n[0]};
+  c.image = image;
   if (c.gap <= options.alert_distance && c.gap >= -options.max_penetration)
     contacts.push_back(c);
 }
@@ -193,48 +251,78 @@ std::vector<std::array<int, 2>> near_body_pairs(const bodies::BodySet& bodies,
   const std::vector<Box> boxes = body_boxes(bodies, x);
   if (boxes.empty())
     return {};
-  double cell = 0, xmin = boxes[0].x0, ymin = boxes[0].y0;
-  for (const Box& b : boxes)
-  {
-    cell = std::max({cell, b.x1 - b.x0 + margin, b.y1 - b.y0 + margin});
-    xmin = std::min(xmin, b.x0);
-    ymin = std::min(ymin, b.y0);
-  }
-  // Each box is binned by its lower-left corner; a box spans at most two
-  // cells per direction, so neighbours live in the 3x3 surrounding cells.
-  auto key = [](std::int64_t i, std::int64_t j) { return (i << 32) ^ j; };
-  std::unordered_map<std::int64_t, std::vector<int>> grid;
-  std::vector<std::array<std::int64_t, 2>> bin(boxes.size());
-  for (std::size_t b = 0; b < boxes.size(); ++b)
-  {
-    bin[b] = {static_cast<std::int64_t>((boxes[b].x0 - xmin) / cell),
-              static_cast<std::int64_t>((boxes[b].y0 - ymin) / cell)};
-    grid[key(bin[b][0], bin[b][1])].push_back(static_cast<int>(b));
-  }
+  const BoxGrid grid(boxes, margin);
   std::vector<std::array<int, 2>> pairs;
   for (std::size_t a = 0; a < boxes.size(); ++a)
-    for (std::int64_t di = -1; di <= 1; ++di)
-      for (std::int64_t dj = -1; dj <= 1; ++dj)
-      {
-        auto it = grid.find(key(bin[a][0] + di, bin[a][1] + dj));
-        if (it == grid.end())
-          continue;
-        for (int b : it->second)
-          if (b > static_cast<int>(a) && boxes[a].overlaps(boxes[b], margin))
-            pairs.push_back({static_cast<int>(a), b});
-      }
+    grid.near(boxes[a],
+              [&](int b)
+              {
+                if (b > static_cast<int>(a) &&
+                    boxes[a].overlaps(boxes[b], margin))
+                  pairs.push_back({static_cast<int>(a), b});
+              });
   std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+std::vector<ImagePair> near_image_pairs(const bodies::BodySet& bodies,
+                                        std::span<const double> x,
+                                        double margin, const PeriodicCell& cell)
+{
+  const std::vector<Box> boxes = body_boxes(bodies, x);
+  for (std::size_t b = 0; b < boxes.size(); ++b)
+    check_body_fits(cell, static_cast<int>(b),
+                    {boxes[b].x1 - boxes[b].x0, boxes[b].y1 - boxes[b].y0});
+  // Every body's box shifted to its 9 nearest images, k in {-1, 0, 1}^2
+  std::vector<Box> images;
+  std::vector<std::pair<int, ImageShift>> owner;
+  for (std::size_t b = 0; b < boxes.size(); ++b)
+    for (int k0 = -1; k0 <= 1; ++k0)
+      for (int k1 = -1; k1 <= 1; ++k1)
+      {
+        const std::array<double, 2> s = cell.shift({k0, k1});
+        const Box& o = boxes[b];
+        images.push_back({o.x0 + s[0], o.y0 + s[1], o.x1 + s[0], o.y1 + s[1]});
+        owner.push_back({static_cast<int>(b), {k0, k1}});
+      }
+  if (images.empty())
+    return {};
+  const BoxGrid grid(images, margin);
+  std::vector<ImagePair> pairs;
+  for (std::size_t a = 0; a < boxes.size(); ++a)
+    grid.near(boxes[a],
+              [&](int i)
+              {
+                const auto& [b, k] = owner[i];
+                if (b > static_cast<int>(a) &&
+                    boxes[a].overlaps(images[i], margin))
+                  pairs.push_back({static_cast<int>(a), b, k});
+              });
+  std::sort(pairs.begin(), pairs.end());
+  for (std::size_t i = 1; i < pairs.size(); ++i)
+    if (pairs[i].a == pairs[i - 1].a && pairs[i].b == pairs[i - 1].b)
+      throw std::runtime_error(
+          "periodic cell: bodies " + std::to_string(pairs[i].a) + " and " +
+          std::to_string(pairs[i].b) +
+          " are near through two images: the cell is too small or too "
+          "sheared for them");
   return pairs;
 }
 
 std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
                                      std::span<const double> x,
                                      const std::vector<Wall>& walls,
-                                     const DetectionOptions& options)
+                                     const DetectionOptions& options,
+                                     const PeriodicCell* cell)
 {
   const std::vector<Box> boxes = body_boxes(bodies, x);
-  const std::vector<std::array<int, 2>> pairs =
-      near_body_pairs(bodies, x, options.alert_distance);
+  std::vector<ImagePair> pairs;
+  if (cell)
+    pairs = near_image_pairs(bodies, x, options.alert_distance, *cell);
+  else
+    for (const auto& [a, b] :
+         near_body_pairs(bodies, x, options.alert_distance))
+      pairs.push_back({a, b, {0, 0}});
   // The pairs on all cores, each into its own list, joined in pair order:
   // the same list as one thread makes.
   std::vector<std::vector<Contact>> by_pair(pairs.size());
@@ -242,15 +330,23 @@ std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
 #pragma omp parallel for schedule(dynamic, 8) if (num_pairs >= 64)
   for (std::int64_t i = 0; i < num_pairs; ++i)
   {
-    const auto [a, b] = pairs[i];
+    const auto [a, b, k] = pairs[i];
     if (!bodies.is_local(a))
       continue;
-    for (const auto& [cand, ant] : {std::pair{a, b}, std::pair{b, a}})
+    // b's image at +h k against a; a's image at -h k against b
+    const std::array<double, 2> s =
+        cell ? cell->shift(k) : std::array<double, 2>{0, 0};
+    const ImageShift minus_k = {-k[0], -k[1]};
+    for (const auto& [cand, ant, image, offset] :
+         {std::tuple{a, b, k, s},
+          std::tuple{b, a, minus_k, std::array{-s[0], -s[1]}}})
       for (std::int32_t node : bodies.body(cand).boundary_nodes)
       {
         const std::int32_t g = bodies.body(cand).nodes[node];
-        if (boxes[ant].contains(x[2 * g], x[2 * g + 1], options.alert_distance))
-          node_to_body(bodies, x, cand, node, ant, options, by_pair[i]);
+        if (boxes[ant].contains(x[2 * g] - offset[0], x[2 * g + 1] - offset[1],
+                                options.alert_distance))
+          node_to_body(bodies, x, cand, node, ant, options, by_pair[i], image,
+                       offset);
       }
     remove_mirrored_contacts(by_pair[i], 0);
   }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <span>
 #include <vector>
+#include <walls/periodic_cell.h>
 #include <walls/walls.h>
 
 /// Contact detection between deformable bodies and rigid walls.
@@ -37,6 +38,9 @@ struct Contact
   double gap;
   /// The antagonist feature is a vertex (segment[0]), not a face
   bool vertex = false;
+  /// In a periodic cell: the antagonist is the image of antagonist_body
+  /// shifted by h k, k = image (docs/periodic_cell.md); {0, 0} otherwise
+  ImageShift image = {0, 0};
 };
 
 /// Options of the detection.
@@ -64,6 +68,9 @@ struct DetectionOptions
 /// @param[in] x Current node coordinates (global, interleaved)
 /// @param[in] walls Walls
 /// @param[in] options Alert distance
+/// @param[in] cell A periodic cell (nullptr: none): every body is also
+/// compared with the images of the others (near_image_pairs), each contact
+/// recording its antagonist's image
 /// @return The local bodies' share of the contacts
 /// (BodySet::local_bodies; every body's until set_local): the pairs whose
 /// first (lower) body is local and the wall contacts of the local bodies.
@@ -72,7 +79,8 @@ struct DetectionOptions
 std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
                                      std::span<const double> x,
                                      const std::vector<Wall>& walls,
-                                     const DetectionOptions& options);
+                                     const DetectionOptions& options,
+                                     const PeriodicCell* cell = nullptr);
 
 /// The position of a contact's group in detect_contacts' order: the body
 /// pairs (a < b) in increasing order, then each wall's contacts by body.
@@ -84,5 +92,24 @@ std::int64_t contact_order_key(const Contact& c, int num_bodies);
 std::vector<std::array<int, 2>> near_body_pairs(const bodies::BodySet& bodies,
                                                 std::span<const double> x,
                                                 double margin);
+
+/// A near pair of a periodic cell: body a and the image of body b shifted
+/// by h k (a < b).
+struct ImagePair
+{
+  int a, b;
+  ImageShift image;
+  auto operator<=>(const ImagePair&) const = default;
+};
+
+/// Pairs of bodies (a < b) whose bounding boxes, inflated by `margin`,
+/// overlap when b is shifted by h k, k in {-1, 0, 1}^2: the images binned
+/// on a uniform grid, so the cost grows linearly with the bodies.
+/// @throws std::runtime_error if a body is not smaller than half the cell
+/// (check_body_fits) or two images of one body are near another
+std::vector<ImagePair> near_image_pairs(const bodies::BodySet& bodies,
+                                        std::span<const double> x,
+                                        double margin,
+                                        const PeriodicCell& cell);
 
 } // namespace softpack::dynamics

@@ -104,9 +104,10 @@ MoreauJean::StepContacts
 MoreauJean::prepare_contacts(const std::vector<double>& v_old)
 {
   const double h = _h, th = _options.time.theta;
+  const PeriodicCell* cell = _cell ? &*_cell : nullptr;
   _contacts = _exchange.detect(_bodies, _bodies.current_coordinates(), _walls,
-                               _detection);
-  StepContacts sc{ContactOperator(_contacts, _walls), {}};
+                               _detection, cell);
+  StepContacts sc{ContactOperator(_contacts, _walls, cell), {}};
   const std::vector<double> U_old = sc.H.relative_velocity(_bodies, v_old);
   // Signorini on the predicted gap g~ = g + h((1-th) U_n- + th U_n+):
   // the solver's normal velocity is g~ / (h th).
@@ -293,7 +294,8 @@ MoreauJean::window_energy(const StepReport& report)
   // reports, so all of them ask at the same step.
   prepare_output();
   const EnergyBalance& e = energy();
-  return StepSize::WindowEnergy{e.residual(), e.wall_work + e.external_work};
+  return StepSize::WindowEnergy{e.residual(), e.wall_work + e.external_work +
+                                                  e.cell_work + e.rewrap};
 }
 
 void MoreauJean::return_to_step_start()
@@ -371,6 +373,8 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
   finish_servo_walls(sc.servo, _walls, _R, h, _options.time.theta);
   t0 = clock::now();
   account_step(sc, start, report, stiffness.numerical);
+  if (_cell)
+    finish_cell_step(h);
   if (!_rigid.empty())
   {
     // The next step's contacts see the rigid bodies' velocity field at

@@ -22,6 +22,7 @@
 #include <parallel/contact_exchange.h>
 #include <softpack/parameters.h>
 #include <vector>
+#include <walls/periodic_cell.h>
 #include <walls/walls.h>
 
 /// Nonsmooth contact dynamics of deformable bodies (Moreau–Jean).
@@ -41,7 +42,8 @@ namespace softpack::dynamics
 /// Newton stops when the estimated error of the iterate, ||v_{k+1} -
 /// v_k||_inf rho / (1 - rho) with rho the observed contraction rate (or the
 /// increment itself while rho >= 1/2), is at most time.newton_tolerance *
-/// max(||v||_inf, velocity_scale). With time.full_newton = false the
+/// max(||v||_inf, velocity_scale) (in a periodic cell: velocity_scale, the
+/// edges' speed, alone). With time.full_newton = false the
 /// iteration matrix (and the per-body compliances behind the Delassus
 /// operator) is kept for up to time.tangent_reuse_steps steps, and
 /// refactored after a step that needed more than
@@ -147,6 +149,16 @@ public:
   /// energy()).
   void continue_with(std::vector<Wall> walls,
                      const std::function<void(SchemeState&)>& edit);
+  /// Make the run a periodic cell (docs/periodic_cell.md), before the
+  /// first step: contacts with the images of the bodies, the cell moved by
+  /// its velocity gradient at each step and the bodies re-wrapped into it.
+  /// @throws std::logic_error after the first step
+  /// @throws std::runtime_error on several processes, with rigid bodies, a
+  /// mass-proportional damping or a cell of no positive area (not yet:
+  /// refused)
+  void set_cell(const PeriodicCell& cell);
+  /// The periodic cell as it is now (none: a run with walls)
+  const std::optional<PeriodicCell>& cell() const { return _cell; }
   /// Steps done so far (including those before a restore)
   long steps() const { return _steps; }
   /// Factorizations of the iteration matrix so far
@@ -225,6 +237,10 @@ private:
   /// Displacement, internal force, time and walls at the end of the step
   void finish_step(StepContacts& sc, const StepStart& start,
                    StepReport& report);
+  /// The periodic cell's end of step: its edges advanced, every body whose
+  /// centroid left it moved back by a whole cell vector (u -= h k, v -= L h
+  /// k), the contacts' images and the accounts changed with them
+  void finish_cell_step(double h);
   /// The step's energy terms, contact report and impulse history
   void account_step(StepContacts& sc, const StepStart& start,
                     StepReport& report, double stiffness_numerical);
@@ -246,6 +262,8 @@ private:
   /// iterations
   std::optional<contact::SweepPlan> _sweep_plan;
   std::vector<Wall> _walls;
+  /// The periodic cell (none: walls only)
+  std::optional<PeriodicCell> _cell;
   MoreauJeanOptions _options;
   DetectionOptions _detection;
   contact::NlgsOptions _nlgs;

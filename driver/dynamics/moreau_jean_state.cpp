@@ -72,6 +72,8 @@ SchemeState MoreauJean::scalar_state() const
   s.matrix_age = _matrix_age;
   s.last_iterations = _last_iterations;
   s.step_size = _step_size.state();
+  if (_cell)
+    s.cell = {_cell->a1[0], _cell->a1[1], _cell->a2[0], _cell->a2[1]};
   return s;
 }
 
@@ -89,6 +91,15 @@ void MoreauJean::restore(const SchemeState& s)
     throw std::invalid_argument("state: a kept tangent of " +
                                 std::to_string(s.u_tangent.size()) +
                                 " DOFs, the bodies have " + std::to_string(n));
+  if (s.cell.size() != (_cell ? 4u : 0u))
+    throw std::invalid_argument(
+        _cell ? "state: no periodic cell in it, the run has one ([cell])"
+              : "state: of a periodic cell, the run has none ([cell])");
+  if (_cell)
+  {
+    _cell->a1 = {s.cell[0], s.cell[1]};
+    _cell->a2 = {s.cell[2], s.cell[3]};
+  }
   std::span<double> u = _bodies.displacement();
   // The step first: the kept matrix is rebuilt with the h it was built for.
   _step_size.restore(s.step_size);

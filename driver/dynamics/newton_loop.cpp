@@ -219,8 +219,12 @@ void NewtonLoop::run()
     const double rho = k > 0 ? change / previous_change : 1.0;
     const double error = rho < 0.5 ? change * rho / (1 - rho) : change;
     previous_change = change;
-    if (error <=
-        o.time.newton_tolerance * std::max(largest[1], o.velocity_scale))
+    // In a periodic cell the velocities' size depends on which image
+    // represents each body (a body and its image differ by dh/dt k): the
+    // cell's edge speed alone scales the test there
+    const double scale =
+        _s._cell ? o.velocity_scale : std::max(largest[1], o.velocity_scale);
+    if (error <= o.time.newton_tolerance * scale)
     {
       _report.newton_converged = true;
       break;

@@ -41,6 +41,8 @@ struct SchemeState
   std::vector<double> u_tangent;
   /// The adaptive time step (h = 0: a state without one; the base step)
   StepSize::State step_size;
+  /// A periodic cell's edge vectors a1, a2 (4 numbers; empty: no cell)
+  std::vector<double> cell;
 };
 
 } // namespace softpack::dynamics

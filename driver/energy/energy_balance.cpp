@@ -62,6 +62,9 @@ void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
     if (contacts[a].wall >= 0 && !walls[contacts[a].wall].servo())
       energy.wall_work += R[2 * a] * H.wall_velocity(a)[0] +
                           R[2 * a + 1] * H.wall_velocity(a)[1];
+    else if (contacts[a].image[0] != 0 || contacts[a].image[1] != 0)
+      energy.cell_work += R[2 * a] * H.wall_velocity(a)[0] +
+                          R[2 * a + 1] * H.wall_velocity(a)[1];
   }
 }
 

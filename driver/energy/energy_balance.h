@@ -14,13 +14,19 @@ using BodyVectors = std::vector<Eigen::VectorXd>;
 
 /// Energy bookkeeping since the start (J per unit length along z).
 ///
-/// Balance: wall_work + external_work = kinetic + strain (their changes)
-/// + damping + contact_dissipation + cohesion + numerical; residual() is
-/// what is left.
+/// Balance: wall_work + external_work + cell_work + rewrap = kinetic +
+/// strain (their changes) + damping + contact_dissipation + cohesion +
+/// numerical; residual() is what is left.
 struct EnergyBalance
 {
   double wall_work = 0;
   double external_work = 0;
+  /// Work of a periodic cell through its image contacts, R . (L h k)
+  /// (docs/periodic_cell.md)
+  double cell_work = 0;
+  /// Kinetic energy given to the bodies re-wrapped into a deforming
+  /// periodic cell (their velocity changes by -L h k)
+  double rewrap = 0;
   double kinetic = 0, kinetic0 = 0;
   double strain = 0, strain0 = 0;
   double damping = 0;
@@ -40,7 +46,7 @@ struct EnergyBalance
   /// Energy supplied minus energy stored and dissipated
   double residual() const
   {
-    return wall_work + external_work -
+    return wall_work + external_work + cell_work + rewrap -
            (kinetic - kinetic0 + strain - strain0 + damping + friction +
             contact_normal + cohesion + numerical);
   }
@@ -102,7 +108,8 @@ void add_body_terms(EnergyBalance& energy, double h, double theta,
 /// Add the contact terms of one step: the friction and normal dissipation
 /// -R . U_th (the normal one split into contact_normal and cohesion) and the
 /// work of the velocity-controlled walls R . U_wall (impulses on the
-/// candidates, U_th the relative velocity at th v+ + (1 - th) v-). A servo
+/// candidates, U_th the relative velocity at th v+ + (1 - th) v-), and the
+/// periodic cell's work R . (L h k) through its image contacts. A servo
 /// wall's work is that of its imposed force (account_servo_walls in
 /// servo_walls.h), not counted here.
 /// @param[in,out] energy The accounts

@@ -72,10 +72,11 @@ json parse(const std::filesystem::path& path)
 
 /// walls: every entry read by the reader generated from the schema's
 /// [walls]; names unique, normals normalised, one drive per wall.
-void read_walls(const Reader& r, const json& walls, DriverConfig& c)
+void read_walls(const Reader& r, const json& walls, DriverConfig& c, bool cell)
 {
-  if (!walls.is_array() || walls.empty())
-    r.fail("walls", "must be a non-empty list of walls");
+  if (!walls.is_array() || (walls.empty() && !cell))
+    r.fail("walls", "must be a non-empty list of walls (none: a periodic "
+                    "cell, cell.enabled)");
   parameters::read(walls, c.walls, r.file());
   for (std::size_t i = 0; i < c.walls.size(); ++i)
   {
@@ -123,6 +124,31 @@ void read_stages(const Reader& r, const json& stages, DriverConfig& c)
       r.fail(p + ".stop", "packing_fraction and pressure need a box "
                           "(scene.box.enabled)");
   }
+}
+
+/// cell: a periodic cell excludes the box, the walls and stages (not
+/// yet), refused naming the keys.
+void read_cell(const Reader& r, DriverConfig& c)
+{
+  const parameters::Cell& p = c.parameters.cell;
+  if (!p.enabled)
+    return;
+  if (c.box)
+    r.fail("cell.enabled", "= true with scene.box.enabled = true: a "
+                           "periodic cell has no walls (set [box] enabled "
+                           "= false)");
+  if (!c.walls.empty())
+    r.fail("walls", "a periodic cell (cell.enabled) has no walls: both "
+                    "directions are periodic (walls." +
+                        c.walls.front().name + " given)");
+  if (!c.stages.empty())
+    r.fail("stages", "a periodic cell (cell.enabled) with [[stages]] is not "
+                     "supported yet");
+  c.cell = dynamics::PeriodicCell::moving(p.a1, p.a2, p.velocity_gradient_x,
+                                          p.velocity_gradient_y);
+  if (!(c.cell->area() > 0))
+    r.fail("cell.a1", "and cell.a2 must span a positive area, a2 "
+                      "counter-clockwise from a1");
 }
 
 /// scene: the driver uses box.enabled and bodies; the rest is the scene
@@ -213,7 +239,10 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
   if (!doc.at("initial_state").is_null())
     c.initial_state = r.string(doc.at("initial_state"), "initial_state");
   read_scene(r, doc.at("scene"), c);
-  read_walls(r, doc.at("walls"), c);
+  // (an empty list is a periodic cell's: checked with the cell)
+  const json& cell = doc.at("cell");
+  read_walls(r, doc.at("walls"), c,
+             cell.is_object() && cell.value("enabled", false) == true);
   parameters::read(doc, c.parameters, r.file());
   c.body_materials = read_body_materials(doc, c);
   c.friction = read_friction_table(doc, c);
@@ -225,11 +254,14 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
                        [&](const dynamics::Wall& w) { return w.name == name; }))
         r.fail("walls", "scene.box.enabled needs a wall named \"" + name +
                             "\" (the box walls are left, right, bottom, top)");
-  if (c.parameters.stop.packing_fraction > 0 && !c.box)
+  if (c.parameters.stop.packing_fraction > 0 && !c.box &&
+      !c.parameters.cell.enabled)
     r.fail("stop.packing_fraction",
-           "> 0 needs a box (scene.box.enabled): Phi is measured inside it");
+           "> 0 needs a box (scene.box.enabled) or a cell (cell.enabled): "
+           "Phi is measured inside it");
   read_stages(r, doc.at("stages"), c);
   c.stage_program = doc.at("stages");
+  read_cell(r, c);
   if (!c.stages.empty() && c.parameters.stop.packing_fraction > 0)
     r.fail("stop.packing_fraction",
            "must be 0 with stages (each stage has its own)");
@@ -238,6 +270,8 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
     for (const auto& [name, drive] : stage.walls)
       moving.push_back({"", {0, 0}, {1, 0}, drive.velocity});
   c.velocity_scale = fastest_wall_speed(moving);
+  if (c.cell && c.cell->speed() > 0 && c.walls.empty())
+    c.velocity_scale = c.cell->speed();
   return c;
 }
 

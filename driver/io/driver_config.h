@@ -8,6 +8,7 @@
 #include <softpack/parameters.h>
 #include <string>
 #include <vector>
+#include <walls/periodic_cell.h>
 #include <walls/walls.h>
 
 /// Reading driver.json (docs/contract.md section 4, docs/driver_io.md).
@@ -32,6 +33,9 @@ struct DriverConfig
   /// scene.box.enabled: Phi is measured inside the walls left, right,
   /// bottom and top
   bool box = false;
+  /// The periodic cell (cell.enabled; docs/periodic_cell.md), in place of
+  /// a box and walls
+  std::optional<dynamics::PeriodicCell> cell;
   /// The walls, in driver.json's order, normals normalised (read by the
   /// reader generated from the schema's [walls]; raw/setup.json records
   /// them as read)
@@ -47,7 +51,8 @@ struct DriverConfig
   /// driver.json's materials and friction as given (raw/setup.json)
   nlohmann::json materials, friction_pairs;
   /// Velocity scale of the Newton test: the fastest wall speed (derived
-  /// here, not a parameter), over the stages' velocities too
+  /// here, not a parameter), over the stages' velocities too, or the
+  /// cell's edges' speed when larger
   double velocity_scale = 0;
   /// The loading stages, in order (empty: one stage from walls and stop);
   /// their wall names and strain walls name walls of `walls`

@@ -10,8 +10,8 @@ namespace softpack::io
 {
 
 RawOutput::RawOutput(const std::filesystem::path& directory,
-                     const std::vector<dynamics::Wall>& walls)
-    : _raw(directory / "raw")
+                     const std::vector<dynamics::Wall>& walls, bool cell)
+    : _raw(directory / "raw"), _cell(cell)
 {
   std::filesystem::create_directories(_raw / "contacts");
   std::filesystem::remove(_raw / "done.json");
@@ -27,8 +27,11 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
   for (const dynamics::Wall& w : walls)
     _steps << ',' << w.name << "_x," << w.name << "_y," << w.name << "_fx,"
            << w.name << "_fy";
+  if (_cell)
+    _steps << ",cell_a1x,cell_a1y,cell_a2x,cell_a2y";
   _steps << ",phi,strain_energy,kinetic_energy,wall_work,external_work,"
-            "damping,friction,contact_normal,cohesion,numerical,energy_"
+            "cell_work,rewrap,damping,friction,contact_normal,cohesion,"
+            "numerical,energy_"
             "residual,"
             "seconds,seconds_detection,seconds_assembly,seconds_factorization,"
             "seconds_delassus,seconds_nlgs,seconds_solves,refactorized,"
@@ -57,19 +60,23 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
     _steps << ',' << scheme.walls()[w].point[0] << ','
            << scheme.walls()[w].point[1] << ',' << forces[w][0] << ','
            << forces[w][1];
+  if (const auto& cell = scheme.cell())
+    _steps << ',' << cell->a1[0] << ',' << cell->a1[1] << ',' << cell->a2[0]
+           << ',' << cell->a2[1];
   const dynamics::EnergyBalance& e = scheme.energy();
   _steps << ',';
   if (phi)
     _steps << *phi;
   _steps << ',' << e.strain << ',' << e.kinetic << ',' << e.wall_work << ','
-         << e.external_work << ',' << e.damping << ',' << e.friction << ','
-         << e.contact_normal << ',' << e.cohesion << ',' << e.numerical << ','
-         << e.residual() << ',' << seconds << ',' << spent.detection << ','
-         << spent.assembly << ',' << spent.factorization << ','
-         << spent.delassus << ',' << spent.nlgs << ',' << spent.solves << ','
-         << (r.refactorized ? 1 : 0) << ',' << interval.newton_unconverged_steps
-         << ',' << interval.nlgs_unconverged_steps << ','
-         << interval.retried_steps << ',' << overlap_depth;
+         << e.external_work << ',' << e.cell_work << ',' << e.rewrap << ','
+         << e.damping << ',' << e.friction << ',' << e.contact_normal << ','
+         << e.cohesion << ',' << e.numerical << ',' << e.residual() << ','
+         << seconds << ',' << spent.detection << ',' << spent.assembly << ','
+         << spent.factorization << ',' << spent.delassus << ',' << spent.nlgs
+         << ',' << spent.solves << ',' << (r.refactorized ? 1 : 0) << ','
+         << interval.newton_unconverged_steps << ','
+         << interval.nlgs_unconverged_steps << ',' << interval.retried_steps
+         << ',' << overlap_depth;
   // Each body's integral of its Cauchy stress (stress_average.h), summed
   // over the bodies: the finite elements' estimate of the mean stress times
   // the box area, for analysis/stress.py.
@@ -112,7 +119,10 @@ void RawOutput::write_contacts(long step,
     std::ofstream out(tmp);
     out << std::setprecision(10);
     out << "candidate,node,antagonist,wall,segment0,segment1,xi,gap,fn,ft,fx,"
-           "fy,steps\n";
+           "fy,steps";
+    if (_cell)
+      out << ",image1,image2";
+    out << '\n';
     for (const dynamics::AveragedContactForce& m : average.contact_forces())
     {
       const dynamics::Contact& c = m.contact;
@@ -121,8 +131,10 @@ void RawOutput::write_contacts(long step,
       out << c.candidate_body << ',' << c.candidate_node << ','
           << c.antagonist_body << ',' << c.wall << ',' << c.segment[0] << ','
           << c.segment[1] << ',' << c.xi << ',' << c.gap << ',' << fn << ','
-          << ft << ',' << m.force[0] << ',' << m.force[1] << ',' << m.steps
-          << '\n';
+          << ft << ',' << m.force[0] << ',' << m.force[1] << ',' << m.steps;
+      if (_cell)
+        out << ',' << c.image[0] << ',' << c.image[1];
+      out << '\n';
     }
   }
   std::filesystem::rename(tmp, path);

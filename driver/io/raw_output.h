@@ -63,9 +63,11 @@ class RawOutput
 {
 public:
   /// Create `directory/raw/` (removing a previous done.json) and the files'
-  /// headers.
+  /// headers; with a periodic cell, steps.csv has its edge vectors
+  /// (cell_a1x, cell_a1y, cell_a2x, cell_a2y) and each contact its image
+  /// (image1, image2).
   RawOutput(const std::filesystem::path& directory,
-            const std::vector<dynamics::Wall>& walls);
+            const std::vector<dynamics::Wall>& walls, bool cell = false);
 
   /// Append one output step.
   /// @param[in] step Step number
@@ -107,6 +109,8 @@ private:
   void write_contacts(long step, const dynamics::ContactForceAverage& forces);
 
   std::filesystem::path _raw;
+  /// A periodic cell's run (its columns written)
+  bool _cell = false;
   std::ofstream _steps, _particles;
   int _stage = 0;
 };

@@ -69,7 +69,8 @@ json setup_json(const DriverConfig& config, const bodies::BodySet& bodies)
             {"damping", parameters::to_json(p.damping)},
             {"gravity", parameters::to_json(p.gravity)},
             {"output", parameters::to_json(p.output)},
-            {"parallel", parameters::to_json(p.parallel)}}},
+            {"parallel", parameters::to_json(p.parallel)},
+            {"cell", parameters::to_json(p.cell)}}},
           {"initial_state", config.initial_state
                                 ? json(config.initial_state->string())
                                 : json(nullptr)},

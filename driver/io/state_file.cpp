@@ -11,7 +11,10 @@ namespace softpack::io
 {
 namespace
 {
-constexpr std::string_view magic = "softpack-state-6";
+constexpr std::string_view magic = "softpack-state-7";
+/// Layout 6 is layout 7 without the periodic cell and its accounts (read:
+/// no cell, cell_work and rewrap 0)
+constexpr std::string_view magic_v6 = "softpack-state-6";
 /// Layout 5 is layout 6 without the accounts at the adaptive step's window
 /// start (read: that window is judged by its iterations alone) and without
 /// the cohesion account (read: 0)
@@ -130,6 +133,11 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
   put(out, s.step_size.window_start.residual);
   put(out, s.step_size.window_start.supplied);
   put(out, s.energy.cohesion);
+  // The periodic cell and its accounts (layout 7)
+  put(out, s.energy.cell_work);
+  put(out, s.energy.rewrap);
+  put(out, static_cast<std::int64_t>(s.cell.size()));
+  put(out, s.cell);
   return out;
 }
 
@@ -153,7 +161,7 @@ void check_layout(const std::string& bytes, const std::filesystem::path& path)
         path.string() + ": state layout softpack-state-4 (written by a "
                         "driver of 2026-11-30 whose lever was reverted) is "
                         "not read: rerun the run that wrote it");
-  if (head != magic && head != magic_v5 && head != magic_v3)
+  if (head != magic && head != magic_v6 && head != magic_v5 && head != magic_v3)
     throw std::runtime_error(path.string() + ": not a softpack state file");
   if (bytes.size() < magic.size() + sizeof(std::uint64_t))
     throw std::runtime_error(path.string() + ": state file is truncated");
@@ -303,11 +311,21 @@ StateFile read_state_file(const std::filesystem::path& path,
     s.step_size.window_iterations = static_cast<int>(r.get<std::int64_t>());
     c.total.retried_steps = r.get<std::int64_t>();
   }
-  if (head == magic)
+  if (head == magic || head == magic_v6)
   {
     s.step_size.window_start.residual = r.get<double>();
     s.step_size.window_start.supplied = r.get<double>();
     s.energy.cohesion = r.get<double>();
+  }
+  if (head == magic)
+  {
+    s.energy.cell_work = r.get<double>();
+    s.energy.rewrap = r.get<double>();
+    const auto nc = r.get<std::int64_t>();
+    if (nc != 0 && nc != 4)
+      throw std::runtime_error(path.string() + ": state file has bad sizes");
+    s.cell.resize(nc);
+    r.get(s.cell.data(), sizeof(double) * nc);
   }
   if (r.at + sizeof(std::uint64_t) != bytes.size())
     throw std::runtime_error(path.string() + ": state file has bad sizes");

@@ -56,10 +56,11 @@ std::vector<dynamics::Contact>
 ContactExchange::detect(const bodies::BodySet& bodies,
                         std::span<const double> x,
                         const std::vector<dynamics::Wall>& walls,
-                        const dynamics::DetectionOptions& options) const
+                        const dynamics::DetectionOptions& options,
+                        const dynamics::PeriodicCell* cell) const
 {
   std::vector<dynamics::Contact> contacts =
-      dynamics::detect_contacts(bodies, x, walls, options);
+      dynamics::detect_contacts(bodies, x, walls, options, cell);
   if (!_dist.distributed())
     return contacts;
   contacts = _dist.comm().gather_items<dynamics::Contact>(contacts);

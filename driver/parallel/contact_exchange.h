@@ -36,11 +36,13 @@ public:
 
   /// The contacts at the node coordinates x: each rank detects its local
   /// bodies' share (dynamics::detect_contacts) and the shares are put
-  /// together in the serial order (dynamics::contact_order_key)
+  /// together in the serial order (dynamics::contact_order_key); with a
+  /// periodic cell, against the images too
   std::vector<dynamics::Contact>
   detect(const bodies::BodySet& bodies, std::span<const double> x,
          const std::vector<dynamics::Wall>& walls,
-         const dynamics::DetectionOptions& options) const;
+         const dynamics::DetectionOptions& options,
+         const dynamics::PeriodicCell* cell = nullptr) const;
   /// W from the local bodies' blocks (dynamics::delassus_blocks) and the
   /// servo walls' couplings: when distributed, the rows of this rank's
   /// contacts only (a contact is its candidate body's), from the blocks of

@@ -96,8 +96,43 @@ std::vector<std::vector<Segment>> deformed_boundaries(bodies::BodySet& bodies)
   return out;
 }
 
+namespace
+{
+/// Segments and box moved by s
+std::vector<Segment> moved(const std::vector<Segment>& segments,
+                           const std::array<double, 2>& s)
+{
+  std::vector<Segment> out = segments;
+  for (Segment& g : out)
+    g = {g[0] + s[0], g[1] + s[1], g[2] + s[0], g[3] + s[1]};
+  return out;
+}
+
+/// The depth of a's nodes inside b's images near it (a periodic cell: k in
+/// {-1, 0, 1}^2, not b itself when b is a)
+double depth_in_images(const std::vector<Segment>& a, const Box& box_a,
+                       const std::vector<Segment>& b, const Box& box_b,
+                       bool same, const dynamics::PeriodicCell& cell)
+{
+  double depth = 0;
+  for (int k0 = -1; k0 <= 1; ++k0)
+    for (int k1 = -1; k1 <= 1; ++k1)
+    {
+      if (same && k0 == 0 && k1 == 0)
+        continue;
+      const std::array<double, 2> s = cell.shift({k0, k1});
+      const Box image = {box_b[0] + s[0], box_b[1] + s[1], box_b[2] + s[0],
+                         box_b[3] + s[1]};
+      if (intersect(box_a, image))
+        depth = std::max(depth, depth_inside(a, moved(b, s), image));
+    }
+  return depth;
+}
+} // namespace
+
 double max_overlap_depth(const std::vector<std::vector<Segment>>& boundaries,
-                         const std::vector<dynamics::Wall>& walls)
+                         const std::vector<dynamics::Wall>& walls,
+                         const dynamics::PeriodicCell* cell)
 {
   std::vector<Box> boxes;
   for (const auto& segments : boundaries)
@@ -106,7 +141,11 @@ double max_overlap_depth(const std::vector<std::vector<Segment>>& boundaries,
   for (std::size_t a = 0; a < boundaries.size(); ++a)
   {
     for (std::size_t b = 0; b < boundaries.size(); ++b)
-      if (a != b && intersect(boxes[a], boxes[b]))
+      if (cell)
+        depth = std::max(depth,
+                         depth_in_images(boundaries[a], boxes[a], boundaries[b],
+                                         boxes[b], a == b, *cell));
+      else if (a != b && intersect(boxes[a], boxes[b]))
         depth = std::max(depth,
                          depth_inside(boundaries[a], boundaries[b], boxes[b]));
     for (const dynamics::Wall& w : walls)

@@ -3,6 +3,7 @@
 #include <array>
 #include <bodies/BodySet.h>
 #include <vector>
+#include <walls/periodic_cell.h>
 #include <walls/walls.h>
 
 /// An overlap check independent of the contact detection (issue 16, item 5):
@@ -26,8 +27,11 @@ std::vector<std::vector<Segment>> deformed_boundaries(bodies::BodySet& bodies);
 /// boundary an odd number of times (valid for non-convex and deformed
 /// polygons, unlike convex clipping); its depth is then its distance to B's
 /// boundary. Only pairs whose bounding boxes intersect are tested. Behind a
-/// wall, the depth is the node's distance to the wall line.
+/// wall, the depth is the node's distance to the wall line. In a periodic
+/// cell, B's images shifted by h k, k in {-1, 0, 1}^2, are B's too (and A's
+/// own images other than A).
 double max_overlap_depth(const std::vector<std::vector<Segment>>& boundaries,
-                         const std::vector<dynamics::Wall>& walls);
+                         const std::vector<dynamics::Wall>& walls,
+                         const dynamics::PeriodicCell* cell = nullptr);
 
 } // namespace softpack::simulation

@@ -40,11 +40,11 @@ double box_area(const std::vector<dynamics::Wall>& walls)
   return gap(names[0], names[1]) * gap(names[2], names[3]);
 }
 
-double packing_fraction(const bodies::BodySet& bodies,
-                        const std::vector<dynamics::Wall>& walls)
+/// The bodies' current area over the box's or the periodic cell's.
+double packing_fraction(const bodies::BodySet& bodies, double area_of_space)
 {
   const std::vector<double> area = bodies.body_current_area();
-  return std::accumulate(area.begin(), area.end(), 0.0) / box_area(walls);
+  return std::accumulate(area.begin(), area.end(), 0.0) / area_of_space;
 }
 
 void print_progress(double fraction, long step, const dynamics::MoreauJean& s,
@@ -171,13 +171,16 @@ public:
                  config.friction, _p.parallel},
                 parallel::Distribution(comm, _bodies)),
         _raw(_root ? std::make_unique<io::RawOutput>(config.directory,
-                                                     config.walls)
+                                                     config.walls,
+                                                     config.cell.has_value())
                    : nullptr),
         _program(config)
   {
     if (_p.gravity.acceleration != std::array<double, 2>{0, 0})
       _scheme.set_external_force(
           _bodies.to_global(bodies::weight(_bodies, _p.gravity.acceleration)));
+    if (config.cell)
+      _scheme.set_cell(*config.cell);
     if (config.initial_state)
     {
       io::StateFile f = io::read_state_file(*config.initial_state, &_identity);
@@ -356,7 +359,8 @@ private:
   double check_overlap(long step)
   {
     const double depth =
-        max_overlap_depth(deformed_boundaries(_bodies), _scheme.walls());
+        max_overlap_depth(deformed_boundaries(_bodies), _scheme.walls(),
+                          _scheme.cell() ? &*_scheme.cell() : nullptr);
     _checks.max_overlap_depth = std::max(_checks.max_overlap_depth, depth);
     // A continued run's first row is the state's step, counted already.
     const bool counted = _config.initial_state && step == _first;
@@ -381,9 +385,11 @@ private:
 
   std::optional<double> phi() const
   {
+    if (const auto& cell = _scheme.cell())
+      return packing_fraction(_bodies, cell->area());
     if (!_config.box)
       return std::nullopt;
-    return packing_fraction(_bodies, _scheme.walls());
+    return packing_fraction(_bodies, box_area(_scheme.walls()));
   }
 
   /// Fraction of the run done: the furthest of the stop criteria

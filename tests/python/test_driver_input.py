@@ -16,8 +16,9 @@ from softpack.simulation.driver_input import driver_document, write_driver_json
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 TOP_KEYS = ["schema_version", "directory", "initial_state", "scene",
-            "material", "materials", "walls", "stages", "stop", "contact",
-            "friction", "time", "damping", "gravity", "output", "parallel"]
+            "material", "materials", "walls", "cell", "stages", "stop",
+            "contact", "friction", "time", "damping", "gravity", "output",
+            "parallel"]
 
 
 pytestmark = pytest.mark.usefixtures("registry")

@@ -184,8 +184,10 @@ def write_fake_run(run_dir, n_steps=3):
         step = 10 * k
         x = LENGTH - 1e-3 * k
         phi = "" if k == 0 else repr(5 * ref / (x * WIDTH))
-        energies = [1e-3 * k, 0, 2e-3 * k, 0, 5e-4 * k, 4e-4 * k, 0, 0, 0,
-                    1e-4 * k]
+        energies = {"strain_energy": 1e-3 * k, "wall_work": 2e-3 * k,
+                    "damping": 5e-4 * k, "friction": 4e-4 * k,
+                    "energy_residual": 1e-4 * k}
+        energies = [energies.get(name, 0) for name in obs.ENERGY_COLUMNS]
         steps.append(
             f"{step},{1e-4 * step},2,7,1e-7,true,12,11,1e-6,"
             f"0,0,-{F},0,{x},0,{F},0,0,0,0,{2 * G},0,{WIDTH},0,0,{phi},"

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from softpack.analysis.cell import edges, image_offsets
 from softpack.analysis.connectivity import read_contacts
 from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import write_table
@@ -42,7 +43,7 @@ NETWORK_COLUMNS = ("step", "time", "a", "b", "nodes", "fx", "fy", "fn", "ft",
 
 
 def pairs(contacts: dict, centroids: np.ndarray, walls: list,
-          thickness: float) -> dict:
+          thickness: float, offsets=None) -> dict:
     """The network rows (without step and time) of one output step.
 
     Parameters
@@ -55,6 +56,10 @@ def pairs(contacts: dict, centroids: np.ndarray, walls: list,
         Each wall's current point and unit normal.
     thickness : float
         H (m): forces per unit length times H.
+    offsets : ndarray, shape (contacts, 2), optional
+        A periodic cell's: each contact's antagonist image translation h k
+        (:func:`softpack.analysis.cell.image_offsets`); the branch vector
+        runs to the image touched.
     """
     loaded = contacts["fn"] > 0
     a = contacts["candidate"][loaded]
@@ -75,6 +80,12 @@ def pairs(contacts: dict, centroids: np.ndarray, walls: list,
     np.add.at(total, inverse, force)
     branch = np.array([_branch(i, j, centroids, walls) for i, j in keys]
                       ).reshape(-1, 2)
+    if offsets is not None and len(keys):
+        # The second particle's image seen from the first: one per pair
+        seen = sign[:, None] * np.asarray(offsets)[loaded]
+        shift = np.zeros((len(keys), 2))
+        shift[inverse] = seen
+        branch = branch + shift
     length = np.hypot(branch[:, 0], branch[:, 1])
     with np.errstate(invalid="ignore", divide="ignore"):
         unit = branch / length[:, None]
@@ -116,7 +127,9 @@ def network_table(run_dir, setup, steps: dict, particles: dict) -> dict:
         if contacts["wall"].max(initial=-1) >= len(walls):
             raise ValueError(f"{path}: wall {contacts['wall'].max()}, the run"
                              f" has {len(walls)} walls ({', '.join(names)})")
-        rows = pairs(contacts, centroids, walls, setup.thickness)
+        offsets = (image_offsets(contacts, edges(steps, k)) if setup.cell
+                   else None)
+        rows = pairs(contacts, centroids, walls, setup.thickness, offsets)
         rows.update(step=np.full(len(rows["a"]), step),
                     time=np.full(len(rows["a"]), steps["time"][k]))
         for name in NETWORK_COLUMNS:

@@ -84,11 +84,12 @@ from softpack.analysis.network import (FABRIC_COLUMNS, fabric,
                                        network_table, write_network)
 from softpack.analysis.strain import cumulative_strain
 from softpack.analysis.stress import write_stress
+from softpack.analysis.cell import write_cell_stress
 from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table, write_table
 
 ENERGY_COLUMNS = ("strain_energy", "kinetic_energy", "wall_work",
-                  "external_work", "damping", "friction", "contact_normal",
+                  "external_work", "cell_work", "rewrap", "damping", "friction", "contact_normal",
                   "cohesion", "numerical", "energy_residual")
 #: Copied from ``raw/steps.csv`` when the driver wrote them (NaN otherwise):
 #: steps since the previous row whose Newton iterations or contact solves
@@ -186,6 +187,9 @@ def series_from_steps(steps: dict, setup: RunSetup) -> dict:
         series[name] = h * (steps[name] if name in steps
                             else np.zeros(len(steps["step"])))
     supplied = np.abs(steps["wall_work"]) + np.abs(steps["external_work"])
+    for name in ("cell_work", "rewrap"):  # a periodic cell's supplies
+        if name in steps:
+            supplied = supplied + np.abs(steps[name])
     series["energy_residual_relative"] = np.divide(
         steps["energy_residual"], supplied,
         out=np.full(len(supplied), np.nan), where=supplied > 0)
@@ -370,5 +374,7 @@ def process_run(run_dir, setup: RunSetup | None = None,
         # The assembly's stress (wall and Love-Weber estimates, P, q) in its
         # own table, before series.csv whose presence means "finished".
         write_stress(run_dir)
+    elif setup.cell:
+        write_cell_stress(run_dir, setup)
     series_csv = write_table(run.series_csv, series, SERIES_COLUMNS)
     return series_csv, particles_csv

@@ -84,6 +84,10 @@ class RunSetup:
     body_weight : ndarray, shape (n, 2)
         Each body's weight under ``[gravity] acceleration`` (N/m: density
         x reference area x g; zeros without gravity).
+    cell : bool
+        A periodic cell's run (``parameters.cell.enabled``;
+        docs/periodic_cell.md): its edges are columns of ``raw/steps.csv``
+        and each contact has its antagonist's image.
     notes : tuple of str
         What could not be read and why.
     """
@@ -108,6 +112,7 @@ class RunSetup:
     stage_phis: tuple = ()
     body_weight: np.ndarray = None
     notes: tuple = field(default=())
+    cell: bool = False
 
     @property
     def has_box(self) -> bool:
@@ -193,9 +198,12 @@ def _from_document(path, doc) -> RunSetup:
                                                     "velocity")))
              for w in doc["walls"]}
     notes = []
+    cell = bool(doc["parameters"].get("cell", {}).get("enabled", False))
     if all(name in walls for name in BOX_WALLS):
         length = float(walls["right"].point[0] - walls["left"].point[0])
         width = float(walls["top"].point[1] - walls["bottom"].point[1])
+    elif cell:
+        length = width = math.nan  # the cell's are in raw/steps.csv
     else:
         length = width = math.nan
         notes.append("no box (walls left/right/bottom/top): L0, W0, the"
@@ -246,7 +254,7 @@ def _from_document(path, doc) -> RunSetup:
                          for s in stages),
         body_weight=np.outer(species_density[species_of] * reference_area,
                              gravity),
-        notes=tuple(notes))
+        notes=tuple(notes), cell=cell)
 
 
 def read_rules(run_dir) -> Rules:

@@ -255,8 +255,9 @@ def stress_table(run_dir) -> dict:
         for i, c in enumerate(COMPONENTS):
             contact[c][k] = lw.flat[i]
             wall[c][k] = bs.flat[i]
-    return _columns(steps, wall, contact, fe_stress(steps, wall["area"]),
-                    eps_xx, eps_yy)
+    return stress_columns(steps, wall, contact,
+                          fe_stress(steps, wall["area"]), eps_xx, eps_yy,
+                          wall_normal_stresses(steps))
 
 
 def fe_stress(steps: dict, area) -> dict:
@@ -280,8 +281,11 @@ def relative_difference(a: dict, b: dict):
         return np.where(norm > 0, diff / norm, np.nan)
 
 
-def _columns(steps, wall, contact, fe, eps_xx, eps_yy) -> dict:
-    """The table of :func:`stress_table` from its parts."""
+def stress_columns(steps, wall, contact, fe, eps_xx, eps_yy,
+                   normal_stresses) -> dict:
+    """The table of :func:`stress_table` from its parts (and of a periodic
+    cell's, :mod:`softpack.analysis.cell`); ``normal_stresses`` the box
+    walls' ``NAME_stress`` columns."""
     wall_P, wall_q = pressure_deviator(wall["xx"], wall["yy"], wall["xy"],
                                        wall["yx"])
     contact_P, contact_q = pressure_deviator(contact["xx"], contact["yy"],
@@ -290,7 +294,7 @@ def _columns(steps, wall, contact, fe, eps_xx, eps_yy) -> dict:
     return {"step": steps["step"], "time": steps["time"],
             "area": wall["area"], "eps_xx": eps_xx, "eps_yy": eps_yy,
             "eps_v": eps_xx + eps_yy, "eps_q": eps_xx - eps_yy,
-            **wall_normal_stresses(steps),
+            **normal_stresses,
             **{f"wall_{c}": wall[c] for c in COMPONENTS},
             "wall_P": wall_P, "wall_q": wall_q,
             **{f"contact_{c}": contact[c] for c in COMPONENTS},

@@ -11,7 +11,9 @@ labelled with that frame's own Phi and time.
 A panel shows the particles coloured by their strain-energy density Psi
 (kPa, or Psi / mu when the law has a shear modulus), their outlines (one
 colour per species when there are several), rigid particles in grey, the
-walls where they are at that output (``raw/steps.csv``), and a scale bar.
+walls where they are at that output (``raw/steps.csv``) or a periodic
+cell's edges (dashed, the particles that cross them drawn whole), and a scale
+bar.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import math
 
 import numpy as np
 
+from softpack.analysis.cell import edges as cell_edges
 from softpack.analysis.fields import read_snapshot, stored_times
 from softpack.analysis.setup import read_setup
 from softpack.contract.run_directory import RunDirectory, RunError
@@ -91,6 +94,15 @@ class RunStates:
         """The row of the stored frame nearest row k's time."""
         t = self.times[np.argmin(np.abs(self.times - self.series["time"][k]))]
         return int(np.argmin(np.abs(np.asarray(self.series["time"]) - t)))
+
+    def cell(self, k: int):
+        """The periodic cell's corners at row k (closed: 5 points), or
+        None without a cell (docs/periodic_cell.md)."""
+        if not self.setup.cell or self.steps is None:
+            return None
+        h = cell_edges(self.steps, k)
+        return np.array([[0, 0], h[:, 0], h[:, 0] + h[:, 1], h[:, 1],
+                         [0, 0]])
 
     def walls(self, k: int) -> dict:
         """``{name: ((x0, y0), (x1, y1))}``: each wall's segment at row k,
@@ -200,6 +212,9 @@ def _draw_panel(ax, states, k, snap, scale, vmax):
     for name, (a, b) in states.walls(k).items():
         ax.plot([a[0], b[0]], [a[1], b[1]], "k-", lw=1.6, gid=f"wall:{name}",
                 solid_capstyle="butt")
+    corners = states.cell(k)
+    if corners is not None:  # bodies cross its edges: drawn whole
+        ax.plot(corners[:, 0], corners[:, 1], "k--", lw=1.0, gid="cell")
     ax.set_aspect("equal")
     ax.autoscale()
     ax.set_axis_off()

@@ -135,7 +135,7 @@ def build_scene(config, mesh_stem, known=None) -> Scene:
     """
     species, seed = config["species"], config["packing"]["seed"]
     diameters, index = particle_table(species, seed)
-    if not config["box"]["enabled"]:
+    if not (config["box"]["enabled"] or config["cell"]["enabled"]):
         diameters, index = diameters[:1], index[:1]
     meshes = shapes.templates(species, diameters, index,
                               config["mesh"]["element_size"], _base(config),

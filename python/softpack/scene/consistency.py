@@ -13,7 +13,8 @@ from __future__ import annotations
 import math
 
 from softpack.scene.mesh import MIN_BOUNDARY_ELEMENTS
-from softpack.scene.packing import HEXAGONAL_FRACTION
+from softpack.scene.packing import HEXAGONAL_FRACTION, PackingError, \
+    cell_sides
 from softpack.scene import species as species_sizes
 from softpack.scene.species import present, total_area, total_mass
 from softpack.scene.walls import (scene_walls, fastest, check_controls,
@@ -85,7 +86,10 @@ def initial_packing_fraction(sections) -> float:
 def check(sections) -> None:
     """Refuse what does not fit together (see the module doc)."""
     _check_particles(sections)
-    _check_box(sections)
+    if sections["cell"]["enabled"]:
+        _check_cell(sections)
+    else:
+        _check_box(sections)
     try:
         check_controls(sections["walls"], sections["box"]["enabled"])
     except ValueError as err:
@@ -155,6 +159,81 @@ def _check_box(sections) -> None:
             f"[box] the particles fill {phi0:.3f} of the box: must be <"
             f" [stop] packing_fraction = {target:g} and <"
             f" {HEXAGONAL_FRACTION:.4f} (hexagonal packing)")
+
+
+def _check_cell(sections) -> None:
+    """A periodic cell: no box, walls or stages; every particle smaller
+    than half the cell; its edges move less than the alert distance in a
+    step; Phi0 below the target."""
+    cell = sections["cell"]
+    if sections["box"]["enabled"]:
+        raise Inconsistent(
+            "[cell] enabled = true with [box] enabled = true: a periodic"
+            " cell has no walls; set [box] enabled = false")
+    if sections["walls"]:
+        names = ", ".join(f"[walls.{name}]" for name in sections["walls"])
+        raise Inconsistent(
+            f"{names}: a periodic cell ([cell] enabled) has no walls, both"
+            " directions are periodic")
+    if sections["stages"]:
+        raise Inconsistent("[[stages]] with [cell] enabled: not supported"
+                           " yet")
+    if any(sections["gravity"]["acceleration"]):
+        raise Inconsistent(
+            f"[gravity] acceleration = {sections['gravity']['acceleration']!r}"
+            " with [cell] enabled: in a periodic cell nothing holds the"
+            " weight (the whole assembly would fall); set it to [0.0, 0.0]")
+    if sections["damping"]["alpha"] != 0:
+        raise Inconsistent(
+            f"[damping] alpha = {sections['damping']['alpha']!r}: must be 0"
+            " with [cell] enabled (a mass-proportional damping acts on the"
+            " bodies' velocities, which differ by the cell's rate between a"
+            " body and its images; beta is kept)")
+    try:
+        length, width = cell_sides(cell)
+    except PackingError as err:
+        raise Inconsistent(str(err)) from None
+    k = _extreme(sections["species"], 1)
+    largest = sections["species"][k]
+    d_max = species_sizes.size_bounds(largest)[1]
+    if not d_max < min(length, width) / 2:
+        raise Inconsistent(
+            f"[species.{k}] (species {largest['name']!r})"
+            f" {species_sizes.size_bound_keys(largest, 'max')} m:"
+            f" must be smaller than half the cell ([cell] a1 = {cell['a1']},"
+            f" a2 = {cell['a2']}: half is {min(length, width) / 2:g} m), or a"
+            " particle would touch two images of a neighbour")
+    speed = cell_speed(cell)
+    step, key = largest_time_step(sections)
+    alert = sections["contact"]["alert_distance"]
+    if speed * step > alert:
+        raise Inconsistent(
+            f"{key} = {step:.4g}: must be <= {alert / speed:.4g} s ([contact]"
+            " alert_distance / the speed of the cell's edges, |L a1| and"
+            " |L a2| from [cell]: no image may move more than the alert"
+            " distance in one step)")
+    penetration = sections["contact"]["max_penetration"]
+    if speed * step > penetration:
+        raise Inconsistent(
+            f"[contact] max_penetration = {penetration!r}: must be >="
+            f" {speed * step:.4g} m (the travel of the cell's images in one"
+            f" step of {key}): a deeper detection is ignored as wrong-side")
+    target = sections["stop"]["packing_fraction"]
+    phi0 = total_area(sections["species"]) / (length * width)
+    limit = min(target, HEXAGONAL_FRACTION) if target > 0 \
+        else HEXAGONAL_FRACTION
+    if phi0 >= limit:
+        raise Inconsistent(
+            f"[cell] the particles fill {phi0:.3f} of the cell: must be <"
+            f" [stop] packing_fraction = {target:g} and <"
+            f" {HEXAGONAL_FRACTION:.4f} (hexagonal packing)")
+
+
+def cell_speed(cell) -> float:
+    """The speed of the cell's edges at t = 0: max(|L a1|, |L a2|)."""
+    rows = (cell["velocity_gradient_x"], cell["velocity_gradient_y"])
+    return max(math.hypot(*(r[0] * a[0] + r[1] * a[1] for r in rows))
+               for a in (cell["a1"], cell["a2"]))
 
 
 def largest_time_step(sections) -> tuple[float, str]:

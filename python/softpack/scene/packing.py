@@ -274,6 +274,8 @@ def scene_packing(config, radii, areas=None) -> Packing:
     """
     radii = np.asarray(radii, dtype=float)
     box, seed = config["box"], config["packing"]["seed"]
+    if config["cell"]["enabled"]:
+        return _cell_packing(config, radii, areas)
     if not box["enabled"]:
         return Packing(centres=np.zeros((1, 2)), radii=radii[:1],
                        length=0.0, width=0.0, shape_areas=None if areas is
@@ -301,6 +303,47 @@ def scene_packing(config, radii, areas=None) -> Packing:
         raise PackingError(f"{err} {keys}") from None
     return Packing(centres=centres, radii=radii, length=length, width=width,
                    seed=seed, shape_areas=areas)
+
+
+def _cell_packing(config, radii, areas) -> Packing:
+    """:func:`scene_packing` in a periodic cell ([cell] enabled): the
+    circles placed with periodic distances (its ``length`` and ``width``
+    the cell's edges)."""
+    length, width = cell_sides(config["cell"])
+    gap, seed = config["packing"]["gap"], config["packing"]["seed"]
+    keys = ("([[species]] count, diameter and shape, [cell] a1 and a2,"
+            " [packing] gap)")
+    phi = _fraction(radii, length, width)
+    if phi >= HEXAGONAL_FRACTION:
+        raise PackingError(
+            f"the particles' bounding circles would fill {phi:.3f} of the"
+            f" cell, more than hexagonal disks ({HEXAGONAL_FRACTION:.3f})"
+            f" {keys}")
+    try:
+        centres = place(radii, length, width, gap,
+                        np.random.default_rng(seed), periodic=True)
+    except PackingError as err:
+        raise PackingError(f"{err} {keys}") from None
+    return Packing(centres=centres, radii=radii, length=length, width=width,
+                   seed=seed, shape_areas=areas)
+
+
+def cell_sides(cell) -> tuple:
+    """The sides (length along x, width along y) of a rectangular initial
+    cell ([cell] a1 along x, a2 along y).
+
+    Raises
+    ------
+    PackingError
+        When the cell is not rectangular (the placement needs it).
+    """
+    (a1x, a1y), (a2x, a2y) = cell["a1"], cell["a2"]
+    if a1y != 0 or a2x != 0 or not (a1x > 0 and a2y > 0):
+        raise PackingError(
+            f"[cell] a1 = {list(cell['a1'])}, a2 = {list(cell['a2'])}: the"
+            " random placement needs a rectangular initial cell, a1 = [L, 0]"
+            " and a2 = [0, W] with L, W > 0")
+    return float(a1x), float(a2y)
 
 
 #: How far the box's packing fraction may be from [packing]

@@ -58,8 +58,12 @@ class PackingError(RuntimeError):
 
 
 def place(radii, length, width, gap, rng, *, relax=True, trials=200,
-          max_sweeps=20000) -> np.ndarray:
+          max_sweeps=20000, periodic=False) -> np.ndarray:
     """Centres of non-overlapping circles in the box (see the module doc).
+
+    With ``periodic`` the box is a periodic cell: no walls, the distances
+    between circles are those to the nearest images, the centres in
+    ``[0, length) x [0, width)``.
 
     Parameters
     ----------
@@ -70,6 +74,9 @@ def place(radii, length, width, gap, rng, *, relax=True, trials=200,
     rng : numpy.random.Generator
     relax, trials, max_sweeps
         As :func:`random_packing`.
+    periodic : bool
+        A periodic cell instead of a box (the growth protocol is not
+        periodic: a cell too full for the inflation is refused).
 
     Returns
     -------
@@ -87,11 +94,13 @@ def place(radii, length, width, gap, rng, *, relax=True, trials=200,
     scales = np.linspace(start, 1.0, INFLATION_STEPS + 1)[1:]
     for attempt in range(ATTEMPTS if relax else 1):
         placed, overlapping = _sequential(radii[order] * start, length,
-                                          width, gap, rng, trials, relax)
+                                          width, gap, rng, trials, relax,
+                                          periodic)
         try:
             for scale in scales if start < 1.0 else [1.0] * overlapping:
                 placed = _relax_overlaps(placed, radii[order] * scale,
-                                         length, width, gap, rng, max_sweeps)
+                                         length, width, gap, rng, max_sweeps,
+                                         periodic)
         except PackingError as err:
             failure = (f"{len(radii)} particles (requested phi of bounding"
                        f" circles = {phi:.3f}), stuck at {scale:.3f} of their"
@@ -102,6 +111,9 @@ def place(radii, length, width, gap, rng, *, relax=True, trials=200,
         return centres
     if not relax or start >= 1.0:
         raise PackingError(failure)
+    if periodic:
+        raise PackingError(f"{failure}; the growth protocol that goes"
+                           " further in a box is not periodic yet")
     placed = _grown(radii[order], start * GROWTH_START, length, width, gap,
                     rng, trials, failure)
     centres = np.empty_like(placed)
@@ -120,20 +132,23 @@ def _grown(radii, start, length, width, gap, rng, trials, failure):
         raise PackingError(f"{failure}; then {err}") from None
 
 
-def _sequential(radii, length, width, gap, rng, trials, relax):
+def _sequential(radii, length, width, gap, rng, trials, relax,
+                periodic=False):
     """Random sequential addition in the given order; with ``relax``, a
-    circle with no free trial goes to the least-overlapping one.
+    circle with no free trial goes to the least-overlapping one; with
+    ``periodic``, anywhere in the cell, clear of the nearest images.
 
     Returns the centres and whether any overlap.
     """
     placed = np.empty((len(radii), 2))
     overlapping = False
+    cell = (length, width) if periodic else None
     for k, r in enumerate(radii):
-        lo = r + _padded(gap)
+        lo = 0.0 if periodic else r + _padded(gap)
         candidates = rng.uniform((lo, lo), (length - lo, width - lo),
                                  size=(trials, 2))
         clearance = _clearance_to(candidates, r, placed[:k], radii[:k],
-                                  _padded(gap))
+                                  _padded(gap), cell)
         free = np.flatnonzero(clearance >= 0.0)
         if not len(free) and not relax:
             raise PackingError(
@@ -157,8 +172,10 @@ def _fraction(radii, length, width) -> float:
     return float(np.pi * np.sum(radii**2) / (length * width))
 
 
-def _clearance_to(candidates, r, centres, radii, gap) -> np.ndarray:
-    """For each candidate centre, the smallest clearance minus ``gap``.
+def _clearance_to(candidates, r, centres, radii, gap,
+                  cell=None) -> np.ndarray:
+    """For each candidate centre, the smallest clearance minus ``gap``
+    (to the nearest images in a periodic ``cell`` = (length, width)).
 
     Only circles whose centres lie within ``r + max(radii) + gap`` can make
     it negative: a k-d tree finds the nearest ``NEIGHBOURS`` of each
@@ -171,26 +188,29 @@ def _clearance_to(candidates, r, centres, radii, gap) -> np.ndarray:
 
     reach = r + radii.max() + gap
     k = min(NEIGHBOURS, len(centres))
-    d, index = cKDTree(centres).query(candidates, k=[*range(1, k + 1)],
-                                      distance_upper_bound=reach)
+    d, index = cKDTree(centres, boxsize=cell).query(
+        candidates, k=[*range(1, k + 1)], distance_upper_bound=reach)
     found = np.isfinite(d)
     index = np.where(found, index, 0)
     clearance = np.where(found, d - r - radii[index] - gap, np.inf)
     out = clearance.min(axis=1)
     crowded = found[:, -1] & (k < len(centres))
     if crowded.any():  # the k nearest may miss a larger circle farther out
-        diff = candidates[crowded, None, :] - centres[None, :, :]
+        diff = _nearest_image(candidates[crowded, None, :]
+                              - centres[None, :, :], cell)
         out[crowded] = (np.hypot(diff[..., 0], diff[..., 1]) - r - radii
                         - gap).min(axis=1)
     return np.minimum(out, np.inf)
 
 
-def _relax_overlaps(centres, radii, length, width, gap, rng, max_sweeps):
+def _relax_overlaps(centres, radii, length, width, gap, rng, max_sweeps,
+                    periodic=False):
     """Move circles apart until every pair is at least ``gap`` apart.
 
     Each sweep moves both circles of every pair closer than the target
     separation apart by half the shortfall (projected Jacobi iteration),
-    then projects the centres back into the admissible box.  The target
+    then projects the centres back into the admissible box (in a periodic
+    cell: wraps them into it, the pairs' distances to the nearest image).  The target
     clearance (:func:`_padded`) is slightly above ``gap`` so that the
     iteration ends with a strictly admissible configuration.  The pairs
     come from a k-d tree within the largest target distance plus a skin,
@@ -201,6 +221,7 @@ def _relax_overlaps(centres, radii, length, width, gap, rng, max_sweeps):
 
     x = centres.copy()
     n = len(radii)
+    cell = (length, width) if periodic else None
     skin = 0.2 * radii.min()
     reach = 2 * radii.max() + _padded(gap) + skin
     lo = radii + _padded(gap)
@@ -208,11 +229,12 @@ def _relax_overlaps(centres, radii, length, width, gap, rng, max_sweeps):
     checkpoint, moved = np.inf, np.inf
     for sweep in range(max_sweeps):
         if moved > 0.5 * skin:
-            pairs = cKDTree(x).query_pairs(reach, output_type="ndarray")
+            pairs = cKDTree(x, boxsize=cell).query_pairs(
+                reach, output_type="ndarray")
             i, j = pairs[:, 0], pairs[:, 1]
             target = radii[i] + radii[j] + _padded(gap)
             listed, moved = x.copy(), 0.0
-        diff = x[i] - x[j]
+        diff = _nearest_image(x[i] - x[j], cell)
         d = np.hypot(diff[:, 0], diff[:, 1])
         if np.all(d - radii[i] - radii[j] >= gap):
             return x
@@ -229,9 +251,26 @@ def _relax_overlaps(centres, radii, length, width, gap, rng, max_sweeps):
         for axis in (0, 1):
             move[:, axis] = (np.bincount(i, push[:, axis], n)
                              - np.bincount(j, push[:, axis], n))
-        x = np.clip(x + move, lo[:, None], hi)
-        moved = np.abs(x - listed).max() * np.sqrt(2)
+        x = (_wrapped(x + move, cell) if periodic
+             else np.clip(x + move, lo[:, None], hi))
+        moved = np.abs(_nearest_image(x - listed, cell)).max() * np.sqrt(2)
     raise PackingError(
         f"could not remove the overlaps of {n} circles (phi ="
         f" {_fraction(radii, length, width):.3f} in a {length} x {width} m"
         f" box) in {sweep + 1} relaxation sweeps; the box is too full")
+
+
+def _nearest_image(diff, cell):
+    """Differences of positions to the nearest image in a periodic ``cell``
+    = (length, width) (unchanged without a cell)."""
+    if cell is None:
+        return diff
+    box = np.asarray(cell)
+    return diff - box * np.round(diff / box)
+
+
+def _wrapped(x, cell):
+    """Positions wrapped into ``[0, length) x [0, width)``."""
+    box = np.asarray(cell)
+    x = np.mod(x, box)
+    return np.where(x >= box, 0.0, x)  # mod of a tiny negative: the length

@@ -63,7 +63,10 @@ inline nlohmann::json driver_json(const std::filesystem::path& directory,
     "gravity": {"acceleration": [0.0, 0.0]},
     "output": {"every_steps": 12, "fields": true, "fields_every": 10,
                "state": true},
-    "parallel": {"rebalance_tolerance": 0.1}
+    "parallel": {"rebalance_tolerance": 0.1},
+    "cell": {"enabled": false, "a1": [0.1, 0.0], "a2": [0.0, 0.1],
+             "velocity_gradient_x": [0.0, 0.0],
+             "velocity_gradient_y": [0.0, 0.0]}
   })");
   doc["directory"] = directory.string();
   doc["scene"]["box"]["length"] = length;

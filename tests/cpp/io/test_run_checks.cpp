@@ -249,6 +249,16 @@ TEST(OverlapCheck, DepthOfNonConvexAndWalls)
   wall.point = {0, 0.25};
   wall.normal = {0, 1};
   EXPECT_NEAR(simulation::max_overlap_depth({ring(L)}, {wall}), 0.25, 1e-15);
+  // In a periodic cell 5 x 5 the square at (4.9, 0.5) has an image at
+  // (-0.1, 0.5), over the L: its corner (0.9, 0.5) is 0.5 inside the L (from
+  // the L's bottom); unseen without the cell
+  const auto cell =
+      dynamics::PeriodicCell::moving({5, 0}, {0, 5}, {0, 0}, {0, 0});
+  EXPECT_EQ(simulation::max_overlap_depth({ring(L), square(4.9, 0.5)}, {}),
+            0.0);
+  EXPECT_NEAR(
+      simulation::max_overlap_depth({ring(L), square(4.9, 0.5)}, {}, &cell),
+      0.5, 1e-14);
 }
 
 TEST(StateFile, RefusesCorruptedFilesAndStatesOfOtherRuns)
@@ -307,15 +317,41 @@ TEST(StateFile, RefusesCorruptedFilesAndStatesOfOtherRuns)
   }
 }
 
-TEST(StateFile, KeepsTheWindowStartAndCohesionAndReadsLayout5WithoutThem)
+namespace
 {
-  const std::filesystem::path dir = test::fresh_directory("state-layout6");
+/// The state file at `path` rewritten as an older layout: `strip` bytes
+/// of its payload's end dropped, its magic and its checksum (FNV-1a 64 over
+/// the payload) replaced
+void rewrite_as(const std::filesystem::path& path, const char* magic,
+                std::size_t strip)
+{
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  bytes.resize(bytes.size() - sizeof(std::uint64_t) - strip);
+  bytes.replace(0, 16, magic);
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const char c : bytes)
+    h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
+  bytes.append(reinterpret_cast<const char*>(&h), sizeof(h));
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+} // namespace
+
+TEST(StateFile, KeepsTheCellWindowStartAndCohesionAndReadsLayouts6And5)
+{
+  const std::filesystem::path dir = test::fresh_directory("state-layout7");
   dynamics::SchemeState s;
   s.time = 0.5;
   s.steps = 7;
   s.u = s.v = {1.0, 2.0};
   s.energy.friction = 0.25;
   s.energy.cohesion = -1.5e-3;
+  s.energy.cell_work = 3.5e-2;
+  s.energy.rewrap = -2e-9;
+  s.cell = {0.1, 0.0, 0.01, 0.2};
   s.step_size.h = 2e-4;
   s.step_size.window_start = {1e-7, 0.75};
   const std::filesystem::path path = dir / "state.bin";
@@ -323,24 +359,26 @@ TEST(StateFile, KeepsTheWindowStartAndCohesionAndReadsLayout5WithoutThem)
   const dynamics::SchemeState back = softpack::io::read_state(path);
   EXPECT_EQ(back.energy.cohesion, -1.5e-3);
   EXPECT_EQ(back.energy.friction, 0.25);
+  EXPECT_EQ(back.energy.cell_work, 3.5e-2);
+  EXPECT_EQ(back.energy.rewrap, -2e-9);
+  EXPECT_EQ(back.cell, s.cell);
   EXPECT_EQ(back.step_size.window_start.residual, 1e-7);
   EXPECT_EQ(back.step_size.window_start.supplied, 0.75);
 
-  // Layout 5: the same bytes without the trailing window start and
-  // cohesion (three doubles), its own magic and checksum (FNV-1a 64 over
-  // the payload)
-  std::string bytes;
-  {
-    std::ifstream in(path, std::ios::binary);
-    bytes.assign(std::istreambuf_iterator<char>(in), {});
-  }
-  bytes.resize(bytes.size() - 4 * sizeof(double));
-  bytes.replace(0, 16, "softpack-state-5");
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (const char c : bytes)
-    h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
-  bytes.append(reinterpret_cast<const char*>(&h), sizeof(h));
-  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  // Layout 6: without the cell's accounts, its size and its 4 numbers
+  s.cell.clear();
+  softpack::io::write_state(path, s);
+  rewrite_as(path, "softpack-state-6", 3 * sizeof(double));
+  const dynamics::SchemeState six = softpack::io::read_state(path);
+  EXPECT_EQ(six.energy.cohesion, -1.5e-3);
+  EXPECT_EQ(six.energy.cell_work, 0.0);
+  EXPECT_TRUE(six.cell.empty());
+  EXPECT_EQ(six.step_size.window_start.supplied, 0.75);
+
+  // Layout 5: also without the trailing window start and cohesion (three
+  // doubles)
+  softpack::io::write_state(path, s);
+  rewrite_as(path, "softpack-state-5", 6 * sizeof(double));
   const dynamics::SchemeState old = softpack::io::read_state(path);
   EXPECT_EQ(old.energy.cohesion, 0.0);
   EXPECT_EQ(old.energy.friction, 0.25);

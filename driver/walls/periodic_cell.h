@@ -1,0 +1,66 @@
+#pragma once
+
+#include <array>
+
+/// A periodic cell: the assembly as one cell of a periodic tiling
+/// (docs/periodic_cell.md).
+namespace softpack::dynamics
+{
+
+/// Integer image shift k: the image of a point x is x + h k.
+using ImageShift = std::array<int, 2>;
+
+/// The cell spanned by the edge vectors a1, a2 (the columns of h), whose
+/// edges move at constant velocities \f$\dot h = L h_0\f$: L the imposed
+/// velocity gradient at the start, h0 the cell then. The images' velocities
+/// relative to their bodies, \f$\dot h k\f$, are then constant, as a body
+/// and its images obey the same equations of motion only if the images do
+/// not accelerate (docs/periodic_cell.md).
+struct PeriodicCell
+{
+  /// Edge vectors (m): the columns of h
+  std::array<double, 2> a1 = {0, 0}, a2 = {0, 0};
+  /// Their constant velocities (m/s): the columns of $\dot h$
+  std::array<double, 2> a1_rate = {0, 0}, a2_rate = {0, 0};
+
+  /// The cell h0 = [a1 a2] moving with the velocity gradient L (rows
+  /// [L_xx, L_xy] and [L_yx, L_yy], schema [cell] velocity_gradient_x, _y)
+  /// at the start: $\dot h = L h_0$
+  static PeriodicCell moving(const std::array<double, 2>& a1,
+                             const std::array<double, 2>& a2,
+                             const std::array<double, 2>& gradient_x,
+                             const std::array<double, 2>& gradient_y);
+  /// The translation h k of the image k
+  std::array<double, 2> shift(const ImageShift& k) const
+  {
+    return {k[0] * a1[0] + k[1] * a2[0], k[0] * a1[1] + k[1] * a2[1]};
+  }
+  /// The image's velocity relative to the body's, \f$\dot h k\f$
+  std::array<double, 2> rate(const ImageShift& k) const
+  {
+    return {k[0] * a1_rate[0] + k[1] * a2_rate[0],
+            k[0] * a1_rate[1] + k[1] * a2_rate[1]};
+  }
+  /// The cell coordinates \f$s = h^{-1} x\f$ of a point
+  std::array<double, 2> fractional(const std::array<double, 2>& x) const;
+  /// The cell's area det h (m^2)
+  double area() const { return a1[0] * a2[1] - a1[1] * a2[0]; }
+  /// The cell's widths across its edges: area / |a2| (along a1's
+  /// direction across a2) and area / |a1|
+  std::array<double, 2> widths() const;
+  /// The largest edge speed (m/s)
+  double speed() const;
+  /// One step of size dt: \f$h^+ = h^- + dt\, \dot h\f$
+  void advance(double dt);
+};
+
+/// Refuse a body too large for the cell: a bounding box as wide as half
+/// the cell's width across an edge would touch two images of a neighbour.
+/// @param[in] cell The cell
+/// @param[in] body The body index (named in the message)
+/// @param[in] extent The body's bounding-box extent along x and y (m)
+/// @throws std::runtime_error naming the sizes
+void check_body_fits(const PeriodicCell& cell, int body,
+                     const std::array<double, 2>& extent);
+
+} // namespace softpack::dynamics

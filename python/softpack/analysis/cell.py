@@ -1,0 +1,100 @@
+"""A periodic cell's geometry and stress (docs/periodic_cell.md).
+
+The driver writes the cell's edge vectors a1, a2 at every output step
+(``raw/steps.csv``: ``cell_a1x, cell_a1y, cell_a2x, cell_a2y``) and, for each
+contact, the image k of its antagonist (``raw/contacts``: ``image1,
+image2``): the antagonist touched is its body shifted by h k = k1 a1 + k2 a2.
+The branch vector of a contact runs from that image's centroid to the
+candidate's; the Love-Weber stress of the cell is sigma = (1/A) sum f (x) l,
+A = det h, compression positive as for a box (:mod:`.stress`), with the
+centroids of ``raw/particles.csv`` (written at each output step, after the
+bodies were re-wrapped, as the images are). ``stress.csv`` of a cell has the
+contact and finite-element estimates, the wall estimate NaN (no walls), and
+the strains of the cell's diagonal, eps_xx = -ln(h_xx / h_xx0).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from softpack.analysis.connectivity import read_contacts
+from softpack.analysis.stress import (BOX, COLUMNS, COMPONENTS, fe_stress,
+                                      stress_columns)
+from softpack.contract.run_directory import RunDirectory
+from softpack.contract.tables import read_table, write_table
+
+#: The edge vectors' columns of raw/steps.csv
+EDGE_COLUMNS = ("cell_a1x", "cell_a1y", "cell_a2x", "cell_a2y")
+
+
+def edges(steps: dict, k: int) -> np.ndarray:
+    """h at output row k: its columns a1, a2, shape (2, 2)."""
+    a1x, a1y, a2x, a2y = (float(steps[c][k]) for c in EDGE_COLUMNS)
+    return np.array([[a1x, a2x], [a1y, a2y]])
+
+
+def cell_area(steps: dict) -> np.ndarray:
+    """det h of every output row (m^2)."""
+    return (np.asarray(steps["cell_a1x"], float) * steps["cell_a2y"]
+            - np.asarray(steps["cell_a1y"], float) * steps["cell_a2x"])
+
+
+def image_offsets(contacts: dict, h: np.ndarray) -> np.ndarray:
+    """Each contact's antagonist image translation h k, shape (n, 2)."""
+    k = np.column_stack((contacts["image1"], contacts["image2"]))
+    return k.astype(float) @ h.T
+
+
+def centroids_at(particles: dict, step, count: int) -> np.ndarray:
+    """The particles' centroids of ``raw/particles.csv`` at one step."""
+    mine = particles["step"] == step
+    out = np.full((count, 2), np.nan)
+    ids = particles["particle"][mine].astype(np.int64)
+    out[ids, 0] = particles["centroid_x"][mine]
+    out[ids, 1] = particles["centroid_y"][mine]
+    return out
+
+
+def love_weber(contacts: dict, centres: np.ndarray, h: np.ndarray):
+    """(1/det h) sum f (x) l over the particle contacts, (2, 2),
+    compression positive; l from the antagonist's image to the candidate."""
+    cand, ant = contacts["candidate"], contacts["antagonist"]
+    f = np.column_stack([contacts["fx"], contacts["fy"]])
+    branch = (centres[cand] - centres[ant]
+              - image_offsets(contacts, h))
+    return f.T @ branch / np.linalg.det(h)
+
+
+def cell_stress_table(run_dir, setup, steps: dict, particles: dict) -> dict:
+    """:data:`softpack.analysis.stress.COLUMNS` of a periodic cell."""
+    run = RunDirectory(run_dir)
+    rows = len(steps["step"])
+    area = cell_area(steps)
+    nan = {c: np.full(rows, np.nan) for c in COMPONENTS}
+    wall = {**nan, "area": area}
+    contact = {c: np.full(rows, np.nan) for c in COMPONENTS}
+    for k in range(rows):
+        path = run.raw.contact_file(steps["step"][k])
+        if not path.is_file():
+            continue
+        sigma = love_weber(read_contacts(path),
+                           centroids_at(particles, steps["step"][k],
+                                        setup.count), edges(steps, k))
+        for i, c in enumerate(COMPONENTS):
+            contact[c][k] = sigma.flat[i]
+    eps_xx = -np.log(np.asarray(steps["cell_a1x"], float)
+                     / steps["cell_a1x"][0])
+    eps_yy = -np.log(np.asarray(steps["cell_a2y"], float)
+                     / steps["cell_a2y"][0])
+    return stress_columns(steps, wall, contact, fe_stress(steps, area),
+                          eps_xx, eps_yy,
+                          {f"{w}_stress": np.full(rows, np.nan) for w in BOX})
+
+
+def write_cell_stress(run_dir, setup) -> None:
+    """Write ``RUN/stress.csv`` of a periodic cell."""
+    run = RunDirectory(run_dir)
+    steps = read_table(run.raw.steps_csv)
+    particles = read_table(run.raw.particles_csv)
+    write_table(run.stress_csv,
+                cell_stress_table(run_dir, setup, steps, particles), COLUMNS)
