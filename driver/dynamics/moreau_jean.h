@@ -12,6 +12,7 @@
 #include <compliance/rigid_bodies.h>
 #include <contact/nlgs.h>
 #include <contact/problem.h>
+#include <detection/bond_history.h>
 #include <detection/contact_history.h>
 #include <detection/detection.h>
 #include <detection/friction_table.h>
@@ -149,6 +150,8 @@ public:
                      const std::function<void(SchemeState&)>& edit);
   /// Steps done so far (including those before a restore)
   long steps() const { return _steps; }
+  /// Intact bonds (docs/contact_laws.md, law "bonded"; 0 without one)
+  std::size_t intact_bonds() const { return _bonds.size(); }
   /// Factorizations of the iteration matrix so far
   int factorizations() const { return _kbar.factorizations(); }
   /// Distinct symbolic factorizations of this rank's bodies (one per mesh
@@ -228,6 +231,11 @@ private:
   /// The step's energy terms, contact report and impulse history
   void account_step(StepContacts& sc, const StepStart& start,
                     StepReport& report, double stiffness_numerical);
+  /// The step's intact bonds (formed first when none have): their gap in
+  /// the shift, their strengths (docs/contact_laws.md, law "bonded")
+  void prepare_bonds(StepContacts& sc);
+  /// The break rule over the step's bonds, at the step's impulses
+  void break_bonds(const StepContacts& sc);
   void update_products(const Vectors& v);
   /// M v of the local bodies (the others' stay empty)
   Vectors mass_products(const Vectors& v) const;
@@ -274,6 +282,8 @@ private:
   std::vector<double> _R;
   /// The previous step's impulses: the warm start
   ImpulseHistory _history;
+  /// The intact bonds, each with the gap it holds
+  BondHistory _bonds;
   mutable EnergyBalance _energy;
   /// The bodies' kinetic energy at the last step's end (or at the initial
   /// velocity or restored state), summed over the ranks

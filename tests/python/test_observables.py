@@ -185,7 +185,7 @@ def write_fake_run(run_dir, n_steps=3):
         x = LENGTH - 1e-3 * k
         phi = "" if k == 0 else repr(5 * ref / (x * WIDTH))
         energies = [1e-3 * k, 0, 2e-3 * k, 0, 5e-4 * k, 4e-4 * k, 0, 0, 0,
-                    1e-4 * k]
+                    0, 1e-4 * k]
         steps.append(
             f"{step},{1e-4 * step},2,7,1e-7,true,12,11,1e-6,"
             f"0,0,-{F},0,{x},0,{F},0,0,0,0,{2 * G},0,{WIDTH},0,0,{phi},"
@@ -212,6 +212,20 @@ def test_a_run_without_the_cohesion_column_reads_it_as_zero(tmp_path):
                             for r in rows))
     s = read_table(obs.process_run(tmp_path)[0])
     assert s["cohesion"].tolist() == [0.0] * 3
+    assert np.allclose(s["energy_residual_relative"][1:], 0.05)
+
+
+def test_a_run_without_the_bond_columns_reads_them_as_zero(tmp_path):
+    # raw/steps.csv of a driver older than the bonded law
+    write_fake_run(tmp_path)
+    path = tmp_path / "raw" / "steps.csv"
+    rows = [line.split(",") for line in path.read_text().splitlines()]
+    drop = rows[0].index("bond")
+    path.write_text("".join(",".join(r[:drop] + r[drop + 1:]) + "\n"
+                            for r in rows))
+    s = read_table(obs.process_run(tmp_path)[0])
+    assert s["bond"].tolist() == [0.0] * 3
+    assert s["intact_bonds"].tolist() == [0] * 3
     assert np.allclose(s["energy_residual_relative"][1:], 0.05)
 
 

@@ -307,40 +307,69 @@ TEST(StateFile, RefusesCorruptedFilesAndStatesOfOtherRuns)
   }
 }
 
-TEST(StateFile, KeepsTheWindowStartAndCohesionAndReadsLayout5WithoutThem)
+namespace
 {
-  const std::filesystem::path dir = test::fresh_directory("state-layout6");
+/// A state file's bytes with the payload cut by `cut` bytes (the checksum
+/// too), another magic and the checksum of what is left (FNV-1a 64)
+void rewrite_as(const std::filesystem::path& path, std::size_t cut,
+                const char* magic)
+{
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  bytes.resize(bytes.size() - cut - sizeof(std::uint64_t));
+  bytes.replace(0, 16, magic);
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const char c : bytes)
+    h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
+  bytes.append(reinterpret_cast<const char*>(&h), sizeof(h));
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+} // namespace
+
+TEST(StateFile, KeepsBondsWindowStartAndCohesionAndReadsLayouts5And6)
+{
+  const std::filesystem::path dir = test::fresh_directory("state-layout7");
   dynamics::SchemeState s;
   s.time = 0.5;
   s.steps = 7;
   s.u = s.v = {1.0, 2.0};
   s.energy.friction = 0.25;
   s.energy.cohesion = -1.5e-3;
+  s.energy.bond = 2.5e-4;
+  s.bonds = {{{0, 3, 1}, 1e-5}, {{2, 8, -2}, -3e-7}};
+  s.bonds_formed = true;
   s.step_size.h = 2e-4;
   s.step_size.window_start = {1e-7, 0.75};
   const std::filesystem::path path = dir / "state.bin";
   softpack::io::write_state(path, s);
   const dynamics::SchemeState back = softpack::io::read_state(path);
   EXPECT_EQ(back.energy.cohesion, -1.5e-3);
+  EXPECT_EQ(back.energy.bond, 2.5e-4);
+  EXPECT_EQ(back.bonds, s.bonds);
+  EXPECT_TRUE(back.bonds_formed);
   EXPECT_EQ(back.energy.friction, 0.25);
   EXPECT_EQ(back.step_size.window_start.residual, 1e-7);
   EXPECT_EQ(back.step_size.window_start.supplied, 0.75);
 
-  // Layout 5: the same bytes without the trailing window start and
-  // cohesion (three doubles), its own magic and checksum (FNV-1a 64 over
-  // the payload)
-  std::string bytes;
-  {
-    std::ifstream in(path, std::ios::binary);
-    bytes.assign(std::istreambuf_iterator<char>(in), {});
-  }
-  bytes.resize(bytes.size() - 4 * sizeof(double));
-  bytes.replace(0, 16, "softpack-state-5");
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (const char c : bytes)
-    h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
-  bytes.append(reinterpret_cast<const char*>(&h), sizeof(h));
-  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  // Layout 6: the same bytes without the bonds (formed flag, count: two
+  // int64; no entry here) and the bond account
+  s.bonds.clear();
+  softpack::io::write_state(path, s);
+  rewrite_as(path, 2 * sizeof(std::int64_t) + sizeof(double),
+             "softpack-state-6");
+  const dynamics::SchemeState v6 = softpack::io::read_state(path);
+  EXPECT_EQ(v6.energy.cohesion, -1.5e-3);
+  EXPECT_EQ(v6.energy.bond, 0.0);
+  EXPECT_TRUE(v6.bonds.empty());
+  EXPECT_FALSE(v6.bonds_formed);
+  EXPECT_EQ(v6.step_size.window_start.supplied, 0.75);
+
+  // Layout 5: layout 6 without the trailing window start and cohesion
+  // (three doubles)
+  rewrite_as(path, 3 * sizeof(double), "softpack-state-5");
   const dynamics::SchemeState old = softpack::io::read_state(path);
   EXPECT_EQ(old.energy.cohesion, 0.0);
   EXPECT_EQ(old.energy.friction, 0.25);
