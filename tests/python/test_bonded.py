@@ -91,3 +91,13 @@ def test_a_resumed_run_gives_the_same_bits(tmp_path):
         if not column.startswith("seconds"):
             np.testing.assert_array_equal(a[column], b[column],
                                           err_msg=column)
+
+
+def test_several_ranks_are_refused_naming_the_pair(capsys):
+    from softpack.scene.config import load_config
+    config = load_config(BONDED)
+    with pytest.raises(Exception) as err:
+        run.run(config, Path("/nonexistent/never-written"), verbose=False,
+                ranks=2)
+    assert "[friction.0] law = \"bonded\" runs on one rank only" in str(
+        err.value)

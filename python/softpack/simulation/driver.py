@@ -69,7 +69,8 @@ def executable() -> Path:
 
 
 def check_ranks(ranks: int, config) -> None:
-    """Refuse a number of MPI ranks outside 1..number of bodies.
+    """Refuse a number of MPI ranks outside 1..number of bodies, or above 1
+    with a bonded pair (its bonds are not distributed).
 
     Raises
     ------
@@ -80,6 +81,12 @@ def check_ranks(ranks: int, config) -> None:
 
     if ranks == 1:  # a valid config has a body
         return
+    bonded = [i for i, f in enumerate(config["friction"])
+              if f["law"] == "bonded"]
+    if bonded:
+        raise ConfigError(
+            f"--ranks {ranks}: [friction.{bonded[0]}] law = \"bonded\""
+            " runs on one rank only (docs/contact_laws.md): --ranks 1")
     bodies = sum(int(s["count"]) for s in config["species"])
     if not 1 <= ranks <= bodies:
         raise ConfigError(
