@@ -101,3 +101,24 @@ def test_several_ranks_are_refused_naming_the_pair(capsys):
                 ranks=2)
     assert "[friction.0] law = \"bonded\" runs on one rank only" in str(
         err.value)
+
+
+def test_bonds_form_after_a_state_in_which_none_had(tmp_path):
+    """A packing compacted without bonds, then bonded: a run started from
+    its state (--from-state) forms its bonds at its first step, where a
+    resumed bonded run forms none (test_a_resumed_run_gives_the_same_bits)."""
+    from softpack.contract.tables import read_table
+    plain = _load({"stop.steps": 60})
+    plain["friction"] = [dict(f, law="coulomb", tensile_strength=0.0,
+                              shear_strength=0.0, bonding_distance=0.0)
+                         for f in plain["friction"]]
+    first, then = tmp_path / "compacted", tmp_path / "bonded"
+    assert run.run(plain, first, verbose=False) == 0
+    assert set(read_table(first / "raw" / "steps.csv")["intact_bonds"]) == {0}
+    assert run.run(_load({"stop.steps": 80}), then, verbose=False,
+                   initial_state=first / "raw" / "state.bin") == 0
+    bonds = read_table(then / "raw" / "steps.csv")["intact_bonds"]
+    # row 0: the state's step 60, before any step of this run; measured
+    # 2026-12-03: 44 bonds at step 70, 18 left at step 140 (80 steps on)
+    assert bonds[0] == 0 and bonds[1] >= 40
+    assert bonds[-1] < bonds[1]
