@@ -151,13 +151,17 @@ void MoreauJean::prepare_bonds(StepContacts& sc)
     sc.bond_strength.push_back({T, S});
 }
 
-void MoreauJean::break_bonds(const StepContacts& sc)
+void MoreauJean::break_bonds(const StepContacts& sc, StepReport& report)
 {
   const std::size_t nb = sc.bonds.contacts.size();
   std::vector<char> broken(nb);
   for (std::size_t k = 0; k < nb; ++k)
   {
     const std::size_t a = sc.bonds.contacts[k];
+    // (closed, as a cohesive contact: R_n + T > 0; the plain count above
+    // has those with R_n > 0)
+    if (_R[2 * a] <= 0 && _R[2 * a] + sc.bond_strength[k].tensile > 0)
+      ++report.active_contacts;
     broken[k] =
         contact::bond_outcome({_R[2 * a], _R[2 * a + 1]}, sc.bond_strength[k],
                               _options.contact.nlgs_tolerance) !=
@@ -460,7 +464,7 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
   }
   _history.record(_contacts, _R);
   if (_options.friction.bonded())
-    break_bonds(sc);
+    break_bonds(sc, report);
   _energy_stale = true;
   _strain_shared = false;
 }

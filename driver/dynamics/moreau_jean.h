@@ -234,8 +234,9 @@ private:
   /// The step's intact bonds (formed first when none have): their gap in
   /// the shift, their strengths (docs/contact_laws.md, law "bonded")
   void prepare_bonds(StepContacts& sc);
-  /// The break rule over the step's bonds, at the step's impulses
-  void break_bonds(const StepContacts& sc);
+  /// The break rule over the step's bonds, at the step's impulses; the
+  /// bonds that hold in tension counted as active contacts
+  void break_bonds(const StepContacts& sc, StepReport& report);
   void update_products(const Vectors& v);
   /// M v of the local bodies (the others' stay empty)
   Vectors mass_products(const Vectors& v) const;

@@ -3,7 +3,8 @@
 // body force, up or sideways. Below its strength the bonds hold (the block
 // stays, every bond intact); above it they break, for good, and the block
 // flies off or slides as a plain Signorini–Coulomb contact lets it; the
-// energy balance closes with the work of the bonds as its own account.
+// energy balance closes with the work of the bonds as its own account. A
+// bond formed across a gap holds that gap.
 #include "scheme_options.h"
 #include <bodies/BodySet.h>
 #include <bodies/material_parameters.h>
@@ -46,11 +47,11 @@ dynamics::MoreauJeanOptions bonded_options(double T, double S)
 /// The block on the floor pulled by `pull` per unit mass along `direction`
 struct PulledBlock
 {
-  PulledBlock(double T, double S, int direction)
-      : set(bodies::BodySet(
-            test::bodies_mesh({test::rectangle(0, 0, width, height, nx, ny)}),
-            forms::find_material("neo_hookean"),
-            bodies::plane_strain_parameters(0.15e6), rho)),
+  PulledBlock(double T, double S, int direction, double lift = 0)
+      : set(bodies::BodySet(test::bodies_mesh({test::rectangle(
+                                0, lift, width, height, nx, ny)}),
+                            forms::find_material("neo_hookean"),
+                            bodies::plane_strain_parameters(0.15e6), rho)),
         scheme(set, floor_wall, bonded_options(T, S))
   {
     std::vector<double> f(set.num_dofs(), 0.0);
@@ -108,6 +109,32 @@ TEST(BondDynamics, HoldsBelowItsTensileStrength)
   // stretched block's oscillation, not the bond's: its account -3.7e-16)
   EXPECT_LT(balance(b.scheme.energy()), 2e-5);
   EXPECT_LT(std::abs(b.scheme.energy().bond), 1e-14);
+}
+
+TEST(BondDynamics, ABondAcrossAGapHoldsTheGap)
+{
+  // The block 3e-5 m above the floor (bonding distance 5e-5): bonded across
+  // the gap, it is held there (not pulled to contact), pulled up at half its
+  // tensile capacity or pushed down by the same force
+  for (const double g : {pull, -pull})
+  {
+    const double T = 2 * mass * pull / bottom;
+    PulledBlock b(T, T, 1, 3e-5);
+    if (g < 0)
+    {
+      std::vector<double> f(b.set.num_dofs(), 0.0);
+      const Eigen::VectorXd& m = b.set.lumped_mass()[0];
+      for (std::size_t k = 0; k < b.set.body(0).nodes.size(); ++k)
+        f[2 * b.set.body(0).nodes[k] + 1] = m[2 * k + 1] * g;
+      b.scheme.set_external_force(f);
+    }
+    b.steps(200);
+    EXPECT_EQ(b.scheme.intact_bonds(), nx + 1u) << "pull " << g;
+    // Measured 2026-12-03: the lowest point at 3e-5 to 6.9e-19 (up) and
+    // 1.7e-17 m (down), the mean velocity 2.1e-14 and 7.2e-14 m/s
+    EXPECT_NEAR(b.lowest(), 3e-5, 2e-16) << "pull " << g;
+    EXPECT_LT(std::abs(b.mean_v(1)), 1e-12) << "pull " << g;
+  }
 }
 
 TEST(BondDynamics, BreaksInTensionAboveItAndFliesFree)
