@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <material_registry.h>
 #include <mesh_fixtures.h>
+#include <numeric>
 
 using namespace softpack;
 
@@ -92,6 +93,37 @@ double balance(const dynamics::EnergyBalance& e)
   return std::abs(e.residual()) / std::abs(e.external_work);
 }
 } // namespace
+
+TEST(BondDynamics, BoundsAreStrengthTimesShareTimesStep)
+{
+  const PulledBlock b(1000, 400, 1);
+  const dynamics::MoreauJeanOptions o = bonded_options(1000, 400);
+  const std::vector<dynamics::Contact> contacts = dynamics::detect_contacts(
+      b.set, b.set.current_coordinates(), floor_wall, {1e-4, 1e-3});
+  ASSERT_EQ(contacts.size(), nx + 1u);
+  std::vector<std::int32_t> all(contacts.size());
+  std::iota(all.begin(), all.end(), 0);
+  const auto bounds =
+      dynamics::bond_strengths(o.friction, b.set, contacts, all, 1e-4);
+  double T = 0, S = 0;
+  for (std::size_t a = 0; a < bounds.size(); ++a)
+  {
+    // against a wall: s_a = 1, the node's share as the cohesion's
+    const double share = dynamics::contact_share(b.set, contacts[a]);
+    EXPECT_EQ(bounds[a][0], 1000 * share * 1e-4);
+    EXPECT_EQ(bounds[a][1], 400 * share * 1e-4);
+    T += bounds[a][0];
+    S += bounds[a][1];
+  }
+  EXPECT_NEAR(T, 1000 * bottom * 1e-4, 1e-15);
+  EXPECT_NEAR(S, 400 * bottom * 1e-4, 1e-15);
+  // a pair with a bond and a cohesion, or one strength only: refused
+  dynamics::FrictionTable f({0}, 1, 1);
+  EXPECT_THROW(f.set(0, 1, 0.3, {1.0, 0.0}, {1.0, 1.0, 0.0}),
+               std::invalid_argument);
+  EXPECT_THROW(f.set(0, 1, 0.3, {}, {1.0, 0.0, 0.0}), std::invalid_argument);
+  EXPECT_FALSE(f.bonded());
+}
 
 TEST(BondDynamics, HoldsBelowItsTensileStrength)
 {
