@@ -115,7 +115,10 @@ void MoreauJean::restore(const SchemeState& s)
       _walls[w].velocity = s.wall_velocities[w];
   }
   _history.restore(s.reactions);
-  _bonds.restore(s.bonds, s.bonds_formed);
+  // (a run without a bonded pair keeps none of the state's bonds)
+  _bonds.restore(_options.friction.bonded() ? s.bonds
+                                            : std::vector<BondHistory::Entry>{},
+                 s.bonds_formed);
   _time = s.time;
   _steps = s.steps;
   _bodies.internal_force(_f_int);
