@@ -24,8 +24,9 @@ struct StepBonds
 };
 
 /// The intact bonds by contact identity (ContactKey), each with the gap it
-/// holds. Bonds form once (form()): at the first step of a run, or of a
-/// run continued from a state in which none had formed; a bond that
+/// holds. Bonds form (form()) at the first step of a run, or of a run
+/// continued from a state in which none had formed, or at the first step of
+/// a stage with bond = true (set_formed()); a bond that
 /// breaks (a reaction on its envelope, or its contact not detected) is
 /// gone for good.
 class BondHistory
@@ -40,6 +41,11 @@ public:
 
   /// true once form() ran (in this run or the one whose state it restored)
   bool formed() const { return _formed; }
+
+  /// Mark the bonds formed (false: form() is due at the next step, as at a
+  /// stage with bond = true; true without a bond: none forms at the first
+  /// step, as in a program whose stages form them)
+  void set_formed(bool formed) { _formed = formed; }
 
   /// The intact bonds among a step's contacts
   StepBonds intact(const std::vector<Contact>& contacts) const;

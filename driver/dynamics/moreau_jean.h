@@ -152,6 +152,9 @@ public:
   long steps() const { return _steps; }
   /// Intact bonds (docs/contact_laws.md, law "bonded"; 0 without one)
   std::size_t intact_bonds() const { return _bonds.size(); }
+  /// Form bonds at the next step (true), or none at the first step (false:
+  /// a stage program that forms them at its stages' starts)
+  void form_bonds(bool at_next_step) { _bonds.set_formed(!at_next_step); }
   /// Factorizations of the iteration matrix so far
   int factorizations() const { return _kbar.factorizations(); }
   /// Distinct symbolic factorizations of this rank's bodies (one per mesh

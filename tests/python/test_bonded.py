@@ -122,3 +122,58 @@ def test_bonds_form_after_a_state_in_which_none_had(tmp_path):
     # 2026-12-03: 44 bonds at step 70, 18 left at step 140 (80 steps on)
     assert bonds[0] == 0 and bonds[1] >= 40
     assert bonds[-1] < bonds[1]
+
+
+STAGED = """
+[[stages]]
+name = "compact"
+stop = { packing_fraction = 0.72, max_time = 0.08 }
+
+[[stages]]
+name = "crush"
+bond = true
+stop = { packing_fraction = 0.78, max_time = 0.08 }
+"""
+
+
+def _staged(tmp_path, steps):
+    """examples/bonded_small.toml as a program: compacted without bonds,
+    then bonded at the second stage's start and crushed."""
+    pytest.importorskip("dolfinx")
+    from softpack.scene.config import load_config
+    from driver_required import require_driver
+    require_driver()
+    text = BONDED.read_text().replace(
+        "[stop]\npacking_fraction = 0.82\nmax_time = 0.08\n", STAGED)
+    assert "crush" in text
+    path = tmp_path / "staged.toml"
+    path.write_text(text)
+    return load_config(path, {"output.fields": False, "stop.steps": steps})
+
+
+def test_a_stage_with_bond_forms_the_bonds_at_its_start(tmp_path):
+    from softpack.contract.tables import read_table
+    whole_dir, part = tmp_path / "whole", tmp_path / "part"
+    assert run.run(_staged(tmp_path, 300), whole_dir, verbose=False) in (0, 3)
+    a = read_table(whole_dir / "raw" / "steps.csv")
+    stage, bonds = np.asarray(a["stage"]), np.asarray(a["intact_bonds"])
+    # none while compacting; formed at the crush's first step (measured
+    # 2026-12-03: 45 bonds at step 110, 14 left at its end, step 299)
+    assert set(bonds[stage == 0]) == {0}
+    crush = bonds[stage == 1]
+    assert crush[0] >= 30, crush
+    assert crush[-1] < crush[0]
+    # resumed from step 50 (in the compaction: its state says no bond has
+    # formed, and none will until the crush) to the same bits
+    assert run.run(_staged(tmp_path, 50), part, verbose=False) in (0, 3)
+    for name in ("series.csv", "particles.csv", "raw/done.json"):
+        (part / name).unlink()
+    toml = part / "config.toml"
+    toml.write_text(toml.read_text().replace("steps = 50", "steps = 300"))
+    assert run.main(["--resume", str(part)]) in (0, 3)
+    b = read_table(part / "raw" / "steps.csv")
+    assert a.keys() == b.keys() and len(a["step"]) == len(b["step"])
+    for column in a:
+        if not column.startswith("seconds"):
+            np.testing.assert_array_equal(a[column], b[column],
+                                          err_msg=column)
