@@ -177,3 +177,19 @@ def test_a_stage_with_bond_forms_the_bonds_at_its_start(tmp_path):
         if not column.startswith("seconds"):
             np.testing.assert_array_equal(a[column], b[column],
                                           err_msg=column)
+
+
+def test_a_bonding_stage_without_a_bonded_pair_is_refused(tmp_path):
+    from softpack.scene.config import ConfigError, load_config
+    text = BONDED.read_text().replace(
+        "[stop]\npacking_fraction = 0.82\nmax_time = 0.08\n", STAGED)
+    text = text.replace('law = "bonded"', 'law = "coulomb"')
+    for key in ("tensile_strength", "shear_strength", "bonding_distance"):
+        text = "\n".join(line for line in text.splitlines()
+                         if not line.startswith(key))
+    path = tmp_path / "plain.toml"
+    path.write_text(text)
+    with pytest.raises(ConfigError) as err:
+        load_config(path)
+    assert "[stages.1] bond = true: no [[friction]] pair has law" in str(
+        err.value)

@@ -105,6 +105,11 @@ def validate(checker, section, items, sections, given_stop) -> list:
         bond = checker.value(title, ["stages", i, "bond"],
                              section.parameters["bond"],
                              item.get("bond", False))
+        if bond and not any(f["law"] == "bonded"
+                            for f in sections.get("friction", [])):
+            raise StageError(
+                f"[{title}] bond = true: no [[friction]] pair has law ="
+                " \"bonded\" (nothing to bond)")
         out.append({"name": name, "bond": bond,
                      "walls": {w: dict(d) for w, d in drives.items()
                                if w in item.get("walls", {})},
