@@ -28,7 +28,8 @@ FrictionTable::FrictionTable(std::vector<int> body_species, int num_species,
                                   std::to_string(s) + " out of range");
 }
 
-void FrictionTable::set(int a, int b, double coefficient, Cohesion cohesion)
+void FrictionTable::set(int a, int b, double coefficient, Cohesion cohesion,
+                        Bond bond)
 {
   if (a < 0 || b < 0 || a >= _num_parties || b >= _num_parties)
     throw std::invalid_argument("FrictionTable: party out of range");
@@ -36,8 +37,20 @@ void FrictionTable::set(int a, int b, double coefficient, Cohesion cohesion)
     throw std::invalid_argument("FrictionTable: negative coefficient");
   if (!(cohesion.traction >= 0 && cohesion.distance >= 0))
     throw std::invalid_argument("FrictionTable: negative cohesion");
+  if (!(bond.tensile >= 0 && bond.shear >= 0 && bond.distance >= 0) ||
+      (bond.tensile > 0) != (bond.shear > 0))
+    throw std::invalid_argument(
+        "FrictionTable: a bond needs both strengths > 0");
+  if (bond.tensile > 0 && cohesion.traction > 0)
+    throw std::invalid_argument("FrictionTable: a bond and a cohesion");
   _coefficient[a * _num_parties + b] = coefficient;
   _coefficient[b * _num_parties + a] = coefficient;
+  if (bond.tensile > 0 || !_bond.empty())
+  {
+    _bond.resize(_coefficient.size());
+    _bond[a * _num_parties + b] = bond;
+    _bond[b * _num_parties + a] = bond;
+  }
   if (cohesion.traction == 0 && _cohesion.empty())
     return; // a table without cohesion stores none
   _cohesion.resize(_coefficient.size());
@@ -69,6 +82,13 @@ Cohesion FrictionTable::cohesion(const Contact& c) const
   return _cohesion[pair(c)];
 }
 
+Bond FrictionTable::bond(const Contact& c) const
+{
+  if (_bond.empty())
+    return {};
+  return _bond[pair(c)];
+}
+
 namespace
 {
 /// Half the reference lengths of the two boundary segments at a body's
@@ -91,6 +111,12 @@ double boundary_share(const bodies::BodySet& bodies, int b, int node)
 }
 } // namespace
 
+double contact_share(const bodies::BodySet& bodies, const Contact& c)
+{
+  const double sides = c.wall >= 0 ? 1.0 : 0.5;
+  return sides * boundary_share(bodies, c.candidate_body, c.candidate_node);
+}
+
 std::vector<double> cohesion_impulses(const FrictionTable& table,
                                       const bodies::BodySet& bodies,
                                       const std::vector<Contact>& contacts,
@@ -103,11 +129,26 @@ std::vector<double> cohesion_impulses(const FrictionTable& table,
     const Cohesion law = table.cohesion(k);
     if (law.traction == 0 || k.gap > law.distance)
       continue;
-    const double sides = k.wall >= 0 ? 1.0 : 0.5;
-    c[a] = law.traction * sides *
-           boundary_share(bodies, k.candidate_body, k.candidate_node) * h;
+    // (sides is 1 or 1/2: the product is that of traction x sides first)
+    c[a] = law.traction * contact_share(bodies, k) * h;
   }
   return c;
+}
+
+std::vector<std::array<double, 2>>
+bond_strengths(const FrictionTable& table, const bodies::BodySet& bodies,
+               const std::vector<Contact>& contacts,
+               std::span<const std::int32_t> bonded, double h)
+{
+  std::vector<std::array<double, 2>> out;
+  out.reserve(bonded.size());
+  for (const std::int32_t a : bonded)
+  {
+    const Bond law = table.bond(contacts[a]);
+    const double share = contact_share(bodies, contacts[a]);
+    out.push_back({law.tensile * share * h, law.shear * share * h});
+  }
+  return out;
 }
 
 } // namespace softpack::dynamics

@@ -1,5 +1,8 @@
 #pragma once
 
+#include <array>
+#include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -23,9 +26,22 @@ struct Cohesion
   double distance = 0;
 };
 
+/// The bonded law of a pair of parties (docs/contact_laws.md, law
+/// "bonded"): strengths as tractions, turned into impulses per contact by
+/// bond_strengths()
+struct Bond
+{
+  /// Tensile strength sigma_t (Pa); 0: the pair is not bonded
+  double tensile = 0;
+  /// Shear strength tau_s (Pa)
+  double shear = 0;
+  /// A contact is bonded when its gap is at most this where bonds form (m)
+  double distance = 0;
+};
+
 /// The contact law of every pair of parties in contact: the species of the
 /// bodies, and the walls (docs/materials.md, docs/contact_laws.md): its
-/// Coulomb friction coefficient and its cohesion.
+/// Coulomb friction coefficient, its cohesion and its bond.
 ///
 /// Party p < num_species is species p; party num_species + w is wall w.
 /// The table is symmetric and holds the pairs set ([[friction]]); every
@@ -42,9 +58,10 @@ public:
   /// @param[in] num_walls Number of walls
   FrictionTable(std::vector<int> body_species, int num_species, int num_walls);
 
-  /// Set the coefficient and the cohesion of a pair (both orders).
-  void set(int party_a, int party_b, double coefficient,
-           Cohesion cohesion = {});
+  /// Set the coefficient, the cohesion and the bond of a pair (both
+  /// orders); a pair has at most one of a cohesion and a bond.
+  void set(int party_a, int party_b, double coefficient, Cohesion cohesion = {},
+           Bond bond = {});
 
   /// The party of species s and of wall w
   int species_party(int s) const { return s; }
@@ -61,6 +78,12 @@ public:
   /// The cohesion of a contact's pair (none when not set)
   Cohesion cohesion(const Contact& c) const;
 
+  /// true when a pair is bonded
+  bool bonded() const { return !_bond.empty(); }
+
+  /// The bond of a contact's pair (none when not set: tensile 0)
+  Bond bond(const Contact& c) const;
+
 private:
   /// The index of a contact's pair in the tables
   int pair(const Contact& c) const;
@@ -70,7 +93,16 @@ private:
   std::vector<double> _coefficient;
   /// Per pair of parties: the cohesion (empty while no pair has one)
   std::vector<Cohesion> _cohesion;
+  /// Per pair of parties: the bond (empty while no pair is bonded)
+  std::vector<Bond> _bond;
 };
+
+/// A contact's share of the boundary, \f$s_a \ell_k\f$ (m): the candidate
+/// node's share of its body's boundary (half its two boundary segments,
+/// reference lengths) times \f$s_a = 1\f$ against a wall and 1/2 against a
+/// body (the nodes of both bodies are candidates on their interface). A
+/// traction of the pair times it is a force per unit thickness.
+double contact_share(const bodies::BodySet& bodies, const Contact& c);
 
 /// The cohesion impulse of each contact of a step (docs/contact_laws.md):
 /// \f$c_a = \sigma_c \, s_a \, \ell_k \, h\f$ when the contact's gap at
@@ -88,5 +120,15 @@ std::vector<double> cohesion_impulses(const FrictionTable& table,
                                       const bodies::BodySet& bodies,
                                       const std::vector<Contact>& contacts,
                                       double h);
+
+/// The impulse bounds of bonded contacts (docs/contact_laws.md):
+/// \f$T_a = \sigma_t s_a \ell_k h\f$, \f$S_a = \tau_s s_a \ell_k h\f$
+/// (contact_share()), the pair's strengths.
+/// @param[in] bonded Indices of the contacts of bonded pairs
+/// @return (T_a, S_a) per listed contact (N s per m of thickness)
+std::vector<std::array<double, 2>>
+bond_strengths(const FrictionTable& table, const bodies::BodySet& bodies,
+               const std::vector<Contact>& contacts,
+               std::span<const std::int32_t> bonded, double h);
 
 } // namespace softpack::dynamics

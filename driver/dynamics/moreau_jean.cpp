@@ -43,6 +43,10 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
   _energy.strain0 =
       std::accumulate(_body_strain.begin(), _body_strain.end(), 0.0);
   link_walls(_walls);
+  if (_options.friction.bonded() && dist().distributed())
+    throw std::invalid_argument(
+        "friction: law \"bonded\" runs on one MPI rank only "
+        "(docs/contact_laws.md)");
 }
 
 void MoreauJean::set_initial_velocity(std::vector<double> v)
@@ -117,6 +121,8 @@ MoreauJean::prepare_contacts(const std::vector<double>& v_old)
         (_contacts[a].gap + h * (1 - th) * U_old[2 * a]) / (h * th);
   if (_options.friction.cohesive())
     sc.cohesion = cohesion_impulses(_options.friction, _bodies, _contacts, h);
+  if (_options.friction.bonded())
+    prepare_bonds(sc);
   sc.contact_nodes.resize(_bodies.num_bodies());
   for (std::size_t a = 0; a < sc.size(); ++a)
     for (const NodeTerm& term : sc.H.terms(a))
@@ -132,6 +138,39 @@ MoreauJean::prepare_contacts(const std::vector<double>& v_old)
   return sc;
 }
 
+void MoreauJean::prepare_bonds(StepContacts& sc)
+{
+  const double h = _h, th = _options.time.theta;
+  if (!_bonds.formed())
+    _bonds.form(_options.friction, _contacts);
+  sc.bonds = _bonds.intact(_contacts);
+  // An intact bond holds its gap: u_n = (g~ - g_bond) / (h th)
+  for (std::size_t k = 0; k < sc.bonds.contacts.size(); ++k)
+    sc.shift[2 * sc.bonds.contacts[k]] -= sc.bonds.gap[k] / (h * th);
+  for (const auto& [T, S] : bond_strengths(_options.friction, _bodies,
+                                           _contacts, sc.bonds.contacts, h))
+    sc.bond_strength.push_back({T, S});
+}
+
+void MoreauJean::break_bonds(const StepContacts& sc, StepReport& report)
+{
+  const std::size_t nb = sc.bonds.contacts.size();
+  std::vector<char> broken(nb);
+  for (std::size_t k = 0; k < nb; ++k)
+  {
+    const std::size_t a = sc.bonds.contacts[k];
+    // (closed, as a cohesive contact: R_n + T > 0; the plain count above
+    // has those with R_n > 0)
+    if (_R[2 * a] <= 0 && _R[2 * a] + sc.bond_strength[k].tensile > 0)
+      ++report.active_contacts;
+    broken[k] =
+        contact::bond_outcome({_R[2 * a], _R[2 * a + 1]}, sc.bond_strength[k],
+                              _options.contact.nlgs_tolerance) !=
+        contact::BondOutcome::holds;
+  }
+  _bonds.keep_intact(_contacts, sc.bonds, broken);
+}
+
 contact::FrictionContactProblem2D
 MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
 {
@@ -141,6 +180,7 @@ MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
     problem.friction[a] =
         _options.friction(_contacts[a], _options.contact.friction);
   problem.cohesion = sc.cohesion;
+  contact::set_bonds(problem, sc.bonds.contacts, sc.bond_strength);
   problem.q.resize(2 * sc.size());
   if (needs_refactorization())
   {
@@ -415,7 +455,8 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
                        stiffness_numerical);
   account_servo_walls(sc.servo, _walls, sc.H, _energy, h, th);
   const std::vector<double> U_mid = sc.H.relative_velocity(_bodies, v_mid);
-  add_contact_terms(_energy, sc.H, _contacts, _walls, _R, U_mid, sc.cohesion);
+  add_contact_terms(_energy, sc.H, _contacts, _walls, _R, U_mid, sc.cohesion,
+                    sc.bonds.contacts);
   for (std::size_t a = 0; a < sc.size(); ++a)
   {
     const double gap = _contacts[a].gap + h * U_mid[2 * a];
@@ -426,6 +467,8 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
       ++report.active_contacts;
   }
   _history.record(_contacts, _R);
+  if (_options.friction.bonded())
+    break_bonds(sc, report);
   _energy_stale = true;
   _strain_shared = false;
 }

@@ -12,6 +12,7 @@
 #include <compliance/rigid_bodies.h>
 #include <contact/nlgs.h>
 #include <contact/problem.h>
+#include <detection/bond_history.h>
 #include <detection/contact_history.h>
 #include <detection/detection.h>
 #include <detection/friction_table.h>
@@ -161,6 +162,11 @@ public:
   const std::optional<PeriodicCell>& cell() const { return _cell; }
   /// Steps done so far (including those before a restore)
   long steps() const { return _steps; }
+  /// Intact bonds (docs/contact_laws.md, law "bonded"; 0 without one)
+  std::size_t intact_bonds() const { return _bonds.size(); }
+  /// Form bonds at the next step (true), or none at the first step (false:
+  /// a stage program that forms them at its stages' starts)
+  void form_bonds(bool at_next_step) { _bonds.set_formed(!at_next_step); }
   /// Factorizations of the iteration matrix so far
   int factorizations() const { return _kbar.factorizations(); }
   /// Distinct symbolic factorizations of this rank's bodies (one per mesh
@@ -244,6 +250,12 @@ private:
   /// The step's energy terms, contact report and impulse history
   void account_step(StepContacts& sc, const StepStart& start,
                     StepReport& report, double stiffness_numerical);
+  /// The step's intact bonds (formed first when none have): their gap in
+  /// the shift, their strengths (docs/contact_laws.md, law "bonded")
+  void prepare_bonds(StepContacts& sc);
+  /// The break rule over the step's bonds, at the step's impulses; the
+  /// bonds that hold in tension counted as active contacts
+  void break_bonds(const StepContacts& sc, StepReport& report);
   void update_products(const Vectors& v);
   /// M v of the local bodies (the others' stay empty)
   Vectors mass_products(const Vectors& v) const;
@@ -292,6 +304,8 @@ private:
   std::vector<double> _R;
   /// The previous step's impulses: the warm start
   ImpulseHistory _history;
+  /// The intact bonds, each with the gap it holds
+  BondHistory _bonds;
   mutable EnergyBalance _energy;
   /// The bodies' kinetic energy at the last step's end (or at the initial
   /// velocity or restored state), summed over the ranks

@@ -68,6 +68,8 @@ SchemeState MoreauJean::scalar_state() const
     s.wall_velocities.push_back(w.velocity);
   }
   s.reactions = _history.entries();
+  s.bonds = _bonds.entries();
+  s.bonds_formed = _bonds.formed();
   s.energy = energy();
   s.matrix_age = _matrix_age;
   s.last_iterations = _last_iterations;
@@ -124,6 +126,10 @@ void MoreauJean::restore(const SchemeState& s)
       _walls[w].velocity = s.wall_velocities[w];
   }
   _history.restore(s.reactions);
+  // (a run without a bonded pair keeps none of the state's bonds)
+  _bonds.restore(_options.friction.bonded() ? s.bonds
+                                            : std::vector<BondHistory::Entry>{},
+                 s.bonds_formed);
   _time = s.time;
   _steps = s.steps;
   _bodies.internal_force(_f_int);

@@ -3,6 +3,7 @@
 // newton_loop.cpp): the step's contacts and start, and the clock of
 // the per-part timings. Private to the scheme's implementation files.
 #include "moreau_jean.h"
+#include <contact/bond.h>
 #include <walls/servo_walls.h>
 
 #include <chrono>
@@ -25,6 +26,10 @@ struct MoreauJean::StepContacts
   /// Cohesion impulse of each contact (cohesion_impulses in
   /// detection/friction_table.h); empty when no pair is cohesive
   std::vector<double> cohesion;
+  /// The step's intact bonds and their strengths (impulses); empty when
+  /// none
+  StepBonds bonds;
+  std::vector<contact::BondStrength> bond_strength;
   /// Local nodes of each body that carry a contact term (unique)
   std::vector<std::vector<std::int32_t>> contact_nodes;
   /// The servo walls: their free velocity in H, their coupling in W

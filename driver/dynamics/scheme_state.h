@@ -3,6 +3,7 @@
 // continues from.
 #include "step_size.h"
 #include <array>
+#include <detection/bond_history.h>
 #include <detection/contact_history.h>
 #include <energy/energy_balance.h>
 #include <vector>
@@ -29,6 +30,10 @@ struct SchemeState
   std::vector<std::array<double, 2>> wall_velocities;
   /// Last impulses (warm start) by (candidate body, node, antagonist key)
   std::vector<ImpulseHistory::Entry> reactions;
+  /// The intact bonds (docs/contact_laws.md, law "bonded"), and whether
+  /// bonds formed (false: they form at the first step after the restore)
+  std::vector<BondHistory::Entry> bonds;
+  bool bonds_formed = false;
   /// The energy accounts since the start of the run
   EnergyBalance energy;
   /// Steps since the last factorization of the iteration matrix (-1: none;

@@ -42,14 +42,43 @@ void add_body_terms(EnergyBalance& energy, double h, double theta,
   }
 }
 
+namespace
+{
+/// The work on contact a of a velocity-controlled wall, or of the cell's
+/// motion on a contact with an image: R . U_wall (the image's velocity is
+/// the contact operator's wall velocity)
+void add_wall_work(EnergyBalance& energy, const ContactOperator& H,
+                   const std::vector<Contact>& contacts,
+                   const std::vector<Wall>& walls, std::span<const double> R,
+                   std::size_t a)
+{
+  const double work =
+      R[2 * a] * H.wall_velocity(a)[0] + R[2 * a + 1] * H.wall_velocity(a)[1];
+  if (contacts[a].wall >= 0 && !walls[contacts[a].wall].servo())
+    energy.wall_work += work;
+  else if (contacts[a].image[0] != 0 || contacts[a].image[1] != 0)
+    energy.cell_work += work;
+}
+} // namespace
+
 void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
                        const std::vector<Contact>& contacts,
                        const std::vector<Wall>& walls,
                        std::span<const double> R, std::span<const double> U_mid,
-                       std::span<const double> cohesion)
+                       std::span<const double> cohesion,
+                       std::span<const std::int32_t> bonds)
 {
+  std::size_t next_bond = 0; // bonds are ascending
   for (std::size_t a = 0; a < contacts.size(); ++a)
   {
+    if (next_bond < bonds.size() &&
+        static_cast<std::size_t>(bonds[next_bond]) == a)
+    {
+      ++next_bond;
+      energy.bond -= R[2 * a] * U_mid[2 * a] + R[2 * a + 1] * U_mid[2 * a + 1];
+      add_wall_work(energy, H, contacts, walls, R, a);
+      continue;
+    }
     energy.friction -= R[2 * a + 1] * U_mid[2 * a + 1];
     const double c = cohesion.empty() ? 0.0 : cohesion[a];
     if (c == 0)
@@ -59,12 +88,7 @@ void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
       energy.contact_normal -= (R[2 * a] + c) * U_mid[2 * a];
       energy.cohesion += c * U_mid[2 * a];
     }
-    if (contacts[a].wall >= 0 && !walls[contacts[a].wall].servo())
-      energy.wall_work += R[2 * a] * H.wall_velocity(a)[0] +
-                          R[2 * a + 1] * H.wall_velocity(a)[1];
-    else if (contacts[a].image[0] != 0 || contacts[a].image[1] != 0)
-      energy.cell_work += R[2 * a] * H.wall_velocity(a)[0] +
-                          R[2 * a + 1] * H.wall_velocity(a)[1];
+    add_wall_work(energy, H, contacts, walls, R, a);
   }
 }
 

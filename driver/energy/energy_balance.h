@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <compliance/contact_operator.h>
+#include <cstdint>
 #include <detection/detection.h>
 #include <span>
 #include <vector>
@@ -15,8 +16,8 @@ using BodyVectors = std::vector<Eigen::VectorXd>;
 /// Energy bookkeeping since the start (J per unit length along z).
 ///
 /// Balance: wall_work + external_work + cell_work + rewrap = kinetic +
-/// strain (their changes) + damping + contact_dissipation + cohesion +
-/// numerical; residual() is what is left.
+/// strain (their changes) + damping + contact_dissipation + cohesion + bond
+/// + numerical; residual() is what is left.
 struct EnergyBalance
 {
   double wall_work = 0;
@@ -39,6 +40,11 @@ struct EnergyBalance
   /// stored while a bond holds (given back when it closes again), kept
   /// when it breaks
   double cohesion = 0;
+  /// Work of the reactions of the intact bonds, -R . U_th, normal and
+  /// tangential (docs/contact_laws.md, law "bonded"): dissipated (the
+  /// work of breaking, and the theta scheme's small work while they hold);
+  /// not counted in friction, contact_normal or cohesion
+  double bond = 0;
   /// Dissipation of the theta scheme, (theta - 1/2) (|v+ - v-|_M^2 +
   /// dq . (F_int(q+) - F_int(q-))), dq = q+ - q-
   double numerical = 0;
@@ -48,7 +54,7 @@ struct EnergyBalance
   {
     return wall_work + external_work + cell_work + rewrap -
            (kinetic - kinetic0 + strain - strain0 + damping + friction +
-            contact_normal + cohesion + numerical);
+            contact_normal + cohesion + bond + numerical);
   }
 };
 
@@ -121,10 +127,13 @@ void add_body_terms(EnergyBalance& energy, double h, double theta,
 /// @param[in] cohesion Cohesion impulse of each contact (empty: none): its
 ///   part of -R_n U_n, c U_n, is the `cohesion` account, the rest
 ///   -(R_n + c) U_n `contact_normal`
+/// @param[in] bonds The contacts that are intact bonds (ascending): their
+///   whole -R . U_th is the `bond` account
 void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
                        const std::vector<Contact>& contacts,
                        const std::vector<Wall>& walls,
                        std::span<const double> R, std::span<const double> U_mid,
-                       std::span<const double> cohesion = {});
+                       std::span<const double> cohesion = {},
+                       std::span<const std::int32_t> bonds = {});
 
 } // namespace softpack::dynamics

@@ -6,6 +6,7 @@
 #include <material_registry.h>
 #include <softpack/list_sections.h>
 #include <stdexcept>
+#include <utility>
 
 namespace softpack::io
 {
@@ -88,22 +89,35 @@ BodyMaterials read_body_materials(const json& doc, const DriverConfig& c)
 
 namespace
 {
-/// A pair's cohesion: its law's rule (scene/species.py check_law) checked
-/// once more here, where driver.json is read
-dynamics::Cohesion pair_cohesion(const DriverConfig& c, const std::string& key,
-                                 const parameters::FrictionPair& e)
+/// A pair's cohesion and bond: its law's rule (scene/species.py check_law)
+/// checked once more here, where driver.json is read
+std::pair<dynamics::Cohesion, dynamics::Bond>
+pair_law(const DriverConfig& c, const std::string& key,
+         const parameters::FrictionPair& e)
 {
-  if (e.law == "coulomb")
-  {
-    if (e.cohesion != 0 || e.cohesive_distance != 0)
-      fail(c, key,
-           "law \"coulomb\" with a cohesion or cohesive_distance (only "
-           "law \"cohesive\" has them)");
-    return {};
-  }
-  if (!(e.cohesion > 0))
+  const bool cohesive = e.law == "cohesive", bonded = e.law == "bonded";
+  if (!cohesive && (e.cohesion != 0 || e.cohesive_distance != 0))
+    fail(c, key,
+         "law \"" + e.law +
+             "\" with a cohesion or cohesive_distance (only law "
+             "\"cohesive\" has them)");
+  if (!bonded && (e.tensile_strength != 0 || e.shear_strength != 0 ||
+                  e.bonding_distance != 0))
+    fail(c, key,
+         "law \"" + e.law +
+             "\" with a tensile_strength, shear_strength or "
+             "bonding_distance (only law \"bonded\" has them)");
+  if (cohesive && !(e.cohesion > 0))
     fail(c, key + ".cohesion", "must be > 0 for law \"cohesive\"");
-  return {e.cohesion, e.cohesive_distance};
+  if (bonded && !(e.tensile_strength > 0))
+    fail(c, key + ".tensile_strength", "must be > 0 for law \"bonded\"");
+  if (bonded && !(e.shear_strength > 0))
+    fail(c, key + ".shear_strength", "must be > 0 for law \"bonded\"");
+  if (cohesive)
+    return {{e.cohesion, e.cohesive_distance}, {}};
+  if (bonded)
+    return {{}, {e.tensile_strength, e.shear_strength, e.bonding_distance}};
+  return {};
 }
 } // namespace
 
@@ -137,10 +151,10 @@ dynamics::FrictionTable read_friction_table(const json& doc,
   {
     const std::string key = "friction[" + std::to_string(i) + "]";
     const parameters::FrictionPair& e = pairs[i];
-    const dynamics::Cohesion cohesion = pair_cohesion(c, key, e);
+    const auto [cohesion, bond] = pair_law(c, key, e);
     for (int a : parties(e.species, key + ".species", false))
       for (int b : parties(e.against, key + ".against", true))
-        table.set(a, b, e.coefficient, cohesion);
+        table.set(a, b, e.coefficient, cohesion, bond);
   }
   return table;
 }

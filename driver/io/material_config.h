@@ -33,9 +33,10 @@ BodyMaterials read_body_materials(const nlohmann::json& doc,
                                   const DriverConfig& config);
 
 /// Read `friction` ([{species, against, coefficient, law, cohesion,
-/// cohesive_distance}]: a species name against a species name, a wall name
-/// or "walls") into the table of the coefficients and cohesions of those
-/// pairs (every other pair has contact.friction and no cohesion).
+/// cohesive_distance, tensile_strength, shear_strength, bonding_distance}]:
+/// a species name against a species name, a wall name or "walls") into the
+/// table of the coefficients, cohesions and bonds of those pairs (every
+/// other pair has contact.friction, no cohesion and no bond).
 /// @throws std::runtime_error naming the file and the key at fault
 dynamics::FrictionTable read_friction_table(const nlohmann::json& doc,
                                             const DriverConfig& config);

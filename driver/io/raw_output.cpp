@@ -21,16 +21,17 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
     throw std::runtime_error("cannot write in " + _raw.string());
   _steps << std::setprecision(12);
   _particles << std::setprecision(12);
-  _steps << "step,time,time_step,stage,newton_iterations,nlgs_iterations,nlgs_"
-            "error,"
-            "nlgs_converged,contacts,active_contacts,max_penetration";
+  _steps
+      << "step,time,time_step,stage,newton_iterations,nlgs_iterations,nlgs_"
+         "error,"
+         "nlgs_converged,contacts,active_contacts,intact_bonds,max_penetration";
   for (const dynamics::Wall& w : walls)
     _steps << ',' << w.name << "_x," << w.name << "_y," << w.name << "_fx,"
            << w.name << "_fy";
   if (_cell)
     _steps << ",cell_a1x,cell_a1y,cell_a2x,cell_a2y";
   _steps << ",phi,strain_energy,kinetic_energy,wall_work,external_work,"
-            "cell_work,rewrap,damping,friction,contact_normal,cohesion,"
+            "cell_work,rewrap,damping,friction,contact_normal,cohesion,bond,"
             "numerical,energy_"
             "residual,"
             "seconds,seconds_detection,seconds_assembly,seconds_factorization,"
@@ -53,7 +54,8 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
   _steps << step << ',' << scheme.time() << ',' << r.time_step << ',' << _stage
          << ',' << r.newton_iterations << ',' << r.nlgs_iterations << ','
          << r.nlgs_error << ',' << (r.nlgs_converged ? 1 : 0) << ','
-         << r.contacts << ',' << r.active_contacts << ',' << r.max_penetration;
+         << r.contacts << ',' << r.active_contacts << ','
+         << scheme.intact_bonds() << ',' << r.max_penetration;
   std::vector<std::array<double, 2>> forces = average.wall_forces();
   forces.resize(scheme.walls().size(), {0, 0});
   for (std::size_t w = 0; w < forces.size(); ++w)
@@ -70,13 +72,13 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
   _steps << ',' << e.strain << ',' << e.kinetic << ',' << e.wall_work << ','
          << e.external_work << ',' << e.cell_work << ',' << e.rewrap << ','
          << e.damping << ',' << e.friction << ',' << e.contact_normal << ','
-         << e.cohesion << ',' << e.numerical << ',' << e.residual() << ','
-         << seconds << ',' << spent.detection << ',' << spent.assembly << ','
-         << spent.factorization << ',' << spent.delassus << ',' << spent.nlgs
-         << ',' << spent.solves << ',' << (r.refactorized ? 1 : 0) << ','
-         << interval.newton_unconverged_steps << ','
-         << interval.nlgs_unconverged_steps << ',' << interval.retried_steps
-         << ',' << overlap_depth;
+         << e.cohesion << ',' << e.bond << ',' << e.numerical << ','
+         << e.residual() << ',' << seconds << ',' << spent.detection << ','
+         << spent.assembly << ',' << spent.factorization << ','
+         << spent.delassus << ',' << spent.nlgs << ',' << spent.solves << ','
+         << (r.refactorized ? 1 : 0) << ',' << interval.newton_unconverged_steps
+         << ',' << interval.nlgs_unconverged_steps << ','
+         << interval.retried_steps << ',' << overlap_depth;
   // Each body's integral of its Cauchy stress (stress_average.h), summed
   // over the bodies: the finite elements' estimate of the mean stress times
   // the box area, for analysis/stress.py.

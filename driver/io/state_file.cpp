@@ -11,7 +11,10 @@ namespace softpack::io
 {
 namespace
 {
-constexpr std::string_view magic = "softpack-state-7";
+constexpr std::string_view magic = "softpack-state-8";
+/// Layout 7 is layout 8 without the bonds (read: none formed, none intact)
+/// and the bond account (read: 0)
+constexpr std::string_view magic_v7 = "softpack-state-7";
 /// Layout 6 is layout 7 without the periodic cell and its accounts (read:
 /// no cell, cell_work and rewrap 0)
 constexpr std::string_view magic_v6 = "softpack-state-6";
@@ -138,6 +141,15 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
   put(out, s.energy.rewrap);
   put(out, static_cast<std::int64_t>(s.cell.size()));
   put(out, s.cell);
+  // The bonds (layout 8): formed or not, the intact ones, their account.
+  put(out, static_cast<std::int64_t>(s.bonds_formed ? 1 : 0));
+  put(out, static_cast<std::int64_t>(s.bonds.size()));
+  for (const auto& [key, gap] : s.bonds)
+  {
+    put(out, key);
+    put(out, gap);
+  }
+  put(out, s.energy.bond);
   return out;
 }
 
@@ -161,7 +173,8 @@ void check_layout(const std::string& bytes, const std::filesystem::path& path)
         path.string() + ": state layout softpack-state-4 (written by a "
                         "driver of 2026-11-30 whose lever was reverted) is "
                         "not read: rerun the run that wrote it");
-  if (head != magic && head != magic_v6 && head != magic_v5 && head != magic_v3)
+  if (head != magic && head != magic_v7 && head != magic_v6 &&
+      head != magic_v5 && head != magic_v3)
     throw std::runtime_error(path.string() + ": not a softpack state file");
   if (bytes.size() < magic.size() + sizeof(std::uint64_t))
     throw std::runtime_error(path.string() + ": state file is truncated");
@@ -255,6 +268,21 @@ void read_checks(Reader& r, RunChecks& c)
   c.max_overlap_depth = r.get<double>();
   c.overlap_steps = r.get<std::int64_t>();
 }
+/// The bonds of layout 8 (docs/contact_laws.md, law "bonded")
+void read_bonds(Reader& r, dynamics::SchemeState& s, std::size_t bytes)
+{
+  const auto formed = r.get<std::int64_t>(), nb = r.get<std::int64_t>();
+  if ((formed != 0 && formed != 1) || nb < 0 || nb > std::int64_t(bytes))
+    throw std::runtime_error(r.path.string() + ": state file has bad sizes");
+  s.bonds_formed = formed == 1;
+  s.bonds.resize(nb);
+  for (auto& [key, gap] : s.bonds)
+  {
+    r.get(key.data(), sizeof(key));
+    gap = r.get<double>();
+  }
+  s.energy.bond = r.get<double>();
+}
 } // namespace
 
 StateFile read_state_file(const std::filesystem::path& path,
@@ -311,13 +339,13 @@ StateFile read_state_file(const std::filesystem::path& path,
     s.step_size.window_iterations = static_cast<int>(r.get<std::int64_t>());
     c.total.retried_steps = r.get<std::int64_t>();
   }
-  if (head == magic || head == magic_v6)
+  if (head == magic || head == magic_v7 || head == magic_v6)
   {
     s.step_size.window_start.residual = r.get<double>();
     s.step_size.window_start.supplied = r.get<double>();
     s.energy.cohesion = r.get<double>();
   }
-  if (head == magic)
+  if (head == magic || head == magic_v7)
   {
     s.energy.cell_work = r.get<double>();
     s.energy.rewrap = r.get<double>();
@@ -327,6 +355,8 @@ StateFile read_state_file(const std::filesystem::path& path,
     s.cell.resize(nc);
     r.get(s.cell.data(), sizeof(double) * nc);
   }
+  if (head == magic)
+    read_bonds(r, s, bytes.size());
   if (r.at + sizeof(std::uint64_t) != bytes.size())
     throw std::runtime_error(path.string() + ": state file has bad sizes");
   if (expected)

@@ -195,7 +195,11 @@ public:
       _checks = f.checks; // totals over the whole run in done.json
     }
     else if (!_program.empty())
+    {
+      if (_program.forms_bonds()) // bonds at the starts of such stages only
+        _scheme.form_bonds(false);
       _program.begin(0, _scheme, phi());
+    }
     _first = _scheme.steps();
     _phi0 = phi();
     if (!_root)

@@ -1,7 +1,7 @@
 #include "stages.h"
 
+#include <algorithm>
 #include <bodies/body_forces.h>
-
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -219,6 +219,14 @@ void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
     _start.pressure_side =
         side(box_pressure(scheme.walls(), scheme.wall_forces()),
              stage.stop.pressure);
+  if (stage.bond) // (after continue_with, which restores the flag)
+    scheme.form_bonds(true);
+}
+
+bool StageProgram::forms_bonds() const
+{
+  return std::any_of(_stages.begin(), _stages.end(),
+                     [](const parameters::Stage& s) { return s.bond; });
 }
 
 void StageProgram::resume(const StageStart& start, dynamics::MoreauJean& scheme)

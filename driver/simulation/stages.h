@@ -97,9 +97,14 @@ public:
   const StageStart& start() const { return _start; }
   bool last() const { return _start.index + 1 == size(); }
 
-  /// Begin stage k after step `step`: its drives on the scheme's walls and
-  /// its friction, its start recorded; `ended_by`: the criterion that ended the
-  /// stage before it (none for the first)
+  /// true when a stage has bond = true: bonds form at the starts of such
+  /// stages only, not at the run's first step (docs/contact_laws.md)
+  bool forms_bonds() const;
+
+  /// Begin stage k after step `step`: its drives on the scheme's walls, its
+  /// friction and, with bond = true, bonds to form at its first step; its
+  /// start recorded; `ended_by`: the criterion that ended the stage before
+  /// it (none for the first)
   void begin(int k, dynamics::MoreauJean& scheme, std::optional<double> phi,
              const std::string& ended_by = "");
 

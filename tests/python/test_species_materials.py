@@ -69,7 +69,9 @@ def test_named_materials_species_and_pairs(tmp_path):
     assert stiff["parameters"] == {"shear_modulus": 1.5e6,
                                    "lame_lambda": 3.0e6}
     assert [s["material"] for s in config["species"]] == ["", "stiff"]
-    coulomb = {"law": "coulomb", "cohesion": 0.0, "cohesive_distance": 0.0}
+    coulomb = {"law": "coulomb", "cohesion": 0.0, "cohesive_distance": 0.0,
+               "tensile_strength": 0.0, "shear_strength": 0.0,
+               "bonding_distance": 0.0}
     assert config["friction"] == [
         {"species": "soft", "against": "hard", "coefficient": 0.5, **coulomb},
         {"species": "hard", "against": "walls", "coefficient": 0.1,
@@ -121,7 +123,8 @@ def test_driver_json_carries_materials_and_pairs(tmp_path):
      "[friction.1] coefficient = -0.1: must be >= 0"),
     (("coefficient = 0.1", "coefficent = 0.1"),
      "unknown key [friction.1] coefficent (allowed: species, against,"
-     " coefficient, law, cohesion, cohesive_distance)"),
+     " coefficient, law, cohesion, cohesive_distance, tensile_strength,"
+     " shear_strength, bonding_distance)"),
     (("coefficient = 0.1", 'coefficient = 0.1\nlaw = "glue"'),
      '[friction.1] law = "glue": must be one of'),
     (("coefficient = 0.1", "coefficient = 0.1\ncohesion = 100.0"),
@@ -136,6 +139,33 @@ def test_driver_json_carries_materials_and_pairs(tmp_path):
     (("coefficient = 0.1", 'coefficient = 0.1\nlaw = "cohesive"\n'
       "cohesion = -1.0"),
      "[friction.1] cohesion = -1.0: must be >= 0"),
+    # the bonded law (docs/contact_laws.md)
+    (("coefficient = 0.1", 'coefficient = 0.1\nlaw = "bonded"\n'
+      "shear_strength = 1.0e3"),
+     "[friction.1] tensile_strength = 0.0: law = \"bonded\" needs a"
+     " tensile_strength > 0"),
+    (("coefficient = 0.1", 'coefficient = 0.1\nlaw = "bonded"\n'
+      "tensile_strength = 1.0e3"),
+     "[friction.1] shear_strength = 0.0: law = \"bonded\" needs a"
+     " shear_strength > 0"),
+    (("coefficient = 0.1", 'coefficient = 0.1\nlaw = "bonded"\n'
+      "tensile_strength = -1.0\nshear_strength = 1.0e3"),
+     "[friction.1] tensile_strength = -1.0: must be >= 0"),
+    (("coefficient = 0.1", 'coefficient = 0.1\nlaw = "bonded"\n'
+      "tensile_strength = 1.0e3\nshear_strength = 1.0e3\n"
+      "bonding_distance = 1.0"),
+     "[friction.1] bonding_distance = 1.0: must be <= [contact]"
+     " alert_distance"),
+    (("coefficient = 0.1", "coefficient = 0.1\ntensile_strength = 1.0e3"),
+     "[friction.1] tensile_strength = 1000.0: only law = \"bonded\" has a"
+     " tensile_strength"),
+    (("coefficient = 0.1", 'coefficient = 0.1\nlaw = "bonded"\n'
+      "tensile_strength = 1.0e3\nshear_strength = 1.0e3\ncohesion = 5.0"),
+     "[friction.1] cohesion = 5.0: only law = \"cohesive\" has a cohesion"
+     " (this pair's law is \"bonded\""),
+    (('species = "hard"\nagainst = "walls"', 'species = "hard"\n'
+      'against = "floor"'),
+     "[friction.1] against = 'floor': not a species, a wall or 'walls'"),
 ])
 def test_bad_input_is_refused_in_one_line(tmp_path, change, expected):
     old, new = change
@@ -150,7 +180,9 @@ def test_a_cohesive_pair_reaches_driver_json(tmp_path):
     config = load(tmp_path, text)
     assert config["friction"][1] == {
         "species": "hard", "against": "walls", "coefficient": 0.1,
-        "law": "cohesive", "cohesion": 2.0e3, "cohesive_distance": 5.0e-5}
+        "law": "cohesive", "cohesion": 2.0e3, "cohesive_distance": 5.0e-5,
+        "tensile_strength": 0.0, "shear_strength": 0.0,
+        "bonding_distance": 0.0}
     assert validate(tomllib.loads(to_toml(config))) == config
 
 

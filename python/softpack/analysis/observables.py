@@ -89,14 +89,18 @@ from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table, write_table
 
 ENERGY_COLUMNS = ("strain_energy", "kinetic_energy", "wall_work",
-                  "external_work", "cell_work", "rewrap", "damping", "friction", "contact_normal",
-                  "cohesion", "numerical", "energy_residual")
+                  "external_work", "cell_work", "rewrap", "damping",
+                  "friction", "contact_normal", "cohesion", "bond",
+                  "numerical", "energy_residual")
 #: Copied from ``raw/steps.csv`` when the driver wrote them (NaN otherwise):
 #: steps since the previous row whose Newton iterations or contact solves
 #: did not converge, and the overlap depth measured from the deformed
 #: boundaries, independently of the contact detection (m).
 CHECK_COLUMNS = ("newton_unconverged_steps", "nlgs_unconverged_steps",
                  "max_overlap_depth")
+#: Copied from ``raw/steps.csv`` (0 for a run written before it): the
+#: intact bonds of the bonded law at the row's step (docs/contact_laws.md).
+BOND_COLUMNS = ("intact_bonds",)
 SERIES_COLUMNS = (
     "step", "time", "piston_displacement", "eps", "phi", "E_over_WHLmu",
     "z", "z_without_walls", "z_undefined", "retained", "rattlers",
@@ -105,7 +109,7 @@ SERIES_COLUMNS = (
     "energy_residual_relative", "newton_iterations", "nlgs_iterations",
     "nlgs_error", "nlgs_converged", "contacts", "active_contacts",
     "max_penetration", "seconds", "contacts_file", *CHECK_COLUMNS,
-    *FABRIC_COLUMNS)
+    *BOND_COLUMNS, *FABRIC_COLUMNS)
 PARTICLE_COLUMNS = (
     "step", "time", "phi", "particle", "radius", "reference_area", "area",
     "psi_p", "contacts", "wall_contacts", "z_contacts", "resultant_force",
@@ -183,7 +187,7 @@ def series_from_steps(steps: dict, setup: RunSetup) -> dict:
     if "phi" in steps:
         series["phi"] = np.array(steps["phi"], dtype=float)
     for name in ENERGY_COLUMNS:
-        # (a run written before the cohesion account had none: 0)
+        # (a run written before the cohesion or bond account had none: 0)
         series[name] = h * (steps[name] if name in steps
                             else np.zeros(len(steps["step"])))
     supplied = np.abs(steps["wall_work"]) + np.abs(steps["external_work"])
@@ -198,6 +202,9 @@ def series_from_steps(steps: dict, setup: RunSetup) -> dict:
     for name in CHECK_COLUMNS:
         if name in steps:
             series[name] = steps[name]
+    for name in BOND_COLUMNS:
+        series[name] = (steps[name] if name in steps
+                        else np.zeros(len(steps["step"]), dtype=int))
     return series
 
 

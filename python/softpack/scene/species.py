@@ -147,34 +147,51 @@ def check_materials(sections) -> None:
                 f" {allowed}; empty: [material])")
 
 
-def check_law(entry, title, contact) -> None:
-    """Refuse a [[friction]] table whose law and cohesion keys disagree.
+#: Each law's own keys: a pair of another law leaves them at 0
+LAW_KEYS = {"coulomb": (),
+            "cohesive": ("cohesion", "cohesive_distance"),
+            "bonded": ("tensile_strength", "shear_strength",
+                       "bonding_distance")}
+#: Each law's keys that must be > 0, and its distance (at most [contact]
+#: alert_distance)
+_LAW_POSITIVE = {"cohesive": ("cohesion",),
+                 "bonded": ("tensile_strength", "shear_strength")}
+_LAW_DISTANCE = {"cohesive": "cohesive_distance",
+                 "bonded": "bonding_distance"}
 
-    A ``cohesive`` pair needs ``cohesion > 0`` and ``cohesive_distance`` at
-    most ``[contact] alert_distance`` (farther pairs are no contact
-    candidates, so a longer reach would not act); a ``coulomb`` pair has
-    neither (docs/contact_laws.md).
+
+def check_law(entry, title, contact) -> None:
+    """Refuse a [[friction]] table whose law and law keys disagree.
+
+    A ``cohesive`` pair needs ``cohesion > 0``, a ``bonded`` pair
+    ``tensile_strength > 0`` and ``shear_strength > 0``; the distance of
+    either (``cohesive_distance``, ``bonding_distance``) is at most
+    ``[contact] alert_distance`` (farther pairs are no contact candidates,
+    so a longer reach would not act); a pair has no key of another law
+    (docs/contact_laws.md).
 
     Raises
     ------
     SpeciesError
         Naming the table, the key and what is allowed.
     """
-    if entry["law"] == "coulomb":
-        for key in ("cohesion", "cohesive_distance"):
-            if entry[key] != 0:
+    law = entry["law"]
+    for other, keys in LAW_KEYS.items():
+        for key in keys:
+            if other != law and entry[key] != 0:
                 raise SpeciesError(
                     f"[{title}] {key} = {entry[key]!r}: only law ="
-                    f" \"cohesive\" has a {key} (this pair's law is"
-                    " \"coulomb\"; allowed: 0, or law = \"cohesive\")")
-        return
-    if not entry["cohesion"] > 0:
+                    f" \"{other}\" has a {key} (this pair's law is"
+                    f" \"{law}\"; allowed: 0, or law = \"{other}\")")
+    for key in _LAW_POSITIVE.get(law, ()):
+        if not entry[key] > 0:
+            raise SpeciesError(
+                f"[{title}] {key} = {entry[key]!r}: law = \"{law}\" needs"
+                f" a {key} > 0 (Pa; law = \"coulomb\" for none)")
+    distance = _LAW_DISTANCE.get(law)
+    if distance and entry[distance] > contact["alert_distance"]:
         raise SpeciesError(
-            f"[{title}] cohesion = {entry['cohesion']!r}: law = \"cohesive\""
-            " needs a cohesion > 0 (Pa; law = \"coulomb\" for none)")
-    if entry["cohesive_distance"] > contact["alert_distance"]:
-        raise SpeciesError(
-            f"[{title}] cohesive_distance = {entry['cohesive_distance']!r}:"
+            f"[{title}] {distance} = {entry[distance]!r}:"
             " must be <= [contact] alert_distance ="
             f" {contact['alert_distance']!r} (farther pairs are not contact"
             " candidates)")

@@ -34,7 +34,7 @@ from softpack.contract.schema import load_schema
 from softpack.scene.walls import CONTROL, check_drive, drive_keys
 
 #: The keys of one stage.
-STAGE_KEYS = ("name", "walls", "contact", "stop")
+STAGE_KEYS = ("name", "bond", "walls", "contact", "stop")
 #: The prefix of the stop keys in the schema's [stages] section.
 STOP = "stop."
 #: The prefix of the contact keys in the schema's [stages] section.
@@ -102,7 +102,15 @@ def validate(checker, section, items, sections, given_stop) -> list:
                            contact)
         stop = _stop(checker, section, i, item.get("stop", {}), drives,
                      sections)
-        out.append({"name": name,
+        bond = checker.value(title, ["stages", i, "bond"],
+                             section.parameters["bond"],
+                             item.get("bond", False))
+        if bond and not any(f["law"] == "bonded"
+                            for f in sections.get("friction", [])):
+            raise StageError(
+                f"[{title}] bond = true: no [[friction]] pair has law ="
+                " \"bonded\" (nothing to bond)")
+        out.append({"name": name, "bond": bond,
                      "walls": {w: dict(d) for w, d in drives.items()
                                if w in item.get("walls", {})},
                      "contact": dict(contact), "stop": stop})

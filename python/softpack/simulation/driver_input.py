@@ -11,7 +11,8 @@ the schema, not from a list of keys here: a parameter added to
   default material); ``materials``: the named ones, a list of the same
   tables each with its ``name`` (a species' ``material`` names one);
 - ``friction``: the [[friction]] tables (species, against, coefficient,
-  law, cohesion, cohesive_distance);
+  law, cohesion, cohesive_distance, tensile_strength, shear_strength,
+  bonding_distance);
 - ``walls``: a list, box walls first (left, right, bottom, top), then the
   others in the TOML file's order;
 - every other driver-stage section as a table of its keys.

@@ -17,9 +17,15 @@ namespace
 /// A Signorini–Coulomb [[friction]] pair as driver.json has it
 json pair(const char* species, const char* against, double coefficient)
 {
-  return {
-      {"species", species}, {"against", against}, {"coefficient", coefficient},
-      {"law", "coulomb"},   {"cohesion", 0.0},    {"cohesive_distance", 0.0}};
+  return {{"species", species},
+          {"against", against},
+          {"coefficient", coefficient},
+          {"law", "coulomb"},
+          {"cohesion", 0.0},
+          {"cohesive_distance", 0.0},
+          {"tensile_strength", 0.0},
+          {"shear_strength", 0.0},
+          {"bonding_distance", 0.0}};
 }
 
 /// Body 0 of species "soft" (the default material), bodies 1 and 2 of
@@ -152,6 +158,37 @@ TEST(MaterialConfig, ACohesivePairCarriesItsCohesion)
   doc["friction"][1]["law"] = "glue";
   const std::string law = refused(doc, "friction[1].law");
   EXPECT_NE(law.find("cohesive"), std::string::npos) << law;
+}
+
+TEST(MaterialConfig, ABondedPairCarriesItsStrengths)
+{
+  json doc = two_species();
+  doc["friction"][1]["law"] = "bonded";
+  doc["friction"][1]["tensile_strength"] = 2e4;
+  doc["friction"][1]["shear_strength"] = 1e4;
+  doc["friction"][1]["bonding_distance"] = 5e-5;
+  const dynamics::FrictionTable f = read(doc).friction;
+  ASSERT_TRUE(f.bonded());
+  EXPECT_FALSE(f.cohesive());
+  EXPECT_EQ(f(against_wall(1, 1), 0.3), 0.7);
+  EXPECT_EQ(f.bond(against_wall(1, 1)).tensile, 2e4);
+  EXPECT_EQ(f.bond(against_wall(1, 1)).shear, 1e4);
+  EXPECT_EQ(f.bond(against_wall(1, 1)).distance, 5e-5);
+  EXPECT_EQ(f.bond(against_wall(1, 0)).tensile, 0.0);
+  EXPECT_EQ(f.bond(between_bodies(0, 1)).tensile, 0.0);
+
+  doc["friction"][1]["shear_strength"] = 0.0;
+  refused(doc, "friction[1].shear_strength");
+  doc["friction"][1]["shear_strength"] = 1e4;
+  doc["friction"][1]["tensile_strength"] = 0.0;
+  refused(doc, "friction[1].tensile_strength");
+  doc["friction"][1]["tensile_strength"] = 2e4;
+  doc["friction"][1]["cohesion"] = 1.0;
+  refused(doc, "friction[1]");
+  doc["friction"][1]["cohesion"] = 0.0;
+  doc["friction"][1]["law"] = "coulomb";
+  const std::string law = refused(doc, "friction[1]");
+  EXPECT_NE(law.find("bonded"), std::string::npos) << law;
 }
 
 TEST(MaterialConfig, UnknownNamesAreRefusedNamingTheKey)

@@ -340,9 +340,9 @@ void rewrite_as(const std::filesystem::path& path, const char* magic,
 }
 } // namespace
 
-TEST(StateFile, KeepsTheCellWindowStartAndCohesionAndReadsLayouts6And5)
+TEST(StateFile, KeepsCellBondsWindowStartAndCohesionAndReadsLayouts7To5)
 {
-  const std::filesystem::path dir = test::fresh_directory("state-layout7");
+  const std::filesystem::path dir = test::fresh_directory("state-layout8");
   dynamics::SchemeState s;
   s.time = 0.5;
   s.steps = 7;
@@ -352,12 +352,18 @@ TEST(StateFile, KeepsTheCellWindowStartAndCohesionAndReadsLayouts6And5)
   s.energy.cell_work = 3.5e-2;
   s.energy.rewrap = -2e-9;
   s.cell = {0.1, 0.0, 0.01, 0.2};
+  s.energy.bond = 2.5e-4;
+  s.bonds = {{{0, 3, 1}, 1e-5}, {{2, 8, -2}, -3e-7}};
+  s.bonds_formed = true;
   s.step_size.h = 2e-4;
   s.step_size.window_start = {1e-7, 0.75};
   const std::filesystem::path path = dir / "state.bin";
   softpack::io::write_state(path, s);
   const dynamics::SchemeState back = softpack::io::read_state(path);
   EXPECT_EQ(back.energy.cohesion, -1.5e-3);
+  EXPECT_EQ(back.energy.bond, 2.5e-4);
+  EXPECT_EQ(back.bonds, s.bonds);
+  EXPECT_TRUE(back.bonds_formed);
   EXPECT_EQ(back.energy.friction, 0.25);
   EXPECT_EQ(back.energy.cell_work, 3.5e-2);
   EXPECT_EQ(back.energy.rewrap, -2e-9);
@@ -365,10 +371,24 @@ TEST(StateFile, KeepsTheCellWindowStartAndCohesionAndReadsLayouts6And5)
   EXPECT_EQ(back.step_size.window_start.residual, 1e-7);
   EXPECT_EQ(back.step_size.window_start.supplied, 0.75);
 
-  // Layout 6: without the cell's accounts, its size and its 4 numbers
+  // Layout 7: without the bonds (formed flag, count: two int64; no entry
+  // here) and the bond account
+  s.bonds.clear();
+  softpack::io::write_state(path, s);
+  const std::size_t bonds = 2 * sizeof(std::int64_t) + sizeof(double);
+  rewrite_as(path, "softpack-state-7", bonds);
+  const dynamics::SchemeState seven = softpack::io::read_state(path);
+  EXPECT_EQ(seven.energy.bond, 0.0);
+  EXPECT_TRUE(seven.bonds.empty());
+  EXPECT_FALSE(seven.bonds_formed);
+  EXPECT_EQ(seven.energy.cell_work, 3.5e-2);
+  EXPECT_EQ(seven.cell, s.cell);
+
+  // Layout 6: also without the cell's accounts, its size and its 4 numbers
   s.cell.clear();
   softpack::io::write_state(path, s);
-  rewrite_as(path, "softpack-state-6", 3 * sizeof(double));
+  const std::size_t cell = 3 * sizeof(double);
+  rewrite_as(path, "softpack-state-6", bonds + cell);
   const dynamics::SchemeState six = softpack::io::read_state(path);
   EXPECT_EQ(six.energy.cohesion, -1.5e-3);
   EXPECT_EQ(six.energy.cell_work, 0.0);
@@ -378,7 +398,7 @@ TEST(StateFile, KeepsTheCellWindowStartAndCohesionAndReadsLayouts6And5)
   // Layout 5: also without the trailing window start and cohesion (three
   // doubles)
   softpack::io::write_state(path, s);
-  rewrite_as(path, "softpack-state-5", 6 * sizeof(double));
+  rewrite_as(path, "softpack-state-5", bonds + cell + 3 * sizeof(double));
   const dynamics::SchemeState old = softpack::io::read_state(path);
   EXPECT_EQ(old.energy.cohesion, 0.0);
   EXPECT_EQ(old.energy.friction, 0.25);

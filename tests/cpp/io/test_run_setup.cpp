@@ -171,6 +171,7 @@ TEST(RunSetup, SetupRecordsTheStages)
                      {"strain_wall", "right"},  {"pressure", 0.0},
                      {"equilibrium", 0.0},      {"max_time", 0.5}};
   json press = {{"name", "press"},
+                {"bond", false},
                 {"walls",
                  {{"right",
                    {{"control", "velocity"},

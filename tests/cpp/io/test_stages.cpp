@@ -22,6 +22,7 @@ json two_stages()
                      {"equilibrium", 1e-3},     {"max_time", 0.5}};
   doc["stages"] = json::array();
   doc["stages"].push_back({{"name", "consolidate"},
+                           {"bond", false},
                            {"walls",
                             {{"top",
                               {{"control", "pressure"},
@@ -35,6 +36,7 @@ json two_stages()
   axial["strain_wall"] = "right";
   axial["equilibrium"] = 0.0;
   doc["stages"].push_back({{"name", "axial"},
+                           {"bond", false},
                            {"walls",
                             {{"right",
                               {{"control", "velocity"},
