@@ -151,13 +151,18 @@ def _check_box(sections) -> None:
             f"[species.{k}] (species {largest['name']!r})"
             f" {species_sizes.size_bound_keys(largest, 'max')}: must be <"
             f" {room:g} m (the box's shorter side minus twice [packing] gap)")
-    phi0 = initial_packing_fraction(sections)
+    _check_fill("box", initial_packing_fraction(sections), target)
+
+
+def _check_fill(where, phi0, target) -> None:
+    """The particles must fill less of the box (cell) than the Phi target
+    and than a hexagonal packing."""
     limit = min(target, HEXAGONAL_FRACTION) if target > 0 \
         else HEXAGONAL_FRACTION
     if phi0 >= limit:
         raise Inconsistent(
-            f"[box] the particles fill {phi0:.3f} of the box: must be <"
-            f" [stop] packing_fraction = {target:g} and <"
+            f"[{where}] the particles fill {phi0:.3f} of the {where}: must be"
+            f" < [stop] packing_fraction = {target:g} and <"
             f" {HEXAGONAL_FRACTION:.4f} (hexagonal packing)")
 
 
@@ -218,15 +223,8 @@ def _check_cell(sections) -> None:
             f"[contact] max_penetration = {penetration!r}: must be >="
             f" {speed * step:.4g} m (the travel of the cell's images in one"
             f" step of {key}): a deeper detection is ignored as wrong-side")
-    target = sections["stop"]["packing_fraction"]
-    phi0 = total_area(sections["species"]) / (length * width)
-    limit = min(target, HEXAGONAL_FRACTION) if target > 0 \
-        else HEXAGONAL_FRACTION
-    if phi0 >= limit:
-        raise Inconsistent(
-            f"[cell] the particles fill {phi0:.3f} of the cell: must be <"
-            f" [stop] packing_fraction = {target:g} and <"
-            f" {HEXAGONAL_FRACTION:.4f} (hexagonal packing)")
+    _check_fill("cell", total_area(sections["species"]) / (length * width),
+                sections["stop"]["packing_fraction"])
 
 
 def cell_speed(cell) -> float:

@@ -11,6 +11,7 @@
 #include "fclib_io.h"
 #include "helpers.h"
 #include "nlgs.h"
+#include "nlgs_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -169,34 +170,6 @@ TEST(BondLocalSolver, EveryAnswerSatisfiesTheEnvelopeAndTheRule)
     EXPECT_GT(c, 1000);
 }
 
-namespace
-{
-struct Solve
-{
-  std::vector<double> r, u;
-  NlgsResult result;
-};
-
-Solve solve(const FrictionContactProblem2D& p, const NlgsOptions& opt)
-{
-  Solve s{std::vector<double>(2 * p.num_contacts(), 0.0),
-          std::vector<double>(2 * p.num_contacts()),
-          {}};
-  s.result = solve_nlgs(p, s.r, s.u, opt);
-  return s;
-}
-
-NlgsOptions options(double tolerance, double relaxation)
-{
-  NlgsOptions opt;
-  opt.tolerance = tolerance;
-  opt.max_sweeps = 20000;
-  opt.relaxation = relaxation;
-  opt.order = relaxation == 1.0 ? SweepOrder::contact : SweepOrder::alternate;
-  return opt;
-}
-} // namespace
-
 class BondFclib : public ::testing::TestWithParam<DataProblem>
 {
 };
@@ -210,14 +183,7 @@ TEST_P(BondFclib, NoBondIsThePlainSolveBitForBit)
   set_bonds(none, {}, {});
   EXPECT_TRUE(none.cohesion.empty());
   EXPECT_EQ(none.friction, plain.friction);
-  for (double relaxation : {1.0, 1.7})
-  {
-    const NlgsOptions opt = options(d.tolerance, relaxation);
-    const Solve a = solve(plain, opt), b = solve(none, opt);
-    EXPECT_EQ(a.result.iterations, b.result.iterations);
-    EXPECT_EQ(a.r, b.r);
-    EXPECT_EQ(a.u, b.u);
-  }
+  expect_the_same_solves(plain, none, d.tolerance, 20000);
 }
 
 TEST_P(BondFclib, BondsOnHalfTheContacts)
@@ -227,9 +193,7 @@ TEST_P(BondFclib, BondsOnHalfTheContacts)
   const DataProblem& d = GetParam();
   FrictionContactProblem2D p = read_fclib_local_file(hdf5_file(d.name)).problem;
   const std::size_t nc = p.num_contacts();
-  double q_max = 0;
-  for (double v : p.q)
-    q_max = std::max(q_max, std::abs(v));
+  const double q_max = largest_free_velocity(p);
   std::vector<std::int32_t> bonded;
   std::vector<BondStrength> strengths;
   for (std::size_t a = 0; a < nc; a += 2)
@@ -240,7 +204,7 @@ TEST_P(BondFclib, BondsOnHalfTheContacts)
   }
   set_bonds(p, bonded, strengths);
   validate(p);
-  const Solve s = solve(p, options(d.tolerance, 1.7));
+  const Solve s = solve(p, options(d.tolerance, 1.7, 20000));
   EXPECT_TRUE(s.result.converged) << s.result.error;
   if (s.result.q_zero) // |q| <= 1e-12 (two of the set): r = 0, no sweep
   {

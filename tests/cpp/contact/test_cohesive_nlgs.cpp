@@ -8,6 +8,7 @@
 #include "fclib_io.h"
 #include "helpers.h"
 #include "nlgs.h"
+#include "nlgs_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -17,36 +18,6 @@
 
 using namespace softpack::contact;
 using namespace softpack::contact::test;
-
-namespace
-{
-struct Solve
-{
-  std::vector<double> r, u;
-  NlgsResult result;
-};
-
-Solve solve(const FrictionContactProblem2D& p, const NlgsOptions& opt)
-{
-  Solve s{std::vector<double>(2 * p.num_contacts(), 0.0),
-          std::vector<double>(2 * p.num_contacts()),
-          {}};
-  s.result = solve_nlgs(p, s.r, s.u, opt);
-  return s;
-}
-
-/// The options of the simulator (over-relaxed, alternate order) or plain
-/// Gauss–Seidel
-NlgsOptions options(double tolerance, double relaxation)
-{
-  NlgsOptions opt;
-  opt.tolerance = tolerance;
-  opt.max_sweeps = 10000;
-  opt.relaxation = relaxation;
-  opt.order = relaxation == 1.0 ? SweepOrder::contact : SweepOrder::alternate;
-  return opt;
-}
-} // namespace
 
 class CohesiveFclib : public ::testing::TestWithParam<DataProblem>
 {
@@ -59,15 +30,7 @@ TEST_P(CohesiveFclib, ZeroCohesionIsThePlainSolveBitForBit)
       read_fclib_local_file(hdf5_file(d.name)).problem;
   FrictionContactProblem2D zero = plain;
   zero.cohesion.assign(plain.num_contacts(), 0.0);
-  for (double relaxation : {1.0, 1.7})
-  {
-    const NlgsOptions opt = options(d.tolerance, relaxation);
-    const Solve a = solve(plain, opt), b = solve(zero, opt);
-    EXPECT_EQ(a.result.iterations, b.result.iterations);
-    EXPECT_EQ(a.result.error, b.result.error);
-    EXPECT_EQ(a.r, b.r);
-    EXPECT_EQ(a.u, b.u);
-  }
+  expect_the_same_solves(plain, zero, d.tolerance);
 }
 
 TEST_P(CohesiveFclib, CohesionIsTheShiftedPlainProblem)
@@ -77,9 +40,7 @@ TEST_P(CohesiveFclib, CohesionIsTheShiftedPlainProblem)
   const DataProblem& d = GetParam();
   FrictionContactProblem2D p = read_fclib_local_file(hdf5_file(d.name)).problem;
   const std::size_t nc = p.num_contacts();
-  double q_max = 0;
-  for (double v : p.q)
-    q_max = std::max(q_max, std::abs(v));
+  const double q_max = largest_free_velocity(p);
   p.cohesion.resize(nc);
   std::vector<double> c_vector(2 * nc, 0.0);
   for (std::size_t a = 0; a < nc; ++a)
