@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from driver_required import require_driver
+from softpack.analysis.setup import read_setup
 from softpack.contract.tables import read_table
 from softpack.scene import build as scene_build
 from softpack.scene.config import ConfigError, load_config, validate
@@ -205,3 +206,27 @@ def test_thirty_disks_compacted_close_the_balance(tmp_path):
     assert abs(s["energy_residual"][-1]) < 2e-4 * supplied
     steps = read_table(tmp_path / "run" / "raw" / "steps.csv")
     assert (steps["nlgs_converged"] == 1).all()
+
+
+def test_a_sheared_cell_reports_its_shear_friction_and_inertial_number(
+        tmp_path):
+    """Compacted and sheared at once (L_xy = 2 1/s): stress.csv's gamma is
+    L_xy t (the edges move at constant velocities), mu* = |sym sigma_xy| /
+    sigma_yy and I = gamma_dot d sqrt(rho / P) of the contact estimate."""
+    require_driver()
+    config = load_config(EXAMPLE, {"observables.unbalanced_threshold": 0.5,
+                                   "cell.velocity_gradient_x": [-4.0, 2.0]})
+    out = tmp_path / "sheared"
+    assert run(config, out, verbose=False) == 0
+    st = read_table(out / "stress.csv")
+    assert st["gamma"] == pytest.approx(2.0 * np.asarray(st["time"]),
+                                        rel=1e-9, abs=1e-12)
+    loaded = np.asarray(st["contact_yy"]) > 0
+    assert loaded.sum() > 10
+    shear = 0.5 * (np.asarray(st["contact_xy"]) + st["contact_yx"])
+    assert np.asarray(st["mu_star"])[loaded] == pytest.approx(
+        np.abs(shear[loaded]) / np.asarray(st["contact_yy"])[loaded])
+    assert np.max(np.asarray(st["mu_star"])[loaded]) > 0
+    P = np.asarray(st["contact_P"])[-1]
+    expected = 2.0 * np.mean(read_setup(out).diameters) * np.sqrt(1180.0 / P)
+    assert st["inertial_number"][-1] == pytest.approx(expected, rel=1e-6)

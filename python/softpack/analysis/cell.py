@@ -25,6 +25,8 @@ from softpack.contract.tables import read_table, write_table
 
 #: The edge vectors' columns of raw/steps.csv
 EDGE_COLUMNS = ("cell_a1x", "cell_a1y", "cell_a2x", "cell_a2y")
+#: The columns a cell's stress.csv adds after stress.COLUMNS
+BULK_COLUMNS = ("gamma", "mu_star", "inertial_number")
 
 
 def edges(steps: dict, k: int) -> np.ndarray:
@@ -86,9 +88,31 @@ def cell_stress_table(run_dir, setup, steps: dict, particles: dict) -> dict:
                      / steps["cell_a1x"][0])
     eps_yy = -np.log(np.asarray(steps["cell_a2y"], float)
                      / steps["cell_a2y"][0])
-    return stress_columns(steps, wall, contact, fe_stress(steps, area),
-                          eps_xx, eps_yy,
-                          {f"{w}_stress": np.full(rows, np.nan) for w in BOX})
+    table = stress_columns(steps, wall, contact, fe_stress(steps, area),
+                           eps_xx, eps_yy,
+                           {f"{w}_stress": np.full(rows, np.nan) for w in BOX})
+    table.update(bulk_columns(steps, table, setup))
+    return table
+
+
+def bulk_columns(steps: dict, table: dict, setup) -> dict:
+    """:data:`BULK_COLUMNS` from the cell's edges and the contact stress
+    (see the module doc)."""
+    a2x = np.asarray(steps["cell_a2x"], float)
+    gamma = (a2x - a2x[0]) / float(steps["cell_a2y"][0])
+    time = np.asarray(steps["time"], float)
+    rate = np.gradient(gamma, time) if len(time) > 1 else np.zeros(1)
+    shear = 0.5 * (np.asarray(table["contact_xy"], float)
+                   + np.asarray(table["contact_yx"], float))
+    normal = np.asarray(table["contact_yy"], float)
+    pressure = np.asarray(table["contact_P"], float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mu_star = np.where(normal > 0, np.abs(shear) / normal, np.nan)
+        inertial = np.where(pressure > 0, np.abs(rate)
+                            * float(np.mean(setup.diameters))
+                            * np.sqrt(float(np.mean(setup.body_density))
+                                      / pressure), np.nan)
+    return {"gamma": gamma, "mu_star": mu_star, "inertial_number": inertial}
 
 
 def write_cell_stress(run_dir, setup) -> None:
@@ -97,4 +121,5 @@ def write_cell_stress(run_dir, setup) -> None:
     steps = read_table(run.raw.steps_csv)
     particles = read_table(run.raw.particles_csv)
     write_table(run.stress_csv,
-                cell_stress_table(run_dir, setup, steps, particles), COLUMNS)
+                cell_stress_table(run_dir, setup, steps, particles),
+                COLUMNS + BULK_COLUMNS)

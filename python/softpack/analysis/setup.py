@@ -81,6 +81,8 @@ class RunSetup:
         for a stage recorded without one).
     stage_phis : tuple of float
         Each stage's ``stop.packing_fraction`` (0: no such criterion).
+    body_density : ndarray, shape (n,)
+        Each body's mass density (kg/m^3: its species' material's).
     body_weight : ndarray, shape (n, 2)
         Each body's weight under ``[gravity] acceleration`` (N/m: density
         x reference area x g; zeros without gravity).
@@ -110,6 +112,7 @@ class RunSetup:
     stage_names: tuple = ()
     stage_frictions: tuple = ()
     stage_phis: tuple = ()
+    body_density: np.ndarray = None
     body_weight: np.ndarray = None
     notes: tuple = field(default=())
     cell: bool = False
@@ -252,6 +255,7 @@ def _from_document(path, doc) -> RunSetup:
                               for s in stages),
         stage_phis=tuple(float(s["stop"].get("packing_fraction", 0.0))
                          for s in stages),
+        body_density=species_density[species_of],
         body_weight=np.outer(species_density[species_of] * reference_area,
                              gravity),
         notes=tuple(notes), cell=cell)
