@@ -5,8 +5,10 @@
 // flies off or slides as a plain Signorini–Coulomb contact lets it; the
 // energy balance closes with the work of the bonds as its own account. A
 // bond formed across a gap holds that gap.
+#include "block_probes.h"
 #include "scheme_options.h"
 #include <bodies/BodySet.h>
+#include <bodies/body_forces.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
 #include <dynamics/moreau_jean.h>
@@ -55,29 +57,16 @@ struct PulledBlock
                             bodies::plane_strain_parameters(0.15e6), rho)),
         scheme(set, floor_wall, bonded_options(T, S))
   {
-    std::vector<double> f(set.num_dofs(), 0.0);
-    const Eigen::VectorXd& m = set.lumped_mass()[0];
-    for (std::size_t k = 0; k < set.body(0).nodes.size(); ++k)
-      f[2 * set.body(0).nodes[k] + direction] = m[2 * k + direction] * pull;
-    scheme.set_external_force(f);
+    std::array<double, 2> g = {0, 0};
+    g[direction] = pull;
+    scheme.set_external_force(bodies::weight(set, g));
   }
   /// Mean velocity along d (momentum / mass)
   double mean_v(int d) const
   {
-    const Eigen::VectorXd& m = set.lumped_mass()[0];
-    double p = 0;
-    for (std::size_t k = 0; k < set.body(0).nodes.size(); ++k)
-      p += m[2 * k + d] * scheme.velocity()[2 * set.body(0).nodes[k] + d];
-    return p / mass;
+    return test::mean_velocity(set, scheme.velocity(), d, mass);
   }
-  double lowest() const
-  {
-    const std::vector<double> x = set.current_coordinates();
-    double y = INFINITY;
-    for (std::size_t i = 1; i < x.size(); i += 2)
-      y = std::min(y, x[i]);
-    return y;
-  }
+  double lowest() const { return test::lowest_point(set); }
   void steps(int n)
   {
     for (int s = 0; s < n; ++s)

@@ -3,8 +3,10 @@
 // a tensile reaction below its cohesion and lets go above it, once its gap
 // passes the cohesive distance; the energy balance closes with the work of
 // cohesion as its own account.
+#include "block_probes.h"
 #include "scheme_options.h"
 #include <bodies/BodySet.h>
+#include <bodies/body_forces.h>
 #include <bodies/material_parameters.h>
 #include <cmath>
 #include <dynamics/moreau_jean.h>
@@ -56,30 +58,15 @@ struct PulledBlock
   explicit PulledBlock(double traction)
       : set(block()), scheme(set, floor_wall, cohesive_options(traction))
   {
-    std::vector<double> f(set.num_dofs(), 0.0);
-    const Eigen::VectorXd& m = set.lumped_mass()[0];
-    for (std::size_t k = 0; k < set.body(0).nodes.size(); ++k)
-      f[2 * set.body(0).nodes[k] + 1] = m[2 * k + 1] * pull;
-    scheme.set_external_force(f);
+    scheme.set_external_force(bodies::weight(set, {0, pull}));
   }
   /// Mean vertical velocity (momentum / mass)
   double mean_vy() const
   {
-    const Eigen::VectorXd& m = set.lumped_mass()[0];
-    double p = 0;
-    for (std::size_t k = 0; k < set.body(0).nodes.size(); ++k)
-      p += m[2 * k + 1] * scheme.velocity()[2 * set.body(0).nodes[k] + 1];
-    return p / mass;
+    return test::mean_velocity(set, scheme.velocity(), 1, mass);
   }
   /// Lowest point of the block
-  double lowest() const
-  {
-    const std::vector<double> x = set.current_coordinates();
-    double y = INFINITY;
-    for (std::size_t i = 1; i < x.size(); i += 2)
-      y = std::min(y, x[i]);
-    return y;
-  }
+  double lowest() const { return test::lowest_point(set); }
   bodies::BodySet set;
   dynamics::MoreauJean scheme;
 };
