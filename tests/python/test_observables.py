@@ -204,29 +204,17 @@ def write_fake_run(run_dir, n_steps=3):
     (run_dir / "raw" / "particles.csv").write_text("".join(parts))
 
 
-def test_a_run_without_the_cohesion_column_reads_it_as_zero(tmp_path):
-    # raw/steps.csv of a driver older than the cohesive law
+@pytest.mark.parametrize("column", ["cohesion", "bond"])
+def test_a_run_without_a_law_column_reads_it_as_zero(tmp_path, column):
+    # raw/steps.csv of a driver older than the cohesive (bonded) law
     write_fake_run(tmp_path)
     path = tmp_path / "raw" / "steps.csv"
     rows = [line.split(",") for line in path.read_text().splitlines()]
-    drop = rows[0].index("cohesion")
+    drop = rows[0].index(column)
     path.write_text("".join(",".join(r[:drop] + r[drop + 1:]) + "\n"
                             for r in rows))
     s = read_table(obs.process_run(tmp_path)[0])
-    assert s["cohesion"].tolist() == [0.0] * 3
-    assert np.allclose(s["energy_residual_relative"][1:], 0.05)
-
-
-def test_a_run_without_the_bond_columns_reads_them_as_zero(tmp_path):
-    # raw/steps.csv of a driver older than the bonded law
-    write_fake_run(tmp_path)
-    path = tmp_path / "raw" / "steps.csv"
-    rows = [line.split(",") for line in path.read_text().splitlines()]
-    drop = rows[0].index("bond")
-    path.write_text("".join(",".join(r[:drop] + r[drop + 1:]) + "\n"
-                            for r in rows))
-    s = read_table(obs.process_run(tmp_path)[0])
-    assert s["bond"].tolist() == [0.0] * 3
+    assert s[column].tolist() == [0.0] * 3
     assert s["intact_bonds"].tolist() == [0] * 3
     assert np.allclose(s["energy_residual_relative"][1:], 0.05)
 

@@ -231,6 +231,7 @@ def series_and_particles(steps: dict, particles: dict, contacts_of,
     length, width = box_dimensions(steps, setup)
     force = piston_force(steps, setup)
     rows = []
+    weight = setup.body_weight
     for k, step in enumerate(steps["step"]):
         raw = _per_particle(particles, step, n)
         ref, area = raw["reference_area"], raw["area"]
@@ -241,7 +242,7 @@ def series_and_particles(steps: dict, particles: dict, contacts_of,
         contacts = contacts_of(step)
         series["contacts_file"][k] = contacts is not None
         net = None if contacts is None else contact_network(
-            contacts, n, force[k], rules, setup.body_weight)
+            contacts, n, force[k], rules, weight)
         series["z_undefined"][k] = z_undefined_code(net)
         if net is not None:
             series["z"][k], series["z_without_walls"][k] = \

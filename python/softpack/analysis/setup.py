@@ -83,9 +83,8 @@ class RunSetup:
         Each stage's ``stop.packing_fraction`` (0: no such criterion).
     body_density : ndarray, shape (n,)
         Each body's mass density (kg/m^3: its species' material's).
-    body_weight : ndarray, shape (n, 2)
-        Each body's weight under ``[gravity] acceleration`` (N/m: density
-        x reference area x g; zeros without gravity).
+    gravity : ndarray, shape (2,)
+        ``[gravity] acceleration`` (m/s^2; zeros without gravity).
     cell : bool
         A periodic cell's run (``parameters.cell.enabled``;
         docs/periodic_cell.md): its edges are columns of ``raw/steps.csv``
@@ -113,7 +112,7 @@ class RunSetup:
     stage_frictions: tuple = ()
     stage_phis: tuple = ()
     body_density: np.ndarray = None
-    body_weight: np.ndarray = None
+    gravity: np.ndarray = field(default_factory=lambda: np.zeros(2))
     notes: tuple = field(default=())
     cell: bool = False
 
@@ -121,6 +120,13 @@ class RunSetup:
     def has_box(self) -> bool:
         """Whether the walls left/right/bottom/top exist."""
         return all(name in self.walls for name in BOX_WALLS)
+
+    @property
+    def body_weight(self) -> np.ndarray:
+        """Each body's weight under [gravity], shape (n, 2) (N/m: density
+        x reference area x g; zeros without gravity)."""
+        return np.outer(self.body_density * self.reference_area,
+                        self.gravity)
 
     @property
     def radii(self) -> np.ndarray:
@@ -255,9 +261,7 @@ def _from_document(path, doc) -> RunSetup:
                               for s in stages),
         stage_phis=tuple(float(s["stop"].get("packing_fraction", 0.0))
                          for s in stages),
-        body_density=species_density[species_of],
-        body_weight=np.outer(species_density[species_of] * reference_area,
-                             gravity),
+        body_density=species_density[species_of], gravity=gravity,
         notes=tuple(notes), cell=cell)
 
 

@@ -81,6 +81,7 @@ def seed_columns(run_dir) -> dict:
              [*names, "z_no_exclusion",
               *(unbalanced_column(r, t) for r in net_.REFERENCES
                 for t in THRESHOLDS)]}
+    weight = setup.body_weight
     for k, step in enumerate(steps["step"]):
         path = run.raw.contact_file(step)
         if not path.is_file():
@@ -92,14 +93,14 @@ def seed_columns(run_dir) -> dict:
                     contacts, setup.count, force[k], dataclasses.replace(
                         rules, unbalanced_threshold=threshold,
                         unbalanced_reference=reference,
-                        excluded_contacts=excluded), setup.body_weight)
+                        excluded_contacts=excluded), weight)
                 extra[reading_column(reference, excluded, threshold)][k] = \
                     net.z
                 extra[unbalanced_column(reference, threshold)][k] = \
                     net.unbalanced.sum()
         extra["z_no_exclusion"][k] = net_.contact_network(
             contacts, setup.count, force[k], dataclasses.replace(
-                rules, unbalanced_threshold=np.inf), setup.body_weight).z
+                rules, unbalanced_threshold=np.inf), weight).z
     out.update(extra)
     return out, setup
 
