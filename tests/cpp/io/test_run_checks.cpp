@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <io/driver_config.h>
 #include <io/state_file.h>
+#include <numeric>
 #include <simulation/overlap_check.h>
 #include <simulation/run_simulation.h>
 #include <sstream>
@@ -24,8 +25,9 @@ json read_json(const std::filesystem::path& path)
   return json::parse(in);
 }
 
-/// Sum of a column of a CSV file over its rows.
-double column_sum(const std::filesystem::path& path, const std::string& name)
+/// The values of a column of a CSV file, one per row.
+std::vector<double> column(const std::filesystem::path& path,
+                           const std::string& name)
 {
   std::ifstream in(path);
   std::string line;
@@ -35,39 +37,29 @@ double column_sum(const std::filesystem::path& path, const std::string& name)
   for (std::string cell; std::getline(header, cell, ','); ++index)
     if (cell == name)
       break;
-  double sum = 0;
+  std::vector<double> values;
   while (std::getline(in, line))
   {
     std::stringstream row(line);
     std::string cell;
     for (int i = 0; i <= index; ++i)
       std::getline(row, cell, ',');
-    sum += std::stod(cell);
+    values.push_back(std::stod(cell));
   }
-  return sum;
+  return values;
 }
 
-/// The largest value of a column.
+double column_sum(const std::filesystem::path& path, const std::string& name)
+{
+  const std::vector<double> v = column(path, name);
+  return std::accumulate(v.begin(), v.end(), 0.0);
+}
+
 double column_max(const std::filesystem::path& path, const std::string& name)
 {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  std::stringstream header(line);
-  int index = 0;
-  for (std::string cell; std::getline(header, cell, ','); ++index)
-    if (cell == name)
-      break;
-  double top = 0;
-  while (std::getline(in, line))
-  {
-    std::stringstream row(line);
-    std::string cell;
-    for (int i = 0; i <= index; ++i)
-      std::getline(row, cell, ',');
-    top = std::max(top, std::stod(cell));
-  }
-  return top;
+  const std::vector<double> v = column(path, name);
+  return std::accumulate(v.begin(), v.end(), 0.0,
+                         [](double a, double b) { return std::max(a, b); });
 }
 
 simulation::RunSummary run(const json& doc, const std::filesystem::path& dir)
