@@ -116,6 +116,33 @@ def test_bench_configs_are_validated_with_their_overrides(registry):
     assert [s["count"] for s in quarter["species"]] == [18, 8]
 
 
+
+def test_the_periodic_bench_differs_from_the_walled_only_in_the_bounds(
+        registry):
+    """The cell has the box's edges, the same disks and settings, and
+    changes its area at the piston's rate."""
+    from softpack.bench import common as bench
+    from softpack.bench.periodic import periodic_config
+    from softpack.scene.config import initial_packing_fraction
+
+    walled = bench.scaled_config(4, {**bench.FAST, "stop.steps": 7,
+                                     "damping.alpha": 0.0})
+    cell = periodic_config(walled, 7)
+    assert cell["cell"]["enabled"] and not cell["box"]["enabled"]
+    assert not cell.get("walls")
+    assert cell["species"] == walled["species"]
+    for section in ("mesh", "time", "damping", "packing", "material"):
+        assert cell[section] == walled[section], section
+    assert {k: v for k, v in cell["contact"].items()} == walled["contact"]
+    assert initial_packing_fraction(cell) == pytest.approx(
+        initial_packing_fraction(walled), rel=1e-12)
+    L = cell["cell"]["velocity_gradient_x"][0] \
+        + cell["cell"]["velocity_gradient_y"][1]
+    piston = walled["walls"]["right"]["velocity"][0] / walled["box"]["length"]
+    assert L == pytest.approx(piston, rel=1e-12)
+    assert cell["stop"]["steps"] == 7
+
+
 CONTACTS = "candidate,node,antagonist,wall,fn\n"
 
 

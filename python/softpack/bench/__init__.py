@@ -22,11 +22,14 @@ Runs, in order, and prints a table (also written to
 Every run is a configuration validated like a user's and launched the one
 way (:mod:`softpack.bench.common`). ``--sharing``, ``--mpi`` and
 ``--disks`` run the benchmarks of :mod:`.sharing`, :mod:`.mpi` and
-:mod:`.disks` instead; this module only dispatches.
+:mod:`.disks` instead (and ``--periodic`` that of :mod:`.periodic`); this module only dispatches.
 
 ``--from-state FILE`` times ``--steps`` steps of the paper case (seed 0 mesh)
 from a state a run wrote (``runs/<run>/raw/state.bin``), at both settings:
 the crowded end of the compaction without recomputing its start.
+
+``--periodic 100,400`` times the periodic cell against the walled box with
+the same disks (:mod:`.periodic`).
 
 ``--full`` also runs the whole paper case (fast settings, seed 0) with
 ``./softpack run`` and reports its wall time.
@@ -96,6 +99,9 @@ def _parser() -> argparse.ArgumentParser:
                         help="run --disks on R MPI ranks (default 1)")
     parser.add_argument("--disks-phi", type=float, default=0.88,
                         help="packing fraction that ends --disks")
+    parser.add_argument("--periodic", metavar="N,...",
+                        help="only time --steps steps of N paper disks in a"
+                        " periodic cell and in the walled box (e.g. 100,400)")
     return parser
 
 
@@ -113,6 +119,8 @@ def main(argv=None) -> int:
         print(table(result))
         ranks = f"r{args.disks_ranks}-" if args.disks_ranks > 1 else ""
         return _save(result, f"disks-{args.disks}-{ranks}{_stamp()}.json")
+    if args.periodic:
+        return _periodic(args)
     if args.mpi:
         from softpack.bench.mpi import bench_mpi, table
         report = bench_mpi(WORK, args.steps, args.from_state,
@@ -122,6 +130,21 @@ def main(argv=None) -> int:
     if args.invariance:
         return _invariance(args)
     return _default(args)
+
+
+def _periodic(args) -> int:
+    """``--periodic N,...``."""
+    from softpack.bench.periodic import bench_periodic, table
+
+    try:
+        counts = [int(n) for n in args.periodic.split(",")]
+    except ValueError:
+        print("softpack bench: --periodic takes disk counts separated by"
+              f" commas, e.g. 100,400; got {args.periodic!r}")
+        return 2
+    report = bench_periodic(counts, args.steps)
+    print(table(report))
+    return _save_quiet(report, f"periodic-{_stamp()}.json")
 
 
 def _invariance(args) -> int:

@@ -76,8 +76,12 @@ def half_box_time(key, box, speed, fastest, wall) -> float:
 
 
 def initial_packing_fraction(sections) -> float:
-    """Area of the rigid particles over the box's (0 without a box)."""
-    box = sections["box"]
+    """Area of the rigid particles over the box's or the periodic cell's
+    (0 with neither)."""
+    box, cell = sections["box"], sections["cell"]
+    if cell["enabled"]:
+        (a1x, a1y), (a2x, a2y) = cell["a1"], cell["a2"]
+        return total_area(sections["species"]) / abs(a1x * a2y - a1y * a2x)
     if not box["enabled"]:
         return 0.0
     return total_area(sections["species"]) / (box["length"] * box["width"])
