@@ -273,7 +273,14 @@ std::vector<ImagePair> near_image_pairs(const bodies::BodySet& bodies,
   for (std::size_t b = 0; b < boxes.size(); ++b)
     check_body_fits(cell, static_cast<int>(b),
                     {boxes[b].x1 - boxes[b].x0, boxes[b].y1 - boxes[b].y0});
-  // Every body's box shifted to its 9 nearest images, k in {-1, 0, 1}^2
+  // Every body's box shifted to its 9 nearest images, k in {-1, 0, 1}^2,
+  // kept only if it reaches the region the bodies occupy: an image beyond
+  // it is near no body, and most images of the bodies away from the
+  // cell's edges are (the grid then holds about N boxes, not 9 N).
+  Box occupied = boxes.empty() ? Box{0, 0, 0, 0} : boxes.front();
+  for (const Box& o : boxes)
+    occupied = {std::min(occupied.x0, o.x0), std::min(occupied.y0, o.y0),
+                std::max(occupied.x1, o.x1), std::max(occupied.y1, o.y1)};
   std::vector<Box> images;
   std::vector<std::pair<int, ImageShift>> owner;
   for (std::size_t b = 0; b < boxes.size(); ++b)
@@ -282,7 +289,10 @@ std::vector<ImagePair> near_image_pairs(const bodies::BodySet& bodies,
       {
         const std::array<double, 2> s = cell.shift({k0, k1});
         const Box& o = boxes[b];
-        images.push_back({o.x0 + s[0], o.y0 + s[1], o.x1 + s[0], o.y1 + s[1]});
+        const Box image{o.x0 + s[0], o.y0 + s[1], o.x1 + s[0], o.y1 + s[1]};
+        if (!occupied.overlaps(image, margin))
+          continue;
+        images.push_back(image);
         owner.push_back({static_cast<int>(b), {k0, k1}});
       }
   if (images.empty())
