@@ -23,6 +23,7 @@ COMMANDS = {
     "plot-loading": "softpack.plots.loading",
     "bench": "softpack.bench",
     "reference3d": "softpack.references.cylinder3d",
+    "reference2d": "softpack.references.disk_mixed",
 }
 
 

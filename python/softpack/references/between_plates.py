@@ -41,6 +41,7 @@ class Params:
     friction: float = 1e-2       # pins the rolling mode (module doc)
     every: int = 10              # output every this many steps
     orientation: str = "node_up"  # or "as_meshed" (see put_node_up)
+    lame_lambda: float | None = None  # Pa; None: the material's default
 
     @property
     def radius(self) -> float:
@@ -84,6 +85,8 @@ def config_data(params: Params, y_bottom: float, y_top: float) -> dict:
         "damping": {"alpha": params.alpha},
         "output": {"every_steps": params.every, "fields": True,
                    "fields_every": 1, "state": False},
+        **({"material": {"parameters": {"lame_lambda": params.lame_lambda}}}
+           if params.lame_lambda is not None else {}),
     }
 
 

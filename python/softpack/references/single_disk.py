@@ -307,6 +307,10 @@ def _parser():
                    help="node_up (default): turn the mesh so that a boundary"
                    " node lies on the loading axis; as_meshed: as gmsh made"
                    " it")
+    p.add_argument("--lame-lambda", type=cli.positive_float, default=None,
+                   help="the material's lame_lambda (Pa; default the"
+                   " configuration's, 2 mu: nu~ = 1/3); e.g. 499 mu for a"
+                   " nearly incompressible nu~ = 0.499")
     p.add_argument("--shape", choices=("disk", "square", "pentagon"),
                    default="disk",
                    help="disk (default, this check); square or pentagon:"
@@ -328,7 +332,8 @@ def main(argv=None) -> int:
                     max_strain=args.max_strain, speed=args.speed,
                     time_step=args.time_step, alpha=args.alpha,
                     friction=args.friction,
-                    every=args.every, orientation=args.orientation)
+                    every=args.every, orientation=args.orientation,
+                    lame_lambda=args.lame_lambda)
     if params.max_strain < max(PROFILE_STRAINS):
         print("softpack single-disk: note: --max-strain < 0.2: the"
               " profiles beyond it are not written", flush=True)
@@ -345,11 +350,14 @@ def main(argv=None) -> int:
         return 1
     curve, meta = result["curve"], result["meta"]
     from softpack.references.cylinder3d import johnson_line_contact
+    parameters = meta["config"]["material"]["parameters"]
+    lam, mu = parameters["lame_lambda"], parameters["shear_modulus"]
+    nu = lam / (2 * (lam + mu))
     for e in (0.01, 0.05, 0.10, 0.15, 0.20):
         if e <= curve["eps"][-1]:
             print(f"  eps = {e:.2f}: f_norm = {value_at(curve, e):.5g}"
-                  f"  (Johnson nu = 1/3: "
-                  f"{johnson_line_contact(e, 1 / 3)[0]:.5g})")
+                  f"  (Johnson nu = {nu:.4g}: "
+                  f"{johnson_line_contact(e, nu)[0]:.5g})")
     print(f"softpack single-disk: {meta['triangles']} triangles, driver"
           f" {meta['driver_seconds']:.0f} s; wrote {args.out}/force_2d.csv,"
           " profile_2d.csv, run_2d.json")
