@@ -262,6 +262,33 @@ def compress_disk(diameter=0.02, mu=0.15e6, nu=0.499, element_size=5e-4,
     return out
 
 
+def p1_curve(mesh_h5, mu=0.15e6, nu=0.499, nodal_pressure=False,
+             max_strain=0.2, n_steps=20, diameter=0.02) -> dict:
+    """The static P1 disk on a softpack mesh (``sim/mesh/disk.h5`` of a
+    ``./softpack single-disk`` run), the plates at its extreme nodes: the
+    element's own volumetric energy (what the driver does today, which
+    locks) or the averaged nodal pressure (:mod:`.nodal_pressure`)."""
+    from softpack.analysis.fields import read_mesh
+    from softpack.references.nodal_pressure import NodalPressureReference
+    from softpack.references.plates_reference import static_reference
+
+    start = time.perf_counter()
+    points, cells = read_mesh(mesh_h5)
+    y = np.asarray(points)[:, 1]
+    curve = static_reference(
+        points, cells, mu, lame_lambda(mu, nu), float(y.min()),
+        float(y.max()), diameter, max_strain, n_steps,
+        model=NodalPressureReference if nodal_pressure else None)
+    return {"eps": list(curve["eps"]), "f_norm": list(curve["f_norm"]),
+            "f_norm_sym": list(curve["f_norm_top"]),
+            "energy": list(curve["energy"]),
+            "penalty_energy": [math.nan] * len(curve["eps"]),
+            "diameter": diameter, "mu": mu, "nu": nu,
+            "model": "p1_nodal_pressure" if nodal_pressure else "p1",
+            "mesh": str(mesh_h5), "triangles": int(len(cells)),
+            "seconds": time.perf_counter() - start}
+
+
 def model_name(nu: float, mixed: bool) -> str:
     """``nu0499_mixed``, ``nu0333_p2``, ..."""
     digits = f"{nu:.4f}".replace("0.", "").rstrip("0") or "0"
@@ -272,14 +299,19 @@ def write_outputs(result: dict, out_dir) -> Path:
     """The force CSV and the run's JSON; returns the CSV's path."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    name = model_name(result["nu"], result["mixed"])
-    csv = out / f"force_2d_mixed_{name}.csv"
+    if "model" in result:   # a P1 curve on a softpack mesh
+        name = model_name(result["nu"], True).replace(
+            "mixed", result["model"])
+        csv = out / f"force_2d_{name}.csv"
+    else:
+        name = model_name(result["nu"], result["mixed"])
+        csv = out / f"force_2d_mixed_{name}.csv"
     write_table(csv, {"eps": result["eps"], "f_norm": result["f_norm"],
                       "f_norm_sym": result["f_norm_sym"],
                       "energy_J_per_m": result["energy"],
                       "penalty_energy_J_per_m": result["penalty_energy"]})
     settings = {k: v for k, v in result.items() if not isinstance(v, list)}
-    (out / f"run_2d_mixed_{name}.json").write_text(
+    (out / csv.name.replace("force_", "run_").replace(".csv", ".json")).write_text(
         json.dumps(settings, indent=2) + "\n")
     return csv
 
@@ -304,7 +336,17 @@ def main(argv=None) -> int:
                         help="plate stiffness in mu/R (default 1e4)")
     parser.add_argument("--diameter", type=positive_float, default=0.02)
     parser.add_argument("--mu", type=positive_float, default=0.15e6)
+    parser.add_argument("--p1-mesh", type=Path, metavar="H5",
+                        help="instead: the static P1 disk on this softpack"
+                        " mesh (a single-disk run's sim/mesh/disk.h5)")
+    parser.add_argument("--nodal-pressure", action="store_true",
+                        help="with --p1-mesh: the averaged nodal pressure"
+                        " (softpack.references.nodal_pressure)")
     args = parser.parse_args(argv)
+    if args.nodal_pressure and args.p1_mesh is None:
+        parser.error("--nodal-pressure needs --p1-mesh")
+    if args.p1_mesh is not None and not args.p1_mesh.is_file():
+        parser.error(f"--p1-mesh {args.p1_mesh}: no such file")
     if not 0.0 <= args.nu < 0.5:
         parser.error(f"--nu {args.nu}: must be in [0, 0.5)")
     if not log.handlers:
@@ -315,6 +357,13 @@ def main(argv=None) -> int:
     log.setLevel(logging.INFO)
     log.propagate = False
     logging.getLogger().setLevel(logging.WARNING)   # FFCx/cffi JIT chatter
+    if args.p1_mesh is not None:
+        result = p1_curve(args.p1_mesh, args.mu, args.nu, args.nodal_pressure,
+                          args.max_strain, args.steps, args.diameter)
+        csv = write_outputs(result, args.out)
+        log.info("%s on %d triangles, %.0f s; wrote %s", result["model"],
+                 result["triangles"], result["seconds"], csv)
+        return 0
     result = compress_disk(args.diameter, args.mu, args.nu, args.element_size,
                            args.max_strain, args.steps,
                            not args.displacement, args.penalty)

@@ -138,11 +138,14 @@ class _Reference:
 
 
 def static_reference(points, cells, mu, lam, y_bottom0, y_top0, diameter,
-                     max_strain, n_steps=40, penalty=1e5, max_halvings=6):
+                     max_strain, n_steps=40, penalty=1e5, max_halvings=6,
+                     model=None):
     """The dolfinx curve (module doc): eps, f_norm (mean of the plates) and
-    each plate's, Newton iterations, penetration and pin reaction."""
-    ref = _Reference(np.asarray(points, float), np.asarray(cells),
-                     mu, lam, penalty * mu / diameter)
+    each plate's, Newton iterations, penetration and pin reaction. ``model``
+    another problem class with _Reference's interface (e.g.
+    :class:`softpack.references.nodal_pressure.NodalPressureReference`)."""
+    ref = (model or _Reference)(np.asarray(points, float), np.asarray(cells),
+                                mu, lam, penalty * mu / diameter)
     height = y_top0 - y_bottom0
     middle = 0.5 * (y_top0 + y_bottom0)
     tolerance = 1e-10 * diameter
