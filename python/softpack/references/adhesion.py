@@ -50,8 +50,9 @@ SOURCE = "adhesion"
 
 @dataclass
 class Params:
-    """The adhesion protocol (SI units). Defaults: lambda = 1 (the cohesive
-    zone's length comparable with a), a_0 = 0.91 mm = 0.09 R."""
+    """The adhesion protocol (SI units). Defaults: Baney & Hui's lambda =
+    2.5 (the cohesive zone's length comparable with a: c/a = 1.54 at the
+    pull-off), a_0 = 0.90 mm = 0.09 R."""
 
     diameter: float = 0.020
     cohesion: float = 2.8e4          # sigma_c, Pa
@@ -63,6 +64,7 @@ class Params:
     press: float = 1.0e-4            # each plate's travel, pressing, m
     pull: float = 2.0e-4             # ... pulling
     time_step: float = 5.0e-5
+    theta: float = 0.6               # 0.5 diverges on fine meshes (README)
     alpha: float = 200.0
     every: int = 20
 
@@ -141,7 +143,7 @@ def config_data(params: Params, mesh_file, y_bottom, y_top) -> dict:
                       "max_time": 2 * params.pull / v}}],
         "stop": {"packing_fraction": 0.0},
         "contact": {"friction": 0.0, "nlgs_tolerance": 1e-8},
-        "time": {"time_step": params.time_step, "theta": 0.5,
+        "time": {"time_step": params.time_step, "theta": params.theta,
                  "max_step_factor": 1.0},
         "damping": {"alpha": params.alpha},
         "output": {"every_steps": params.every, "fields": True,
@@ -186,7 +188,8 @@ def _parser():
             ("speed", d.speed, "each plate, m/s"),
             ("press", d.press, "each plate's travel pressing, m"),
             ("pull", d.pull, "each plate's travel pulling, m"),
-            ("time-step", d.time_step, "s")):
+            ("time-step", d.time_step, "s"),
+            ("theta", d.theta, "Moreau-Jean theta")):
         p.add_argument("--" + name, type=cli.positive_float, default=value,
                        help=f"{unit} (default {value:g})")
     p.add_argument("--every", type=cli.positive_int, default=d.every,
@@ -205,7 +208,8 @@ def main(argv=None) -> int:
                     cohesive_distance=args.cohesive_distance,
                     h_fine=args.h_fine, h_coarse=args.h_coarse,
                     speed=args.speed, press=args.press, pull=args.pull,
-                    time_step=args.time_step, every=args.every)
+                    time_step=args.time_step, theta=args.theta,
+                    every=args.every)
     try:
         meta = simulate(params, args.out)
         result = adhesion_measure.measure(args.out / "sim", params)

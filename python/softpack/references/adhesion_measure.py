@@ -21,9 +21,9 @@ pull stage:
 
 The pull-off force is the least P of the pull stage; a_0 and c_0 are
 interpolated linearly in P between the two output rows where P changes
-sign (compressive to tensile) in the pull stage. The effective radius of
-the meshed arc is fitted to the reference boundary nodes within
-``fit_arc`` of the axis (y = y_0 + x^2 / (2 R)).
+sign (compressive to tensile) in the pull stage. The theory's R is the
+radius of the circle fitted to the reference boundary nodes within
+``fine_arc`` of the axis.
 """
 
 from __future__ import annotations
@@ -57,11 +57,16 @@ def boundary(points, triangles):
 
 
 def fitted_radius(points, ordered, fit_arc) -> float:
-    """R of y = y0 + x^2/(2R) through the lowest boundary nodes."""
+    """Radius of the circle through the lowest boundary nodes (those within
+    ``fit_arc`` of the axis), least squares on x^2 + y^2 = 2 x0 x + 2 y0 y
+    + k: the meshed arc's own curvature (a .msh is scaled to its area)."""
     x, y = points[ordered].T
     near = (np.abs(x) < fit_arc) & (y < 0)
-    coeff = np.polyfit(x[near], y[near], 2)
-    return float(1.0 / (2.0 * coeff[0]))
+    matrix = np.column_stack([2 * x[near], 2 * y[near],
+                              np.ones(near.sum())])
+    (x0, y0, k), *_ = np.linalg.lstsq(matrix, x[near] ** 2 + y[near] ** 2,
+                                      rcond=None)
+    return float(np.sqrt(k + x0 * x0 + y0 * y0))
 
 
 def _contacts(path, wall):

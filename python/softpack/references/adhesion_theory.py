@@ -28,9 +28,12 @@ the half-plane's Green function, the pressure bounded at x = +-a:
 
 with s = sqrt(c^2 - a^2); the second line is the gap at x = c. As
 sigma_0 -> infinity at fixed w (s << a) it gives 2 sigma_0 s ->
-sqrt(2 pi E* w a), the JKR line above. The parameter
-lambda = sigma_0 (4 R / (pi^2 E*^2 w))^(1/3) measures the cohesive zone:
-in the JKR limit s / a = 1 / lambda at a = a_c.
+sqrt(2 pi E* w a), the JKR line above. The same two equations, written
+in Baney & Hui's dimensionless variables (their eq. 23 for c / a, and
+P = a^2 - lambda a sqrt(m^2 - 1)), give the same P(a) to 1e-12
+(tests/python/test_adhesion.py). Baney & Hui's parameter
+lambda = 4 sigma_0 (R / (pi^2 E*^2 w))^(1/3) measures the cohesive zone
+(JKR as lambda -> infinity: s / a = 4^(2/3) / lambda at a = a_c).
 """
 
 from __future__ import annotations
@@ -57,8 +60,8 @@ class LineContact:
 
     @property
     def maugis_lambda(self) -> float:
-        """sigma_0 (4 R / (pi^2 E*^2 w))^(1/3)."""
-        return self.cohesion * (4.0 * self.radius / (
+        """Baney & Hui's 4 sigma_0 (R / (pi^2 E*^2 w))^(1/3)."""
+        return 4.0 * self.cohesion * (self.radius / (
             math.pi ** 2 * self.modulus ** 2 * self.work)) ** (1.0 / 3.0)
 
     # ------------------------------------------------------------ JKR
