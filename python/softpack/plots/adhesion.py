@@ -10,7 +10,8 @@
     difference from the Maugis–Dugdale line contact, the energy residual;
 ``DIR/force_width.png`` (and ``.pdf``)
     P against a: the Maugis–Dugdale and JKR curves of the finest run's
-    parameters, the measured (P, a) of the pull stage of every run.
+    parameters, the measured (P, a) of the pull stage of every run at the
+    finest run's speed and time step.
 """
 
 from __future__ import annotations
@@ -77,7 +78,10 @@ def figure(results, path) -> None:
                 label=f"Maugis–Dugdale ($\\lambda$ = {t['lambda']:.2f})")
         ax.plot(a * 1e3, [theory.jkr_load(x) for x in a], "k--",
                 label="JKR")
-        for name, result in sorted(results,
+        same = [(n, r) for n, r in results
+                if r["params"]["speed"] == p["speed"]
+                and r["params"]["time_step"] == p["time_step"]]
+        for name, result in sorted(same,
                                    key=lambda nr: -nr[1]["params"]["h_fine"]):
             pts = np.array(result["curve"])
             keep = pts[:, 1] > 0

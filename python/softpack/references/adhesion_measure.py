@@ -21,7 +21,9 @@ pull stage:
 
 The pull-off force is the least P of the pull stage; a_0 and c_0 are
 interpolated linearly in P between the two output rows where P changes
-sign (compressive to tensile) in the pull stage. The theory's R is the
+sign (compressive to tensile) in the pull stage. At the loads
+``HYSTERESIS_LOADS`` a and c are read on both branches, pressing and
+pulling (the discrete edge's hysteresis). The theory's R is the
 radius of the circle fitted to the reference boundary nodes within
 ``fine_arc`` of the axis.
 """
@@ -35,6 +37,8 @@ import numpy as np
 
 #: A contact is closed when fn > -(1 - this) sigma_c l_k.
 CLOSED_MARGIN = 1e-3
+#: Loads (N/m) at which a is read on both branches (the hysteresis).
+HYSTERESIS_LOADS = (5.0, 10.0, 15.0)
 
 
 class MeasureError(RuntimeError):
@@ -131,53 +135,88 @@ def _steps(sim_dir):
 
 def measure(sim_dir, params) -> dict:
     """Pull-off force, a_0, c_0, the P(a) points of the pull stage, the
-    energy balance, against the theory (:mod:`.adhesion_theory`)."""
+    widths on both branches, the energy balance, and the theory's
+    numbers (:mod:`.adhesion_theory`)."""
     import json
 
     from softpack.analysis.fields import read_mesh
-    from softpack.references.adhesion_theory import LineContact
 
     sim_dir = Path(sim_dir)
     steps = _steps(sim_dir)
     driver = json.loads((sim_dir / "driver.json").read_text())
-    walls = [w["name"] for w in driver["walls"]]
-    shear_modulus = driver["material"]["parameters"]["shear_modulus"]
     points, triangles = read_mesh(sim_dir / "fields.h5")
     ordered, share = boundary(points, triangles)
-    geometry = (points, ordered, share, walls.index("bottom"))
+    geometry = (points, ordered, share,
+                [w["name"] for w in driver["walls"]].index("bottom"))
     pull = np.flatnonzero(steps["stage"] == 1)
     if pull.size < 3:
         raise MeasureError(f"{sim_dir}: no pull stage in raw/steps.csv")
     load = -steps["bottom_fy"]
     k = int(pull[np.argmin(load[pull])])
-    cross = [i for i in pull[1:] if load[i - 1] > 0 >= load[i]]
-    if not cross:
-        raise MeasureError(f"{sim_dir}: the load never turns tensile")
-    i1 = cross[0]
-    i0 = i1 - 1
-    s = load[i0] / (load[i0] - load[i1])
-    at = [widths(sim_dir, int(steps["step"][i]), steps["time"][i], params,
-                 geometry) for i in (i0, i1)]
-    a0 = (1 - s) * at[0][0] + s * at[1][0]
-    c0 = (1 - s) * at[0][1] + s * at[1][1]
+    a0, c0 = zero_load_widths(sim_dir, steps, load, pull, params, geometry)
     curve = [(float(load[i]),) + widths(sim_dir, int(steps["step"][i]),
                                         steps["time"][i], params, geometry)
              for i in pull[::2]]
     radius = fitted_radius(points, ordered, params.fine_arc)
-    # plane strain, lambda = 2 mu: nu = 1/3, E* = E / (1 - nu^2) = 3 mu
-    theory = LineContact(radius, 3 * shear_modulus, params.cohesion,
-                         params.cohesive_distance)
-    return {"pull_off": float(load[k]), "pull_off_time": float(
-        steps["time"][k]), "a_pull_off": widths(
-            sim_dir, int(steps["step"][k]), steps["time"][k], params,
-            geometry)[0],
-        "a0": float(a0), "c0": float(c0),
-        "radius_fitted": radius,
-        "theory": theory_numbers(theory),
-        "balance": balance(steps),
+    theory = theory_of(driver["material"]["parameters"], radius, params)
+    return {
+        "pull_off": float(load[k]), "pull_off_time": float(steps["time"][k]),
+        "a_pull_off": widths(sim_dir, int(steps["step"][k]),
+                             steps["time"][k], params, geometry)[0],
+        "a0": a0, "c0": c0, "radius_fitted": radius,
+        "theory": theory_numbers(theory), "balance": balance(steps),
+        "branches": {f"{target:g}": branch_widths(
+            sim_dir, steps, load, target, params, geometry, theory)
+            for target in HYSTERESIS_LOADS},
         "curve": curve,
         "boundary_spacing_at_contact": float(np.median(
             share[np.abs(points[ordered, 0]) < params.fine_arc]))}
+
+
+def theory_of(material, radius, params):
+    """The line contact of the run: plane strain, E* = 4 mu (lambda + mu)
+    / (lambda + 2 mu) = E / (1 - nu^2) (3 mu for lambda = 2 mu)."""
+    from softpack.references.adhesion_theory import LineContact
+
+    mu, lam = material["shear_modulus"], material["lame_lambda"]
+    return LineContact(radius, 4 * mu * (lam + mu) / (lam + 2 * mu),
+                       params.cohesion, params.cohesive_distance)
+
+
+def zero_load_widths(sim_dir, steps, load, pull, params, geometry):
+    """(a_0, c_0): interpolated in P between the two rows where the pull
+    stage's load turns from compressive to tensile."""
+    cross = [i for i in pull[1:] if load[i - 1] > 0 >= load[i]]
+    if not cross:
+        raise MeasureError(f"{sim_dir}: the load never turns tensile")
+    i0, i1 = cross[0] - 1, cross[0]
+    s = load[i0] / (load[i0] - load[i1])
+    at = [widths(sim_dir, int(steps["step"][i]), steps["time"][i], params,
+                 geometry) for i in (i0, i1)]
+    return (float((1 - s) * at[0][0] + s * at[1][0]),
+            float((1 - s) * at[0][1] + s * at[1][1]))
+
+
+def branch_widths(sim_dir, steps, load, target, params, geometry,
+                  theory) -> dict:
+    """a and c at the output row nearest the load ``target`` on the
+    pressing and on the pulling branch, and the theory's a and c there."""
+    from scipy import optimize
+
+    out = {}
+    for name, stage in (("press", 0), ("pull", 1)):
+        rows = np.flatnonzero(steps["stage"] == stage)
+        i = int(rows[np.argmin(np.abs(load[rows] - target))])
+        a, c = widths(sim_dir, int(steps["step"][i]), steps["time"][i],
+                      params, geometry)
+        out[name] = {"P": float(load[i]), "a": a, "c": c}
+    a_c, _ = theory.md_pull_off()
+    hi = 2 * a_c
+    while theory.md_load(hi) < target:
+        hi *= 2
+    a = optimize.brentq(lambda x: theory.md_load(x) - target, a_c, hi)
+    out["md"] = {"P": float(target), "a": a, "c": theory.zone_end(a)}
+    return out
 
 
 def theory_numbers(theory) -> dict:
