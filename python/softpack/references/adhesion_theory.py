@@ -7,9 +7,8 @@ compressive positive). The cohesive law of docs/contact_laws.md is a
 Dugdale zone: a constant tension sigma_0 = sigma_c wherever the gap is
 within h_0 = g_c, and the work of adhesion is w = sigma_0 h_0.
 
-JKR (Barquins, J. Adhesion 26 (1988) 1; Chaudhury, Weaver, Hui & Kramer,
-J. Appl. Phys. 80 (1996) 30, eq. for the cylinder; a sharp edge, sigma_0 ->
-infinity at fixed w):
+JKR (Chaudhury, Weaver, Hui & Kramer, J. Appl. Phys. 80 (1996) 30, the
+cylinder; a sharp edge, sigma_0 -> infinity at fixed w):
 
     P(a) = pi E* a^2 / (4 R) - sqrt(2 pi E* w a)
 
@@ -18,8 +17,7 @@ a_c = (2 w R^2 / (pi E*))^(1/3) with P_c = -3 (pi E* w^2 R / 16)^(1/3),
 and whose zero-load half-width is a_0 = (32 w R^2 / (pi E*))^(1/3).
 
 Maugis–Dugdale line contact (the cohesive zone a < |x| < c resolved;
-Baney & Hui, J. Adhesion Sci. Technol. 11 (1997) 393; Johnson & Greenwood,
-J. Phys. D 41 (2008) 155315), derived here (docs/adhesion/README.md) from
+Baney & Hui, J. Adhesion Sci. Technol. 11 (1997) 393), derived here (docs/adhesion/README.md) from
 the half-plane's Green function, the pressure bounded at x = +-a:
 
     P = pi E* a^2 / (4 R) - 2 sigma_0 sqrt(c^2 - a^2)
