@@ -17,8 +17,9 @@ a_c = (2 w R^2 / (pi E*))^(1/3) with P_c = -3 (pi E* w^2 R / 16)^(1/3),
 and whose zero-load half-width is a_0 = (32 w R^2 / (pi E*))^(1/3).
 
 Maugis–Dugdale line contact (the cohesive zone a < |x| < c resolved;
-Baney & Hui, J. Adhesion Sci. Technol. 11 (1997) 393), derived here (docs/adhesion/README.md) from
-the half-plane's Green function, the pressure bounded at x = +-a:
+Baney & Hui, J. Adhesion Sci. Technol. 11 (1997) 393), derived here
+(docs/adhesion/README.md) from the half-plane's Green function, the
+pressure bounded at x = +-a:
 
     P = pi E* a^2 / (4 R) - 2 sigma_0 sqrt(c^2 - a^2)
     h_0 = [c s - a^2 ln((c + s) / a)] / (2 R)
@@ -66,7 +67,8 @@ class LineContact:
     def jkr_load(self, a: float) -> float:
         """P(a), N/m."""
         e, r, w = self.modulus, self.radius, self.work
-        return math.pi * e * a * a / (4 * r) - math.sqrt(2 * math.pi * e * w * a)
+        return (math.pi * e * a * a / (4 * r)
+                - math.sqrt(2 * math.pi * e * w * a))
 
     def jkr_pull_off(self) -> tuple:
         """(a_c, P_c): the load-controlled pull-off (P_c < 0)."""
