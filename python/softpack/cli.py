@@ -18,6 +18,7 @@ COMMANDS = {
     "mesh": "softpack.scene.mesh",
     "single-disk": "softpack.references.single_disk",
     "plates": "softpack.references.plates",
+    "adhesion": "softpack.references.adhesion",
     "plot-single-disk": "softpack.plots.single_disk",
     "plot": "softpack.plots.paper",
     "plot-loading": "softpack.plots.loading",
