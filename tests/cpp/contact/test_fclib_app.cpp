@@ -41,8 +41,8 @@ AppRun run_app(const std::string& args, const TempDir& dir)
   const int status = ::pclose(pipe);
   const std::chrono::duration<double> wall =
       std::chrono::steady_clock::now() - start;
-  AppRun run{
-      WIFEXITED(status) ? WEXITSTATUS(status) : -1, {}, {}, wall.count()};
+  AppRun run{WIFEXITED(status) ? WEXITSTATUS(status) : -1, {}, {},
+             wall.count()};
   std::istringstream lines(out);
   for (std::string line; std::getline(lines, line);)
     run.lines.push_back(nlohmann::ordered_json::parse(line));
