@@ -102,12 +102,15 @@ std::vector<double> SlideCondition::roots() const
   const int degree = hi - lo;
   if (degree < 1)
     return angles;
-  Eigen::MatrixXcd companion = Eigen::MatrixXcd::Zero(degree, degree);
+  // at most 4 x 4: no allocation in the sweep's hot loop
+  using Companion =
+      Eigen::Matrix<complex, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
+  Companion companion = Companion::Zero(degree, degree);
   for (int k = 0; k < degree; ++k)
     companion(0, k) = -c[hi - 1 - k] / c[hi];
   for (int k = 1; k < degree; ++k)
     companion(k, k - 1) = 1.0;
-  const Eigen::ComplexEigenSolver<Eigen::MatrixXcd> eigen(companion, false);
+  const Eigen::ComplexEigenSolver<Companion> eigen(companion, false);
   for (Eigen::Index k = 0; k < eigen.eigenvalues().size(); ++k)
   {
     const complex z = eigen.eigenvalues()[k];

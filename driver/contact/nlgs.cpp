@@ -20,14 +20,6 @@ namespace
 {
 //-----------------------------------------------------------------------------
 template <int D>
-bool splits_problem(const FrictionContactProblem<D>& problem,
-                    const NlgsOptions& options)
-{
-  return options.split_min_contacts > 0 and
-         problem.num_contacts() >= options.split_min_contacts;
-}
-//-----------------------------------------------------------------------------
-template <int D>
 void check_arguments(const FrictionContactProblem<D>& problem,
                      std::span<double> r, std::span<double> u,
                      const NlgsOptions& options)
@@ -57,7 +49,7 @@ void check_plan(const SweepPlanD<D>& plan,
   if (plan.problem.num_contacts() != problem.num_contacts() or
       plan.problem.W.num_offdiagonal_blocks() !=
           problem.W.num_offdiagonal_blocks() or
-      plan.split != splits_problem(problem, options) or
+      plan.split != splits(problem, options) or
       plan.sweep_order != options.order)
     throw std::invalid_argument(
         "solve_nlgs: the sweep plan was made for another W or other "
@@ -360,34 +352,10 @@ SweepOrder softpack::contact::sweep_order(const std::string& name)
                               "\": must be \"contact\" or \"alternate\"");
 }
 //-----------------------------------------------------------------------------
-bool softpack::contact::splits(const FrictionContactProblem2D& problem,
-                               const NlgsOptions& options)
-{
-  return splits_problem(problem, options);
-}
-//-----------------------------------------------------------------------------
-bool softpack::contact::splits(const FrictionContactProblem3D& problem,
-                               const NlgsOptions& options)
-{
-  return splits_problem(problem, options);
-}
-//-----------------------------------------------------------------------------
-bool softpack::contact::renumbers(const FrictionContactProblem2D& problem,
-                                  const NlgsOptions& options)
-{
-  return splits(problem, options) or options.order != SweepOrder::contact;
-}
-//-----------------------------------------------------------------------------
-bool softpack::contact::renumbers(const FrictionContactProblem3D& problem,
-                                  const NlgsOptions& options)
-{
-  return splits(problem, options) or options.order != SweepOrder::contact;
-}
-//-----------------------------------------------------------------------------
 template <int D>
 SweepPlanD<D>::SweepPlanD(const FrictionContactProblem<D>& problem,
                           const NlgsOptions& options)
-    : split(splits_problem(problem, options)), sweep_order(options.order)
+    : split(splits(problem, options)), sweep_order(options.order)
 {
   const std::size_t n = problem.num_contacts();
   if (split)

@@ -128,17 +128,22 @@ struct SweepDomain
 
 /// true when solve_nlgs() sweeps the problem in the order of
 /// split_for_two_threads() (NlgsOptions::split_min_contacts)
-bool splits(const FrictionContactProblem2D& problem,
-            const NlgsOptions& options);
-bool splits(const FrictionContactProblem3D& problem,
-            const NlgsOptions& options);
+template <int D>
+bool splits(const FrictionContactProblem<D>& problem,
+            const NlgsOptions& options)
+{
+  return options.split_min_contacts > 0 and
+         problem.num_contacts() >= options.split_min_contacts;
+}
 
 /// true when solve_nlgs() sweeps the problem renumbered (SweepPlan): when
 /// it splits() or the order is not the contact order
-bool renumbers(const FrictionContactProblem2D& problem,
-               const NlgsOptions& options);
-bool renumbers(const FrictionContactProblem3D& problem,
-               const NlgsOptions& options);
+template <int D>
+bool renumbers(const FrictionContactProblem<D>& problem,
+               const NlgsOptions& options)
+{
+  return splits(problem, options) or options.order != SweepOrder::contact;
+}
 
 /// A problem's contacts renumbered in the order of its sweeps, so that a
 /// sweep reads W's rows one after the other: the split's part 0, part 1

@@ -14,6 +14,7 @@
 #include <hdf5.h>
 
 #include <cmath>
+#include <type_traits>
 
 #ifdef SOFTPACK_HAVE_SICONOS
 #include "siconos_reference.h"
@@ -136,11 +137,66 @@ TEST(Fclib3dRead, RefusesOtherDimensionsAndCsparseText)
   }
 }
 
+namespace
+{
+/// One dataset of /fclib_global
+template <typename T>
+void write(hid_t file, const std::string& name, const std::vector<T>& v)
+{
+  const hid_t type =
+      std::is_same_v<T, int> ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE;
+  const hsize_t n = v.size();
+  hid_t space = H5Screate_simple(1, &n, nullptr);
+  hid_t set = H5Dcreate2(file, ("/fclib_global/" + name).c_str(), type, space,
+                         H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Dclose(set);
+  H5Sclose(space);
+}
+
+std::vector<double> values(const Eigen::MatrixXd& m)
+{
+  return {m.data(), m.data() + m.size()};
+}
+
+/// A global problem with 6 velocities and 2 contacts: M diagonal (as
+/// triplets), H dense (as compressed columns)
+void write_global(const std::filesystem::path& path, const Eigen::MatrixXd& H,
+                  const Eigen::VectorXd& m, const Eigen::VectorXd& f,
+                  const Eigen::VectorXd& w)
+{
+  hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  for (const char* g : {"", "/M", "/H", "/vectors"})
+    H5Gclose(H5Gcreate2(file, (std::string("/fclib_global") + g).c_str(),
+                        H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+  write(file, "spacedim", std::vector<int>{3});
+  for (const std::string M : {"M/", "H/"})
+    for (const char* k : {"m", "n"})
+      write(file, M + k, std::vector<int>{6});
+  write(file, "M/nz", std::vector<int>{6});
+  write(file, "M/nzmax", std::vector<int>{6});
+  write(file, "M/i", std::vector<int>{0, 1, 2, 3, 4, 5});
+  write(file, "M/p", std::vector<int>{0, 1, 2, 3, 4, 5}); // triplets: column
+  write(file, "M/x", values(m));
+  write(file, "H/nz", std::vector<int>{-1});
+  write(file, "H/nzmax", std::vector<int>{36});
+  write(file, "H/p", std::vector<int>{0, 6, 12, 18, 24, 30, 36});
+  std::vector<int> rows;
+  for (int k = 0; k < 36; ++k)
+    rows.push_back(k % 6);
+  write(file, "H/i", rows);
+  write(file, "H/x", values(H));
+  write(file, "vectors/f", values(f));
+  write(file, "vectors/w", values(w));
+  write(file, "vectors/mu", std::vector<double>{0.3, 0.5});
+  H5Fclose(file);
+}
+} // namespace
+
 TEST(Fclib3dGlobal, CondensedAsHTransposeMInverseH)
 {
-  // A global problem written by hand: 6 velocities (M as triplets), 2
-  // contacts (H dense, as compressed columns); W and q against a dense
-  // computation of H^T M^-1 H and H^T M^-1 f + w
+  // W and q of a hand-written global problem against a dense computation
+  // of H^T M^-1 H and H^T M^-1 f + w
   TempDir dir;
   const std::filesystem::path path = dir.path() / "global.hdf5";
   Eigen::MatrixXd H(6, 6);
@@ -149,56 +205,8 @@ TEST(Fclib3dGlobal, CondensedAsHTransposeMInverseH)
   const Eigen::VectorXd m = (Eigen::VectorXd(6) << 2, 2, 2, 4, 4, 5).finished();
   const Eigen::VectorXd f = Eigen::VectorXd::LinSpaced(6, -1, 1);
   const Eigen::VectorXd w = Eigen::VectorXd::LinSpaced(6, 0.5, -0.7);
-  {
-    hid_t file =
-        H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    for (const char* g : {"", "/M", "/H", "/vectors"})
-      H5Gclose(H5Gcreate2(file, (std::string("/fclib_global") + g).c_str(),
-                          H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-    auto ints = [&](const std::string& name, const std::vector<int>& v)
-    {
-      const hsize_t n = v.size();
-      hid_t space = H5Screate_simple(1, &n, nullptr);
-      hid_t set =
-          H5Dcreate2(file, ("/fclib_global/" + name).c_str(), H5T_NATIVE_INT,
-                     space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-      H5Dwrite(set, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-      H5Dclose(set);
-      H5Sclose(space);
-    };
-    auto doubles = [&](const std::string& name, const double* v, hsize_t n)
-    {
-      hid_t space = H5Screate_simple(1, &n, nullptr);
-      hid_t set =
-          H5Dcreate2(file, ("/fclib_global/" + name).c_str(), H5T_NATIVE_DOUBLE,
-                     space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-      H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v);
-      H5Dclose(set);
-      H5Sclose(space);
-    };
-    ints("spacedim", {3});
-    for (const char* M : {"M", "H"})
-      for (const char* k : {"/m", "/n"})
-        ints(std::string(M) + k, {6});
-    ints("M/nz", {6});
-    ints("M/nzmax", {6});
-    ints("M/i", {0, 1, 2, 3, 4, 5});
-    ints("M/p", {0, 1, 2, 3, 4, 5}); // triplets: column p
-    doubles("M/x", m.data(), 6);
-    ints("H/nz", {-1});
-    ints("H/nzmax", {36});
-    ints("H/p", {0, 6, 12, 18, 24, 30, 36});
-    std::vector<int> rows;
-    for (int k = 0; k < 36; ++k)
-      rows.push_back(k % 6);
-    ints("H/i", rows);
-    doubles("H/x", H.data(), 36);
-    doubles("vectors/f", f.data(), 6);
-    doubles("vectors/w", w.data(), 6);
-    const double mu[2] = {0.3, 0.5};
-    doubles("vectors/mu", mu, 2);
-    H5Fclose(file);
-  }
+  write_global(path, H, m, f, w);
+
   const FrictionContactProblem3D p = read_fclib_file<3>(path).problem;
   const Eigen::MatrixXd Minv = m.cwiseInverse().asDiagonal();
   const Eigen::MatrixXd W = H.transpose() * Minv * H;
