@@ -232,3 +232,30 @@ TEST(Fclib3dGlobal, SolvedTo1e8)
   const NlgsResult result = solve(f.problem, r, u, 1e-8);
   EXPECT_TRUE(result.converged) << result.error << " " << result.iterations;
 }
+
+TEST(Fclib3dGlobal, RelaxedSplitAndAlternateSweepsToo)
+{
+  // The 2D solver's levers on a 3D problem: over-relaxation 1.8 (projected
+  // on the circular cone), the alternate order, the split sweep on one and
+  // two threads (the same bits)
+  const FrictionContactProblem3D p =
+      read_fclib_file<3>(data3d("Box_Stacks-i0122-82-5.hdf5")).problem;
+  NlgsOptions options;
+  options.relaxation = 1.8;
+  options.order = SweepOrder::alternate;
+  options.split_min_contacts = 1;
+  std::vector<std::vector<double>> answers;
+  for (const int threads : {1, 2})
+  {
+    options.threads = threads;
+    std::vector<double> r(3 * p.num_contacts(), 0.0), u(r.size());
+    const NlgsResult result = solve_nlgs(p, r, u, options);
+    EXPECT_TRUE(result.converged) << result.error;
+    EXPECT_LE(compute_error(p, r, u, 1e-12).value, 1e-8);
+    for (std::size_t a = 0; a < p.num_contacts(); ++a)
+      EXPECT_LE(std::hypot(r[3 * a + 1], r[3 * a + 2]),
+                p.friction[a] * r[3 * a] * (1 + 1e-12));
+    answers.push_back(r);
+  }
+  EXPECT_EQ(answers[0], answers[1]);
+}
