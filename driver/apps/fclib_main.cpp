@@ -1,13 +1,18 @@
-// softpack-fclib: solve 2D frictional contact problems stored in the FCLIB
-// HDF5 local layout with the simulator's own NLGS (softpack_contact).
+// softpack-fclib: solve frictional contact problems stored in the FCLIB
+// HDF5 layout (2D: local; --dim 3: local or global, condensed) or in
+// Siconos' text format (NAME.dat) with the simulator's own NLGS
+// (softpack_contact), one solver for both dimensions.
 //
-//   softpack-fclib FILE... [--tol T] [--max-iter N] [--solution-out DIR]
+//   softpack-fclib FILE... [--dim 2|3] [--tol T] [--max-iter N]
+//                  [--solution-out DIR]
 //
 // One JSON line per problem on stdout; messages on stderr. Exit status 1 if
-// a file is not a valid 2D local problem or a problem does not converge.
+// a file is not a valid problem of that dimension or a problem does not
+// converge.
 
 #include "fclib_io.h"
 #include "nlgs.h"
+#include "siconos_io.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -30,6 +35,7 @@ struct Arguments
   contact::NlgsOptions options;
   std::string solution_out;
   bool from_guess = false;
+  int dim = 2;
 };
 
 //-----------------------------------------------------------------------------
@@ -47,13 +53,29 @@ void write_reactions(const std::filesystem::path& file,
     throw std::runtime_error(file.string() + ": cannot write");
 }
 //-----------------------------------------------------------------------------
-/// Solve one file; returns false on an invalid file or no convergence.
-bool solve_file(const std::string& file, const Arguments& args)
+/// The problem of a Siconos .dat file, or of an FCLIB HDF5 file (2D:
+/// local only, as the simulator dumps them; 3D: local or global)
+template <int D> contact::FclibFile<D> read_problem(const std::string& file)
 {
-  contact::FclibLocalFile stored;
+  if (std::filesystem::path(file).extension() == ".dat")
+  {
+    contact::FclibFile<D> stored;
+    stored.problem = contact::read_siconos_dat<D>(file);
+    return stored;
+  }
+  if constexpr (D == 2)
+    return contact::read_fclib_local_file(file);
+  else
+    return contact::read_fclib_file<D>(file);
+}
+//-----------------------------------------------------------------------------
+/// Solve one file; returns false on an invalid file or no convergence.
+template <int D> bool solve_file(const std::string& file, const Arguments& args)
+{
+  contact::FclibFile<D> stored;
   try
   {
-    stored = contact::read_fclib_local_file(file);
+    stored = read_problem<D>(file);
   }
   catch (const contact::FclibError& e)
   {
@@ -61,8 +83,8 @@ bool solve_file(const std::string& file, const Arguments& args)
     return false;
   }
   const std::string name = std::filesystem::path(file).stem().string();
-  const contact::FrictionContactProblem2D& problem = stored.problem;
-  std::vector<double> r(2 * problem.num_contacts(), 0.0), u(r.size());
+  const contact::FrictionContactProblem<D>& problem = stored.problem;
+  std::vector<double> r(D * problem.num_contacts(), 0.0), u(r.size());
   if (args.from_guess and stored.guess_r)
     r = *stored.guess_r;
   const auto start = std::chrono::steady_clock::now();
@@ -96,8 +118,13 @@ bool solve_file(const std::string& file, const Arguments& args)
 /// The command line's options into `args` (and the sweep order's name)
 void add_options(CLI::App& app, Arguments& args, std::string& order)
 {
-  app.add_option("files", args.files, "FCLIB HDF5 files (/fclib_local, 2D)")
+  app.add_option("files", args.files,
+                 "FCLIB HDF5 files (2D: /fclib_local; 3D: /fclib_local or "
+                 "/fclib_global) or Siconos text files (NAME.dat)")
       ->required();
+  app.add_option("--dim", args.dim, "the problems' dimension")
+      ->capture_default_str()
+      ->check(CLI::IsMember({2, 3}));
   app.add_option("--tol", args.options.tolerance,
                  "tolerance on the relative natural-map error")
       ->capture_default_str()
@@ -135,8 +162,8 @@ void add_options(CLI::App& app, Arguments& args, std::string& order)
 //-----------------------------------------------------------------------------
 int main(int argc, char** argv)
 {
-  CLI::App app{"Solve 2D frictional contact problems (FCLIB HDF5 local "
-               "layout) with softpack's NLGS"};
+  CLI::App app{"Solve 2D or 3D frictional contact problems (FCLIB HDF5, "
+               "Siconos .dat) with softpack's NLGS"};
   Arguments args;
   std::string order = "contact";
   add_options(app, args, order);
@@ -156,7 +183,9 @@ int main(int argc, char** argv)
   {
     try
     {
-      all_ok = solve_file(file, args) and all_ok;
+      const bool ok =
+          args.dim == 3 ? solve_file<3>(file, args) : solve_file<2>(file, args);
+      all_ok = ok and all_ok;
     }
     catch (const std::exception& e)
     {

@@ -8,9 +8,9 @@
 using namespace softpack::contact;
 
 //-----------------------------------------------------------------------------
-DelassusMatrix::DelassusMatrix(std::size_t num_contacts)
-    : _num_contacts(num_contacts),
-      _diagonal(num_contacts, Eigen::Matrix2d::Zero()),
+template <int D>
+DelassusMatrixD<D>::DelassusMatrixD(std::size_t num_contacts)
+    : _num_contacts(num_contacts), _diagonal(num_contacts, Block::Zero()),
       _offsets(num_contacts + 1, 0)
 {
   if (num_contacts >
@@ -18,8 +18,9 @@ DelassusMatrix::DelassusMatrix(std::size_t num_contacts)
     throw std::length_error("DelassusMatrix: too many contacts");
 }
 //-----------------------------------------------------------------------------
-void DelassusMatrix::add_block(std::size_t a, std::size_t b,
-                               const Eigen::Matrix2d& block)
+template <int D>
+void DelassusMatrixD<D>::add_block(std::size_t a, std::size_t b,
+                                   const Block& block)
 {
   if (_finalized)
     throw std::logic_error("DelassusMatrix::add_block after finalize()");
@@ -39,8 +40,9 @@ void DelassusMatrix::add_block(std::size_t a, std::size_t b,
   }
 }
 //-----------------------------------------------------------------------------
-void DelassusMatrix::bucket_by_row(std::vector<std::int32_t>& start,
-                                   std::vector<std::int32_t>& by_row) const
+template <int D>
+void DelassusMatrixD<D>::bucket_by_row(std::vector<std::int32_t>& start,
+                                       std::vector<std::int32_t>& by_row) const
 {
   const std::size_t n = _num_contacts;
   start.assign(n + 1, 0);
@@ -54,7 +56,7 @@ void DelassusMatrix::bucket_by_row(std::vector<std::int32_t>& start,
     by_row[next[_pending[k].row]++] = static_cast<std::int32_t>(k);
 }
 //-----------------------------------------------------------------------------
-void DelassusMatrix::finalize()
+template <int D> void DelassusMatrixD<D>::finalize()
 {
   if (_finalized)
     return;
@@ -110,8 +112,9 @@ void DelassusMatrix::finalize()
   _finalized = true;
 }
 //-----------------------------------------------------------------------------
-DelassusMatrix
-DelassusMatrix::renumbered(std::span<const std::int32_t> order) const
+template <int D>
+DelassusMatrixD<D>
+DelassusMatrixD<D>::renumbered(std::span<const std::int32_t> order) const
 {
   if (!_finalized or order.size() != _num_contacts)
     throw std::invalid_argument(
@@ -127,7 +130,7 @@ DelassusMatrix::renumbered(std::span<const std::int32_t> order) const
           "DelassusMatrix::renumbered: order is not a permutation");
     position[a] = static_cast<std::int32_t>(i);
   }
-  DelassusMatrix out(_num_contacts);
+  DelassusMatrixD out(_num_contacts);
   out._columns.reserve(_columns.size());
   out._blocks.reserve(_blocks.size());
   for (std::size_t i = 0; i < _num_contacts; ++i)
@@ -145,16 +148,20 @@ DelassusMatrix::renumbered(std::span<const std::int32_t> order) const
   return out;
 }
 //-----------------------------------------------------------------------------
-void DelassusMatrix::multiply_add(std::span<const double> r,
-                                  std::span<double> u) const
+template <int D>
+void DelassusMatrixD<D>::multiply_add(std::span<const double> r,
+                                      std::span<double> u) const
 {
-  if (r.size() != 2 * _num_contacts or u.size() != 2 * _num_contacts)
+  if (r.size() != D * _num_contacts or u.size() != D * _num_contacts)
     throw std::invalid_argument("DelassusMatrix::multiply_add: wrong sizes");
   for (std::size_t a = 0; a < _num_contacts; ++a)
   {
-    const Eigen::Vector2d ua = row_product(a, r.data());
-    u[2 * a] += ua[0];
-    u[2 * a + 1] += ua[1];
+    const Vector ua = row_product(a, r.data());
+    for (int j = 0; j < D; ++j)
+      u[D * a + j] += ua[j];
   }
 }
+//-----------------------------------------------------------------------------
+template class softpack::contact::DelassusMatrixD<2>;
+template class softpack::contact::DelassusMatrixD<3>;
 //-----------------------------------------------------------------------------

@@ -8,11 +8,26 @@
 namespace softpack::contact
 {
 
-/// Block-sparse Delassus operator \f$W = H^T \bar K^{-1} H\f$ of a 2D contact
-/// problem, stored as compressed rows of 2x2 blocks.
+/// The entries of contact a's D-vector in a vector of D per contact, as an
+/// Eigen vector (a 2-vector built from its two entries, as the 2D solver
+/// always did: the same operations, the same bits)
+template <int D>
+inline Eigen::Matrix<double, D, 1> contact_vector(const double* x,
+                                                  std::size_t a)
+{
+  if constexpr (D == 2)
+    return Eigen::Vector2d(x[2 * a], x[2 * a + 1]);
+  else
+    return Eigen::Vector3d(x[3 * a], x[3 * a + 1], x[3 * a + 2]);
+}
+
+/// Block-sparse Delassus operator \f$W = H^T \bar K^{-1} H\f$ of a contact
+/// problem in D = 2 or 3 dimensions, stored as compressed rows of D x D
+/// blocks (DelassusMatrix: 2D, DelassusMatrix3D: 3D).
 ///
 /// Block \f$W_{ab}\f$ maps the impulse of contact \f$b\f$ to the relative
-/// velocity of contact \f$a\f$, both in the local frame \f$(n, t)\f$. Row
+/// velocity of contact \f$a\f$, both in the local frame \f$(n, t)\f$
+/// (2D) or \f$(n, t_1, t_2)\f$ (3D). Row
 /// \f$a\f$ holds its diagonal block and the list of off-diagonal blocks
 /// \f$(b, W_{ab})\f$, \f$b \ne a\f$, sorted by \f$b\f$ (but in a
 /// renumbered() copy). Two contacts are
@@ -30,20 +45,26 @@ namespace softpack::contact
 /// compliances, $W r = H^T (ar K^{-1} (H r))$, with per-contact
 /// updates of the body velocities) can offer the same two calls, so that the
 /// NLGS sweep stays O(stored blocks or touched body DOFs) per sweep.
-class DelassusMatrix
+template <int D> class DelassusMatrixD
 {
+  static_assert(D == 2 or D == 3, "contact problems are 2D or 3D");
+
 public:
+  /// A block and a contact's vector
+  using Block = Eigen::Matrix<double, D, D>;
+  using Vector = Eigen::Matrix<double, D, 1>;
+
   /// Create an empty operator.
   /// @param[in] num_contacts Number of contacts (block rows and columns)
-  explicit DelassusMatrix(std::size_t num_contacts = 0);
+  explicit DelassusMatrixD(std::size_t num_contacts = 0);
 
   /// Add a contribution to a block (builder phase only).
   /// @param[in] a Row contact (the velocity)
   /// @param[in] b Column contact (the impulse)
-  /// @param[in] block 2x2 block in (n, t) order, added to \f$W_{ab}\f$
+  /// @param[in] block D x D block in (n, t...) order, added to \f$W_{ab}\f$
   /// @throws std::out_of_range if a or b is not a contact
   /// @throws std::logic_error after finalize()
-  void add_block(std::size_t a, std::size_t b, const Eigen::Matrix2d& block);
+  void add_block(std::size_t a, std::size_t b, const Block& block);
 
   /// Reserve room for contributions (builder phase).
   /// @param[in] num_blocks Expected number of add_block() calls
@@ -63,7 +84,7 @@ public:
 
   /// @param[in] a Contact index
   /// @return Diagonal block \f$W_{aa}\f$
-  const Eigen::Matrix2d& diagonal(std::size_t a) const { return _diagonal[a]; }
+  const Block& diagonal(std::size_t a) const { return _diagonal[a]; }
 
   /// @param[in] a Contact index
   /// @return Column (contact) indices of the off-diagonal blocks of row a
@@ -75,7 +96,7 @@ public:
 
   /// @param[in] a Contact index
   /// @return Off-diagonal blocks of row a, in the order of row_columns()
-  std::span<const Eigen::Matrix2d> row_blocks(std::size_t a) const
+  std::span<const Block> row_blocks(std::size_t a) const
   {
     return {_blocks.data() + _offsets[a],
             static_cast<std::size_t>(_offsets[a + 1] - _offsets[a])};
@@ -84,25 +105,22 @@ public:
   /// Off-diagonal part of block row a applied to r:
   /// \f$\sum_{b \ne a} W_{ab} r_b\f$.
   /// @param[in] a Contact index
-  /// @param[in] r Reactions, 2 per contact in (n, t) order
-  /// @return The 2-vector of the sum
-  Eigen::Vector2d offdiagonal_product(std::size_t a, const double* r) const
+  /// @param[in] r Reactions, D per contact in (n, t...) order
+  /// @return The D-vector of the sum
+  Vector offdiagonal_product(std::size_t a, const double* r) const
   {
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    Vector sum = Vector::Zero();
     const std::int32_t end = _offsets[a + 1];
     for (std::int32_t k = _offsets[a]; k < end; ++k)
-    {
-      const double* rb = r + 2 * static_cast<std::size_t>(_columns[k]);
-      sum += _blocks[k] * Eigen::Vector2d(rb[0], rb[1]);
-    }
+      sum += _blocks[k] *
+             contact_vector<D>(r, static_cast<std::size_t>(_columns[k]));
     return sum;
   }
 
   /// Block row a applied to r: \f$\sum_b W_{ab} r_b\f$.
-  Eigen::Vector2d row_product(std::size_t a, const double* r) const
+  Vector row_product(std::size_t a, const double* r) const
   {
-    const Eigen::Vector2d ra(r[2 * a], r[2 * a + 1]);
-    return _diagonal[a] * ra + offdiagonal_product(a, r);
+    return _diagonal[a] * contact_vector<D>(r, a) + offdiagonal_product(a, r);
   }
 
   /// The same operator with its contacts renumbered: contact `order[i]`
@@ -112,18 +130,18 @@ public:
   /// visits the rows in `order` then reads them one after the other.
   /// @param[in] order A permutation of the contacts, finalized operator
   /// @throws std::invalid_argument if order is not a permutation
-  DelassusMatrix renumbered(std::span<const std::int32_t> order) const;
+  DelassusMatrixD renumbered(std::span<const std::int32_t> order) const;
 
   /// \f$u \leftarrow u + W r\f$.
-  /// @param[in] r Reactions, size 2 num_contacts()
-  /// @param[in,out] u Velocities, size 2 num_contacts()
+  /// @param[in] r Reactions, size D num_contacts()
+  /// @param[in,out] u Velocities, size D num_contacts()
   void multiply_add(std::span<const double> r, std::span<double> u) const;
 
 private:
   struct Contribution
   {
     std::int32_t row, col;
-    Eigen::Matrix2d block;
+    Block block;
   };
 
   std::size_t _num_contacts;
@@ -135,10 +153,16 @@ private:
   std::vector<Contribution> _pending;
 
   // Compressed block rows
-  std::vector<Eigen::Matrix2d> _diagonal;
+  std::vector<Block> _diagonal;
   std::vector<std::int32_t> _offsets;
   std::vector<std::int32_t> _columns;
-  std::vector<Eigen::Matrix2d> _blocks;
+  std::vector<Block> _blocks;
 };
+
+/// The 2D operator (2x2 blocks, (n, t)) and the 3D one (3x3, (n, t1, t2))
+using DelassusMatrix = DelassusMatrixD<2>;
+using DelassusMatrix3D = DelassusMatrixD<3>;
+extern template class DelassusMatrixD<2>;
+extern template class DelassusMatrixD<3>;
 
 } // namespace softpack::contact

@@ -12,19 +12,21 @@
 namespace softpack::contact
 {
 
-/// A file that is not a valid 2D local FCLIB problem; the message names the
-/// file and what is wrong (missing dataset, wrong sizes, dimension, ...).
+/// A file that is not a valid FCLIB problem (or Siconos text problem) of
+/// the dimension asked for; the message names the file and what is wrong
+/// (missing dataset, wrong sizes, dimension, ...).
 class FclibError : public std::runtime_error
 {
 public:
   using std::runtime_error::runtime_error;
 };
 
-/// Content of an FCLIB local file beyond the problem itself.
-struct FclibLocalFile
+/// Content of an FCLIB file beyond the problem itself (FclibLocalFile: 2D,
+/// FclibFile3D: 3D).
+template <int D> struct FclibFile
 {
-  /// The problem, validated
-  FrictionContactProblem2D problem;
+  /// The problem, validated (a global one condensed: read_fclib_file())
+  FrictionContactProblem<D> problem;
 
   /// /fclib_local/info/title, if present
   std::string title;
@@ -38,6 +40,9 @@ struct FclibLocalFile
   /// /guesses/1/r, if present (e.g. the start of a failed solve)
   std::optional<std::vector<double>> guess_r;
 };
+
+using FclibLocalFile = FclibFile<2>;
+using FclibFile3D = FclibFile<3>;
 
 /// Read a 2D problem stored in the FCLIB HDF5 local layout `/fclib_local`:
 /// `spacedim` (= 2), `W/{m,n,nz,nzmax,p,i,x}` a CSparse matrix (nz = -2
@@ -56,6 +61,23 @@ FclibLocalFile read_fclib_local_file(const std::filesystem::path& path);
 /// @return The validated problem
 /// @throws FclibError if the file is not a valid 2D local problem
 FrictionContactProblem2D read_fclib_local(const std::filesystem::path& path);
+
+/// Read a problem of D = 2 or 3 dimensions from an FCLIB HDF5 file, local
+/// or global:
+/// - `/fclib_local`: as read_fclib_local_file(), `spacedim` = D, D
+///   entries of q per contact;
+/// - `/fclib_global` (M v = H r + f, u = H^T v + w; `M`, `H` CSparse
+///   matrices, `vectors/{f,w,mu}`): condensed to the local form
+///   $W = H^T M^{-1} H$, $q = H^T M^{-1} f + w$ with a sparse
+///   Cholesky (LDL^T) factorization of M (fclib_global.cpp). Its
+///   /solution/u and /guesses/1/r are the local ones (u, r); its
+///   /solution/v is not kept.
+/// @throws FclibError if the file is neither, or not of dimension D, or M
+///   is not symmetric positive definite
+template <int D>
+FclibFile<D> read_fclib_file(const std::filesystem::path& path);
+extern template FclibFile<2> read_fclib_file(const std::filesystem::path&);
+extern template FclibFile<3> read_fclib_file(const std::filesystem::path&);
 
 /// Write a problem in the same `/fclib_local` layout (W as compressed rows
 /// of its stored blocks), so that a failed solve can be replayed by a test;

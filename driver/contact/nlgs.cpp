@@ -12,24 +12,27 @@
 #include <optional>
 #include <ranges>
 #include <stdexcept>
+#include <string>
 
 using namespace softpack::contact;
 
 namespace
 {
 //-----------------------------------------------------------------------------
-void check_arguments(const FrictionContactProblem2D& problem,
+template <int D>
+void check_arguments(const FrictionContactProblem<D>& problem,
                      std::span<double> r, std::span<double> u,
                      const NlgsOptions& options)
 {
-  const std::size_t n = 2 * problem.num_contacts();
-  if (!problem.W.finalized() or problem.W.num_contacts() != n / 2 or
+  const std::size_t n = D * problem.num_contacts();
+  if (!problem.W.finalized() or problem.W.num_contacts() != n / D or
       problem.q.size() != n)
     throw std::invalid_argument(
         "solve_nlgs: problem not validated (W, q, friction "
         "sizes or W not finalized)");
   if (r.size() != n or u.size() != n)
-    throw std::invalid_argument("solve_nlgs: r and u need 2 per contact");
+    throw std::invalid_argument("solve_nlgs: r and u need " +
+                                std::to_string(D) + " per contact");
   if (!(options.relaxation > 0 and options.relaxation < 2))
     throw std::invalid_argument("solve_nlgs: relaxation must be in (0, 2)");
   if (!(options.tolerance >= 0) or options.max_sweeps < 0)
@@ -38,7 +41,9 @@ void check_arguments(const FrictionContactProblem2D& problem,
 //-----------------------------------------------------------------------------
 /// A plan made for another problem or other options is refused (its
 /// numbering would scramble the reactions)
-void check_plan(const SweepPlan& plan, const FrictionContactProblem2D& problem,
+template <int D>
+void check_plan(const SweepPlanD<D>& plan,
+                const FrictionContactProblem<D>& problem,
                 const NlgsOptions& options)
 {
   if (plan.problem.num_contacts() != problem.num_contacts() or
@@ -62,20 +67,21 @@ struct SweepSums
 /// over-relaxed), its change and norm added to `sums`. `Cohesive`: the
 /// problem has a cohesion vector; without one the update is the plain
 /// Signorini–Coulomb one, instruction for instruction (the sweep is the
-/// simulator's hot loop).
-template <bool Cohesive>
-inline void relax(const FrictionContactProblem2D& problem, double* r,
+/// simulator's hot loop). D: 2 or 3, the local solver and the cone of that
+/// dimension (the same operations on 2-vectors as before it was a template).
+template <bool Cohesive, int D>
+inline void relax(const FrictionContactProblem<D>& problem, double* r,
                   double omega, std::size_t a, SweepSums& sums)
 {
-  const DelassusMatrix& W = problem.W;
-  const Eigen::Vector2d qa =
-      Eigen::Vector2d(problem.q[2 * a], problem.q[2 * a + 1]) +
-      W.offdiagonal_product(a, r);
+  using Vector = Eigen::Matrix<double, D, 1>;
+  const DelassusMatrixD<D>& W = problem.W;
+  const Vector qa =
+      contact_vector<D>(problem.q.data(), a) + W.offdiagonal_product(a, r);
   const double mu = problem.friction[a];
   const double c = Cohesive ? problem.cohesion[a] : 0.0;
-  Eigen::Vector2d ra = Cohesive ? solve_local(W.diagonal(a), qa, mu, c).r
-                                : solve_local(W.diagonal(a), qa, mu).r;
-  const Eigen::Vector2d old(r[2 * a], r[2 * a + 1]);
+  Vector ra = Cohesive ? solve_local(W.diagonal(a), qa, mu, c).r
+                       : solve_local(W.diagonal(a), qa, mu).r;
+  const Vector old = contact_vector<D>(r, a);
   if (omega != 1.0)
   {
     ra = omega * ra + (1.0 - omega) * old;
@@ -83,22 +89,21 @@ inline void relax(const FrictionContactProblem2D& problem, double* r,
     if (omega > 1.0)
     {
       if constexpr (Cohesive)
-        ra = project_on_cone(shifted_reaction(ra, c), mu) -
-             Eigen::Vector2d(c, 0);
+        ra = project_on_cone(shifted_reaction(ra, c), mu) - c * Vector::Unit(0);
       else
         ra = project_on_cone(ra, mu);
     }
   }
   sums.change += (ra - old).squaredNorm();
   sums.norm += ra.squaredNorm();
-  r[2 * a] = ra[0];
-  r[2 * a + 1] = ra[1];
+  for (int j = 0; j < D; ++j)
+    r[D * a + j] = ra[j];
 }
 //-----------------------------------------------------------------------------
 /// Gauss–Seidel over the contacts, in the order `contacts` gives them
-template <bool Cohesive, typename Contacts>
-SweepSums sweep_contacts(const FrictionContactProblem2D& problem, double* r,
-                         double omega, const Contacts& contacts)
+template <bool Cohesive, int D, typename Contacts>
+SweepSums sweep_law(const FrictionContactProblem<D>& problem, double* r,
+                    double omega, const Contacts& contacts)
 {
   SweepSums sums;
   for (const auto a : contacts)
@@ -106,24 +111,26 @@ SweepSums sweep_contacts(const FrictionContactProblem2D& problem, double* r,
   return sums;
 }
 //-----------------------------------------------------------------------------
-template <typename Contacts>
-SweepSums sweep_contacts(const FrictionContactProblem2D& problem, double* r,
+template <int D, typename Contacts>
+SweepSums sweep_contacts(const FrictionContactProblem<D>& problem, double* r,
                          double omega, const Contacts& contacts)
 {
   return problem.cohesion.empty()
-             ? sweep_contacts<false>(problem, r, omega, contacts)
-             : sweep_contacts<true>(problem, r, omega, contacts);
+             ? sweep_law<false>(problem, r, omega, contacts)
+             : sweep_law<true>(problem, r, omega, contacts);
 }
 //-----------------------------------------------------------------------------
 /// Gauss–Seidel over the contacts [begin, end), in order
-SweepSums sweep(const FrictionContactProblem2D& problem, double* r,
+template <int D>
+SweepSums sweep(const FrictionContactProblem<D>& problem, double* r,
                 double omega, std::size_t begin, std::size_t end)
 {
   return sweep_contacts(problem, r, omega, std::views::iota(begin, end));
 }
 //-----------------------------------------------------------------------------
 /// Gauss–Seidel over the listed contacts, in their order (a domain's stage)
-SweepSums sweep(const FrictionContactProblem2D& problem, double* r,
+template <int D>
+SweepSums sweep(const FrictionContactProblem<D>& problem, double* r,
                 double omega, std::span<const std::int32_t> contacts)
 {
   return sweep_contacts(problem, r, omega, contacts);
@@ -152,13 +159,13 @@ SweepSums combine(const SweepSums& p0, const SweepSums& p1, const SweepSums& s)
 //-----------------------------------------------------------------------------
 /// The stopping test and the relaxation fallback, applied after each sweep
 /// (Siconos' "light with full final" test, see solve_nlgs()).
-class Monitor
+template <int D> class Monitor
 {
 public:
   /// @param[in] rows The contacts whose error terms are summed, in this
   ///   order (empty and no domain: all, ascending)
   /// @param[in] domain When given, the sums are reduced over the domains
-  Monitor(const FrictionContactProblem2D& problem, std::span<double> r,
+  Monitor(const FrictionContactProblem<D>& problem, std::span<double> r,
           std::span<double> u, const NlgsOptions& options, NlgsResult& result,
           std::span<const std::int32_t> rows,
           const SweepDomain* domain = nullptr)
@@ -192,7 +199,7 @@ public:
   double omega;
 
 private:
-  const FrictionContactProblem2D& _problem;
+  const FrictionContactProblem<D>& _problem;
   std::span<double> _r, _u;
   const NlgsOptions& _options;
   NlgsResult& _result;
@@ -207,7 +214,7 @@ private:
   NaturalMapError _full;
 };
 //-----------------------------------------------------------------------------
-bool Monitor::after_sweep(const SweepSums& sums)
+template <int D> bool Monitor<D>::after_sweep(const SweepSums& sums)
 {
   ++_result.iterations;
   const double scale = std::sqrt(sums.norm);
@@ -241,7 +248,7 @@ bool Monitor::after_sweep(const SweepSums& sums)
   return more;
 }
 //-----------------------------------------------------------------------------
-void Monitor::finish()
+template <int D> void Monitor<D>::finish()
 {
   if (!_full_error_current)
     full_error();
@@ -251,10 +258,11 @@ void Monitor::finish()
 //-----------------------------------------------------------------------------
 /// Sweeps of a swept problem: its two parts on two threads when `threads`
 /// > 1 (the separator on one, between two barriers), else all in order.
-void swept_sweeps(const SweepPlan& swept, double* r, int threads,
-                  Monitor& monitor)
+template <int D>
+void swept_sweeps(const SweepPlanD<D>& swept, double* r, int threads,
+                  Monitor<D>& monitor)
 {
-  const FrictionContactProblem2D& problem = swept.problem;
+  const FrictionContactProblem<D>& problem = swept.problem;
   const std::size_t bounds[4] = {0, swept.ends[0], swept.ends[1],
                                  problem.num_contacts()};
   SweepSums partial[2];
@@ -280,9 +288,10 @@ void swept_sweeps(const SweepPlan& swept, double* r, int threads,
 //-----------------------------------------------------------------------------
 /// Sweeps of one domain's contacts stage by stage, exchanging after each
 /// interface stage (SweepDomain).
-void domain_sweeps(const FrictionContactProblem2D& problem, std::span<double> r,
-                   const SweepDomain& domain, const NlgsOptions& options,
-                   Monitor& monitor)
+template <int D>
+void domain_sweeps(const FrictionContactProblem<D>& problem,
+                   std::span<double> r, const SweepDomain& domain,
+                   const NlgsOptions& options, Monitor<D>& monitor)
 {
   std::vector<std::vector<std::int32_t>> stages;
   for (const std::vector<std::int32_t>& stage : domain.stages)
@@ -306,26 +315,28 @@ void domain_sweeps(const FrictionContactProblem2D& problem, std::span<double> r,
 //-----------------------------------------------------------------------------
 /// solve_nlgs() on the plan's renumbered problem with the caller's q; r and
 /// u in the caller's numbering
-void solve_swept(const FrictionContactProblem2D& problem, std::span<double> r,
+template <int D>
+void solve_swept(const FrictionContactProblem<D>& problem, std::span<double> r,
                  std::span<double> u, const NlgsOptions& options,
-                 SweepPlan& plan, NlgsResult& result)
+                 SweepPlanD<D>& plan, NlgsResult& result)
 {
   const std::size_t n = problem.num_contacts();
-  std::vector<double> r_here(2 * n), u_here(2 * n);
+  std::vector<double> r_here(D * n), u_here(D * n);
   for (std::size_t i = 0; i < n; ++i)
-    for (int j = 0; j < 2; ++j)
+    for (int j = 0; j < D; ++j)
     {
-      r_here[2 * i + j] = r[2 * plan.order[i] + j];
-      plan.problem.q[2 * i + j] = problem.q[2 * plan.order[i] + j];
+      r_here[D * i + j] = r[D * plan.order[i] + j];
+      plan.problem.q[D * i + j] = problem.q[D * plan.order[i] + j];
     }
-  Monitor monitor(plan.problem, r_here, u_here, options, result, plan.position);
+  Monitor<D> monitor(plan.problem, r_here, u_here, options, result,
+                     plan.position);
   swept_sweeps(plan, r_here.data(), plan.split ? options.threads : 1, monitor);
   monitor.finish();
   for (std::size_t i = 0; i < n; ++i)
-    for (int j = 0; j < 2; ++j)
+    for (int j = 0; j < D; ++j)
     {
-      r[2 * plan.order[i] + j] = r_here[2 * i + j];
-      u[2 * plan.order[i] + j] = u_here[2 * i + j];
+      r[D * plan.order[i] + j] = r_here[D * i + j];
+      u[D * plan.order[i] + j] = u_here[D * i + j];
     }
 }
 } // namespace
@@ -341,21 +352,9 @@ SweepOrder softpack::contact::sweep_order(const std::string& name)
                               "\": must be \"contact\" or \"alternate\"");
 }
 //-----------------------------------------------------------------------------
-bool softpack::contact::splits(const FrictionContactProblem2D& problem,
-                               const NlgsOptions& options)
-{
-  return options.split_min_contacts > 0 and
-         problem.num_contacts() >= options.split_min_contacts;
-}
-//-----------------------------------------------------------------------------
-bool softpack::contact::renumbers(const FrictionContactProblem2D& problem,
-                                  const NlgsOptions& options)
-{
-  return splits(problem, options) or options.order != SweepOrder::contact;
-}
-//-----------------------------------------------------------------------------
-SweepPlan::SweepPlan(const FrictionContactProblem2D& problem,
-                     const NlgsOptions& options)
+template <int D>
+SweepPlanD<D>::SweepPlanD(const FrictionContactProblem<D>& problem,
+                          const NlgsOptions& options)
     : split(splits(problem, options)), sweep_order(options.order)
 {
   const std::size_t n = problem.num_contacts();
@@ -381,7 +380,7 @@ SweepPlan::SweepPlan(const FrictionContactProblem2D& problem,
     ends[0] = ends[1] = n;
   }
   position.resize(n);
-  this->problem.q.resize(2 * n);
+  this->problem.q.resize(D * n);
   this->problem.friction.resize(n);
   this->problem.cohesion.resize(problem.cohesion.empty() ? 0 : n);
   for (std::size_t i = 0; i < n; ++i)
@@ -394,11 +393,15 @@ SweepPlan::SweepPlan(const FrictionContactProblem2D& problem,
   this->problem.W = problem.W.renumbered(order);
 }
 //-----------------------------------------------------------------------------
-NlgsResult
-softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
-                              std::span<double> r, std::span<double> u,
-                              const NlgsOptions& options,
-                              const SweepDomain* domain, SweepPlan* plan)
+template struct softpack::contact::SweepPlanD<2>;
+template struct softpack::contact::SweepPlanD<3>;
+//-----------------------------------------------------------------------------
+namespace
+{
+template <int D>
+NlgsResult solve(const FrictionContactProblem<D>& problem, std::span<double> r,
+                 std::span<double> u, const NlgsOptions& options,
+                 const SweepDomain* domain, SweepPlanD<D>* plan)
 {
   check_arguments(problem, r, u, options);
   if (domain and plan)
@@ -417,7 +420,7 @@ softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
     std::vector<std::int32_t> rows;
     for (const std::vector<std::int32_t>& stage : domain->stages)
       rows.insert(rows.end(), stage.begin(), stage.end());
-    Monitor monitor(problem, r, u, options, result, rows, domain);
+    Monitor<D> monitor(problem, r, u, options, result, rows, domain);
     if (sweeps)
       domain_sweeps(problem, r, *domain, options, monitor);
     monitor.finish();
@@ -426,14 +429,14 @@ softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
   {
     if (plan)
       check_plan(*plan, problem, options);
-    std::optional<SweepPlan> own;
+    std::optional<SweepPlanD<D>> own;
     if (!plan)
       own.emplace(problem, options);
     solve_swept(problem, r, u, options, plan ? *plan : *own, result);
   }
   else
   {
-    Monitor monitor(problem, r, u, options, result, {});
+    Monitor<D> monitor(problem, r, u, options, result, {});
     if (sweeps)
       while (monitor.after_sweep(
           sweep(problem, r.data(), monitor.omega, 0, problem.num_contacts())))
@@ -445,5 +448,24 @@ softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
   if (domain)
     domain->gather(r);
   return result;
+}
+} // namespace
+//-----------------------------------------------------------------------------
+NlgsResult
+softpack::contact::solve_nlgs(const FrictionContactProblem2D& problem,
+                              std::span<double> r, std::span<double> u,
+                              const NlgsOptions& options,
+                              const SweepDomain* domain, SweepPlan* plan)
+{
+  return solve(problem, r, u, options, domain, plan);
+}
+//-----------------------------------------------------------------------------
+NlgsResult
+softpack::contact::solve_nlgs(const FrictionContactProblem3D& problem,
+                              std::span<double> r, std::span<double> u,
+                              const NlgsOptions& options,
+                              const SweepDomain* domain, SweepPlan3D* plan)
+{
+  return solve(problem, r, u, options, domain, plan);
 }
 //-----------------------------------------------------------------------------

@@ -121,20 +121,29 @@ struct SweepDomain
   /// Sum `values` over the domains, the same on every domain (after each
   /// sweep: its squared change and norm; for a full error: ErrorSums)
   std::function<void(std::span<double> values)> reduce;
-  /// Make the entries of every contact (2 per contact: the reactions)
+  /// Make the entries of every contact (D per contact: the reactions)
   /// those its domain holds, here (at the end of the solve)
   std::function<void(std::span<double> x)> gather;
 };
 
 /// true when solve_nlgs() sweeps the problem in the order of
 /// split_for_two_threads() (NlgsOptions::split_min_contacts)
-bool splits(const FrictionContactProblem2D& problem,
-            const NlgsOptions& options);
+template <int D>
+bool splits(const FrictionContactProblem<D>& problem,
+            const NlgsOptions& options)
+{
+  return options.split_min_contacts > 0 and
+         problem.num_contacts() >= options.split_min_contacts;
+}
 
 /// true when solve_nlgs() sweeps the problem renumbered (SweepPlan): when
 /// it splits() or the order is not the contact order
-bool renumbers(const FrictionContactProblem2D& problem,
-               const NlgsOptions& options);
+template <int D>
+bool renumbers(const FrictionContactProblem<D>& problem,
+               const NlgsOptions& options)
+{
+  return splits(problem, options) or options.order != SweepOrder::contact;
+}
 
 /// A problem's contacts renumbered in the order of its sweeps, so that a
 /// sweep reads W's rows one after the other: the split's part 0, part 1
@@ -147,15 +156,15 @@ bool renumbers(const FrictionContactProblem2D& problem,
 /// Made from W, the friction and the cohesion; q is filled in by each
 /// solve. solve_nlgs() makes one per call unless it is given one: a caller
 /// that solves with one W and several q (the Newton iterations of a time
-/// step) makes it once.
-struct SweepPlan
+/// step) makes it once. SweepPlan: 2D, SweepPlan3D: 3D.
+template <int D> struct SweepPlanD
 {
   /// @param[in] problem Its W, friction and cohesion (q is not read)
   /// @param[in] options Its order, split_min_contacts
-  SweepPlan(const FrictionContactProblem2D& problem,
-            const NlgsOptions& options);
+  SweepPlanD(const FrictionContactProblem<D>& problem,
+             const NlgsOptions& options);
   /// The problem renumbered (q: the last solve's)
-  FrictionContactProblem2D problem;
+  FrictionContactProblem<D> problem;
   /// The original number of each contact here
   std::vector<std::int32_t> order;
   /// Where each original contact is here (the full error sums its terms in
@@ -169,11 +178,19 @@ struct SweepPlan
   SweepOrder sweep_order;
 };
 
-/// Nonlinear (block) Gauss–Seidel for the 2D frictional contact problem
-/// \f$u = W r + q\f$ (Moreau, Jean; Siconos `fc2d_nsgs`).
+using SweepPlan = SweepPlanD<2>;
+using SweepPlan3D = SweepPlanD<3>;
+extern template struct SweepPlanD<2>;
+extern template struct SweepPlanD<3>;
+
+/// Nonlinear (block) Gauss–Seidel for the 2D or 3D frictional contact
+/// problem \f$u = W r + q\f$ (Moreau, Jean; Siconos `fc2d_nsgs`,
+/// `fc3d_nsgs`): one solver, the dimension a template parameter of its
+/// implementation; the 2D and the 3D problem differ only in the local
+/// solver and the cone (solve_local(), project_on_cone()).
 ///
 /// A sweep visits the contacts in order; contact \f$a\f$ solves its 2x2
-/// problem exactly (solve_local()) with
+/// (3x3) problem exactly (solve_local()) with
 /// \f$q_a + \sum_{b \ne a} W_{ab} r_b\f$, the others' current reactions,
 /// so a sweep costs O(number of stored blocks) and W is never formed dense.
 /// After each sweep the cheap error \f$\|\Delta r\| / \|r\|\f$ is compared
@@ -184,7 +201,7 @@ struct SweepPlan
 /// end.
 ///
 /// @param[in] problem A validated problem (see validate())
-/// @param[in,out] r Reactions, 2 per contact (n, t): the start when
+/// @param[in,out] r Reactions, D per contact (n, t...): the start when
 ///   options.warm_start, the solution on return
 /// @param[out] u Velocities \f$W r + q\f$ at the returned r
 /// @param[in] options Tolerance, sweeps, relaxation, ...
@@ -203,5 +220,10 @@ NlgsResult solve_nlgs(const FrictionContactProblem2D& problem,
                       const NlgsOptions& options = {},
                       const SweepDomain* domain = nullptr,
                       SweepPlan* plan = nullptr);
+NlgsResult solve_nlgs(const FrictionContactProblem3D& problem,
+                      std::span<double> r, std::span<double> u,
+                      const NlgsOptions& options = {},
+                      const SweepDomain* domain = nullptr,
+                      SweepPlan3D* plan = nullptr);
 
 } // namespace softpack::contact

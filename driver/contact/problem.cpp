@@ -14,12 +14,7 @@ namespace
   throw std::invalid_argument(what);
 }
 //-----------------------------------------------------------------------------
-bool finite(const Eigen::Matrix2d& m)
-{
-  return m.allFinite();
-}
-//-----------------------------------------------------------------------------
-void validate_sizes(const FrictionContactProblem2D& p)
+template <int D> void validate_sizes(const FrictionContactProblem<D>& p)
 {
   const std::size_t nc = p.num_contacts();
   if (!p.W.finalized())
@@ -29,10 +24,10 @@ void validate_sizes(const FrictionContactProblem2D& p)
     fail("W has " + std::to_string(p.W.num_contacts()) +
          " block rows but friction has " + std::to_string(nc) + " contacts");
   }
-  if (p.q.size() != 2 * nc)
+  if (p.q.size() != D * nc)
   {
     fail("q has " + std::to_string(p.q.size()) + " entries, expected " +
-         std::to_string(2 * nc) + " (2 per contact)");
+         std::to_string(D * nc) + " (" + std::to_string(D) + " per contact)");
   }
   if (!p.cohesion.empty() and p.cohesion.size() != nc)
   {
@@ -42,7 +37,7 @@ void validate_sizes(const FrictionContactProblem2D& p)
   }
 }
 //-----------------------------------------------------------------------------
-void validate_values(const FrictionContactProblem2D& p)
+template <int D> void validate_values(const FrictionContactProblem<D>& p)
 {
   for (std::size_t k = 0; k < p.q.size(); ++k)
     if (!std::isfinite(p.q[k]))
@@ -63,12 +58,12 @@ void validate_values(const FrictionContactProblem2D& p)
            std::to_string(p.cohesion[a]) + " is not a finite value >= 0");
 }
 //-----------------------------------------------------------------------------
-void validate_blocks(const DelassusMatrix& W)
+template <int D> void validate_blocks(const DelassusMatrixD<D>& W)
 {
   for (std::size_t a = 0; a < W.num_contacts(); ++a)
   {
-    const Eigen::Matrix2d& d = W.diagonal(a);
-    if (!finite(d))
+    const auto& d = W.diagonal(a);
+    if (!d.allFinite())
       fail("W diagonal block of contact " + std::to_string(a) +
            " is not finite");
     if (!(d(0, 0) > 0))
@@ -80,18 +75,28 @@ void validate_blocks(const DelassusMatrix& W)
     const auto cols = W.row_columns(a);
     const auto blocks = W.row_blocks(a);
     for (std::size_t k = 0; k < cols.size(); ++k)
-      if (!finite(blocks[k]))
+      if (!blocks[k].allFinite())
         fail("W block (" + std::to_string(a) + ", " + std::to_string(cols[k]) +
              ") is not finite");
   }
+}
+//-----------------------------------------------------------------------------
+template <int D> void validate_problem(const FrictionContactProblem<D>& problem)
+{
+  validate_sizes(problem);
+  validate_values(problem);
+  validate_blocks(problem.W);
 }
 } // namespace
 
 //-----------------------------------------------------------------------------
 void softpack::contact::validate(const FrictionContactProblem2D& problem)
 {
-  validate_sizes(problem);
-  validate_values(problem);
-  validate_blocks(problem.W);
+  validate_problem(problem);
+}
+//-----------------------------------------------------------------------------
+void softpack::contact::validate(const FrictionContactProblem3D& problem)
+{
+  validate_problem(problem);
 }
 //-----------------------------------------------------------------------------

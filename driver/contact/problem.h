@@ -8,8 +8,9 @@
 namespace softpack::contact
 {
 
-/// A 2D frictional contact problem in local (Delassus) form, as in Siconos
-/// and FCLIB: find reactions \f$r\f$ and velocities \f$u\f$ with
+/// A frictional contact problem in local (Delassus) form in D = 2 or 3
+/// dimensions, as in Siconos and FCLIB: find reactions \f$r\f$ and
+/// velocities \f$u\f$ with
 /// \f[
 ///   u = W r + q, \qquad
 ///   0 \le u_{n,a} \perp r_{n,a} \ge 0, \qquad
@@ -17,7 +18,10 @@ namespace softpack::contact
 ///   r_{t,a} = -\mu_a r_{n,a} \operatorname{sign}(u_{t,a})
 ///   \text{ if } u_{t,a} \ne 0,
 /// \f]
-/// for every contact \f$a\f$, each vector holding (n, t) per contact.
+/// for every contact \f$a\f$, each vector holding (n, t) per contact in 2D,
+/// (n, t1, t2) in 3D, where \f$r_t, u_t \in \mathbb{R}^2\f$, the cone is
+/// circular and the sign is \f$u_t / |u_t|\f$
+/// (FrictionContactProblem2D, FrictionContactProblem3D).
 ///
 /// A contact with a cohesion \f$c_a > 0\f$ (an impulse: docs/contact_laws.md)
 /// obeys the same law in the shifted reaction \f$r'_a = r_a + c_a e_n\f$:
@@ -26,12 +30,15 @@ namespace softpack::contact
 /// normal reaction may be tensile down to \f$-c_a\f$, which it is whenever
 /// the contact opens (\f$u_{n,a} > 0\f$).
 /// Plain data: the algorithms take it by const reference.
-struct FrictionContactProblem2D
+template <int D> struct FrictionContactProblem
 {
-  /// Delassus operator, finalized
-  DelassusMatrix W;
+  /// Number of unknowns per contact
+  static constexpr int dimension = D;
 
-  /// Free velocity, 2 per contact in (n, t) order
+  /// Delassus operator, finalized
+  DelassusMatrixD<D> W;
+
+  /// Free velocity, D per contact in (n, t...) order
   std::vector<double> q;
 
   /// Coulomb friction coefficient \f$\mu_a\f$, one per contact (FCLIB
@@ -53,6 +60,9 @@ struct FrictionContactProblem2D
   std::size_t num_contacts() const { return friction.size(); }
 };
 
+using FrictionContactProblem2D = FrictionContactProblem<2>;
+using FrictionContactProblem3D = FrictionContactProblem<3>;
+
 /// Check that a problem is well formed: W finalized with one block row per
 /// contact, sizes of q, friction and cohesion (empty or one per contact),
 /// finite values, \f$\mu \ge 0\f$, \f$c \ge 0\f$ and a
@@ -60,5 +70,6 @@ struct FrictionContactProblem2D
 /// @param[in] problem The problem
 /// @throws std::invalid_argument naming the first violation found
 void validate(const FrictionContactProblem2D& problem);
+void validate(const FrictionContactProblem3D& problem);
 
 } // namespace softpack::contact

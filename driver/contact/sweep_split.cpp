@@ -21,7 +21,7 @@ struct Graph
   }
 };
 
-Graph coupling_graph(const DelassusMatrix& W)
+template <int D> Graph coupling_graph(const DelassusMatrixD<D>& W)
 {
   const std::size_t n = W.num_contacts();
   Graph g;
@@ -86,9 +86,7 @@ std::vector<std::int32_t> global_levels(const Graph& g, std::size_t n,
   }
   return global;
 }
-} // namespace
-
-SweepSplit split_for_two_threads(const DelassusMatrix& W)
+template <int D> SweepSplit split_contacts(const DelassusMatrixD<D>& W)
 {
   const std::size_t n = W.num_contacts();
   SweepSplit split;
@@ -132,6 +130,17 @@ SweepSplit split_for_two_threads(const DelassusMatrix& W)
       split.separator.push_back(c);
   }
   return split;
+}
+} // namespace
+
+SweepSplit split_for_two_threads(const DelassusMatrix& W)
+{
+  return split_contacts(W);
+}
+
+SweepSplit split_for_two_threads(const DelassusMatrix3D& W)
+{
+  return split_contacts(W);
 }
 
 } // namespace softpack::contact

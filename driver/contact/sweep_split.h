@@ -35,5 +35,6 @@ struct SweepSplit
 /// @param[in] W A finalized Delassus operator
 /// @return The split; with fewer than 3 contacts everything is in part[0]
 SweepSplit split_for_two_threads(const DelassusMatrix& W);
+SweepSplit split_for_two_threads(const DelassusMatrix3D& W);
 
 } // namespace softpack::contact

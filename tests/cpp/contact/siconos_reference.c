@@ -7,6 +7,7 @@
 #include <siconos/numerics/SolverOptions.h>
 #include <siconos/numerics/SparseBlockMatrix.h>
 #include <siconos/numerics/fc2d_compute_error.h>
+#include <siconos/numerics/fc3d_compute_error.h>
 
 #include <math.h>
 #include <stdio.h>
@@ -33,20 +34,25 @@ static int to_sparse_block(FrictionContactProblem* problem)
   return 0;
 }
 
-/* Read a 2D .dat problem, NULL if that fails. */
-static FrictionContactProblem* read_problem(const char* path)
+/* Read a .dat problem of the given dimension, NULL if that fails. */
+static FrictionContactProblem* read_problem_of(const char* path, int dim)
 {
   FILE* file = fopen(path, "r");
   if (!file)
     return NULL;
   FrictionContactProblem* problem = frictionContact_newFromFile(file);
   fclose(file);
-  if (problem && problem->dimension != 2)
+  if (problem && problem->dimension != dim)
   {
     frictionContactProblem_free(problem);
     return NULL;
   }
   return problem;
+}
+
+static FrictionContactProblem* read_problem(const char* path)
+{
+  return read_problem_of(path, 2);
 }
 
 static double norm2(const double* v, int n)
@@ -109,6 +115,58 @@ int siconos_fc2d_nsgs(const char* path, double tolerance, int max_iter,
   solver_options_delete(options);
 
   fc2d_compute_error(problem, r, u, tolerance, norm2(problem->q, n),
+                     &result->error);
+  frictionContactProblem_free(problem);
+  return 0;
+}
+
+int siconos_fc3d_error(const char* path, const double* r, int n, double* error)
+{
+  FrictionContactProblem* problem = read_problem_of(path, 3);
+  if (!problem)
+    return -1;
+  if (n != 3 * problem->numberOfContacts)
+  {
+    frictionContactProblem_free(problem);
+    return -1;
+  }
+  double* z = malloc(n * sizeof(double));
+  double* w = malloc(n * sizeof(double));
+  for (int k = 0; k < n; ++k)
+    z[k] = r[k];
+  /* Siconos 4.4 divides by max(norm, |r|, |u|): with norm = |q| it is
+   * softpack's error (error.h) */
+  fc3d_compute_error(problem, z, w, 0.0, NULL, norm2(problem->q, n), error);
+  free(z);
+  free(w);
+  frictionContactProblem_free(problem);
+  return 0;
+}
+
+int siconos_fc3d_nsgs(const char* path, double tolerance, int max_iter,
+                      double* r, double* u, int capacity,
+                      SiconosFc2dResult* result)
+{
+  FrictionContactProblem* problem = read_problem_of(path, 3);
+  if (!problem)
+    return -1;
+  const int n = 3 * problem->numberOfContacts;
+  result->contacts = problem->numberOfContacts;
+  if (n > capacity)
+  {
+    frictionContactProblem_free(problem);
+    return -2;
+  }
+  for (int k = 0; k < n; ++k)
+    r[k] = u[k] = 0.0;
+  SolverOptions* options = solver_options_create(SICONOS_FRICTION_3D_NSGS);
+  options->iparam[SICONOS_IPARAM_MAX_ITER] = max_iter;
+  options->dparam[SICONOS_DPARAM_TOL] = tolerance;
+  result->info = fc3d_driver(problem, r, u, options);
+  result->iterations = options->iparam[SICONOS_IPARAM_ITER_DONE];
+  result->residual = options->dparam[SICONOS_DPARAM_RESIDU];
+  solver_options_delete(options);
+  fc3d_compute_error(problem, r, u, tolerance, NULL, norm2(problem->q, n),
                      &result->error);
   frictionContactProblem_free(problem);
   return 0;

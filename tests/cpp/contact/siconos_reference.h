@@ -45,6 +45,18 @@ extern "C"
   int siconos_fc2d_error(const char* path, const double* r, int n,
                          double* error);
 
+  /** Siconos' fc3d_compute_error of given reactions (3 per contact) for a
+   * 3D .dat problem, with its norm argument ||q||: Siconos 4.4 then divides
+   * by max(||q||, ||r||, ||u||), softpack's scale (error.h). */
+  int siconos_fc3d_error(const char* path, const double* r, int n,
+                         double* error);
+
+  /** siconos_fc2d_nsgs() for a 3D .dat problem: fc3d_driver with
+   * SICONOS_FRICTION_3D_NSGS (its default local solver), from r = 0. */
+  int siconos_fc3d_nsgs(const char* path, double tolerance, int max_iter,
+                        double* r, double* u, int capacity,
+                        SiconosFc2dResult* result);
+
 #ifdef __cplusplus
 }
 #endif
