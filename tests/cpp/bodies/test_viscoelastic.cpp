@@ -365,3 +365,51 @@ TEST(Viscoelastic, HysteresisPerCycleIsTheLossModulusAndTheViscousAccount)
     }
   }
 }
+
+TEST(Viscoelastic, TangentIsTheDerivativeOfTheResidualAtRelaxedBranches)
+{
+  // After relaxing at one deformation, at another: the tangent (read with
+  // the branches' A_k != I) against central differences of the residual
+  Matrix F;
+  F << 1.1, 0.2, -0.1, 0.9;
+  bodies::BodySet set = block();
+  deform(set, F);
+  for (int n = 0; n < 3; ++n)
+    set.update_internal_variables(tau1 / 2);
+  F << 0.95, -0.1, 0.05, 1.05;
+  deform(set, F);
+  const std::vector<double> u0(set.displacement().begin(),
+                               set.displacement().end());
+  std::vector<double> w(u0.size());
+  for (std::size_t i = 0; i < w.size(); ++i)
+    w[i] = 1e-3 * std::sin(1.7 * i + 0.3);
+  std::vector<bodies::BodyMatrix> K = set.create_matrices();
+  set.tangent(K);
+  const bodies::Body& body = set.body(0);
+  Eigen::VectorXd wb(body.num_dofs());
+  for (std::size_t k = 0; k < body.nodes.size(); ++k)
+    for (int c = 0; c < 2; ++c)
+      wb[2 * k + c] = w[2 * body.nodes[k] + c];
+  const Eigen::VectorXd Kw = bodies::symmetric_product(K[0], wb);
+  auto force_at = [&](double s)
+  {
+    std::span<double> u = set.displacement();
+    for (std::size_t i = 0; i < u0.size(); ++i)
+      u[i] = u0[i] + s * w[i];
+    std::vector<double> f(u0.size());
+    set.internal_force(f);
+    return f;
+  };
+  const double eps = 1e-4;
+  const std::vector<double> fp = force_at(eps), fm = force_at(-eps);
+  double error = 0, scale = 0;
+  for (std::size_t k = 0; k < body.nodes.size(); ++k)
+    for (int c = 0; c < 2; ++c)
+    {
+      const std::size_t i = 2 * body.nodes[k] + c;
+      const double fd = (fp[i] - fm[i]) / (2 * eps);
+      error = std::max(error, std::abs(fd - Kw[2 * k + c]));
+      scale = std::max(scale, std::abs(Kw[2 * k + c]));
+    }
+  EXPECT_LT(error, 1e-6 * scale);
+}
