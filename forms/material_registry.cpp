@@ -1,4 +1,5 @@
 #include "material_registry.h"
+#include <algorithm>
 #include <stdexcept>
 
 namespace softpack::forms
@@ -27,7 +28,23 @@ const MaterialForms& find_material(std::string_view name)
 std::vector<std::string> material_parameters(const MaterialForms& m)
 {
   const char** names = m.residual->constant_name_map();
-  return std::vector<std::string>(names, names + m.residual->num_constants);
+  std::vector<std::string> out(names, names + m.residual->num_constants);
+  if (m.internal_update)
+  {
+    const char** more = m.internal_update->constant_name_map();
+    for (int k = 0; k < m.internal_update->num_constants; ++k)
+      if (std::string_view(more[k]) != "time_step" &&
+          std::find(out.begin(), out.end(), more[k]) == out.end())
+        out.emplace_back(more[k]);
+  }
+  return out;
+}
+
+int internal_size(const MaterialForms& m)
+{
+  return m.internal_update
+             ? m.internal_update->finite_elements[0]->space_dimension
+             : 0;
 }
 
 } // namespace softpack::forms

@@ -53,6 +53,7 @@ BodySet::BodySet(BodyGeometry geometry, std::vector<BodyMaterial> materials,
   std::iota(_local.begin(), _local.end(), 0);
   _local_flag.assign(_bodies.size(), 1);
   mark_local_nodes();
+  init_internal();
   build_assembly();
   build_mass(masses);
 }
@@ -84,21 +85,32 @@ void BodySet::build_assembly()
     const int k = used[f];
     const forms::MaterialForms& law = *_materials[k].law;
     const ConstantMap constants = material_constants(_materials[k]);
-    for (const auto& [form, spaces] :
-         {std::pair{law.energy, &none}, std::pair{law.residual, &v},
-          std::pair{law.tangent, &vv}, std::pair{form_body_mass, &vv},
-          std::pair{form_body_lumped_mass, &vv}})
+    auto make = [&](const ufcx_form* form, const auto& spaces)
+    {
       made.push_back(
           std::make_shared<fem::Form<double>>(fem::create_form<double>(
-              *form, *spaces, {{"u", u}}, constants, {}, V->mesh())));
-    const auto* m = made.data() + made.size() - 5;
-    forms.push_back(
-        {m[0].get(), m[1].get(), m[2].get(), m[3].get(), m[4].get()});
+              *form, spaces, {{"u", u}}, constants, {}, V->mesh())));
+      return made.back().get();
+    };
+    BodyForms bf{nullptr, nullptr, nullptr, make(form_body_mass, vv),
+                 make(form_body_lumped_mass, vv)};
+    // A law with internal variables: its own kernels (its forms read a
+    // coefficient the one-triangle mesh has no space for)
+    if (law.internal_update)
+      bf.internal = internal_forms(law, _materials[k].parameters);
+    else
+    {
+      bf.energy = make(law.energy, none);
+      bf.residual = make(law.residual, v);
+      bf.tangent = make(law.tangent, vv);
+    }
+    forms.push_back(std::move(bf));
     for (std::size_t b = 0; b < _bodies.size(); ++b)
       if (_body_material[b] == k)
         body_form[b] = static_cast<int>(f);
   }
   _assembly = std::make_unique<BodyAssembly>(forms, body_form, u);
+  _assembly->set_internal(_internal, _internal_stride);
 }
 
 BodySet::BodySet(BodySet&&) noexcept = default;

@@ -180,6 +180,24 @@ public:
   /// Strain energy of each local body, the others' zero
   std::vector<double> body_strain_energy() const;
 
+  /// Internal variables per cell (the most any of the materials' laws has;
+  /// 0: no law has any, e.g. every hyperelastic one)
+  int internal_stride() const { return _internal_stride; }
+  /// The internal variables of every cell (internal_stride per cell,
+  /// cells numbered as Body::cells; a cell of a law with fewer or none
+  /// keeps its law's initial values, or zeros): what the forms of a
+  /// viscoelastic law read beside the displacement
+  std::span<const double> internal_variables() const { return _internal; }
+  /// Set them (a state restored)
+  /// @throws std::invalid_argument if the size is not internal_variables'
+  void set_internal_variables(std::span<const double> values);
+  /// Relax the internal variables of the local bodies whose law has them
+  /// over a step h at the current displacement (the law's
+  /// internal_update), once per accepted step.
+  /// @return The drop of those bodies' strain energy it makes: the viscous
+  /// dissipation (>= 0)
+  double update_internal_variables(double h);
+
   /// Reference area of each cell (NaN for a cell whose nodes are not
   /// stored, keep_storage). Before set_local only (every body's cells).
   std::vector<double> cell_reference_area() const;
@@ -234,6 +252,8 @@ private:
   /// (made on a one-triangle mesh and dropped: their kernels and constants
   /// are what it keeps)
   void build_assembly();
+  /// Every cell's internal variables at its law's initial values
+  void init_internal();
   /// Every body's masses (all = false: empty ones, of each body's size)
   void build_mass(bool all);
   /// Zero matrices with the flagged bodies' patterns, the others' empty
@@ -264,6 +284,9 @@ private:
   std::int32_t _unstored = -1;
   /// The displacement (interleaved x, y per node)
   std::vector<double> _u;
+  /// The internal variables (internal_stride per cell)
+  std::vector<double> _internal;
+  int _internal_stride = 0;
   std::vector<BodyMatrix> _mass;
   std::vector<Eigen::VectorXd> _lumped_mass;
   /// The per-body forms' kernels, run body by body

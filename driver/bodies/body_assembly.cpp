@@ -1,6 +1,7 @@
 #include "body_assembly.h"
 
 #include "body_materials.h"
+#include <cmath>
 #include <dolfinx/fem/utils.h>
 #include <stdexcept>
 
@@ -88,11 +89,59 @@ BodyAssembly::BodyAssembly(
     : _body_forms(std::move(body_forms))
 {
   for (const BodyForms& f : forms)
+  {
+    if (f.internal)
+    {
+      const InternalForms& in = *f.internal;
+      _kernels.push_back({in.energy, in.residual, in.tangent,
+                          cell_kernel(*f.mass, 2, "mass", u),
+                          cell_kernel(*f.lumped_mass, 2, "lumped mass", u),
+                          in.update, in.time_step});
+      continue;
+    }
     _kernels.push_back({cell_kernel(*f.energy, 0, "energy", u),
                         cell_kernel(*f.residual, 1, "residual", u),
                         cell_kernel(*f.tangent, 2, "tangent", u),
                         cell_kernel(*f.mass, 2, "mass", u),
                         cell_kernel(*f.lumped_mass, 2, "lumped mass", u)});
+  }
+}
+
+void BodyAssembly::update_internal(std::span<double> next, double h,
+                                   const std::vector<Body>& bodies,
+                                   std::span<const double> x,
+                                   std::span<const double> u,
+                                   std::span<const char> only) const
+{
+  for_each_body(
+      bodies.size(), only,
+      [&](int k)
+      {
+        const Kernels& kernels = _kernels[_body_forms[k]];
+        const int n = kernels.update.internal;
+        if (n == 0)
+          return;
+        CellKernel update = kernels.update;
+        update.constants[kernels.time_step] = h;
+        const Body& body = bodies[k];
+        // The form gives each value integrated over the cell (one point):
+        // divided by the cell's reference area.
+        cells<max_internal>(
+            k, update, bodies, x, u,
+            [&](std::size_t c, const double* integral)
+            {
+              const auto& cell = body.cell_nodes[c];
+              const double* p[3];
+              for (int i = 0; i < 3; ++i)
+                p[i] = &x[2 * body.nodes[cell[i]]];
+              const double area =
+                  0.5 * std::abs((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
+                                 (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
+              double* out = &next[std::size_t(_stride) * body.cells[c]];
+              for (int i = 0; i < n; ++i)
+                out[i] = integral[i] / area;
+            });
+      });
 }
 
 void BodyAssembly::cell_energy(std::span<double> per_cell,
@@ -105,9 +154,9 @@ void BodyAssembly::cell_energy(std::span<double> per_cell,
                 [&](int k)
                 {
                   const Body& body = bodies[k];
-                  for_each_cell<1>(body, _kernels[_body_forms[k]].energy, x, u,
-                                   [&](std::size_t c, const double* e)
-                                   { per_cell[body.cells[c]] = e[0]; });
+                  cells<1>(k, _kernels[_body_forms[k]].energy, bodies, x, u,
+                           [&](std::size_t c, const double* e)
+                           { per_cell[body.cells[c]] = e[0]; });
                 });
 }
 
@@ -121,15 +170,15 @@ void BodyAssembly::residual(std::span<double> b,
                 [&](int k)
                 {
                   const Body& body = bodies[k];
-                  for_each_cell<6>(
-                      body, _kernels[_body_forms[k]].residual, x, u,
-                      [&](std::size_t c, const double* be)
-                      {
-                        const auto& cell = body.cell_nodes[c];
-                        for (int i = 0; i < 3; ++i)
-                          for (int d = 0; d < 2; ++d)
-                            b[2 * body.nodes[cell[i]] + d] += be[2 * i + d];
-                      });
+                  cells<6>(k, _kernels[_body_forms[k]].residual, bodies, x, u,
+                           [&](std::size_t c, const double* be)
+                           {
+                             const auto& cell = body.cell_nodes[c];
+                             for (int i = 0; i < 3; ++i)
+                               for (int d = 0; d < 2; ++d)
+                                 b[2 * body.nodes[cell[i]] + d] +=
+                                     be[2 * i + d];
+                           });
                 });
 }
 
@@ -146,10 +195,9 @@ void BodyAssembly::matrices(CellKernel Kernels::*form,
                   BodyMatrix& Ak = A[k];
                   std::fill_n(Ak.valuePtr(), Ak.nonZeros(), 0.0);
                   const Body& body = bodies[k];
-                  for_each_cell<36>(body, _kernels[_body_forms[k]].*form, x, u,
-                                    [&](std::size_t c, const double* Ae) {
-                                      add_element(Ak, body.cell_nodes[c], Ae);
-                                    });
+                  cells<36>(k, _kernels[_body_forms[k]].*form, bodies, x, u,
+                            [&](std::size_t c, const double* Ae)
+                            { add_element(Ak, body.cell_nodes[c], Ae); });
                 });
 }
 

@@ -4,12 +4,18 @@
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/Function.h>
 #include <functional>
+#include <map>
+#include <material_registry.h>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 namespace softpack::bodies
 {
+
+/// The most internal variables per cell a law may have
+constexpr int max_internal = 16;
 
 /// One cell integral of a form, callable without the form: the FFCx
 /// kernel and the form's constants, packed (a material's constants are
@@ -20,6 +26,20 @@ struct CellKernel
                      const int*, const std::uint8_t*)>
       tabulate;
   std::vector<double> constants;
+  /// How many internal variables of the cell the kernel reads after its
+  /// displacement (0: none; a law with internal variables, BodySet)
+  int internal = 0;
+};
+
+/// The kernels of a law with internal variables (forms::MaterialForms::
+/// internal_update), taken from its compiled forms (internal_forms): its
+/// forms read a DG0 coefficient beside the displacement, which the body
+/// assembly passes cell by cell.
+struct InternalForms
+{
+  CellKernel energy, residual, tangent, update;
+  /// The entry of update.constants that is the step size
+  std::size_t time_step = 0;
 };
 
 /// The forms of one material that run body by body: the strain energy,
@@ -31,19 +51,31 @@ struct BodyForms
   const dolfinx::fem::Form<double>* tangent;
   const dolfinx::fem::Form<double>* mass;
   const dolfinx::fem::Form<double>* lumped_mass;
+  /// A law with internal variables: its kernels (energy, residual and
+  /// tangent then null)
+  std::optional<InternalForms> internal = std::nullopt;
 };
+
+/// The kernels of a law with internal variables, their constants the
+/// material's (the step size's entry 0 until set)
+/// @throws std::invalid_argument naming the law and form of another kind
+/// (one cell integral, coefficients u then internal)
+InternalForms internal_forms(const forms::MaterialForms& law,
+                             const std::map<std::string, double>& constants);
 
 /// Call `kernel` on each cell of `body`, in order, with the cell's node
 /// coordinates (x, global interleaved; z = 0) and displacement (u, global
 /// interleaved; none when empty), and hand (k, element tensor of N values)
-/// to add, k the cell's index in body.cell_nodes and body.cells.
+/// to add, k the cell's index in body.cell_nodes and body.cells. A kernel
+/// that reads internal variables gets cell c's from internal[stride c].
 template <int N, typename Add>
 void for_each_cell(const Body& body, const CellKernel& kernel,
                    std::span<const double> x, std::span<const double> u,
-                   Add&& add)
+                   Add&& add, std::span<const double> internal = {},
+                   int stride = 0)
 {
   double coordinates[9] = {}; // z stays 0: the geometry's third component
-  double w[6] = {}, tensor[N];
+  double w[6 + max_internal] = {}, tensor[N];
   for (std::size_t k = 0; k < body.cell_nodes.size(); ++k)
   {
     const std::array<std::int32_t, 3>& cell = body.cell_nodes[k];
@@ -57,6 +89,8 @@ void for_each_cell(const Body& body, const CellKernel& kernel,
           w[2 * i + c] = u[2 * g + c];
       }
     }
+    for (int i = 0; i < kernel.internal; ++i)
+      w[6 + i] = internal[std::size_t(stride) * body.cells[k] + i];
     std::fill_n(tensor, N, 0.0);
     kernel.tabulate(tensor, w, kernel.constants.data(), coordinates, nullptr,
                     nullptr);
@@ -103,6 +137,28 @@ public:
                    std::span<const double> x, std::span<const double> u,
                    std::span<const char> only = {}) const;
 
+  /// The internal variables (the laws' that have them; stride per cell)
+  /// the energy, residual and tangent read: a view of the caller's, which
+  /// must outlive the calls (BodySet's)
+  void set_internal(std::span<const double> internal, int stride)
+  {
+    _internal = internal;
+    _stride = stride;
+  }
+  /// The internal variables of each cell of the flagged bodies whose law
+  /// has them, relaxed over a step h at displacement u (the law's
+  /// internal_update) into next (stride per cell; the others' entries are
+  /// left as they are)
+  void update_internal(std::span<double> next, double h,
+                       const std::vector<Body>& bodies,
+                       std::span<const double> x, std::span<const double> u,
+                       std::span<const char> only = {}) const;
+  /// Whether body k's law has internal variables
+  bool has_internal(int k) const
+  {
+    return _kernels[_body_forms[k]].update.internal > 0;
+  }
+
   /// b += F_int(u) of the flagged bodies (all when `only` is empty)
   /// @param[in] x Reference coordinates (global, interleaved x, y)
   /// @param[in] u Displacement (global, interleaved)
@@ -132,7 +188,19 @@ private:
   struct Kernels
   {
     CellKernel energy, residual, tangent, mass, lumped_mass;
+    /// A law with internal variables: their update (none: internal = 0)
+    CellKernel update;
+    std::size_t time_step = 0;
   };
+  /// `kernel` on each cell of body k with the cells' internal variables
+  template <int N, typename Add>
+  void cells(int k, const CellKernel& kernel, const std::vector<Body>& bodies,
+             std::span<const double> x, std::span<const double> u,
+             Add&& add) const
+  {
+    for_each_cell<N>(bodies[k], kernel, x, u, std::forward<Add>(add), _internal,
+                     _stride);
+  }
   /// One bilinear form (a member of Kernels) of each flagged body into
   /// A[b] (its pattern; the values overwritten)
   void matrices(CellKernel Kernels::*form, std::vector<BodyMatrix>& A,
@@ -140,6 +208,8 @@ private:
                 std::span<const double> u, std::span<const char> only) const;
   std::vector<Kernels> _kernels;
   std::vector<int> _body_forms;
+  std::span<const double> _internal;
+  int _stride = 0;
 };
 
 } // namespace softpack::bodies

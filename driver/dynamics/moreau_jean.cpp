@@ -47,6 +47,10 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
     throw std::invalid_argument(
         "friction: law \"bonded\" runs on one MPI rank only "
         "(docs/contact_laws.md)");
+  if (_bodies.internal_stride() > 0 && dist().distributed())
+    throw std::invalid_argument(
+        "material: a law with internal variables (viscoelastic_neo_hookean) "
+        "runs on one MPI rank only (docs/materials.md)");
 }
 
 void MoreauJean::set_initial_velocity(std::vector<double> v)
@@ -118,6 +122,8 @@ void MoreauJean::factorize_tangent(StepReport* report)
   _bodies.tangent(_K);
   const std::span<const double> u = _bodies.displacement();
   _u_tangent.assign(u.begin(), u.end());
+  const std::span<const double> internal = _bodies.internal_variables();
+  _internal_tangent.assign(internal.begin(), internal.end());
   // Only the local bodies' entries are current here (within a full Newton
   // method's iterations, or between outputs); the state file, which alone
   // reads the others', gathers it (io::OutputGather).
@@ -314,6 +320,14 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
   add_stiffness_dissipation(stiffness, _options.time.theta, start.u_old,
                             _bodies.displacement(), f_int_before, _f_int,
                             _bodies.local_nodes());
+  if (_bodies.internal_stride() > 0)
+  {
+    // The internal variables relax at the converged configuration, once
+    // per accepted step; the next step starts from their internal force.
+    _energy.viscous += _bodies.update_internal_variables(h);
+    _bodies.internal_force(_f_int);
+    _rigid.zero(_f_int);
+  }
   _time += h;
   ++_steps;
   ++_matrix_age;

@@ -81,6 +81,9 @@ public:
   /// The displacement the kept tangent was assembled at, stored as the
   /// velocity (current while matrix_age() >= 0)
   std::span<const double> tangent_displacement() const { return _u_tangent; }
+  /// The internal variables the kept tangent was assembled with
+  /// (BodySet::internal_variables; current while matrix_age() >= 0)
+  std::span<const double> tangent_internal() const { return _internal_tangent; }
   /// Steps since the last factorization of the iteration matrix (-1: none
   /// kept; the next step refactors)
   int matrix_age() const { return _matrix_age; }
@@ -188,6 +191,9 @@ private:
   /// state() from the stored entries: on a distributed run the vectors'
   /// entries of the interiors not stored are NaN
   SchemeState stored_state() const;
+  /// Refuse a state whose internal variables are not the bodies' (missing:
+  /// naming the key internal_variables)
+  void check_internal(const SchemeState& s) const;
   /// The contacts of a step and their data fixed during the step
   struct StepContacts;
   /// What the step knows before its Newton iterations
@@ -324,6 +330,7 @@ private:
   int _last_iterations = 0;
   /// Displacement at which _K was assembled (saved in the state)
   std::vector<double> _u_tangent;
+  std::vector<double> _internal_tangent;
   /// The step's start (displacement, velocity) while a retry of the step
   /// is possible (StepSize::can_retry); a rebalance hands them over with
   /// u and v

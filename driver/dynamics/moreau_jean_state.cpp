@@ -76,7 +76,31 @@ SchemeState MoreauJean::scalar_state() const
   s.step_size = _step_size.state();
   if (_cell)
     s.cell = {_cell->a1[0], _cell->a1[1], _cell->a2[0], _cell->a2[1]};
+  // Whole on every run that has them (one rank only)
+  const std::span<const double> internal = _bodies.internal_variables();
+  s.internal.assign(internal.begin(), internal.end());
+  if (_matrix_age >= 0)
+    s.internal_tangent = _internal_tangent;
   return s;
+}
+
+void MoreauJean::check_internal(const SchemeState& s) const
+{
+  const std::size_t n = _bodies.internal_variables().size();
+  if (s.internal.size() != n)
+    throw std::invalid_argument(
+        n > 0 && s.internal.empty()
+            ? "state: no internal_variables in it, the run's law has them "
+              "(viscoelastic_neo_hookean's Maxwell branches): a state of a "
+              "run without them cannot continue exactly"
+            : "state: internal_variables of " +
+                  std::to_string(s.internal.size()) + " values, the run has " +
+                  std::to_string(n));
+  if (s.matrix_age >= 0 && s.internal_tangent.size() != n)
+    throw std::invalid_argument("state: internal_variables of the kept "
+                                "tangent of " +
+                                std::to_string(s.internal_tangent.size()) +
+                                " values, the run has " + std::to_string(n));
 }
 
 void MoreauJean::restore(const SchemeState& s)
@@ -93,6 +117,7 @@ void MoreauJean::restore(const SchemeState& s)
     throw std::invalid_argument("state: a kept tangent of " +
                                 std::to_string(s.u_tangent.size()) +
                                 " DOFs, the bodies have " + std::to_string(n));
+  check_internal(s);
   if (s.cell.size() != (_cell ? 4u : 0u))
     throw std::invalid_argument(
         _cell ? "state: no periodic cell in it, the run has one ([cell])"
@@ -112,8 +137,10 @@ void MoreauJean::restore(const SchemeState& s)
     // arithmetic as the uninterrupted run's refactorization.
     const std::vector<double> u_tangent = _bodies.from_global(s.u_tangent);
     std::copy(u_tangent.begin(), u_tangent.end(), u.begin());
+    _bodies.set_internal_variables(s.internal_tangent);
     factorize_tangent(nullptr);
   }
+  _bodies.set_internal_variables(s.internal);
   const std::vector<double> u_state = _bodies.from_global(s.u);
   std::copy(u_state.begin(), u_state.end(), u.begin());
   _v = _bodies.from_global(s.v);

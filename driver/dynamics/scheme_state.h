@@ -48,6 +48,10 @@ struct SchemeState
   StepSize::State step_size;
   /// A periodic cell's edge vectors a1, a2 (4 numbers; empty: no cell)
   std::vector<double> cell;
+  /// Each cell's internal variables (BodySet::internal_variables; empty:
+  /// no law has any), and those the kept tangent was assembled with (empty
+  /// unless both the tangent and the internal variables are)
+  std::vector<double> internal, internal_tangent;
 };
 
 } // namespace softpack::dynamics

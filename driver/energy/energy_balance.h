@@ -17,7 +17,7 @@ using BodyVectors = std::vector<Eigen::VectorXd>;
 ///
 /// Balance: wall_work + external_work + cell_work + rewrap = kinetic +
 /// strain (their changes) + damping + contact_dissipation + cohesion + bond
-/// + numerical; residual() is what is left.
+/// + numerical + viscous; residual() is what is left.
 struct EnergyBalance
 {
   double wall_work = 0;
@@ -48,13 +48,17 @@ struct EnergyBalance
   /// Dissipation of the theta scheme, (theta - 1/2) (|v+ - v-|_M^2 +
   /// dq . (F_int(q+) - F_int(q-))), dq = q+ - q-
   double numerical = 0;
+  /// Viscous dissipation of the laws with internal variables: the drop of
+  /// strain energy as they relax at each step's end
+  /// (BodySet::update_internal_variables)
+  double viscous = 0;
 
   /// Energy supplied minus energy stored and dissipated
   double residual() const
   {
     return wall_work + external_work + cell_work + rewrap -
            (kinetic - kinetic0 + strain - strain0 + damping + friction +
-            contact_normal + cohesion + bond + numerical);
+            contact_normal + cohesion + bond + numerical + viscous);
   }
 };
 

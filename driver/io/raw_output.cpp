@@ -32,7 +32,7 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
     _steps << ",cell_a1x,cell_a1y,cell_a2x,cell_a2y";
   _steps << ",phi,strain_energy,kinetic_energy,wall_work,external_work,"
             "cell_work,rewrap,damping,friction,contact_normal,cohesion,bond,"
-            "numerical,energy_"
+            "viscous,numerical,energy_"
             "residual,"
             "seconds,seconds_detection,seconds_assembly,seconds_factorization,"
             "seconds_delassus,seconds_nlgs,seconds_solves,refactorized,"
@@ -72,13 +72,14 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
   _steps << ',' << e.strain << ',' << e.kinetic << ',' << e.wall_work << ','
          << e.external_work << ',' << e.cell_work << ',' << e.rewrap << ','
          << e.damping << ',' << e.friction << ',' << e.contact_normal << ','
-         << e.cohesion << ',' << e.bond << ',' << e.numerical << ','
-         << e.residual() << ',' << seconds << ',' << spent.detection << ','
-         << spent.assembly << ',' << spent.factorization << ','
-         << spent.delassus << ',' << spent.nlgs << ',' << spent.solves << ','
-         << (r.refactorized ? 1 : 0) << ',' << interval.newton_unconverged_steps
-         << ',' << interval.nlgs_unconverged_steps << ','
-         << interval.retried_steps << ',' << overlap_depth;
+         << e.cohesion << ',' << e.bond << ',' << e.viscous << ','
+         << e.numerical << ',' << e.residual() << ',' << seconds << ','
+         << spent.detection << ',' << spent.assembly << ','
+         << spent.factorization << ',' << spent.delassus << ',' << spent.nlgs
+         << ',' << spent.solves << ',' << (r.refactorized ? 1 : 0) << ','
+         << interval.newton_unconverged_steps << ','
+         << interval.nlgs_unconverged_steps << ',' << interval.retried_steps
+         << ',' << overlap_depth;
   // Each body's integral of its Cauchy stress (stress_average.h), summed
   // over the bodies: the finite elements' estimate of the mean stress times
   // the box area, for analysis/stress.py.

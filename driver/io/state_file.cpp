@@ -11,7 +11,10 @@ namespace softpack::io
 {
 namespace
 {
-constexpr std::string_view magic = "softpack-state-8";
+constexpr std::string_view magic = "softpack-state-9";
+/// Layout 8 is layout 9 without the internal variables (read: none, and a
+/// run whose law has them refuses it) and the viscous account (read: 0)
+constexpr std::string_view magic_v8 = "softpack-state-8";
 /// Layout 7 is layout 8 without the bonds (read: none formed, none intact)
 /// and the bond account (read: 0)
 constexpr std::string_view magic_v7 = "softpack-state-7";
@@ -150,6 +153,13 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
     put(out, gap);
   }
   put(out, s.energy.bond);
+  // The internal variables (layout 9): the viscous account, each cell's,
+  // and those of the kept tangent.
+  put(out, s.energy.viscous);
+  put(out, static_cast<std::int64_t>(s.internal.size()));
+  put(out, s.internal);
+  put(out, static_cast<std::int64_t>(s.internal_tangent.size()));
+  put(out, s.internal_tangent);
   return out;
 }
 
@@ -173,8 +183,8 @@ void check_layout(const std::string& bytes, const std::filesystem::path& path)
         path.string() + ": state layout softpack-state-4 (written by a "
                         "driver of 2026-11-30 whose lever was reverted) is "
                         "not read: rerun the run that wrote it");
-  if (head != magic && head != magic_v7 && head != magic_v6 &&
-      head != magic_v5 && head != magic_v3)
+  if (head != magic && head != magic_v8 && head != magic_v7 &&
+      head != magic_v6 && head != magic_v5 && head != magic_v3)
     throw std::runtime_error(path.string() + ": not a softpack state file");
   if (bytes.size() < magic.size() + sizeof(std::uint64_t))
     throw std::runtime_error(path.string() + ": state file is truncated");
@@ -283,6 +293,19 @@ void read_bonds(Reader& r, dynamics::SchemeState& s, std::size_t bytes)
   }
   s.energy.bond = r.get<double>();
 }
+/// The internal variables of layout 9 (docs/materials.md)
+void read_internal(Reader& r, dynamics::SchemeState& s, std::size_t bytes)
+{
+  s.energy.viscous = r.get<double>();
+  for (std::vector<double>* v : {&s.internal, &s.internal_tangent})
+  {
+    const auto n = r.get<std::int64_t>();
+    if (n < 0 || n > std::int64_t(bytes))
+      throw std::runtime_error(r.path.string() + ": state file has bad sizes");
+    v->resize(n);
+    r.get(v->data(), sizeof(double) * n);
+  }
+}
 } // namespace
 
 StateFile read_state_file(const std::filesystem::path& path,
@@ -339,13 +362,14 @@ StateFile read_state_file(const std::filesystem::path& path,
     s.step_size.window_iterations = static_cast<int>(r.get<std::int64_t>());
     c.total.retried_steps = r.get<std::int64_t>();
   }
-  if (head == magic || head == magic_v7 || head == magic_v6)
+  const bool v8 = head == magic || head == magic_v8;
+  if (v8 || head == magic_v7 || head == magic_v6)
   {
     s.step_size.window_start.residual = r.get<double>();
     s.step_size.window_start.supplied = r.get<double>();
     s.energy.cohesion = r.get<double>();
   }
-  if (head == magic || head == magic_v7)
+  if (v8 || head == magic_v7)
   {
     s.energy.cell_work = r.get<double>();
     s.energy.rewrap = r.get<double>();
@@ -355,8 +379,10 @@ StateFile read_state_file(const std::filesystem::path& path,
     s.cell.resize(nc);
     r.get(s.cell.data(), sizeof(double) * nc);
   }
-  if (head == magic)
+  if (v8)
     read_bonds(r, s, bytes.size());
+  if (head == magic)
+    read_internal(r, s, bytes.size());
   if (r.at + sizeof(std::uint64_t) != bytes.size())
     throw std::runtime_error(path.string() + ": state file has bad sizes");
   if (expected)

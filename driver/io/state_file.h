@@ -54,7 +54,10 @@ struct StateFile
 /// (the current step, a double; the window's calm steps and Newton
 /// iterations and the retried steps, int64; the energy residual and the
 /// energy supplied at the window's start, 2 doubles), the cohesion account
-/// (a double), and last the FNV-1a 64 hash of every byte before it. Layout
+/// (a double), the periodic cell (layout 7), the bonds (layout 8), the
+/// viscous account (a double), each cell's internal variables and those of
+/// the kept tangent (each an int64 count, 0 for a law without, then the
+/// doubles; layout 9), and last the FNV-1a 64 hash of every byte before it. Layout
 /// 5 (without the window's start and the cohesion) and layout 3 (without
 /// the adaptive step) are still read.
 void write_state(const std::filesystem::path& path,

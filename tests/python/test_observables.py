@@ -204,7 +204,7 @@ def write_fake_run(run_dir, n_steps=3):
     (run_dir / "raw" / "particles.csv").write_text("".join(parts))
 
 
-@pytest.mark.parametrize("column", ["cohesion", "bond"])
+@pytest.mark.parametrize("column", ["cohesion", "bond", "viscous"])
 def test_a_run_without_a_law_column_reads_it_as_zero(tmp_path, column):
     # raw/steps.csv of a driver older than the cohesive (bonded) law
     write_fake_run(tmp_path)

@@ -91,7 +91,7 @@ from softpack.contract.tables import read_table, write_table
 ENERGY_COLUMNS = ("strain_energy", "kinetic_energy", "wall_work",
                   "external_work", "cell_work", "rewrap", "damping",
                   "friction", "contact_normal", "cohesion", "bond",
-                  "numerical", "energy_residual")
+                  "viscous", "numerical", "energy_residual")
 #: Copied from ``raw/steps.csv`` when the driver wrote them (NaN otherwise):
 #: steps since the previous row whose Newton iterations or contact solves
 #: did not converge, and the overlap depth measured from the deformed
@@ -187,7 +187,8 @@ def series_from_steps(steps: dict, setup: RunSetup) -> dict:
     if "phi" in steps:
         series["phi"] = np.array(steps["phi"], dtype=float)
     for name in ENERGY_COLUMNS:
-        # (a run written before the cohesion or bond account had none: 0)
+        # (a run written before the cohesion, bond or viscous account had
+        # none: 0)
         series[name] = h * (steps[name] if name in steps
                             else np.zeros(len(steps["step"])))
     supplied = np.abs(steps["wall_work"]) + np.abs(steps["external_work"])

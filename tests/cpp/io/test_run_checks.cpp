@@ -364,10 +364,12 @@ TEST(StateFile, KeepsCellBondsWindowStartAndCohesionAndReadsLayouts7To5)
   EXPECT_EQ(back.step_size.window_start.supplied, 0.75);
 
   // Layout 7: without the bonds (formed flag, count: two int64; no entry
-  // here) and the bond account
+  // here) and the bond account (nor layout 9's internal variables: their
+  // account and two counts, no values here)
   s.bonds.clear();
   softpack::io::write_state(path, s);
-  const std::size_t bonds = 2 * sizeof(std::int64_t) + sizeof(double);
+  const std::size_t bonds = 2 * sizeof(std::int64_t) + sizeof(double) +
+                            sizeof(double) + 2 * sizeof(std::int64_t);
   rewrite_as(path, "softpack-state-7", bonds);
   const dynamics::SchemeState seven = softpack::io::read_state(path);
   EXPECT_EQ(seven.energy.bond, 0.0);
@@ -398,6 +400,40 @@ TEST(StateFile, KeepsCellBondsWindowStartAndCohesionAndReadsLayouts7To5)
   EXPECT_EQ(old.step_size.h, 2e-4);
   EXPECT_TRUE(std::isnan(old.step_size.window_start.residual));
   EXPECT_TRUE(std::isnan(old.step_size.window_start.supplied));
+  if (!HasFailure())
+    std::filesystem::remove_all(dir);
+}
+
+TEST(StateFile, KeepsInternalVariablesAndReadsLayout8WithoutThem)
+{
+  const std::filesystem::path dir = test::fresh_directory("state-layout9");
+  dynamics::SchemeState s;
+  s.u = s.v = {1.0, 2.0};
+  s.energy.bond = 2.5e-4;
+  s.energy.viscous = 0.125;
+  s.internal = {1.0, 0.1, 0.9, 1.05, 1.0, 0.0, 1.0, 1.0};
+  s.internal_tangent = {1.0, 0.0, 1.0, 1.0, 0.99, 0.02, 1.01, 1.0};
+  s.matrix_age = 2;
+  s.u_tangent = {0.5, 0.25};
+  const std::filesystem::path path = dir / "state.bin";
+  softpack::io::write_state(path, s);
+  const dynamics::SchemeState back = softpack::io::read_state(path);
+  EXPECT_EQ(back.energy.viscous, 0.125);
+  EXPECT_EQ(back.internal, s.internal);
+  EXPECT_EQ(back.internal_tangent, s.internal_tangent);
+  EXPECT_EQ(back.energy.bond, 2.5e-4);
+
+  // Layout 8: without them (the account and two counts; no values)
+  s.internal.clear();
+  s.internal_tangent.clear();
+  softpack::io::write_state(path, s);
+  rewrite_as(path, "softpack-state-8",
+             sizeof(double) + 2 * sizeof(std::int64_t));
+  const dynamics::SchemeState eight = softpack::io::read_state(path);
+  EXPECT_EQ(eight.energy.viscous, 0.0);
+  EXPECT_TRUE(eight.internal.empty());
+  EXPECT_EQ(eight.energy.bond, 2.5e-4);
+  EXPECT_EQ(eight.u_tangent, s.u_tangent);
   if (!HasFailure())
     std::filesystem::remove_all(dir);
 }

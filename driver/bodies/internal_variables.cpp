@@ -1,0 +1,140 @@
+// The internal variables of the laws that have them (a viscoelastic law's
+// Maxwell branches, forms/materials/viscoelastic_neo_hookean.py): one DG0
+// value per cell, read by the law's forms beside the displacement, relaxed
+// once per accepted step.
+#include "BodySet.h"
+
+#include "body_assembly.h"
+#include <stdexcept>
+#include <string>
+
+namespace softpack::bodies
+{
+
+namespace
+{
+/// The cell kernel of one form of a law with internal variables
+CellKernel internal_kernel(const forms::MaterialForms& law,
+                           const ufcx_form& form, int rank, const char* what,
+                           const std::map<std::string, double>& constants,
+                           std::size_t* time_step)
+{
+  auto fail = [&](const std::string& why)
+  {
+    throw std::invalid_argument(std::string("law '") + law.name + "': its " +
+                                what + " form " + why);
+  };
+  const char** coefficients = form.coefficient_name_map();
+  if (form.rank != rank || form.num_coefficients != 2 ||
+      std::string_view(coefficients[0]) != "u" ||
+      std::string_view(coefficients[1]) != "internal")
+    fail("is not of rank " + std::to_string(rank) +
+         " with the coefficients u then internal");
+  if (form.num_integrals(ufcx_integral_type::cell) != 1 ||
+      form.integral_ids(ufcx_integral_type::cell)[0] != -1 ||
+      form.num_integrals(ufcx_integral_type::exterior_facet) != 0 ||
+      form.num_integrals(ufcx_integral_type::interior_facet) != 0)
+    fail("is not one cell integral");
+  const int n = form.finite_elements[rank + 1]->space_dimension;
+  if (n > max_internal)
+    fail("has " + std::to_string(n) + " internal variables per cell (at most " +
+         std::to_string(max_internal) + ")");
+  CellKernel kernel{
+      form.integrals(ufcx_integral_type::cell)[0]->tabulate_tensor_float64,
+      {},
+      n};
+  const char** names = form.constant_name_map();
+  for (int k = 0; k < form.num_constants; ++k)
+  {
+    if (time_step && std::string_view(names[k]) == "time_step")
+    {
+      *time_step = kernel.constants.size();
+      kernel.constants.push_back(0);
+      continue;
+    }
+    const auto it = constants.find(names[k]);
+    if (it == constants.end())
+      fail(std::string("reads the constant ") + names[k] +
+           ", which is no parameter");
+    kernel.constants.push_back(it->second);
+  }
+  return kernel;
+}
+} // namespace
+
+InternalForms internal_forms(const forms::MaterialForms& law,
+                             const std::map<std::string, double>& constants)
+{
+  if (!law.internal_update)
+    throw std::logic_error(std::string("law '") + law.name +
+                           "' has no internal variables");
+  InternalForms f;
+  f.energy = internal_kernel(law, *law.energy, 0, "energy", constants, nullptr);
+  f.residual =
+      internal_kernel(law, *law.residual, 1, "residual", constants, nullptr);
+  f.tangent =
+      internal_kernel(law, *law.tangent, 2, "tangent", constants, nullptr);
+  f.update = internal_kernel(law, *law.internal_update, 1, "internal_update",
+                             constants, &f.time_step);
+  if (f.update.internal !=
+          law.internal_update->finite_elements[0]->space_dimension ||
+      f.update.internal !=
+          static_cast<int>(forms::internal_initial(law.name).size()))
+    throw std::invalid_argument(
+        std::string("law '") + law.name +
+        "': internal_update's test space, its coefficient internal and "
+        "internal_initial differ in size");
+  return f;
+}
+
+void BodySet::init_internal()
+{
+  _internal_stride = 0;
+  for (const BodyMaterial& m : _materials)
+    _internal_stride = std::max(_internal_stride, forms::internal_size(*m.law));
+  _internal.assign(_cell_body.size() * _internal_stride, 0.0);
+  for (std::size_t c = 0; c < _cell_body.size(); ++c)
+  {
+    const std::span<const double> initial = forms::internal_initial(
+        _materials[_body_material[_cell_body[c]]].law->name);
+    std::copy(initial.begin(), initial.end(),
+              _internal.begin() + c * _internal_stride);
+  }
+}
+
+void BodySet::set_internal_variables(std::span<const double> values)
+{
+  if (values.size() != _internal.size())
+    throw std::invalid_argument(
+        "BodySet::set_internal_variables: " + std::to_string(values.size()) +
+        " values for " + std::to_string(_internal.size()) + " (" +
+        std::to_string(_cell_body.size()) + " cells of " +
+        std::to_string(_internal_stride) + ")");
+  std::copy(values.begin(), values.end(), _internal.begin());
+}
+
+double BodySet::update_internal_variables(double h)
+{
+  if (_internal_stride == 0)
+    return 0;
+  std::vector<char> flagged(_bodies.size(), 0);
+  for (const int b : _local)
+    flagged[b] = _assembly->has_internal(b);
+  std::vector<double> before(_cell_body.size(), 0.0),
+      after(_cell_body.size(), 0.0);
+  _assembly->cell_energy(before, _bodies, _reference_x, _u, flagged);
+  std::vector<double> next(_internal);
+  _assembly->update_internal(next, h, _bodies, _reference_x, _u, flagged);
+  _internal.swap(next);
+  _assembly->set_internal(_internal, _internal_stride);
+  _assembly->cell_energy(after, _bodies, _reference_x, _u, flagged);
+  // In body and cell order: the same sum on every run
+  double dissipated = 0;
+  for (std::size_t b = 0; b < _bodies.size(); ++b)
+    if (flagged[b])
+      for (const std::int32_t c : _bodies[b].cells)
+        dissipated += before[c] - after[c];
+  return dissipated;
+}
+
+} // namespace softpack::bodies
