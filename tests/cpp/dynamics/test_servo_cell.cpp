@@ -170,3 +170,42 @@ TEST(ServoCell, ARemapChangesNothingPhysical)
   const auto leaning = servo_series({0, 0}, 10, 300, 0.6, 0.45 * 0.07);
   EXPECT_LT(largest_difference(remapped, leaning), 1e-8); // measured 8.5e-12
 }
+
+TEST(ServoCell, ARunContinuedFromItsStateIsTheUninterruptedOne)
+{
+  // The six disks under sigma_yy, sheared and squeezed: the height's rate
+  // is state (written with the edges), restored with them
+  const double c = 0.07;
+  dynamics::MoreauJeanOptions options = test::exact_options(5e-5, 0.5);
+  options.damping.beta = 1e-5;
+  options.contact.alert_distance = 3e-4;
+  options.time.full_newton = false; // the kept tangent is state too
+  options.time.tangent_reuse_steps = 7;
+  auto cell = dynamics::PeriodicCell::moving({c, 0}, {0, c}, {-2, 5}, {0, 0});
+  cell.servo.push_back({1, 5e3, 2.2});
+  bodies::BodySet whole = disks(six({0.3 * c, 0.45 * c}));
+  dynamics::MoreauJean uninterrupted(whole, {}, options);
+  uninterrupted.set_cell(cell);
+  dynamics::SchemeState middle;
+  for (int s = 0; s < 260; ++s)
+  {
+    uninterrupted.step();
+    if (s == 219) // after the first contacts (~ step 200)
+      middle = uninterrupted.state();
+  }
+  bodies::BodySet again = disks(six({0.3 * c, 0.45 * c}));
+  dynamics::MoreauJean continued(again, {}, options);
+  continued.set_cell(cell);
+  continued.restore(middle);
+  for (int s = 220; s < 260; ++s)
+    continued.step();
+  const dynamics::EnergyBalance& a = uninterrupted.energy();
+  const dynamics::EnergyBalance& b = continued.energy();
+  EXPECT_GT(a.strain - a.strain0, 0.0);
+  EXPECT_EQ(a.strain, b.strain);
+  EXPECT_EQ(a.cell_work, b.cell_work);
+  EXPECT_EQ(a.kinetic, b.kinetic);
+  EXPECT_EQ(uninterrupted.cell()->a2, continued.cell()->a2);
+  EXPECT_EQ(uninterrupted.cell()->a2_rate, continued.cell()->a2_rate);
+  EXPECT_EQ(whole.current_coordinates(), again.current_coordinates());
+}
