@@ -11,7 +11,7 @@
 #include <numeric>
 #include <omp.h>
 #include <stdexcept>
-#include <walls/servo_walls.h>
+#include <walls/servo_cell.h>
 
 namespace softpack::dynamics
 {
@@ -195,7 +195,8 @@ StepReport MoreauJean::step()
   {
     // Initial velocities are set between construction and the first step
     // (set_initial_velocity), a wall's velocity too.
-    _energy.kinetic0 = _body_kinetic + walls_kinetic_energy(_walls);
+    _energy.kinetic0 = _body_kinetic + walls_kinetic_energy(_walls) +
+                       (_cell ? cell_kinetic_energy(*_cell) : 0.0);
     _started = true;
   }
   // The step's start, for a retry: kept only when one is possible (two
@@ -337,10 +338,11 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
       for (int d = 0; d < 2; ++d)
         wall.point[d] += h * wall.velocity[d];
   finish_servo_walls(sc.servo, _walls, _R, h, _options.time.theta);
+  finish_servo_cell(sc.servo, _R, _options.time.theta);
   t0 = clock::now();
   account_step(sc, start, report, stiffness.numerical);
   if (_cell)
-    finish_cell_step(h);
+    finish_cell_step(h, sc.servo);
   if (!_rigid.empty())
   {
     // The next step's contacts see the rigid bodies' velocity field at
@@ -380,6 +382,8 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
                         .f_ext = start.f_ext_b},
                        stiffness_numerical);
   account_servo_walls(sc.servo, _walls, sc.H, _energy, h, th);
+  if (_cell)
+    account_servo_cell(sc.servo, *_cell, _contacts, sc.H, _R, _energy, h, th);
   const std::vector<double> U_mid = sc.H.relative_velocity(_bodies, v_mid);
   add_contact_terms(_energy, sc.H, _contacts, _walls, _R, U_mid, sc.cohesion,
                     sc.bonds.contacts);

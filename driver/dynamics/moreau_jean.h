@@ -29,6 +29,7 @@
 /// Nonsmooth contact dynamics of deformable bodies (Moreau–Jean).
 namespace softpack::dynamics
 {
+struct ServoWalls;
 
 /// The Moreau–Jean theta-method with Newton iterations on finite-strain
 /// bodies and Signorini–Coulomb contacts solved by NLGS (METHOD.md §3).
@@ -249,10 +250,22 @@ private:
   /// Displacement, internal force, time and walls at the end of the step
   void finish_step(StepContacts& sc, const StepStart& start,
                    StepReport& report);
-  /// The periodic cell's end of step: its edges advanced, every body whose
-  /// centroid left it moved back by a whole cell vector (u -= h k, v -= L h
-  /// k), the contacts' images and the accounts changed with them
-  void finish_cell_step(double h);
+  /// The periodic cell's end of step: its edges advanced (the
+  /// stress-controlled components at their mid-step rates), the affine
+  /// kick of a changed rate, the cell remapped when it leans too far, every
+  /// body whose centroid left it moved back by a whole cell vector (u -= h
+  /// k, v -= (dh/dt) k), the contacts' images and the accounts changed
+  /// with them
+  void finish_cell_step(double h, const ServoWalls& servo);
+  /// Every body's velocity changed by the change of the stress-controlled
+  /// rates' affine field at its centroid (and its position by th h times
+  /// that); false when no rate changed
+  bool affine_kick(double h, const ServoWalls& servo);
+  /// Every body whose centroid left the cell moved back by a whole cell
+  /// vector, with its image's velocity; false when none moved
+  bool rewrap();
+  /// The bodies' centroids (the mean of their nodes), now
+  std::vector<std::array<double, 2>> body_centroids() const;
   /// The step's energy terms, contact report and impulse history
   void account_step(StepContacts& sc, const StepStart& start,
                     StepReport& report, double stiffness_numerical);

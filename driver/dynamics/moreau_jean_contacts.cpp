@@ -4,7 +4,7 @@
 #include "moreau_jean_step.h"
 
 #include <algorithm>
-#include <walls/servo_walls.h>
+#include <walls/servo_cell.h>
 
 namespace softpack::dynamics
 {
@@ -39,6 +39,8 @@ MoreauJean::prepare_contacts(const std::vector<double>& v_old)
   }
   // After the shift: U_n- is at the walls' start velocity.
   sc.servo = start_servo_walls(_walls, _contacts, sc.H, h);
+  if (_cell && !_cell->servo.empty())
+    start_servo_cell(*_cell, _contacts, body_centroids(), sc.H, h, sc.servo);
   _R = _history.warm_start(_contacts);
   return sc;
 }

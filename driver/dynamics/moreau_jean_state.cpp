@@ -2,6 +2,8 @@
 // from), the energy accounts and the wall forces of the last step.
 #include "moreau_jean.h"
 
+#include <walls/servo_cell.h>
+
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -33,7 +35,8 @@ const EnergyBalance& MoreauJean::energy() const
     }
     _energy.strain =
         std::accumulate(_body_strain.begin(), _body_strain.end(), 0.0);
-    _energy.kinetic = _body_kinetic + walls_kinetic_energy(_walls);
+    _energy.kinetic = _body_kinetic + walls_kinetic_energy(_walls) +
+                      (_cell ? cell_kinetic_energy(*_cell) : 0.0);
     if (!_started)
       _energy.kinetic0 = _energy.kinetic;
     _energy_stale = false;
@@ -75,7 +78,9 @@ SchemeState MoreauJean::scalar_state() const
   s.last_iterations = _last_iterations;
   s.step_size = _step_size.state();
   if (_cell)
-    s.cell = {_cell->a1[0], _cell->a1[1], _cell->a2[0], _cell->a2[1]};
+    s.cell = {_cell->a1[0],      _cell->a1[1],      _cell->a2[0],
+              _cell->a2[1],      _cell->a1_rate[0], _cell->a1_rate[1],
+              _cell->a2_rate[0], _cell->a2_rate[1]};
   // Whole on every run that has them (one rank only)
   const std::span<const double> internal = _bodies.internal_variables();
   s.internal.assign(internal.begin(), internal.end());
@@ -118,7 +123,9 @@ void MoreauJean::restore(const SchemeState& s)
                                 std::to_string(s.u_tangent.size()) +
                                 " DOFs, the bodies have " + std::to_string(n));
   check_internal(s);
-  if (s.cell.size() != (_cell ? 4u : 0u))
+  // (4 values: a state written before the rates were kept; the rates are
+  // then the run's own)
+  if (_cell ? (s.cell.size() != 4 && s.cell.size() != 8) : !s.cell.empty())
     throw std::invalid_argument(
         _cell ? "state: no periodic cell in it, the run has one ([cell])"
               : "state: of a periodic cell, the run has none ([cell])");
@@ -126,6 +133,11 @@ void MoreauJean::restore(const SchemeState& s)
   {
     _cell->a1 = {s.cell[0], s.cell[1]};
     _cell->a2 = {s.cell[2], s.cell[3]};
+    if (s.cell.size() == 8)
+    {
+      _cell->a1_rate = {s.cell[4], s.cell[5]};
+      _cell->a2_rate = {s.cell[6], s.cell[7]};
+    }
   }
   std::span<double> u = _bodies.displacement();
   // The step first: the kept matrix is rebuilt with the h it was built for.

@@ -46,7 +46,8 @@ struct SchemeState
   std::vector<double> u_tangent;
   /// The adaptive time step (h = 0: a state without one; the base step)
   StepSize::State step_size;
-  /// A periodic cell's edge vectors a1, a2 (4 numbers; empty: no cell)
+  /// A periodic cell's edge vectors a1, a2 and their rates (8 numbers;
+  /// 4 in a state written before the rates were kept; empty: no cell)
   std::vector<double> cell;
   /// Each cell's internal variables (BodySet::internal_variables; empty:
   /// no law has any), and those the kept tangent was assembled with (empty

@@ -45,8 +45,8 @@ void add_body_terms(EnergyBalance& energy, double h, double theta,
 namespace
 {
 /// The work on contact a of a velocity-controlled wall, or of the cell's
-/// motion on a contact with an image: R . U_wall (the image's velocity is
-/// the contact operator's wall velocity)
+/// motion on a particle contact: R . U_wall (the antagonist's velocity
+/// from the cell's motion is the contact operator's wall velocity)
 void add_wall_work(EnergyBalance& energy, const ContactOperator& H,
                    const std::vector<Contact>& contacts,
                    const std::vector<Wall>& walls, std::span<const double> R,
@@ -56,7 +56,9 @@ void add_wall_work(EnergyBalance& energy, const ContactOperator& H,
       R[2 * a] * H.wall_velocity(a)[0] + R[2 * a + 1] * H.wall_velocity(a)[1];
   if (contacts[a].wall >= 0 && !walls[contacts[a].wall].servo())
     energy.wall_work += work;
-  else if (contacts[a].image[0] != 0 || contacts[a].image[1] != 0)
+  else if (contacts[a].antagonist_body >= 0)
+    // (zero without a cell; in a cell the image's rate, and the affine
+    // change of a stress-controlled one, servo_cell.h)
     energy.cell_work += work;
 }
 } // namespace

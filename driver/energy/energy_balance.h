@@ -22,11 +22,13 @@ struct EnergyBalance
 {
   double wall_work = 0;
   double external_work = 0;
-  /// Work of a periodic cell through its image contacts, R . (L h k)
-  /// (docs/periodic_cell.md)
+  /// Work of a periodic cell: through its image contacts, R . ((dh/dt) k),
+  /// and, for a stress-controlled component, the imposed load's work in
+  /// place of what its contacts transmit to it (docs/periodic_cell.md)
   double cell_work = 0;
-  /// Kinetic energy given to the bodies re-wrapped into a deforming
-  /// periodic cell (their velocity changes by -L h k)
+  /// Kinetic energy given to the bodies by changes of their velocities by
+  /// the cell's rate: re-wrapped into a deforming cell (-(dh/dt) k), and
+  /// the affine change of a stress-controlled rate
   double rewrap = 0;
   double kinetic = 0, kinetic0 = 0;
   double strain = 0, strain0 = 0;

@@ -126,13 +126,56 @@ void read_stages(const Reader& r, const json& stages, DriverConfig& c)
   }
 }
 
+/// The cell's stress-controlled components (docs/periodic_cell.md, "A
+/// stress-controlled cell"): an imposed rate of the same component, a
+/// tilting edge a1 and a stress on an imposed component refused, naming
+/// the keys (the Python stage refuses them first).
+void read_cell_control(const Reader& r, const parameters::Cell& p,
+                       dynamics::PeriodicCell& cell)
+{
+  const std::array<std::pair<const std::string*, double>, 2> axes = {
+      {{&p.control_xx, p.stress_xx}, {&p.control_yy, p.stress_yy}}};
+  const std::array<double, 2> rates = {p.velocity_gradient_x[0],
+                                       p.velocity_gradient_y[1]};
+  for (int i = 0; i < 2; ++i)
+  {
+    const std::string axis = i == 0 ? "xx" : "yy";
+    if (*axes[i].first != "stress")
+    {
+      if (axes[i].second != 0)
+        r.fail("cell.stress_" + axis, "is given with cell.control_" + axis +
+                                          " = \"velocity\": set control_" +
+                                          axis + " = \"stress\"");
+      continue;
+    }
+    if (rates[i] != 0)
+      r.fail("cell.control_" + axis,
+             "= \"stress\" with an imposed rate L_" + axis +
+                 " != 0 (cell.velocity_gradient_*): the rate is the unknown");
+    if (p.velocity_gradient_y[0] != 0)
+      r.fail("cell.control_" + axis,
+             "= \"stress\" needs L_yx = 0 (cell.velocity_gradient_y[0]): "
+             "the edge a1 stays along x");
+    if (!(p.mass > 0))
+      r.fail("cell.mass", "must be > 0 with a stress-controlled component");
+    cell.servo.push_back({i, axes[i].second, p.mass});
+  }
+}
+
 /// cell: a periodic cell excludes the box, the walls and stages (not
 /// yet), refused naming the keys.
 void read_cell(const Reader& r, DriverConfig& c)
 {
   const parameters::Cell& p = c.parameters.cell;
   if (!p.enabled)
+  {
+    if (p.control_xx == "stress" || p.control_yy == "stress")
+      r.fail("cell.control_" +
+                 std::string(p.control_xx == "stress" ? "xx" : "yy"),
+             "= \"stress\" with cell.enabled = false: no cell degree of "
+             "freedom to control");
     return;
+  }
   if (c.box)
     r.fail("cell.enabled", "= true with scene.box.enabled = true: a "
                            "periodic cell has no walls (set [box] enabled "
@@ -149,6 +192,7 @@ void read_cell(const Reader& r, DriverConfig& c)
   if (!(c.cell->area() > 0))
     r.fail("cell.a1", "and cell.a2 must span a positive area, a2 "
                       "counter-clockwise from a1");
+  read_cell_control(r, p, *c.cell);
 }
 
 /// scene: the driver uses box.enabled and bodies; the rest is the scene

@@ -374,7 +374,7 @@ StateFile read_state_file(const std::filesystem::path& path,
     s.energy.cell_work = r.get<double>();
     s.energy.rewrap = r.get<double>();
     const auto nc = r.get<std::int64_t>();
-    if (nc != 0 && nc != 4)
+    if (nc != 0 && nc != 4 && nc != 8)
       throw std::runtime_error(path.string() + ": state file has bad sizes");
     s.cell.resize(nc);
     r.get(s.cell.data(), sizeof(double) * nc);

@@ -50,6 +50,19 @@ void PeriodicCell::advance(double dt)
   }
 }
 
+int PeriodicCell::remap()
+{
+  if (!(std::abs(a2[0]) > remap_lean * std::abs(a1[0])))
+    return 0;
+  const int n = static_cast<int>(std::lround(a2[0] / a1[0]));
+  for (int d = 0; d < 2; ++d)
+  {
+    a2[d] -= n * a1[d];
+    a2_rate[d] -= n * a1_rate[d];
+  }
+  return n;
+}
+
 void check_body_fits(const PeriodicCell& cell, int body,
                      const std::array<double, 2>& extent)
 {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <vector>
 
 /// A periodic cell: the assembly as one cell of a periodic tiling
 /// (docs/periodic_cell.md).
@@ -10,18 +11,42 @@ namespace softpack::dynamics
 /// Integer image shift k: the image of a point x is x + h k.
 using ImageShift = std::array<int, 2>;
 
+/// A stress-controlled diagonal component of the cell (schema [cell]
+/// control_xx, control_yy): the rate of h_ii is an unknown of each step,
+/// found so that the imposed stress holds, as a servo wall's velocity is
+/// (docs/periodic_cell.md, "A stress-controlled cell").
+struct CellServo
+{
+  /// The component i (0: h_xx, the edge a1's x; 1: h_yy, the edge a2's y)
+  int axis = 1;
+  /// The imposed normal stress sigma_ii (Pa), compressive positive as a
+  /// servo wall's pressure
+  double stress = 0;
+  /// The fictitious mass (kg/m) of the degree of freedom h_ii
+  double mass = 1;
+};
+
 /// The cell spanned by the edge vectors a1, a2 (the columns of h), whose
 /// edges move at constant velocities \f$\dot h = L h_0\f$: L the imposed
 /// velocity gradient at the start, h0 the cell then. The images' velocities
 /// relative to their bodies, \f$\dot h k\f$, are then constant, as a body
 /// and its images obey the same equations of motion only if the images do
-/// not accelerate (docs/periodic_cell.md).
+/// not accelerate. A stress-controlled component's rate changes from step
+/// to step; every body then receives the change's affine velocity
+/// (MoreauJean::affine_kick) so that its images still move with it
+/// (docs/periodic_cell.md).
 struct PeriodicCell
 {
   /// Edge vectors (m): the columns of h
   std::array<double, 2> a1 = {0, 0}, a2 = {0, 0};
-  /// Their constant velocities (m/s): the columns of $\dot h$
+  /// Their velocities (m/s): the columns of \f$\dot h\f$; constant but
+  /// for the stress-controlled components
   std::array<double, 2> a1_rate = {0, 0}, a2_rate = {0, 0};
+  /// The stress-controlled components (none: the whole L imposed)
+  std::vector<CellServo> servo;
+  /// The lean |h_xy| / h_xx beyond which the cell is remapped (a2 -+ a1,
+  /// the same lattice): 1/2 keeps the nearest images in {-1, 0, 1}^2
+  double remap_lean = 0.5;
 
   /// The cell h0 = [a1 a2] moving with the velocity gradient L (rows
   /// [L_xx, L_xy] and [L_yx, L_yy], schema [cell] velocity_gradient_x, _y)
@@ -52,6 +77,23 @@ struct PeriodicCell
   double speed() const;
   /// One step of size dt: \f$h^+ = h^- + dt\, \dot h\f$
   void advance(double dt);
+  /// The rate of the component h_ii (m/s)
+  double& axis_rate(int i) { return i == 0 ? a1_rate[0] : a2_rate[1]; }
+  double axis_rate(int i) const { return i == 0 ? a1_rate[0] : a2_rate[1]; }
+  /// The imposed force per unit length along z on the component h_ii, its
+  /// conjugate: -stress x the cofactor of h_ii (the edge's length across
+  /// the axis, h_yy for h_xx and h_xx for h_yy): negative (closing) under
+  /// a compressive stress
+  double servo_force(const CellServo& s) const
+  {
+    return -s.stress * (s.axis == 0 ? a2[1] : a1[0]);
+  }
+  /// Remap a cell leaning more than remap_lean: a2 -> a2 - n a1 (n = the
+  /// nearest integer to h_xy / h_xx), the same lattice, and its rate
+  /// likewise (dh/dt = L h0 with h0 remapped alike). An image shift k in
+  /// the old basis is (k1 + n k2, k2) in the new one.
+  /// @return n (0: no remap)
+  int remap();
 };
 
 /// Refuse a body too large for the cell: a bounding box as wide as half

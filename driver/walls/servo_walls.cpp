@@ -10,6 +10,43 @@ std::array<double, 2> along(const Wall& wall, double speed)
 }
 } // namespace
 
+ServoStep ServoStep::start(std::size_t index, double force, double mass,
+                           double v_old, double h)
+{
+  ServoStep s{index, force, mass, v_old};
+  s.v_free = s.v_old + h * s.force / mass;
+  return s;
+}
+
+void ServoStep::finish(const WallCoupling& c, std::span<const double> R,
+                       double theta)
+{
+  // The unknown receives the opposite of its contacts' impulses.
+  double impulse = 0;
+  for (std::size_t i = 0; i < c.contacts.size(); ++i)
+    impulse -= c.g[i].dot(
+        Eigen::Vector2d(R[2 * c.contacts[i]], R[2 * c.contacts[i] + 1]));
+  v_new = v_free + c.inverse_mass * impulse;
+  v_mid = theta * v_new + (1 - theta) * v_old;
+}
+
+double ServoStep::transmitted(const WallCoupling& c,
+                              std::span<const double> R) const
+{
+  double impulse = 0;
+  for (std::size_t i = 0; i < c.contacts.size(); ++i)
+    impulse += c.g[i].dot(
+        Eigen::Vector2d(R[2 * c.contacts[i]], R[2 * c.contacts[i] + 1]));
+  return v_mid * impulse;
+}
+
+double ServoStep::account(EnergyBalance& energy, double h, double theta) const
+{
+  const double dv = v_new - v_old;
+  energy.numerical += (theta - 0.5) * mass * dv * dv;
+  return h * force * v_mid;
+}
+
 ServoWalls start_servo_walls(const std::vector<Wall>& walls,
                              const std::vector<Contact>& contacts,
                              ContactOperator& H, double h)
@@ -20,8 +57,8 @@ ServoWalls start_servo_walls(const std::vector<Wall>& walls,
     const Wall& wall = walls[w];
     if (!wall.servo())
       continue;
-    ServoStep s{w, imposed_force(walls, w), wall.normal_velocity(), 0};
-    s.v_free = s.v_old + h * s.force / wall.mass;
+    const ServoStep s = ServoStep::start(w, imposed_force(walls, w), wall.mass,
+                                         wall.normal_velocity(), h);
     WallCoupling coupling;
     coupling.inverse_mass = 1 / wall.mass;
     const Eigen::Vector2d n(wall.normal[0], wall.normal[1]);
@@ -44,15 +81,8 @@ void finish_servo_walls(ServoWalls& servo, std::vector<Wall>& walls,
   for (std::size_t k = 0; k < servo.steps.size(); ++k)
   {
     ServoStep& s = servo.steps[k];
-    const WallCoupling& c = servo.couplings[k];
-    // The wall receives the opposite of its contacts' impulses.
-    double impulse = 0;
-    for (std::size_t i = 0; i < c.contacts.size(); ++i)
-      impulse -= c.g[i].dot(
-          Eigen::Vector2d(R[2 * c.contacts[i]], R[2 * c.contacts[i] + 1]));
-    s.v_new = s.v_free + c.inverse_mass * impulse;
-    s.v_mid = theta * s.v_new + (1 - theta) * s.v_old;
-    Wall& wall = walls[s.wall];
+    s.finish(servo.couplings[k], R, theta);
+    Wall& wall = walls[s.index];
     for (int d = 0; d < 2; ++d)
       wall.point[d] += h * s.v_mid * wall.normal[d];
     wall.velocity = along(wall, s.v_new);
@@ -66,12 +96,10 @@ void account_servo_walls(const ServoWalls& servo,
   for (std::size_t k = 0; k < servo.steps.size(); ++k)
   {
     const ServoStep& s = servo.steps[k];
-    const Wall& wall = walls[s.wall];
+    const Wall& wall = walls[s.index];
     for (const std::int32_t a : servo.couplings[k].contacts)
       H.set_wall_velocity(a, along(wall, s.v_mid));
-    energy.wall_work += h * s.force * s.v_mid;
-    const double dv = s.v_new - s.v_old;
-    energy.numerical += (theta - 0.5) * wall.mass * dv * dv;
+    energy.wall_work += s.account(energy, h, theta);
   }
 }
 

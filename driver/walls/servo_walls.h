@@ -14,22 +14,56 @@
 namespace softpack::dynamics
 {
 
-/// One servo wall over one step.
+/// One scalar velocity unknown with a mass over one step: a servo wall's
+/// normal velocity, or a stress-controlled cell component's edge rate
+/// (servo_cell.h). The one rule both follow: V_free = V- + h F / m, the
+/// contacts of its WallCoupling add -(1/m) sum_c g_c . R_c, it moves at
+/// th V+ + (1 - th) V-, and its energy terms.
 struct ServoStep
 {
-  std::size_t wall;
-  /// Imposed force per unit length along the normal, at the step's start
+  /// The wall, or the cell's servo component (PeriodicCell::servo)
+  std::size_t index;
+  /// Imposed force per unit length (its load), at the step's start
   double force;
-  /// Normal velocity: start, free (h F / m added), end, theta-mid
-  double v_old, v_free, v_new = 0, v_mid = 0;
+  /// Mass per unit length (kg/m)
+  double mass;
+  /// Velocity: start, free (h F / m added), end, theta-mid
+  double v_old, v_free = 0, v_new = 0, v_mid = 0;
+
+  /// Start: V_free = V- + h F / m
+  static ServoStep start(std::size_t index, double force, double mass,
+                         double v_old, double h);
+  /// From the converged impulses: V+ = V_free - (1/m) sum_c g_c . R_c and
+  /// V_mid
+  void finish(const WallCoupling& coupling, std::span<const double> R,
+              double theta);
+  /// The work the unknown transmits to its contacts over the step,
+  /// V_mid sum_c g_c . R_c (their R . U_wall)
+  double transmitted(const WallCoupling& coupling,
+                     std::span<const double> R) const;
+  /// Its energy terms: the work of the imposed force h F V_mid (returned)
+  /// and (th - 1/2) m (V+ - V-)^2 added to the numerical dissipation
+  double account(EnergyBalance& energy, double h, double theta) const;
 };
 
-/// The servo walls of a step: one ServoStep and one coupling each.
+/// The servo unknowns of a step: the servo walls', then the cell's
+/// stress-controlled components; one coupling each, in that order.
 struct ServoWalls
 {
   std::vector<ServoStep> steps;
+  std::vector<ServoStep> cell;
   std::vector<WallCoupling> couplings;
-  bool empty() const { return steps.empty(); }
+  /// A stress-controlled cell (servo_cell.h): each body's cell coordinates
+  /// s_b = h^-1 c_b at the step's start, and each contact's h^-1 l (l the
+  /// branch vector from the antagonist's image centroid to the
+  /// candidate's; zero for a wall contact)
+  std::vector<std::array<double, 2>> cell_coordinates, cell_branch;
+  bool empty() const { return steps.empty() && cell.empty(); }
+  /// The coupling of the cell's k-th component
+  const WallCoupling& cell_coupling(std::size_t k) const
+  {
+    return couplings[steps.size() + k];
+  }
 };
 
 /// Start a step: every servo wall's free velocity V- + h F / m (the

@@ -10,7 +10,9 @@ A = det h, compression positive as for a box (:mod:`.stress`), with the
 centroids of ``raw/particles.csv`` (written at each output step, after the
 bodies were re-wrapped, as the images are). ``stress.csv`` of a cell has the
 contact and finite-element estimates, the wall estimate NaN (no walls), and
-the strains of the cell's diagonal, eps_xx = -ln(h_xx / h_xx0).
+the strains of the cell's diagonal, eps_xx = -ln(h_xx / h_xx0); then the
+bulk columns gamma, mu_star, inertial_number and phi (the packing fraction,
+whose change under a constant normal stress is the dilatancy).
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ from softpack.contract.tables import read_table, write_table
 #: The edge vectors' columns of raw/steps.csv
 EDGE_COLUMNS = ("cell_a1x", "cell_a1y", "cell_a2x", "cell_a2y")
 #: The columns a cell's stress.csv adds after stress.COLUMNS
-BULK_COLUMNS = ("gamma", "mu_star", "inertial_number")
+BULK_COLUMNS = ("gamma", "mu_star", "inertial_number", "phi")
 
 
 def edges(steps: dict, k: int) -> np.ndarray:
@@ -98,7 +100,7 @@ def cell_stress_table(run_dir, setup, steps: dict, particles: dict) -> dict:
 def bulk_columns(steps: dict, table: dict, setup) -> dict:
     """:data:`BULK_COLUMNS` from the cell's edges and the contact stress
     (see the module doc)."""
-    a2x = np.asarray(steps["cell_a2x"], float)
+    a2x = sheared_edge(steps)
     gamma = (a2x - a2x[0]) / float(steps["cell_a2y"][0])
     time = np.asarray(steps["time"], float)
     rate = np.gradient(gamma, time) if len(time) > 1 else np.zeros(1)
@@ -112,7 +114,20 @@ def bulk_columns(steps: dict, table: dict, setup) -> dict:
                             * float(np.mean(setup.diameters))
                             * np.sqrt(float(np.mean(setup.body_density))
                                       / pressure), np.nan)
-    return {"gamma": gamma, "mu_star": mu_star, "inertial_number": inertial}
+    return {"gamma": gamma, "mu_star": mu_star, "inertial_number": inertial,
+            "phi": np.asarray(steps["phi"], float)}
+
+
+def sheared_edge(steps: dict) -> np.ndarray:
+    """h_xy of the edge a2 as if never remapped: the driver replaces a2 by
+    a2 - n a1 (the same lattice) when the cell leans past half its width,
+    so h_xy jumps by -n h_xx between two rows; the n are recovered as the
+    nearest integers of the jumps over h_xx (an output interval shears
+    the cell by much less than half its width) and added back."""
+    a1x = np.asarray(steps["cell_a1x"], float)
+    a2x = np.asarray(steps["cell_a2x"], float)
+    jumps = np.rint(np.diff(a2x) / a1x[1:])
+    return a2x - np.concatenate(([0.0], np.cumsum(jumps))) * a1x
 
 
 def write_cell_stress(run_dir, setup) -> None:

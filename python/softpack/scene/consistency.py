@@ -17,6 +17,7 @@ from softpack.scene.packing import HEXAGONAL_FRACTION, PackingError, \
     cell_sides
 from softpack.scene import species as species_sizes
 from softpack.scene.species import present, total_area, total_mass
+from softpack.scene import cell_control
 from softpack.scene.walls import (scene_walls, fastest, check_controls,
                                   derive_masses)
 #: The Newton tolerance over the contact solver's: at least this.
@@ -40,6 +41,7 @@ def derive(sections) -> None:
     if contact["delassus_drop_tolerance"] is None:
         contact["delassus_drop_tolerance"] = 1e-3 * contact["nlgs_tolerance"]
     derive_masses(sections["walls"], total_mass(sections))
+    cell_control.derive_mass(sections["cell"], total_mass(sections))
     stop = sections["stop"]
     if stop["max_time"] is None:
         wall = fastest(scene_walls(sections))
@@ -90,6 +92,10 @@ def initial_packing_fraction(sections) -> float:
 def check(sections) -> None:
     """Refuse what does not fit together (see the module doc)."""
     _check_particles(sections)
+    try:
+        cell_control.check(sections["cell"])
+    except cell_control.CellControlError as err:
+        raise Inconsistent(str(err)) from None
     if sections["cell"]["enabled"]:
         _check_cell(sections)
     else:

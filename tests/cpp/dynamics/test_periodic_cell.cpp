@@ -277,7 +277,7 @@ TEST(PeriodicCell, ARunContinuedFromItsStateIsTheUninterruptedOne)
   dynamics::MoreauJean continued(again, {}, options);
   continued.set_cell(cell);
   continued.restore(middle);
-  ASSERT_EQ(middle.cell.size(), 4u);
+  ASSERT_EQ(middle.cell.size(), 8u); // a1, a2 and their rates
   EXPECT_EQ(continued.cell()->a1[0], middle.cell[0]);
   for (int s = 60; s < 120; ++s)
     continued.step();

@@ -66,7 +66,9 @@ inline nlohmann::json driver_json(const std::filesystem::path& directory,
     "parallel": {"rebalance_tolerance": 0.1},
     "cell": {"enabled": false, "a1": [0.1, 0.0], "a2": [0.0, 0.1],
              "velocity_gradient_x": [0.0, 0.0],
-             "velocity_gradient_y": [0.0, 0.0]}
+             "velocity_gradient_y": [0.0, 0.0], "control_xx": "velocity",
+             "control_yy": "velocity", "stress_xx": 0.0, "stress_yy": 0.0,
+             "mass": 1.0}
   })");
   doc["directory"] = directory.string();
   doc["scene"]["box"]["length"] = length;
