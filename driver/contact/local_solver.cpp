@@ -1,6 +1,7 @@
 #include "local_solver.h"
 
 #include "error.h"
+#include "local_solver_detail.h"
 
 #include <array>
 #include <cmath>
@@ -36,14 +37,6 @@ bool try_slide(const Eigen::Matrix2d& W, const Eigen::Vector2d& q, double mu,
   const double ut = (W(1, 0) - s * mu * W(1, 1)) * rn + q[1];
   return std::isfinite(rn) and rn >= 0 and s * ut >= 0;
 }
-//-----------------------------------------------------------------------------
-double residual(const Eigen::Matrix2d& W, const Eigen::Vector2d& q, double mu,
-                const Eigen::Vector2d& r)
-{
-  if (!r.allFinite())
-    return std::numeric_limits<double>::infinity();
-  return natural_map_residual_squared(r, W * r + q, mu);
-}
 } // namespace
 
 //-----------------------------------------------------------------------------
@@ -63,31 +56,16 @@ LocalSolution softpack::contact::solve_local(const Eigen::Matrix2d& W,
   if (try_slide(W, q, mu, -1.0, candidate[2]))
     return {candidate[2], ContactStatus::slide_negative};
 
-  // Rounding at a branch boundary: keep the best candidate (projected on the
-  // cone so that the reaction stays admissible), or separation.
-  LocalSolution best{Eigen::Vector2d::Zero(), ContactStatus::closest};
-  double best_res = residual(W, q, mu, best.r);
-  for (const Eigen::Vector2d& c : candidate)
-  {
-    const Eigen::Vector2d p = project_on_cone(c, mu);
-    const double res = residual(W, q, mu, p);
-    if (res < best_res)
-    {
-      best_res = res;
-      best.r = p;
-    }
-  }
-  return best;
+  return detail::closest_candidate<LocalSolution, 2>(W, q, mu, candidate);
 }
 //-----------------------------------------------------------------------------
 LocalSolution softpack::contact::solve_local(const Eigen::Matrix2d& W,
                                              const Eigen::Vector2d& q,
                                              double mu, double c)
 {
-  if (c == 0)
-    return solve_local(W, q, mu);
-  LocalSolution s = solve_local(W, q - c * W.col(0), mu);
-  s.r[0] -= c;
-  return s;
+  return detail::solve_shifted<2>(
+      W, q, mu, c,
+      [](const Eigen::Matrix2d& W, const Eigen::Vector2d& q, double mu)
+      { return solve_local(W, q, mu); });
 }
 //-----------------------------------------------------------------------------

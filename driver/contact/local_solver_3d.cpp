@@ -2,6 +2,7 @@
 #include "local_solver.h"
 
 #include "error.h"
+#include "local_solver_detail.h"
 
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
@@ -18,9 +19,7 @@ namespace
 double residual(const Eigen::Matrix3d& W, const Eigen::Vector3d& q, double mu,
                 const Eigen::Vector3d& r)
 {
-  if (!r.allFinite())
-    return std::numeric_limits<double>::infinity();
-  return natural_map_residual_squared(r, Eigen::Vector3d(W * r + q), mu);
+  return detail::local_residual<3>(W, q, mu, r);
 }
 //-----------------------------------------------------------------------------
 /// Stick: W r = -q; valid when r lies in the cone.
@@ -193,29 +192,16 @@ LocalSolution3D softpack::contact::solve_local(const Eigen::Matrix3d& W,
 
   // Rounding at a branch boundary: the best candidate projected on the
   // cone (an admissible reaction), or separation.
-  best = {Eigen::Vector3d::Zero(), ContactStatus::closest};
-  best_res = residual(W, q, mu, best.r);
-  for (const Eigen::Vector3d& c : candidates)
-  {
-    const Eigen::Vector3d p = project_on_cone(c, mu);
-    const double res = residual(W, q, mu, p);
-    if (res < best_res)
-    {
-      best_res = res;
-      best.r = p;
-    }
-  }
-  return best;
+  return detail::closest_candidate<LocalSolution3D, 3>(W, q, mu, candidates);
 }
 //-----------------------------------------------------------------------------
 LocalSolution3D softpack::contact::solve_local(const Eigen::Matrix3d& W,
                                                const Eigen::Vector3d& q,
                                                double mu, double c)
 {
-  if (c == 0)
-    return solve_local(W, q, mu);
-  LocalSolution3D s = solve_local(W, q - c * W.col(0), mu);
-  s.r[0] -= c;
-  return s;
+  return detail::solve_shifted<3>(
+      W, q, mu, c,
+      [](const Eigen::Matrix3d& W, const Eigen::Vector3d& q, double mu)
+      { return solve_local(W, q, mu); });
 }
 //-----------------------------------------------------------------------------
