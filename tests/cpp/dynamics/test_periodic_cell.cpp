@@ -4,30 +4,20 @@
 // energy it gains booked; a compaction of the cell (L = -e I) pushes the
 // bodies through their images and the energy balance closes with the
 // cell's work.
+#include "cell_fixtures.h"
 #include "scheme_options.h"
 #include <bodies/BodySet.h>
-#include <bodies/material_parameters.h>
 #include <cmath>
 #include <dynamics/moreau_jean.h>
 #include <gtest/gtest.h>
-#include <material_registry.h>
-#include <mesh_fixtures.h>
 
 using namespace softpack;
 
 namespace
 {
-constexpr double mu = 0.15e6, rho = 1180, R = 0.01, side = 0.1;
-
-bodies::BodySet disks(const std::vector<std::array<double, 2>>& centres)
-{
-  std::vector<test::Triangulation> parts;
-  for (const auto& c : centres)
-    parts.push_back(test::disk(c[0], c[1], R, 4));
-  return bodies::BodySet(test::bodies_mesh(parts),
-                         forms::find_material("neo_hookean"),
-                         bodies::plane_strain_parameters(mu), rho);
-}
+using test::cell::disks;
+using test::cell::R;
+constexpr double side = 0.1;
 
 dynamics::PeriodicCell square_cell(double rate = 0)
 {
@@ -127,12 +117,8 @@ TEST(PeriodicCell, CompactionClosesTheEnergyBalanceWithTheCellsWork)
 {
   // Nine disks on a 3 x 3 lattice 0.6 mm apart, their neighbours across
   // the edges images: the shrinking cell (L = -e I) pushes them together
-  const double c = 3 * (2 * R + 6e-4);
-  std::vector<std::array<double, 2>> centres;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      centres.push_back({(i + 0.5) * c / 3, (j + 0.5) * c / 3});
-  bodies::BodySet bodies = disks(centres);
+  const double c = test::cell::lattice_side(6e-4);
+  bodies::BodySet bodies = disks(test::cell::lattice(6e-4));
   dynamics::MoreauJeanOptions options = test::exact_options(5e-5, 0.5);
   options.damping.beta = 1e-5;
   options.time.theta = 0.55;
@@ -173,13 +159,10 @@ compaction_series(const std::array<double, 2>& offset,
                   double shear = 0)
 {
   const double c = 0.07;
-  const std::vector<std::array<double, 2>> base = {
-      {0.012, 0.011}, {0.035, 0.016}, {0.058, 0.013},
-      {0.021, 0.043}, {0.047, 0.041}, {0.060, 0.061}};
-  std::vector<std::array<double, 2>> centres;
-  for (std::size_t b = 0; b < base.size(); ++b)
-    centres.push_back({base[b][0] + offset[0] + wraps[b][0] * c,
-                       base[b][1] + offset[1] + wraps[b][1] * c});
+  std::vector<std::array<double, 2>> centres = test::cell::six(offset);
+  for (std::size_t b = 0; b < centres.size(); ++b)
+    for (int d = 0; d < 2; ++d)
+      centres[b][d] += wraps[b][d] * c;
   bodies::BodySet bodies = disks(centres);
   dynamics::MoreauJeanOptions options = test::exact_options(5e-5, 0.5);
   options.damping.beta = 1e-5;

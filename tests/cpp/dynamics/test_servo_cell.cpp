@@ -4,31 +4,22 @@
 // sees), the energy balance closes with the load's work, a run translated
 // by a fraction of the cell follows the same series, and a remap of a
 // leaning cell changes nothing physical.
+#include "cell_fixtures.h"
 #include "scheme_options.h"
 #include <bodies/BodySet.h>
-#include <bodies/material_parameters.h>
 #include <bodies/stress_average.h>
 #include <cmath>
 #include <dynamics/moreau_jean.h>
 #include <gtest/gtest.h>
-#include <material_registry.h>
-#include <mesh_fixtures.h>
 
 using namespace softpack;
 
 namespace
 {
-constexpr double mu = 0.15e6, rho = 1180, R = 0.01;
-
-bodies::BodySet disks(const std::vector<std::array<double, 2>>& centres)
-{
-  std::vector<test::Triangulation> parts;
-  for (const auto& c : centres)
-    parts.push_back(test::disk(c[0], c[1], R, 4));
-  return bodies::BodySet(test::bodies_mesh(parts),
-                         forms::find_material("neo_hookean"),
-                         bodies::plane_strain_parameters(mu), rho);
-}
+using test::cell::disks;
+using test::cell::R;
+using test::cell::rho;
+using test::cell::six;
 
 /// The bodies' own mean stress over the cell, (1/det h) sum_b int sigma da:
 /// xx, yy, xy, yx, tension positive
@@ -40,19 +31,6 @@ std::array<double, 4> fe_stress(const bodies::BodySet& bodies,
     for (int i = 0; i < 4; ++i)
       s[i] += c[i] / cell.area();
   return s;
-}
-
-/// The six-disk assembly of test_periodic_cell.cpp in a 0.07 m cell, moved
-/// by `offset`
-std::vector<std::array<double, 2>> six(const std::array<double, 2>& offset)
-{
-  const std::vector<std::array<double, 2>> base = {
-      {0.012, 0.011}, {0.035, 0.016}, {0.058, 0.013},
-      {0.021, 0.043}, {0.047, 0.041}, {0.060, 0.061}};
-  std::vector<std::array<double, 2>> out;
-  for (const auto& b : base)
-    out.push_back({b[0] + offset[0], b[1] + offset[1]});
-  return out;
 }
 
 /// The accounts that do not depend on which image represents a body, the
@@ -120,12 +98,8 @@ TEST(ServoCell, TheBodiesCarryTheImposedStressAtRest)
   // Nine disks on a 3 x 3 lattice 0.6 mm apart: both normal stresses
   // imposed, the cell closes until the disks, touching their neighbours and
   // their images, carry P; theta 0.6 takes the oscillation's energy out
-  const double c = 3 * (2 * R + 6e-4), P = 5e3;
-  std::vector<std::array<double, 2>> centres;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      centres.push_back({(i + 0.5) * c / 3, (j + 0.5) * c / 3});
-  bodies::BodySet bodies = disks(centres);
+  const double c = test::cell::lattice_side(6e-4), P = 5e3;
+  bodies::BodySet bodies = disks(test::cell::lattice(6e-4));
   dynamics::MoreauJeanOptions options = test::exact_options(5e-5, 0.5);
   options.damping.beta = 5e-3;
   options.time.theta = 0.6;
