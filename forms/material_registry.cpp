@@ -37,6 +37,8 @@ std::vector<std::string> material_parameters(const MaterialForms& m)
           std::find(out.begin(), out.end(), more[k]) == out.end())
         out.emplace_back(more[k]);
   }
+  if (m.nodal_volumetric)
+    out.emplace_back(m.nodal_volumetric);
   return out;
 }
 

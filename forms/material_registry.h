@@ -32,6 +32,10 @@ struct MaterialForms
   /// integrated over each cell against a DG0 test function (rank 1);
   /// nullptr for a hyperelastic law
   ufcx_form* internal_update = nullptr;
+  /// A law whose volumetric energy is at the nodes (the averaged nodal
+  /// pressure, driver/bodies/nodal_volumetric.h): the name of its lambda
+  /// parameter, which its UFL forms leave out; nullptr for the others
+  const char* nodal_volumetric = nullptr;
 };
 
 /// All registered materials (generated table; order of file names).

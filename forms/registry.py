@@ -134,6 +134,10 @@ def read_material(path: Path) -> dict:
     constants = [c for c in constants_of(namespace) if c not in driver]
     entry = {"doc": material_doc(path, namespace),
              "parameters": check_parameters(namespace.get("parameters"), constants)}
+    nodal = namespace.get("nodal_volumetric")
+    if nodal is not None and nodal not in entry["parameters"]:
+        raise MaterialError(f"`nodal_volumetric` = {nodal!r} must name one of "
+                            f"the parameters ({', '.join(entry['parameters'])})")
     initial = namespace.get("internal_initial")
     if initial is not None:
         if "internal_update" not in namespace or not all(

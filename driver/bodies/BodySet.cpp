@@ -100,6 +100,8 @@ void BodySet::build_assembly()
       bf.internal = internal_forms(law, _materials[k].parameters);
     else
     {
+      if (law.nodal_volumetric)
+        bf.nodal_lambda = _materials[k].parameters.at(law.nodal_volumetric);
       bf.energy = make(law.energy, none);
       bf.residual = make(law.residual, v);
       bf.tangent = make(law.tangent, vv);

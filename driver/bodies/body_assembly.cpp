@@ -1,4 +1,5 @@
 #include "body_assembly.h"
+#include "nodal_volumetric.h"
 
 #include "body_materials.h"
 #include <cmath>
@@ -96,14 +97,17 @@ BodyAssembly::BodyAssembly(
       _kernels.push_back({in.energy, in.residual, in.tangent,
                           cell_kernel(*f.mass, 2, "mass", u),
                           cell_kernel(*f.lumped_mass, 2, "lumped mass", u),
-                          in.update, in.time_step});
+                          in.update, in.time_step, f.nodal_lambda});
       continue;
     }
     _kernels.push_back({cell_kernel(*f.energy, 0, "energy", u),
                         cell_kernel(*f.residual, 1, "residual", u),
                         cell_kernel(*f.tangent, 2, "tangent", u),
                         cell_kernel(*f.mass, 2, "mass", u),
-                        cell_kernel(*f.lumped_mass, 2, "lumped mass", u)});
+                        cell_kernel(*f.lumped_mass, 2, "lumped mass", u),
+                        {},
+                        0,
+                        f.nodal_lambda});
   }
 }
 
@@ -157,6 +161,9 @@ void BodyAssembly::cell_energy(std::span<double> per_cell,
                   cells<1>(k, _kernels[_body_forms[k]].energy, bodies, x, u,
                            [&](std::size_t c, const double* e)
                            { per_cell[body.cells[c]] = e[0]; });
+                  if (const double lambda =
+                          _kernels[_body_forms[k]].nodal_lambda)
+                    add_nodal_cell_energy(body, x, u, lambda, per_cell);
                 });
 }
 
@@ -166,20 +173,22 @@ void BodyAssembly::residual(std::span<double> b,
                             std::span<const double> u,
                             std::span<const char> only) const
 {
-  for_each_body(bodies.size(), only,
-                [&](int k)
-                {
-                  const Body& body = bodies[k];
-                  cells<6>(k, _kernels[_body_forms[k]].residual, bodies, x, u,
-                           [&](std::size_t c, const double* be)
-                           {
-                             const auto& cell = body.cell_nodes[c];
-                             for (int i = 0; i < 3; ++i)
-                               for (int d = 0; d < 2; ++d)
-                                 b[2 * body.nodes[cell[i]] + d] +=
-                                     be[2 * i + d];
-                           });
-                });
+  for_each_body(
+      bodies.size(), only,
+      [&](int k)
+      {
+        const Body& body = bodies[k];
+        cells<6>(k, _kernels[_body_forms[k]].residual, bodies, x, u,
+                 [&](std::size_t c, const double* be)
+                 {
+                   const auto& cell = body.cell_nodes[c];
+                   for (int i = 0; i < 3; ++i)
+                     for (int d = 0; d < 2; ++d)
+                       b[2 * body.nodes[cell[i]] + d] += be[2 * i + d];
+                 });
+        if (const double lambda = _kernels[_body_forms[k]].nodal_lambda)
+          add_nodal_residual(body, x, u, lambda, b);
+      });
 }
 
 void BodyAssembly::matrices(CellKernel Kernels::*form,
@@ -207,6 +216,13 @@ void BodyAssembly::tangent(std::vector<BodyMatrix>& K,
                            std::span<const char> only) const
 {
   matrices(&Kernels::tangent, K, bodies, x, u, only);
+  for_each_body(bodies.size(), only,
+                [&](int k)
+                {
+                  if (const double lambda =
+                          _kernels[_body_forms[k]].nodal_lambda)
+                    add_nodal_tangent(bodies[k], x, u, lambda, K[k]);
+                });
 }
 
 void BodyAssembly::mass(std::vector<BodyMatrix>& M,

@@ -54,6 +54,9 @@ struct BodyForms
   /// A law with internal variables: its kernels (energy, residual and
   /// tangent then null)
   std::optional<InternalForms> internal = std::nullopt;
+  /// A law with its volumetric energy at the nodes: its lambda (0: none;
+  /// nodal_volumetric.h)
+  double nodal_lambda = 0;
 };
 
 /// The kernels of a law with internal variables, their constants the
@@ -191,6 +194,8 @@ private:
     /// A law with internal variables: their update (none: internal = 0)
     CellKernel update;
     std::size_t time_step = 0;
+    /// The nodal volumetric energy's lambda (0: none)
+    double nodal_lambda = 0;
   };
   /// `kernel` on each cell of body k with the cells' internal variables
   template <int N, typename Add>

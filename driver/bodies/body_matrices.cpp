@@ -1,6 +1,7 @@
 // The bodies' matrices: one sparse pattern per body, the tangent assembled
 // into it, and the masses kept (the local bodies' and every rigid one's).
 #include "BodySet.h"
+#include "nodal_volumetric.h"
 
 #include "body_assembly.h"
 #include <stdexcept>
@@ -43,6 +44,9 @@ BodySet::create_matrices(std::span<const char> only) const
               if (stored_entry(row, col))
                 pattern.emplace_back(row, col, 0.0);
             }
+    if (const forms::MaterialForms* law = _materials[_body_material[b]].law;
+        law && law->nodal_volumetric)
+      add_nodal_pattern(body, pattern);
     // Built in place: Eigen 3.4's sparse matrix has no move constructor,
     // so a push_back would copy it.
     BodyMatrix& A = matrices.emplace_back(body.num_dofs(), body.num_dofs());

@@ -145,7 +145,7 @@ def test_unknown_names(tmp_path, text, expected):
      "[walls.right] velocity = 0.1: must be a pair of numbers [x, y] m/s"),
     ('[material]\nlaw = "rubber"\n', '[material] law = "rubber": must be'
      ' one of "gent", "mooney_rivlin", "neo_hookean",'
-     ' "saint_venant_kirchhoff"'),
+     ' "neo_hookean_nodal", "saint_venant_kirchhoff"'),
     ('[[species]]\nshape = "square"\n',
      '[species.0] shape = "square": must be one of "disk"'),
 ])

@@ -42,6 +42,7 @@ class Params:
     every: int = 10              # output every this many steps
     orientation: str = "node_up"  # or "as_meshed" (see put_node_up)
     lame_lambda: float | None = None  # Pa; None: the material's default
+    law: str | None = None       # None: the configuration's default law
 
     @property
     def radius(self) -> float:
@@ -85,9 +86,18 @@ def config_data(params: Params, y_bottom: float, y_top: float) -> dict:
         "damping": {"alpha": params.alpha},
         "output": {"every_steps": params.every, "fields": True,
                    "fields_every": 1, "state": False},
-        **({"material": {"parameters": {"lame_lambda": params.lame_lambda}}}
-           if params.lame_lambda is not None else {}),
+        **_material(params),
     }
+
+
+def _material(params: Params) -> dict:
+    """The [material] overrides: another law, another lambda, or none."""
+    material = {}
+    if params.law is not None:
+        material["law"] = params.law
+    if params.lame_lambda is not None:
+        material["parameters"] = {"lame_lambda": params.lame_lambda}
+    return {"material": material} if material else {}
 
 
 def simulate(config_of, params, sim_dir, mesh_name: str,

@@ -311,6 +311,11 @@ def _parser():
                    help="the material's lame_lambda (Pa; default the"
                    " configuration's, 2 mu: nu~ = 1/3); e.g. 499 mu for a"
                    " nearly incompressible nu~ = 0.499")
+    p.add_argument("--law", default=None,
+                   help="the material's law (a file of forms/materials/;"
+                   " default the configuration's, neo_hookean), e.g."
+                   " neo_hookean_nodal for a nearly incompressible disk"
+                   " (docs/incompressible.md)")
     p.add_argument("--shape", choices=("disk", "square", "pentagon"),
                    default="disk",
                    help="disk (default, this check); square or pentagon:"
@@ -333,7 +338,7 @@ def main(argv=None) -> int:
                     time_step=args.time_step, alpha=args.alpha,
                     friction=args.friction,
                     every=args.every, orientation=args.orientation,
-                    lame_lambda=args.lame_lambda)
+                    lame_lambda=args.lame_lambda, law=args.law)
     if params.max_strain < max(PROFILE_STRAINS):
         print("softpack single-disk: note: --max-strain < 0.2: the"
               " profiles beyond it are not written", flush=True)
