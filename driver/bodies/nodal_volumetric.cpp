@@ -38,23 +38,47 @@ CellArea cell_area(const Body& body, std::size_t c, std::span<const double> x,
 }
 
 /// Per node: the reference and current nodal volumes; per cell: the
-/// current areas and gradients
+/// reference area, the current area and its gradient
 struct NodalVolumes
 {
-  std::vector<double> v0, v;
+  std::vector<double> v0, v, a0;
   std::vector<CellArea> cells;
+
+  /// The sum over cell c's nodes of p_a = lambda ln J_a / J_a
+  double cell_pressure(const Body& body, std::size_t c, double lambda) const
+  {
+    double p = 0;
+    for (const std::int32_t i : body.cell_nodes[c])
+    {
+      const double J = v[i] / v0[i];
+      p += lambda * std::log(J) / J;
+    }
+    return p;
+  }
 };
+
+/// The cells at each node of the body (its patch)
+std::vector<std::vector<std::int32_t>> cells_around(const Body& body)
+{
+  std::vector<std::vector<std::int32_t>> around(body.nodes.size());
+  for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
+    for (const std::int32_t i : body.cell_nodes[c])
+      around[i].push_back(static_cast<std::int32_t>(c));
+  return around;
+}
 
 NodalVolumes nodal_volumes(const Body& body, std::span<const double> x,
                            std::span<const double> u)
 {
   NodalVolumes n{std::vector<double>(body.nodes.size(), 0.0),
                  std::vector<double>(body.nodes.size(), 0.0),
+                 {},
                  {}};
   n.cells.reserve(body.cell_nodes.size());
+  n.a0.reserve(body.cell_nodes.size());
   for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
   {
-    const double a0 = cell_area(body, c, x, {}).area;
+    const double a0 = n.a0.emplace_back(cell_area(body, c, x, {}).area);
     n.cells.push_back(cell_area(body, c, x, u));
     for (const std::int32_t i : body.cell_nodes[c])
     {
@@ -80,12 +104,8 @@ constexpr double area_hessian(int p, int q)
 void add_nodal_pattern(const Body& body,
                        std::vector<Eigen::Triplet<double>>& pattern)
 {
-  // The cells around each node: every pair of their nodes is coupled
-  std::vector<std::vector<std::int32_t>> around(body.nodes.size());
-  for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
-    for (const std::int32_t i : body.cell_nodes[c])
-      around[i].push_back(static_cast<std::int32_t>(c));
-  for (const std::vector<std::int32_t>& cells : around)
+  // Every pair of nodes of the cells around a node is coupled
+  for (const std::vector<std::int32_t>& cells : cells_around(body))
     for (const std::int32_t ca : cells)
       for (const std::int32_t cb : cells)
         for (const std::int32_t ni : body.cell_nodes[ca])
@@ -106,12 +126,11 @@ void add_nodal_cell_energy(const Body& body, std::span<const double> x,
   const NodalVolumes n = nodal_volumes(body, x, u);
   for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
   {
-    const double a0 = cell_area(body, c, x, {}).area;
     for (const std::int32_t i : body.cell_nodes[c])
     {
       const double lnJ = std::log(n.v[i] / n.v0[i]);
       // node i's energy V0 lambda/2 ln^2 J, this cell's share a0/3 of V0
-      per_cell[body.cells[c]] += a0 / 3 * 0.5 * lambda * lnJ * lnJ;
+      per_cell[body.cells[c]] += n.a0[c] / 3 * 0.5 * lambda * lnJ * lnJ;
     }
   }
 }
@@ -123,14 +142,8 @@ void add_nodal_residual(const Body& body, std::span<const double> x,
   const NodalVolumes n = nodal_volumes(body, x, u);
   for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
   {
-    // sum over the cell's nodes a of p_a = lambda ln J_a / J_a, each node's
-    // V_a holding A_e / 3
-    double p = 0;
-    for (const std::int32_t i : body.cell_nodes[c])
-    {
-      const double J = n.v[i] / n.v0[i];
-      p += lambda * std::log(J) / J;
-    }
+    // each node's V_a holds A_e / 3
+    const double p = n.cell_pressure(body, c, lambda);
     const std::array<double, 6>& g = n.cells[c].gradient;
     for (int k = 0; k < 3; ++k)
       for (int d = 0; d < 2; ++d)
@@ -142,10 +155,7 @@ void add_nodal_tangent(const Body& body, std::span<const double> x,
                        std::span<const double> u, double lambda, BodyMatrix& K)
 {
   const NodalVolumes n = nodal_volumes(body, x, u);
-  std::vector<std::vector<std::int32_t>> around(body.nodes.size());
-  for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
-    for (const std::int32_t i : body.cell_nodes[c])
-      around[i].push_back(static_cast<std::int32_t>(c));
+  const std::vector<std::vector<std::int32_t>> around = cells_around(body);
   // sum_a lambda (1 - ln J_a) / (J_a^2 V0_a) dV_a (x) dV_a: the patch's
   // cells pairwise, dV_a = sum of their gradients / 3
   for (std::size_t a = 0; a < body.nodes.size(); ++a)
@@ -169,12 +179,7 @@ void add_nodal_tangent(const Body& body, std::span<const double> x,
   // sum_a p_a d2V_a: per cell, the mean of its nodes' p times d2A
   for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
   {
-    double p = 0;
-    for (const std::int32_t i : body.cell_nodes[c])
-    {
-      const double J = n.v[i] / n.v0[i];
-      p += lambda * std::log(J) / J;
-    }
+    const double p = n.cell_pressure(body, c, lambda);
     for (int q = 0; q < 6; ++q)
       for (int r = 0; r < 6; ++r)
       {
