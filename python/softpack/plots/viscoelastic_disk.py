@@ -24,6 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softpack.contract.tables import write_rows
+
 COLUMNS = ("run", "speed_m_s", "max_strain", "element_size_m", "triangles",
            "time_step_s", "peak_f_norm_softpack", "peak_f_norm_dolfinx",
            "at_peak_relative_difference", "max_abs_difference_over_peak",
@@ -49,16 +51,6 @@ def row(name, doc) -> dict:
             "viscous_relative_difference": e["viscous_relative_difference"],
             "energy_residual_over_work": abs(s["energy_residual"])
             / s["wall_work"]}
-
-
-def write_table(rows, path) -> None:
-    """CSV of the rows, 6 significant digits."""
-    lines = [",".join(COLUMNS)]
-    for r in rows:
-        lines.append(",".join(
-            r[k] if isinstance(r[k], str) else f"{r[k]:.6g}"
-            for k in COLUMNS))
-    Path(path).write_text("\n".join(lines) + "\n")
 
 
 def figure(runs, path) -> None:
@@ -118,8 +110,8 @@ def main(argv=None) -> int:
         runs.append((run.name, json.loads(paths[0].read_text()),
                      read_table(paths[1])))
     args.out.mkdir(parents=True, exist_ok=True)
-    write_table([row(n, d) for n, d, _ in runs],
-                args.out / "viscoelastic_disk.csv")
+    write_rows(args.out / "viscoelastic_disk.csv",
+               [row(n, d) for n, d, _ in runs], COLUMNS)
     figure(runs, args.out / "cycle.png")
     print(f"wrote {args.out}/viscoelastic_disk.csv, cycle.png/.pdf")
     return 0
