@@ -40,9 +40,10 @@ def _setting(config, key: str):
     return config[section][name]
 
 
-def periodic_config(walled, steps: int):
+def periodic_config(walled, steps: int = 0, to_phi: float = 0.0):
     """The walled config's disks and settings in a periodic cell of its
-    box's edges, compacted at the piston's rate of area change."""
+    box's edges, compacted at the piston's rate of area change for
+    ``steps`` steps or to Phi = ``to_phi`` (0: no such bound)."""
     box = walled["box"]
     rate = walled["walls"][PISTON]["velocity"][0] / box["length"] / 2
     overrides = {key: _setting(walled, key) for key in PAPER_SETTINGS}
@@ -51,7 +52,7 @@ def periodic_config(walled, steps: int):
         overrides[f"species.{i}.diameter"] = s["diameter"]
     overrides.update({
         **FAST, "output.fields": False, "output.every_steps": 50,
-        "stop.steps": steps, "stop.packing_fraction": 0.0,
+        "stop.steps": steps, "stop.packing_fraction": to_phi,
         "stop.max_time": 10.0,
         "cell.a1": [box["length"], 0.0], "cell.a2": [0.0, box["width"]],
         "cell.velocity_gradient_x": [rate, 0.0],
