@@ -69,7 +69,8 @@ template <int D> struct Box
 /// point) for i in `points`, or of storage[points[i]] when `storage` is
 /// not empty: a body's boundary nodes as local indices into its nodes.
 template <int D>
-Box<D> points_box(std::span<const double> x, std::span<const std::int32_t> points,
+Box<D> points_box(std::span<const double> x,
+                  std::span<const std::int32_t> points,
                   std::span<const std::int32_t> storage)
 {
   Box<D> box = Box<D>::empty();
@@ -148,8 +149,8 @@ private:
 /// Pairs (i < j) of the boxes whose inflations by `margin` overlap, in
 /// increasing order (the order does not depend on the grid's).
 template <int D>
-std::vector<std::array<int, 2>> overlapping_pairs(const std::vector<Box<D>>& boxes,
-                                                  double margin)
+std::vector<std::array<int, 2>>
+overlapping_pairs(const std::vector<Box<D>>& boxes, double margin)
 {
   if (boxes.empty())
     return {};

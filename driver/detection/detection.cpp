@@ -164,19 +164,18 @@ std::vector<ImagePair> near_image_pairs(const bodies::BodySet& bodies,
 {
   const std::vector<Box2> boxes = body_boxes(bodies, x);
   for (std::size_t b = 0; b < boxes.size(); ++b)
-    check_body_fits(cell, static_cast<int>(b),
-                    {boxes[b].hi[0] - boxes[b].lo[0],
-                     boxes[b].hi[1] - boxes[b].lo[1]});
+    check_body_fits(
+        cell, static_cast<int>(b),
+        {boxes[b].hi[0] - boxes[b].lo[0], boxes[b].hi[1] - boxes[b].lo[1]});
   // Every body's box shifted to its 9 nearest images, k in {-1, 0, 1}^2,
   // kept only if it reaches the region the bodies occupy: an image beyond
   // it is near no body, and most images of the bodies away from the
   // cell's edges are (the grid then holds about N boxes, not 9 N).
   Box2 occupied = boxes.empty() ? Box2{{0, 0}, {0, 0}} : boxes.front();
   for (const Box2& o : boxes)
-    occupied = {{std::min(occupied.lo[0], o.lo[0]),
-                 std::min(occupied.lo[1], o.lo[1])},
-                {std::max(occupied.hi[0], o.hi[0]),
-                 std::max(occupied.hi[1], o.hi[1])}};
+    occupied = {
+        {std::min(occupied.lo[0], o.lo[0]), std::min(occupied.lo[1], o.lo[1])},
+        {std::max(occupied.hi[0], o.hi[0]), std::max(occupied.hi[1], o.hi[1])}};
   std::vector<Box2> images;
   std::vector<std::pair<int, ImageShift>> owner;
   for (std::size_t b = 0; b < boxes.size(); ++b)

@@ -62,8 +62,9 @@ BoundarySurface::BoundarySurface(
       if (v[k] == v[(k + 1) % 3])
         throw std::invalid_argument(triangle_name(t) + " repeats node " +
                                     std::to_string(v[k]));
-      if (!edges.emplace(key(v[k], v[(k + 1) % 3]),
-                         std::array{std::int32_t(t), std::int32_t(k)})
+      if (!edges
+               .emplace(key(v[k], v[(k + 1) % 3]),
+                        std::array{std::int32_t(t), std::int32_t(k)})
                .second)
         throw std::invalid_argument(
             triangle_name(t) + ": edge " + std::to_string(v[k]) + " -> " +
@@ -143,13 +144,14 @@ TrianglePoint nearest_on_triangle(const double* p, const double* a,
   }
   Vec d;
   for (int i = 0; i < 3; ++i)
-    d[i] =
-        p[i] - (r.weights[0] * a[i] + r.weights[1] * b[i] + r.weights[2] * c[i]);
+    d[i] = p[i] -
+           (r.weights[0] * a[i] + r.weights[1] * b[i] + r.weights[2] * c[i]);
   r.distance2 = dot(d, d);
   return r;
 }
 
-std::array<std::array<double, 3>, 3> contact_frame(const std::array<double, 3>& n)
+std::array<std::array<double, 3>, 3>
+contact_frame(const std::array<double, 3>& n)
 {
   int e = 0;
   for (int k = 1; k < 3; ++k)
@@ -184,7 +186,8 @@ Vec feature_normal(const BoundarySurface& s, std::span<const double> x,
     return face_normal(s, x, t);
   if (feature == Feature::edge)
   {
-    const Vec n0 = face_normal(s, x, t), n1 = face_normal(s, x, s.neighbour(t, k));
+    const Vec n0 = face_normal(s, x, t),
+              n1 = face_normal(s, x, s.neighbour(t, k));
     return normalised({n0[0] + n1[0], n0[1] + n1[1], n0[2] + n1[2]});
   }
   const std::int32_t v = s.triangles()[t][k];
@@ -223,10 +226,10 @@ bool node_to_surface(std::span<const BoundarySurface> surfaces,
   for (std::int32_t t : candidates)
   {
     const auto& v = s.triangles()[t];
-    const TrianglePoint q = nearest_on_triangle(
-        p, &x[3 * std::size_t(s.nodes()[v[0]])],
-        &x[3 * std::size_t(s.nodes()[v[1]])],
-        &x[3 * std::size_t(s.nodes()[v[2]])]);
+    const TrianglePoint q =
+        nearest_on_triangle(p, &x[3 * std::size_t(s.nodes()[v[0]])],
+                            &x[3 * std::size_t(s.nodes()[v[1]])],
+                            &x[3 * std::size_t(s.nodes()[v[2]])]);
     if (best < 0 || q.distance2 < nearest.distance2 ||
         (q.distance2 == nearest.distance2 && t < best))
     {
@@ -251,8 +254,9 @@ bool node_to_surface(std::span<const BoundarySurface> surfaces,
   if (gap > options.alert_distance || gap < -options.max_penetration)
     return false;
   const auto frame = contact_frame(n);
-  contact = {cand,     node,     ant,      -1,       v,  nearest.feature,
-             nearest.weights,    frame[0], frame[1], frame[2], gap};
+  contact = {
+      cand,     node,     ant,      -1, v, nearest.feature, nearest.weights,
+      frame[0], frame[1], frame[2], gap};
   return true;
 }
 
@@ -324,10 +328,9 @@ std::int32_t near_node(const Contact3D& c)
 }
 } // namespace
 
-std::vector<Contact3D>
-detect_contacts_3d(std::span<const BoundarySurface> surfaces,
-                   std::span<const double> x, const std::vector<PlaneWall>& walls,
-                   const DetectionOptions& options)
+std::vector<Contact3D> detect_contacts_3d(
+    std::span<const BoundarySurface> surfaces, std::span<const double> x,
+    const std::vector<PlaneWall>& walls, const DetectionOptions& options)
 {
   std::vector<Box<3>> boxes;
   for (const BoundarySurface& s : surfaces)
@@ -360,8 +363,17 @@ detect_contacts_3d(std::span<const BoundarySurface> surfaces,
         const double* xn = &x[3 * std::size_t(surfaces[b].nodes()[node])];
         const double gap = dot(sub(xn, p.data()), frame[0]);
         if (gap <= options.alert_distance && gap >= -options.max_penetration)
-          contacts.push_back({b, node, -1, w, {-1, -1, -1}, Feature::face,
-                              {0, 0, 0}, frame[0], frame[1], frame[2], gap});
+          contacts.push_back({b,
+                              node,
+                              -1,
+                              w,
+                              {-1, -1, -1},
+                              Feature::face,
+                              {0, 0, 0},
+                              frame[0],
+                              frame[1],
+                              frame[2],
+                              gap});
       }
   }
   return contacts;

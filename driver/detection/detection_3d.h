@@ -47,9 +47,8 @@ public:
   /// Triangles around local node v
   std::span<const std::int32_t> triangles_around(std::int32_t v) const
   {
-    return std::span(_around).subspan(_around_offsets[v],
-                                      _around_offsets[v + 1] -
-                                          _around_offsets[v]);
+    return std::span(_around).subspan(
+        _around_offsets[v], _around_offsets[v + 1] - _around_offsets[v]);
   }
 
 private:
@@ -87,7 +86,8 @@ TrianglePoint nearest_on_triangle(const double* p, const double* a,
 /// t1 = e x n / |e x n| with e the coordinate axis least aligned with n
 /// (the first of equals), t2 = n x t1. Deterministic and continuous while
 /// that axis does not change.
-std::array<std::array<double, 3>, 3> contact_frame(const std::array<double, 3>& n);
+std::array<std::array<double, 3>, 3>
+contact_frame(const std::array<double, 3>& n);
 
 /// One 3D node-to-face (or node-to-wall) contact.
 ///
@@ -150,10 +150,9 @@ bool node_to_surface(std::span<const BoundarySurface> surfaces,
 /// only the first contact is kept, as in 2D. Every boundary node against
 /// every wall. Order: pairs (a < b) increasing, a's nodes on b then b's
 /// nodes on a, then each wall's contacts by body and node.
-std::vector<Contact3D>
-detect_contacts_3d(std::span<const BoundarySurface> surfaces,
-                   std::span<const double> x, const std::vector<PlaneWall>& walls,
-                   const DetectionOptions& options);
+std::vector<Contact3D> detect_contacts_3d(
+    std::span<const BoundarySurface> surfaces, std::span<const double> x,
+    const std::vector<PlaneWall>& walls, const DetectionOptions& options);
 
 /// Pairs (a < b) of surfaces whose boundary boxes, inflated by margin,
 /// overlap (the broad phase of detect_contacts_3d)

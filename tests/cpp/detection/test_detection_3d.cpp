@@ -4,12 +4,12 @@
 // motion, the alert window, walls and the surface checks.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <detection/box_grid.h>
 #include <detection/detection_3d.h>
 #include <detection/mirrored.h>
 #include <gtest/gtest.h>
 #include <map>
-#include <cstdio>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -48,7 +48,8 @@ struct Mesh
 Mesh octahedron()
 {
   Mesh m;
-  m.points = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  m.points = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+              {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   for (int i : {0, 1})
     for (int j : {2, 3})
       for (int k : {4, 5})
@@ -119,7 +120,8 @@ Mesh icosphere(int level)
     for (const auto& [a, b, c] : m.triangles)
     {
       const int ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
-      split.insert(split.end(), {{a, ab, ca}, {ab, b, bc}, {ca, bc, c}, {ab, bc, ca}});
+      split.insert(split.end(),
+                   {{a, ab, ca}, {ab, b, bc}, {ca, bc, c}, {ab, bc, ca}});
     }
     m.triangles = split;
   }
@@ -133,9 +135,10 @@ struct Scene
   std::vector<BoundarySurface> surfaces;
   std::vector<double> x;
 
-  void add(const Mesh& m, double radius, const Vec& centre,
-           const std::array<Vec, 3>& rotation = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},
-           const std::vector<double>& radial = {})
+  void
+  add(const Mesh& m, double radius, const Vec& centre,
+      const std::array<Vec, 3>& rotation = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},
+      const std::vector<double>& radial = {})
   {
     std::vector<std::int32_t> nodes;
     for (std::size_t i = 0; i < m.points.size(); ++i)
@@ -217,7 +220,8 @@ TEST(NearestOnTriangle, EachRegimeAgainstHandValues)
       {{-0.5, 3, 0}, Feature::vertex, 2, {0, 0, 1}, 1.25}};
   for (const Case& k : cases)
   {
-    const TrianglePoint q = nearest_on_triangle(k.p.data(), a.data(), b.data(), c.data());
+    const TrianglePoint q =
+        nearest_on_triangle(k.p.data(), a.data(), b.data(), c.data());
     EXPECT_EQ(q.feature, k.feature);
     EXPECT_EQ(q.k, k.k);
     for (int i = 0; i < 3; ++i)
@@ -241,7 +245,10 @@ TEST(NearestOnTriangle, RandomPointsAgainstTheStationaryPoints)
       w = {u(gen), u(gen), u(gen)};
     p = {2 * u(gen), 2 * u(gen), 2 * u(gen)};
     auto dist2 = [&](const Vec& q)
-    { return dot({p[0] - q[0], p[1] - q[1], p[2] - q[2]}, {p[0] - q[0], p[1] - q[1], p[2] - q[2]}); };
+    {
+      return dot({p[0] - q[0], p[1] - q[1], p[2] - q[2]},
+                 {p[0] - q[0], p[1] - q[1], p[2] - q[2]});
+    };
     double best = 1e300;
     for (int i = 0; i < 3; ++i)
     {
@@ -249,8 +256,10 @@ TEST(NearestOnTriangle, RandomPointsAgainstTheStationaryPoints)
       const Vec& e = v[(i + 1) % 3];
       const Vec d = {e[0] - s[0], e[1] - s[1], e[2] - s[2]};
       const double t = std::clamp(
-          dot({p[0] - s[0], p[1] - s[1], p[2] - s[2]}, d) / dot(d, d), 0.0, 1.0);
-      best = std::min(best, dist2({s[0] + t * d[0], s[1] + t * d[1], s[2] + t * d[2]}));
+          dot({p[0] - s[0], p[1] - s[1], p[2] - s[2]}, d) / dot(d, d), 0.0,
+          1.0);
+      best = std::min(
+          best, dist2({s[0] + t * d[0], s[1] + t * d[1], s[2] + t * d[2]}));
     }
     const Vec e1 = {v[1][0] - v[0][0], v[1][1] - v[0][1], v[1][2] - v[0][2]};
     const Vec e2 = {v[2][0] - v[0][0], v[2][1] - v[0][1], v[2][2] - v[0][2]};
@@ -324,18 +333,37 @@ TEST(Detection3D, NodeOnOctahedronFaceEdgeAndVertex)
   };
   const double third = 1.0 / 3;
   const std::vector<Case> cases = {
-      {{third + 0.04 * r3, third + 0.04 * r3, third + 0.04 * r3}, Feature::face, nf, 0.04,
+      {{third + 0.04 * r3, third + 0.04 * r3, third + 0.04 * r3},
+       Feature::face,
+       nf,
+       0.04,
        {{0, third}, {2, third}, {4, third}}},
-      {{third - 0.03 * r3, third - 0.03 * r3, third - 0.03 * r3}, Feature::face, nf, -0.03,
+      {{third - 0.03 * r3, third - 0.03 * r3, third - 0.03 * r3},
+       Feature::face,
+       nf,
+       -0.03,
        {{0, third}, {2, third}, {4, third}}},
-      {{0.45, 0.4, 0.1}, Feature::face, nf, -0.05 * r3,
+      {{0.45, 0.4, 0.1},
+       Feature::face,
+       nf,
+       -0.05 * r3,
        {{0, 0.45 + 0.05 / 3}, {2, 0.4 + 0.05 / 3}, {4, 0.1 + 0.05 / 3}}},
-      {{0.5 + 0.04 * r2, 0.5 + 0.04 * r2, 0}, Feature::edge, ne, 0.04, {{0, 0.5}, {2, 0.5}}},
-      {{0.5 + 0.04 * off[0], 0.5 + 0.04 * off[1], 0.04 * off[2]}, Feature::edge, ne,
-       0.04 * dot(off, ne), {{0, 0.5}, {2, 0.5}}},
+      {{0.5 + 0.04 * r2, 0.5 + 0.04 * r2, 0},
+       Feature::edge,
+       ne,
+       0.04,
+       {{0, 0.5}, {2, 0.5}}},
+      {{0.5 + 0.04 * off[0], 0.5 + 0.04 * off[1], 0.04 * off[2]},
+       Feature::edge,
+       ne,
+       0.04 * dot(off, ne),
+       {{0, 0.5}, {2, 0.5}}},
       {{1.04, 0, 0}, Feature::vertex, {1, 0, 0}, 0.04, {{0, 1}}},
-      {{1 + 0.04 * voff[0], 0.04 * voff[1], 0.04 * voff[2]}, Feature::vertex, {1, 0, 0},
-       0.04 * voff[0], {{0, 1}}}};
+      {{1 + 0.04 * voff[0], 0.04 * voff[1], 0.04 * voff[2]},
+       Feature::vertex,
+       {1, 0, 0},
+       0.04 * voff[0],
+       {{0, 1}}}};
   for (std::size_t i = 0; i < cases.size(); ++i)
   {
     const Case& k = cases[i];
@@ -485,8 +513,11 @@ Scene random_spheres(std::mt19937& gen)
   Scene s;
   const Mesh fine = icosphere(3), coarse = icosphere(2);
   const Vec axis = unit({1, 0.3, -0.2});
-  s.add(fine, R, {0, 0, 0}, random_rotation(gen), bumps(fine.points.size(), 0.01, gen));
-  s.add(fine, R, {(2 * R - 3e-4) * axis[0], (2 * R - 3e-4) * axis[1], (2 * R - 3e-4) * axis[2]},
+  s.add(fine, R, {0, 0, 0}, random_rotation(gen),
+        bumps(fine.points.size(), 0.01, gen));
+  s.add(fine, R,
+        {(2 * R - 3e-4) * axis[0], (2 * R - 3e-4) * axis[1],
+         (2 * R - 3e-4) * axis[2]},
         random_rotation(gen), bumps(fine.points.size(), 0.01, gen));
   std::uniform_real_distribution<double> jitter(-2e-4, 2e-4);
   const double L = 2 * R - 2e-4;
@@ -494,13 +525,15 @@ Scene random_spheres(std::mt19937& gen)
     for (int j = 0; j < 2; ++j)
       for (int k = 0; k < 2; ++k)
         s.add(coarse, R,
-              {0.1 + L * i + jitter(gen), L * j + jitter(gen), L * k + jitter(gen)},
+              {0.1 + L * i + jitter(gen), L * j + jitter(gen),
+               L * k + jitter(gen)},
               random_rotation(gen), bumps(coarse.points.size(), 0.01, gen));
   return s;
 }
 
 /// Every node of every body against every triangle of every other body
-std::vector<Contact3D> brute_force(const Scene& s, const DetectionOptions& options)
+std::vector<Contact3D> brute_force(const Scene& s,
+                                   const DetectionOptions& options)
 {
   std::vector<Contact3D> all;
   const int n = static_cast<int>(s.surfaces.size());
@@ -608,7 +641,8 @@ TEST(Detection3D, GapSignTellsInsideFromOutsideNearEdgesAndVertices)
   const Mesh m = icosphere(2);
   Scene s;
   const double R = 0.01;
-  s.add(m, R, {0, 0, 0}, random_rotation(gen), bumps(m.points.size(), 0.05, gen));
+  s.add(m, R, {0, 0, 0}, random_rotation(gen),
+        bumps(m.points.size(), 0.05, gen));
   Mesh tet;
   tet.points = {{0, 0, 0}, {5, 5, 5}, {5, 6, 5}, {5, 5, 6}};
   tet.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
@@ -618,7 +652,8 @@ TEST(Detection3D, GapSignTellsInsideFromOutsideNearEdgesAndVertices)
   options.max_penetration = 2e-3;
   auto point = [&](std::int32_t t, int i)
   {
-    const std::int32_t g = s.surfaces[0].nodes()[s.surfaces[0].triangles()[t][i]];
+    const std::int32_t g =
+        s.surfaces[0].nodes()[s.surfaces[0].triangles()[t][i]];
     return Vec{s.x[3 * g], s.x[3 * g + 1], s.x[3 * g + 2]};
   };
   // Distance from the centre to the surface along the unit direction d
@@ -669,7 +704,8 @@ TEST(Detection3D, GapSignTellsInsideFromOutsideNearEdgesAndVertices)
     const double h = step(gen);
     for (int k = 0; k < 3; ++k)
       p[k] += h * d[k];
-    const double rho = std::sqrt(dot(p, p)), surface = surface_distance(unit(p));
+    const double rho = std::sqrt(dot(p, p)),
+                 surface = surface_distance(unit(p));
     ASSERT_GT(surface, 0);
     Contact3D contact;
     if (!probe(s, p, options, contact) || std::abs(rho - surface) < 1e-12)
