@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -272,32 +273,39 @@ near_surface_pairs(std::span<const BoundarySurface> surfaces,
 
 namespace
 {
+/// A body's triangles' boxes binned on a grid (margin: the search
+/// distance), built once per detection for the bodies of the near pairs
+struct TriangleGrid
+{
+  std::vector<Box<3>> boxes;
+  std::optional<BoxGrid<3>> grid;
+
+  TriangleGrid(const BoundarySurface& s, std::span<const double> x, double r)
+  {
+    boxes.reserve(s.triangles().size());
+    for (const auto& v : s.triangles())
+    {
+      Box<3> b = Box<3>::empty();
+      for (std::int32_t i : v)
+        b.add(&x[3 * std::size_t(s.nodes()[i])]);
+      boxes.push_back(b);
+    }
+    if (!boxes.empty())
+      grid.emplace(boxes, r);
+  }
+};
+
 /// The contacts of the boundary nodes of `cand` (those within the search
 /// distance of `ant`'s box) with `ant`'s triangles near them
 void body_on_body(std::span<const BoundarySurface> surfaces,
                   std::span<const double> x, const std::vector<Box<3>>& boxes,
-                  int cand, int ant, const DetectionOptions& options,
+                  const TriangleGrid& triangles, int cand, int ant,
+                  const DetectionOptions& options,
                   std::vector<Contact3D>& contacts)
 {
-  const BoundarySurface& s = surfaces[ant];
-  const double r = search_distance(options);
-  // The triangles that can be within r of a node of cand, binned
-  std::vector<std::int32_t> near;
-  std::vector<Box<3>> tri_boxes;
-  for (std::size_t t = 0; t < s.triangles().size(); ++t)
-  {
-    Box<3> b = Box<3>::empty();
-    for (std::int32_t v : s.triangles()[t])
-      b.add(&x[3 * std::size_t(s.nodes()[v])]);
-    if (b.overlaps(boxes[cand], r))
-    {
-      near.push_back(static_cast<std::int32_t>(t));
-      tri_boxes.push_back(b);
-    }
-  }
-  if (near.empty())
+  if (!triangles.grid)
     return;
-  const BoxGrid<3> grid(tri_boxes, r);
+  const double r = search_distance(options);
   std::vector<std::int32_t> candidates;
   for (std::int32_t node : surfaces[cand].boundary_nodes())
   {
@@ -305,12 +313,12 @@ void body_on_body(std::span<const BoundarySurface> surfaces,
     if (!boxes[ant].contains(p, r))
       continue;
     candidates.clear();
-    grid.near(p,
-              [&](int i)
-              {
-                if (tri_boxes[i].contains(p, r))
-                  candidates.push_back(near[i]);
-              });
+    triangles.grid->near(p,
+                         [&](int t)
+                         {
+                           if (triangles.boxes[t].contains(p, r))
+                             candidates.push_back(t);
+                         });
     Contact3D c;
     if (node_to_surface(surfaces, x, cand, node, ant, candidates, options, c))
       contacts.push_back(c);
@@ -340,14 +348,24 @@ std::vector<Contact3D> detect_contacts_3d(
   const auto pairs = overlapping_pairs<3>(boxes, search_distance(options));
   // The pairs on all cores, each into its own list, joined in pair order:
   // the same list as one thread makes.
+  // The triangle grids of the bodies in a near pair, each built once
+  std::vector<int> in_pair(surfaces.size(), 0);
+  for (const auto& [a, b] : pairs)
+    in_pair[a] = in_pair[b] = 1;
+  std::vector<std::optional<TriangleGrid>> grids(surfaces.size());
+  const auto num_bodies = static_cast<std::int64_t>(surfaces.size());
+#pragma omp parallel for schedule(dynamic, 4) if (num_bodies >= 16)
+  for (std::int64_t b = 0; b < num_bodies; ++b)
+    if (in_pair[b])
+      grids[b].emplace(surfaces[b], x, search_distance(options));
   std::vector<std::vector<Contact3D>> by_pair(pairs.size());
   const auto num_pairs = static_cast<std::int64_t>(pairs.size());
 #pragma omp parallel for schedule(dynamic, 8) if (num_pairs >= 64)
   for (std::int64_t i = 0; i < num_pairs; ++i)
   {
     const auto [a, b] = pairs[i];
-    body_on_body(surfaces, x, boxes, a, b, options, by_pair[i]);
-    body_on_body(surfaces, x, boxes, b, a, options, by_pair[i]);
+    body_on_body(surfaces, x, boxes, *grids[b], a, b, options, by_pair[i]);
+    body_on_body(surfaces, x, boxes, *grids[a], b, a, options, by_pair[i]);
     remove_mirrored(by_pair[i], 0, near_node);
   }
   std::vector<Contact3D> contacts;
