@@ -252,6 +252,14 @@ bool node_to_surface(std::span<const BoundarySurface> surfaces,
     d[i] = p[i] - q;
   }
   const double gap = dot(d, n);
+  if (!std::isfinite(gap))
+    throw std::runtime_error(
+        "3D detection: body " + std::to_string(ant) + "'s boundary triangle " +
+        std::to_string(best) +
+        " or a neighbour has no normal (zero area in the current "
+        "configuration): node " +
+        std::to_string(node) + " of body " + std::to_string(cand) +
+        " cannot be placed against it");
   if (gap > options.alert_distance || gap < -options.max_penetration)
     return false;
   const auto frame = contact_frame(n);
@@ -359,15 +367,26 @@ std::vector<Contact3D> detect_contacts_3d(
     if (in_pair[b])
       grids[b].emplace(surfaces[b], x, search_distance(options));
   std::vector<std::vector<Contact3D>> by_pair(pairs.size());
+  std::vector<std::string> errors(pairs.size());
   const auto num_pairs = static_cast<std::int64_t>(pairs.size());
 #pragma omp parallel for schedule(dynamic, 8) if (num_pairs >= 64)
   for (std::int64_t i = 0; i < num_pairs; ++i)
   {
     const auto [a, b] = pairs[i];
-    body_on_body(surfaces, x, boxes, *grids[b], a, b, options, by_pair[i]);
-    body_on_body(surfaces, x, boxes, *grids[a], b, a, options, by_pair[i]);
+    try // an exception must not leave the parallel loop
+    {
+      body_on_body(surfaces, x, boxes, *grids[b], a, b, options, by_pair[i]);
+      body_on_body(surfaces, x, boxes, *grids[a], b, a, options, by_pair[i]);
+    }
+    catch (const std::exception& e)
+    {
+      errors[i] = e.what();
+    }
     remove_mirrored(by_pair[i], 0, near_node);
   }
+  for (const std::string& e : errors)
+    if (!e.empty())
+      throw std::runtime_error(e);
   std::vector<Contact3D> contacts;
   for (const auto& list : by_pair)
     contacts.insert(contacts.end(), list.begin(), list.end());

@@ -125,6 +125,8 @@ struct PlaneWall
 /// The contact of boundary node `node` of body `cand` with the boundary of
 /// body `ant` among the triangles `candidates` (all of them: pass every
 /// index), by the rule of detect_contacts_3d; false if there is none.
+/// @throws std::runtime_error if the feature's normal is undefined (a
+/// triangle of zero area)
 bool node_to_surface(std::span<const BoundarySurface> surfaces,
                      std::span<const double> x, int cand, std::int32_t node,
                      int ant, std::span<const std::int32_t> candidates,
@@ -150,6 +152,8 @@ bool node_to_surface(std::span<const BoundarySurface> surfaces,
 /// only the first contact is kept, as in 2D. Every boundary node against
 /// every wall. Order: pairs (a < b) increasing, a's nodes on b then b's
 /// nodes on a, then each wall's contacts by body and node.
+/// @throws std::runtime_error if a node's nearest triangle (or one whose
+/// normal its feature needs) has collapsed to zero area
 std::vector<Contact3D> detect_contacts_3d(
     std::span<const BoundarySurface> surfaces, std::span<const double> x,
     const std::vector<PlaneWall>& walls, const DetectionOptions& options);

@@ -631,3 +631,22 @@ TEST(Detection3D, GapSignTellsInsideFromOutsideNearEdgesAndVertices)
   EXPECT_GT(features[Feature::edge], 300);
   EXPECT_GT(features[Feature::vertex], 50);
 }
+
+TEST(Detection3D, CollapsedTriangleIsReportedNotSkipped)
+{
+  // A tetrahedron collapsed onto a line (every face of zero area) under
+  // the probe: no normal, so an error naming the bodies
+  Scene s;
+  Mesh flat;
+  flat.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+  flat.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  s.add(flat, 1.0, {0, 0, 0});
+  Mesh tet;
+  tet.points = {{1.5, 0, 0.01}, {1.5, 0, 1}, {1.6, 0, 1}, {1.5, 0.1, 1}};
+  tet.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  s.add(tet, 1.0, {0, 0, 0});
+  DetectionOptions options;
+  options.alert_distance = 0.05;
+  EXPECT_THROW(detect_contacts_3d(s.surfaces, s.x, {}, options),
+               std::runtime_error);
+}
