@@ -65,9 +65,9 @@ template <int D> struct Box
   }
 };
 
-/// The box of the points `storage[i]` of x (D interleaved coordinates per
-/// point) for i in `points`, or of storage[points[i]] when `storage` is
-/// not empty: a body's boundary nodes as local indices into its nodes.
+/// The box of points of x (D interleaved coordinates per point): point
+/// storage[i] for each i in `points` (a body's boundary nodes as local
+/// indices into its nodes), or point i itself when `storage` is empty.
 template <int D>
 Box<D> points_box(std::span<const double> x,
                   std::span<const std::int32_t> points,

@@ -393,6 +393,9 @@ std::vector<Contact3D> detect_contacts_3d(
   for (int w = 0; w < static_cast<int>(walls.size()); ++w)
   {
     const Vec& p = walls[w].point;
+    if (!(std::abs(dot(walls[w].normal, walls[w].normal) - 1) <= 1e-12))
+      throw std::invalid_argument("3D detection: wall " + std::to_string(w) +
+                                  "'s normal is not a unit vector");
     const auto frame = contact_frame(walls[w].normal);
     for (int b = 0; b < static_cast<int>(surfaces.size()); ++b)
       for (std::int32_t node : surfaces[b].boundary_nodes())

@@ -154,6 +154,7 @@ bool node_to_surface(std::span<const BoundarySurface> surfaces,
 /// nodes on a, then each wall's contacts by body and node.
 /// @throws std::runtime_error if a node's nearest triangle (or one whose
 /// normal its feature needs) has collapsed to zero area
+/// @throws std::invalid_argument if a wall's normal is not a unit vector
 std::vector<Contact3D> detect_contacts_3d(
     std::span<const BoundarySurface> surfaces, std::span<const double> x,
     const std::vector<PlaneWall>& walls, const DetectionOptions& options);

@@ -254,6 +254,9 @@ TEST(Detection3D, WallsSeeTheNodesWithinTheWindow)
     EXPECT_EQ(c.n, walls[c.wall].normal);
     EXPECT_EQ(c.t1, contact_frame(c.n)[1]);
   }
+  const std::vector<PlaneWall> long_normal = {{{0, 0, -1.03}, {0, 0, 1.1}}};
+  EXPECT_THROW(detect_contacts_3d(s.surfaces, s.x, long_normal, options),
+               std::invalid_argument);
 }
 
 TEST(Detection3D, SurfaceMustBeClosedAndOriented)
