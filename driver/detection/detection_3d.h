@@ -137,12 +137,12 @@ bool node_to_surface(std::span<const BoundarySurface> surfaces,
 ///
 /// Broad phase: the bodies' boundary boxes, inflated by the search
 /// distance r = max(alert_distance, max_penetration), on a uniform grid
-/// (the 2D code's overlapping_pairs for D = 3); for each near pair, in both
-/// directions, the antagonist's triangles near the candidate body binned
-/// on a second grid, each candidate node compared with the triangles of
-/// the cells around it: the cost grows linearly with the triangles and
-/// nodes. Narrow phase: the antagonist's point nearest to the node, if
-/// within r (ties: the lowest triangle index); n is the triangle's
+/// (the 2D code's overlapping_pairs for D = 3); the triangles of each body
+/// of a near pair binned once on a second grid, and each candidate node
+/// (within r of the antagonist's box) compared with the antagonist's
+/// triangles of the 27 cells around it: the cost grows linearly with the
+/// triangles and nodes. Narrow phase: the antagonist's point nearest to the
+/// node, if within r (ties: the lowest triangle index); n is the triangle's
 /// normal on a face, the normalised sum of the two faces' normals on an
 /// edge and the angle-weighted sum of the faces' normals around a vertex
 /// (the 2D vertex's bisector; the sign of the gap is then right inside
