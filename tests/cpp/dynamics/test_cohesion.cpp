@@ -71,11 +71,20 @@ struct PulledBlock
   dynamics::MoreauJean scheme;
 };
 
+/// A bottom corner's share of its side segment (m): its shape function
+/// over the part of the segment within the cohesive distance of the floor
+/// (the gap grows linearly up the side, to height / ny)
+double side_share()
+{
+  const double side = height / ny, s = reach / side;
+  return side * (s - 0.5 * s * s);
+}
+
 /// The cohesive capacity of the block's bottom (N/m): the traction times
-/// the bottom nodes' shares, the corners' including half a side segment
+/// the bottom nodes' shares, the corners' including their side shares
 double capacity(double traction)
 {
-  return traction * (width + height / ny);
+  return traction * (width + 2 * side_share());
 }
 } // namespace
 
@@ -88,8 +97,8 @@ TEST(Cohesion, ImpulseOfAContactIsTractionTimesShareTimesStep)
   ASSERT_EQ(contacts.size(), nx + 1u);
   const std::vector<double> c =
       dynamics::cohesion_impulses(o.friction, set, contacts, 1e-4);
-  // interior bottom nodes: width / nx each; the corners half that plus half
-  // a side segment
+  // interior bottom nodes: width / nx each; the corners half that plus the
+  // part of their side segment within the cohesive distance
   for (std::size_t a = 0; a < c.size(); ++a)
   {
     const double x =
@@ -97,7 +106,7 @@ TEST(Cohesion, ImpulseOfAContactIsTractionTimesShareTimesStep)
                                             .nodes[contacts[a].candidate_node]];
     const bool corner = x < 1e-12 || x > width - 1e-12;
     const double share =
-        corner ? 0.5 * width / nx + 0.5 * height / ny : width / nx;
+        corner ? 0.5 * width / nx + side_share() : width / nx;
     EXPECT_NEAR(c[a], 1000 * share * 1e-4, 1e-15) << "contact " << a;
   }
   EXPECT_NEAR(std::accumulate(c.begin(), c.end(), 0.0), capacity(1000) * 1e-4,
