@@ -4,14 +4,17 @@
 // bodies whose W is also formed independently as H M^-1 H^T.
 #include "DelassusMatrix.h"
 #include "error.h"
+#include "fclib_io.h"
 #include "nlgs.h"
 #include "sweep_split.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <gtest/gtest.h>
 #include <random>
+#include <unistd.h>
 
 using namespace softpack::contact;
 
@@ -237,4 +240,24 @@ TEST(RankOne, ASplitSweepKeepsTheTermsInItsSeparator)
   std::vector<double> u(one.u.size());
   EXPECT_LE(compute_error(as_blocks(rp.problem), one.r, u, 1e-12).value,
             options.tolerance);
+}
+
+TEST(RankOne, AWrittenProblemHasTheTermsAsBlocks)
+{
+  // A file (an unsolved problem kept for replay) has no rank-one term:
+  // written, the terms are blocks, and the problem read back is the same W
+  const RandomProblem rp = random_problem(20, 6, 5);
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("softpack_rank_one_" + std::to_string(::getpid()) + ".h5");
+  dump_problem(rp.problem, path);
+  const FrictionContactProblem2D back = read_fclib_local(path);
+  std::filesystem::remove(path);
+  EXPECT_TRUE(back.W.rank_one_terms().empty());
+  std::vector<double> r(40), u(40, 0.0), u_back(40, 0.0);
+  for (std::size_t i = 0; i < r.size(); ++i)
+    r[i] = std::sin(1.0 + static_cast<double>(i));
+  rp.problem.W.multiply_add(r, u);
+  back.W.multiply_add(r, u_back);
+  for (std::size_t i = 0; i < r.size(); ++i)
+    EXPECT_NEAR(u_back[i], u[i], 1e-13 * largest(u));
 }
