@@ -56,9 +56,9 @@ term_by_domain(const DelassusMatrix::RankOne& term, std::span<const int> owner)
   return by_domain;
 }
 
-/// The links a rank-one term adds to domain `me`'s (a no-op unless `me`
-/// and another domain hold its contacts); true for `me`'s contacts in it
-/// when it does
+/// The links a rank-one term adds to domain `me`'s, and `me`'s contacts in
+/// it marked interface (nothing unless `me` and another domain hold some of
+/// its contacts)
 void link_term(const DelassusMatrix::RankOne& term, std::span<const int> owner,
                int me, std::map<int, DomainPlan::Link>& links,
                std::vector<char>& interface)
