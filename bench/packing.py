@@ -47,7 +47,7 @@ def bench(count=1000, shape="disk", out=None, seed=0) -> dict:
                                                  + 0.3 * 0.015**2)))
     length, width = PAPER_LENGTH * scale, PAPER_WIDTH * scale
     start = time.perf_counter()
-    centres = place(radii, length, width, DEFAULT_GAP,
+    centres = place(radii, (length, width), DEFAULT_GAP,
                     np.random.default_rng(seed))
     seconds["packing"] = time.perf_counter() - start
     angles = np.random.default_rng(seed).uniform(0, 2 * math.pi, count)

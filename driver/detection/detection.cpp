@@ -1,4 +1,6 @@
 #include "detection.h"
+#include "box_grid.h"
+#include "mirrored.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,99 +8,25 @@
 #include <stdexcept>
 #include <string>
 #include <tuple>
-#include <unordered_map>
 
 namespace softpack::dynamics
 {
 namespace
 {
-struct Box
-{
-  double x0, y0, x1, y1;
-  bool overlaps(const Box& o, double margin) const
-  {
-    return x0 - margin <= o.x1 && o.x0 - margin <= x1 && y0 - margin <= o.y1 &&
-           o.y0 - margin <= y1;
-  }
-  bool contains(double x, double y, double margin) const
-  {
-    return x >= x0 - margin && x <= x1 + margin && y >= y0 - margin &&
-           y <= y1 + margin;
-  }
-};
+using Box2 = Box<2>;
 
-std::vector<Box> body_boxes(const bodies::BodySet& bodies,
-                            std::span<const double> x)
+std::vector<Box2> body_boxes(const bodies::BodySet& bodies,
+                             std::span<const double> x)
 {
-  std::vector<Box> boxes;
+  std::vector<Box2> boxes;
   boxes.reserve(bodies.num_bodies());
-  constexpr double inf = std::numeric_limits<double>::infinity();
   for (int b = 0; b < bodies.num_bodies(); ++b)
   {
     const bodies::Body& body = bodies.body(b);
-    Box box{inf, inf, -inf, -inf};
-    for (std::int32_t local : body.boundary_nodes)
-    {
-      const std::int32_t g = body.nodes[local];
-      box.x0 = std::min(box.x0, x[2 * g]);
-      box.x1 = std::max(box.x1, x[2 * g]);
-      box.y0 = std::min(box.y0, x[2 * g + 1]);
-      box.y1 = std::max(box.y1, x[2 * g + 1]);
-    }
-    boxes.push_back(box);
+    boxes.push_back(points_box<2>(x, body.boundary_nodes, body.nodes));
   }
   return boxes;
 }
-
-/// Boxes binned on a uniform grid by their lower-left corners (cell = the
-/// largest box extent plus the margin): a box spans at most two cells per
-/// direction, so the boxes near one live in the 3x3 cells around its bin.
-class BoxGrid
-{
-public:
-  BoxGrid(const std::vector<Box>& boxes, double margin)
-      : _xmin(boxes[0].x0), _ymin(boxes[0].y0)
-  {
-    for (const Box& b : boxes)
-    {
-      _cell = std::max({_cell, b.x1 - b.x0 + margin, b.y1 - b.y0 + margin});
-      _xmin = std::min(_xmin, b.x0);
-      _ymin = std::min(_ymin, b.y0);
-    }
-    for (std::size_t b = 0; b < boxes.size(); ++b)
-    {
-      const auto [i, j] = bin(boxes[b]);
-      _grid[key(i, j)].push_back(static_cast<int>(b));
-    }
-  }
-
-  /// Call f(index) for every box binned in the 3x3 cells around `box`
-  template <typename F> void near(const Box& box, F f) const
-  {
-    const auto [i, j] = bin(box);
-    for (std::int64_t di = -1; di <= 1; ++di)
-      for (std::int64_t dj = -1; dj <= 1; ++dj)
-      {
-        auto it = _grid.find(key(i + di, j + dj));
-        if (it != _grid.end())
-          for (int b : it->second)
-            f(b);
-      }
-  }
-
-private:
-  static std::int64_t key(std::int64_t i, std::int64_t j)
-  {
-    return (i << 32) ^ j;
-  }
-  std::array<std::int64_t, 2> bin(const Box& b) const
-  {
-    return {static_cast<std::int64_t>((b.x0 - _xmin) / _cell),
-            static_cast<std::int64_t>((b.y0 - _ymin) / _cell)};
-  }
-  double _cell = 0, _xmin, _ymin;
-  std::unordered_map<std::int64_t, std::vector<int>> _grid;
-};
 
 /// Outward unit normal of a counter-clockwise boundary segment (the
 /// tangent turned clockwise).
@@ -207,40 +135,19 @@ void node_to_body(const bodies::BodySet& bodies, std::span<const double> x,
   if (c.gap <= options.alert_distance && c.gap >= -options.max_penetration)
     contacts.push_back(c);
 }
-/// Among contacts[first:] (one pair of bodies), drop a contact whose mirror
-/// is already kept: node a of A near node b of B and node b near node a,
-/// each within a quarter segment of the other. The two are (nearly) the
-/// same constraint; keeping both makes the contact problem degenerate and
-/// the NLGS slow, and one suffices where the meshes face node to node.
+/// The 2D form of remove_mirrored (mirrored.h): the node within a quarter
+/// segment of the contact point, or the vertex
 void remove_mirrored_contacts(std::vector<Contact>& contacts, std::size_t first)
 {
-  auto near_node = [](const Contact& c) -> std::int32_t
-  {
-    if (c.vertex || c.xi <= 0.25)
-      return c.segment[0];
-    if (c.xi >= 0.75)
-      return c.segment[1];
-    return -1;
-  };
-  std::vector<std::array<std::int64_t, 2>> kept;
-  auto end = std::remove_if(
-      contacts.begin() + first, contacts.end(),
-      [&](const Contact& c)
-      {
-        const std::int32_t b = near_node(c);
-        if (b < 0)
-          return false;
-        const std::int64_t p =
-            (std::int64_t(c.candidate_body) << 32) | c.candidate_node;
-        const std::int64_t q = (std::int64_t(c.antagonist_body) << 32) | b;
-        const std::array<std::int64_t, 2> key = {std::min(p, q),
-                                                 std::max(p, q)};
-        if (std::find(kept.begin(), kept.end(), key) != kept.end())
-          return true;
-        kept.push_back(key);
-        return false;
-      });
-  contacts.erase(end, contacts.end());
+  remove_mirrored(contacts, first,
+                  [](const Contact& c) -> std::int32_t
+                  {
+                    if (c.vertex || c.xi <= 0.25)
+                      return c.segment[0];
+                    if (c.xi >= 0.75)
+                      return c.segment[1];
+                    return -1;
+                  });
 }
 } // namespace
 
@@ -248,48 +155,37 @@ std::vector<std::array<int, 2>> near_body_pairs(const bodies::BodySet& bodies,
                                                 std::span<const double> x,
                                                 double margin)
 {
-  const std::vector<Box> boxes = body_boxes(bodies, x);
-  if (boxes.empty())
-    return {};
-  const BoxGrid grid(boxes, margin);
-  std::vector<std::array<int, 2>> pairs;
-  for (std::size_t a = 0; a < boxes.size(); ++a)
-    grid.near(boxes[a],
-              [&](int b)
-              {
-                if (b > static_cast<int>(a) &&
-                    boxes[a].overlaps(boxes[b], margin))
-                  pairs.push_back({static_cast<int>(a), b});
-              });
-  std::sort(pairs.begin(), pairs.end());
-  return pairs;
+  return overlapping_pairs<2>(body_boxes(bodies, x), margin);
 }
 
 std::vector<ImagePair> near_image_pairs(const bodies::BodySet& bodies,
                                         std::span<const double> x,
                                         double margin, const PeriodicCell& cell)
 {
-  const std::vector<Box> boxes = body_boxes(bodies, x);
+  const std::vector<Box2> boxes = body_boxes(bodies, x);
   for (std::size_t b = 0; b < boxes.size(); ++b)
-    check_body_fits(cell, static_cast<int>(b),
-                    {boxes[b].x1 - boxes[b].x0, boxes[b].y1 - boxes[b].y0});
+    check_body_fits(
+        cell, static_cast<int>(b),
+        {boxes[b].hi[0] - boxes[b].lo[0], boxes[b].hi[1] - boxes[b].lo[1]});
   // Every body's box shifted to its 9 nearest images, k in {-1, 0, 1}^2,
   // kept only if it reaches the region the bodies occupy: an image beyond
   // it is near no body, and most images of the bodies away from the
   // cell's edges are (the grid then holds about N boxes, not 9 N).
-  Box occupied = boxes.empty() ? Box{0, 0, 0, 0} : boxes.front();
-  for (const Box& o : boxes)
-    occupied = {std::min(occupied.x0, o.x0), std::min(occupied.y0, o.y0),
-                std::max(occupied.x1, o.x1), std::max(occupied.y1, o.y1)};
-  std::vector<Box> images;
+  Box2 occupied = boxes.empty() ? Box2{{0, 0}, {0, 0}} : boxes.front();
+  for (const Box2& o : boxes)
+    occupied = {
+        {std::min(occupied.lo[0], o.lo[0]), std::min(occupied.lo[1], o.lo[1])},
+        {std::max(occupied.hi[0], o.hi[0]), std::max(occupied.hi[1], o.hi[1])}};
+  std::vector<Box2> images;
   std::vector<std::pair<int, ImageShift>> owner;
   for (std::size_t b = 0; b < boxes.size(); ++b)
     for (int k0 = -1; k0 <= 1; ++k0)
       for (int k1 = -1; k1 <= 1; ++k1)
       {
         const std::array<double, 2> s = cell.shift({k0, k1});
-        const Box& o = boxes[b];
-        const Box image{o.x0 + s[0], o.y0 + s[1], o.x1 + s[0], o.y1 + s[1]};
+        const Box2& o = boxes[b];
+        const Box2 image{{o.lo[0] + s[0], o.lo[1] + s[1]},
+                         {o.hi[0] + s[0], o.hi[1] + s[1]}};
         if (!occupied.overlaps(image, margin))
           continue;
         images.push_back(image);
@@ -297,10 +193,10 @@ std::vector<ImagePair> near_image_pairs(const bodies::BodySet& bodies,
       }
   if (images.empty())
     return {};
-  const BoxGrid grid(images, margin);
+  const BoxGrid<2> grid(images, margin);
   std::vector<ImagePair> pairs;
   for (std::size_t a = 0; a < boxes.size(); ++a)
-    grid.near(boxes[a],
+    grid.near(boxes[a].lo.data(),
               [&](int i)
               {
                 const auto& [b, k] = owner[i];
@@ -325,7 +221,7 @@ std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
                                      const DetectionOptions& options,
                                      const PeriodicCell* cell)
 {
-  const std::vector<Box> boxes = body_boxes(bodies, x);
+  const std::vector<Box2> boxes = body_boxes(bodies, x);
   std::vector<ImagePair> pairs;
   if (cell)
     pairs = near_image_pairs(bodies, x, options.alert_distance, *cell);
@@ -353,8 +249,9 @@ std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
       for (std::int32_t node : bodies.body(cand).boundary_nodes)
       {
         const std::int32_t g = bodies.body(cand).nodes[node];
-        if (boxes[ant].contains(x[2 * g] - offset[0], x[2 * g + 1] - offset[1],
-                                options.alert_distance))
+        const std::array<double, 2> p = {x[2 * g] - offset[0],
+                                         x[2 * g + 1] - offset[1]};
+        if (boxes[ant].contains(p.data(), options.alert_distance))
           node_to_body(bodies, x, cand, node, ant, options, by_pair[i], image,
                        offset);
       }

@@ -19,6 +19,7 @@ COMMANDS = {
     "single-disk": "softpack.references.single_disk",
     "plates": "softpack.references.plates",
     "adhesion": "softpack.references.adhesion",
+    "viscoelastic-disk": "softpack.references.viscoelastic_disk",
     "plot-single-disk": "softpack.plots.single_disk",
     "plot": "softpack.plots.paper",
     "plot-loading": "softpack.plots.loading",

@@ -127,7 +127,7 @@ def test_growth_reaches_full_size_without_overlaps():
     length = area / (0.70 * width)
     rng = np.random.default_rng(0)
     start = 0.55
-    placed, overlapping = _sequential(radii * start, length, width, 1e-4,
+    placed, overlapping = _sequential(radii * start, (length, width), 1e-4,
                                       rng, 200, relax=False)
     assert not overlapping
     x = grow(placed, radii, length, width, _padded(1e-4), start, rng)
@@ -135,7 +135,7 @@ def test_growth_reaches_full_size_without_overlaps():
     # the growth moved the circles, and it is reproducible
     assert not np.allclose(x, placed)
     rng = np.random.default_rng(0)
-    again, _ = _sequential(radii * start, length, width, 1e-4, rng, 200,
+    again, _ = _sequential(radii * start, (length, width), 1e-4, rng, 200,
                            relax=False)
     assert np.array_equal(grow(again, radii, length, width, _padded(1e-4),
                                start, rng), x)
@@ -170,7 +170,7 @@ def test_place_falls_back_to_growth_when_inflation_jams(monkeypatch):
     radii = np.repeat([0.01, 0.015], (14, 6))
     width = 0.1
     length = np.pi * np.sum(radii**2) / (0.72 * width)
-    x = placement.place(radii, length, width, 1e-4,
+    x = placement.place(radii, (length, width), 1e-4,
                         np.random.default_rng(3))
     assert _admissible(x, radii, length, width, 1e-4)
 
@@ -205,3 +205,47 @@ def test_requested_fraction_the_box_does_not_give_is_refused():
                        r" initial_packing_fraction = 0.8: .* fill 0.7800 .*"
                        r"set \[box\] length = 0.2673075432"):
         scene_packing(config, radii)
+
+
+def _clearances_3d(x, radii, cell=None):
+    """Smallest clearance between two spheres (to the nearest images in a
+    periodic cube of edge ``cell``)."""
+    diff = x[:, None, :] - x[None, :, :]
+    if cell is not None:
+        diff -= cell * np.round(diff / cell)
+    gap = (np.linalg.norm(diff, axis=-1) - radii[:, None] - radii[None, :])
+    np.fill_diagonal(gap, np.inf)
+    return gap.min()
+
+
+@pytest.mark.parametrize("periodic,phi", [(False, 0.45), (True, 0.55)])
+def test_spheres_placed_in_a_box_and_a_periodic_cell(periodic, phi):
+    """The same placement in 3D (issue 40): 100 spheres of the paper's two
+    diameters, clear of each other (and of the walls) by the gap."""
+    from softpack.scene.placement import _fraction, place
+
+    radii = np.repeat([0.01, 0.015], (70, 30))
+    edge = (4 / 3 * np.pi * np.sum(radii**3) / phi) ** (1 / 3)
+    extent = (edge, edge, edge)
+    assert _fraction(radii, extent) == pytest.approx(phi, rel=1e-12)
+    x = place(radii, extent, 2e-4, np.random.default_rng(0),
+              periodic=periodic)
+    assert x.shape == (100, 3)
+    assert _clearances_3d(x, radii, edge if periodic else None) >= 2e-4
+    if periodic:
+        assert np.all((x >= 0) & (x < edge))
+    else:
+        assert np.all(x - radii[:, None] >= 2e-4)
+        assert np.all(x + radii[:, None] <= edge - 2e-4)
+
+
+def test_spheres_too_dense_for_the_box_are_refused_naming_the_limit(
+        monkeypatch):
+    import softpack.scene.placement as placement
+
+    monkeypatch.setattr(placement, "ATTEMPTS", 1)
+    radii = np.full(20, 0.01)
+    edge = (4 / 3 * np.pi * np.sum(radii**3) / 0.62) ** (1 / 3)
+    with pytest.raises(PackingError, match="growth protocol .* 2D box only"):
+        placement.place(radii, (edge, edge, edge), 2e-4,
+                        np.random.default_rng(0))

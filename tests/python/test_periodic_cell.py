@@ -81,7 +81,7 @@ def test_periodic_placement_keeps_the_gap_to_the_nearest_images():
     rng = np.random.default_rng(3)
     radii = np.r_[np.full(30, 0.01), np.full(10, 0.015)]
     L, W, gap = 0.2, 0.16, 1e-4  # phi = 0.52
-    x = place(radii, L, W, gap, rng, periodic=True)
+    x = place(radii, (L, W), gap, rng, periodic=True)
     assert np.all((x >= 0) & (x < [L, W]))
     d = x[:, None, :] - x[None, :, :]
     d -= [L, W] * np.round(d / [L, W])

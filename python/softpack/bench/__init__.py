@@ -100,6 +100,10 @@ def _parser() -> argparse.ArgumentParser:
                         help="run --disks on R MPI ranks (default 1)")
     parser.add_argument("--disks-phi", type=float, default=0.88,
                         help="packing fraction that ends --disks")
+    parser.add_argument("--disks-periodic", action="store_true",
+                        help="run --disks in a periodic cell of the box's"
+                        " edges compacted isotropically at the piston's rate"
+                        " of area change (issue 38)")
     parser.add_argument("--periodic", metavar="N,...",
                         help="only time --steps steps of N paper disks in a"
                         " periodic cell and in the walled box (e.g. 100,400)")
@@ -120,10 +124,12 @@ def main(argv=None) -> int:
     if args.disks:
         from softpack.bench.disks import bench_disks, table
         result = bench_disks(args.disks, args.disks_phi, args.disks_ranks,
-                             args.from_state)
+                             args.from_state, args.disks_periodic)
         print(table(result))
         ranks = f"r{args.disks_ranks}-" if args.disks_ranks > 1 else ""
-        return _save(result, f"disks-{args.disks}-{ranks}{_stamp()}.json")
+        cell = "periodic-" if args.disks_periodic else ""
+        return _save(result,
+                     f"disks-{args.disks}-{cell}{ranks}{_stamp()}.json")
     if args.periodic or args.periodic_shear:
         return _periodic(args)
     if args.mpi:

@@ -29,24 +29,32 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+import numpy as np
+
 from softpack.analysis.strain import cumulative_strain
 from softpack.bench.common import (FAST, PISTON, WORK, bench_nlgs,
                                    normalised_text, run_driver,
                                    scaled_config)
+from softpack.bench.periodic import periodic_config
 from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table
 from softpack.scene.build import build_scene
 
 
 def bench_disks(count: int, to_phi: float, ranks: int = 1,
-                state: Path | None = None) -> dict:
+                state: Path | None = None, periodic: bool = False) -> dict:
     """Compact ``count`` disks to ``to_phi`` on ``ranks`` MPI ranks (from
-    ``state``, a leg of a longer case, if given); see the module doc."""
+    ``state``, a leg of a longer case, if given), in the box or, with
+    ``periodic``, in a cell (:func:`.periodic.periodic_config`); see the
+    module doc."""
     config = scaled_config(count / 100, {
         **FAST, "output.every_steps": 100,
         "stop.packing_fraction": to_phi})
+    if periodic:
+        config = periodic_config(config, to_phi=to_phi)
     n = sum(s["count"] for s in config["species"])
-    name = f"disks-n{n}" + (f"-r{ranks}" if ranks > 1 else "")
+    name = (f"disks-n{n}" + ("-periodic" if periodic else "")
+            + (f"-r{ranks}" if ranks > 1 else ""))
     start = time.perf_counter()
     scene = build_scene(config, WORK / f"mesh-{name}").record()
     scene_seconds = time.perf_counter() - start
@@ -55,15 +63,10 @@ def bench_disks(count: int, to_phi: float, ranks: int = 1,
                         ranks=ranks)
     driver_seconds = time.perf_counter() - start
     steps = read_table(RunDirectory(WORK / name).raw.steps_csv)
-    # Over this leg: from its first output row (step 0 of a fresh run),
-    # where the box is shorter than its initial length by the piston's
-    # travel so far.
-    piston = steps[f"{PISTON}_x"]
-    x0 = config["walls"][PISTON]["point"][0]
-    length = config["box"]["length"] - (x0 - float(piston[0]))
-    strain = float(cumulative_strain(float(piston[0] - piston[-1]), length))
+    strain = _cell_strain(steps) if periodic else _piston_strain(steps,
+                                                                 config)
     result.update(
-        disks=n, target_phi=to_phi, final_phi=float(steps["phi"][-1]),
+        disks=n, periodic=periodic, target_phi=to_phi, final_phi=float(steps["phi"][-1]),
         initial_phi=float(steps["phi"][0]),
         from_state=str(state) if state is not None else None,
         scene_seconds=scene_seconds, driver_seconds=driver_seconds,
@@ -73,13 +76,32 @@ def bench_disks(count: int, to_phi: float, ranks: int = 1,
     return result
 
 
+def _piston_strain(steps, config) -> float:
+    """The piston's strain over this leg: from its first output row (step
+    0 of a fresh run), where the box is shorter than its initial length by
+    the piston's travel so far."""
+    piston = steps[f"{PISTON}_x"]
+    x0 = config["walls"][PISTON]["point"][0]
+    length = config["box"]["length"] - (x0 - float(piston[0]))
+    return float(cumulative_strain(float(piston[0] - piston[-1]), length))
+
+
+def _cell_strain(steps) -> float:
+    """ln(A_first / A_last) of the cell over this leg: its volumetric
+    strain, which is the piston's strain for a box (its area is
+    proportional to its length)."""
+    area = np.abs(steps["cell_a1x"] * steps["cell_a2y"]
+                  - steps["cell_a1y"] * steps["cell_a2x"])
+    return float(np.log(area[0] / area[-1]))
+
+
 def table(r: dict) -> str:
     """A few lines for a person."""
     parts = ", ".join(f"{p} {r['ms_' + p]:.0f}" for p in
                       ("assembly", "factorization", "solves", "delassus",
                        "detection", "nlgs"))
     return "\n".join([
-        f"{r['disks']} disks to Phi = {r['final_phi']:.3f}"
+        f"{r['disks']} disks{' in a periodic cell' if r.get('periodic') else ''} to Phi = {r['final_phi']:.3f}"
         f" (target {r['target_phi']}): {r['steps']} steps"
         + (f" from Phi = {r['initial_phi']:.4f} (a leg, from {r['from_state']})"
            if r.get("from_state") else ""),

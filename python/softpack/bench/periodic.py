@@ -40,9 +40,10 @@ def _setting(config, key: str):
     return config[section][name]
 
 
-def _cell_overrides(walled, steps: int) -> dict:
+def _cell_overrides(walled, steps: int = 0, to_phi: float = 0.0) -> dict:
     """The walled config's disks and settings in a periodic cell of its
-    box's edges (no velocity gradient yet)."""
+    box's edges (no velocity gradient yet), for ``steps`` steps or to Phi =
+    ``to_phi`` (0: no such bound)."""
     box = walled["box"]
     overrides = {key: _setting(walled, key) for key in PAPER_SETTINGS}
     for i, s in enumerate(walled["species"]):
@@ -50,17 +51,19 @@ def _cell_overrides(walled, steps: int) -> dict:
         overrides[f"species.{i}.diameter"] = s["diameter"]
     overrides.update({
         **FAST, "output.fields": False, "output.every_steps": 50,
-        "stop.steps": steps, "stop.packing_fraction": 0.0,
+        "stop.steps": steps, "stop.packing_fraction": to_phi,
         "stop.max_time": 10.0,
         "cell.a1": [box["length"], 0.0], "cell.a2": [0.0, box["width"]]})
     return overrides
 
 
-def periodic_config(walled, steps: int):
+def periodic_config(walled, steps: int = 0, to_phi: float = 0.0):
     """The walled config's disks and settings in a periodic cell of its
-    box's edges, compacted at the piston's rate of area change."""
-    rate = walled["walls"][PISTON]["velocity"][0] / walled["box"]["length"] / 2
-    overrides = _cell_overrides(walled, steps)
+    box's edges, compacted at the piston's rate of area change for
+    ``steps`` steps or to Phi = ``to_phi`` (0: no such bound)."""
+    box = walled["box"]
+    rate = walled["walls"][PISTON]["velocity"][0] / box["length"] / 2
+    overrides = _cell_overrides(walled, steps, to_phi)
     overrides.update({"cell.velocity_gradient_x": [rate, 0.0],
                       "cell.velocity_gradient_y": [0.0, rate]})
     return load_config(PERIODIC_TOML, overrides)

@@ -108,6 +108,20 @@ def write_table(path, columns: dict, names=None) -> Path:
     return path
 
 
+def write_rows(path, rows, names) -> Path:
+    """Write a summary table: one dict per row, the columns ``names`` in
+    order, strings as they are and numbers to 6 significant digits (the
+    tables of checks that docs/ show)."""
+    lines = [",".join(names)]
+    for row in rows:
+        lines.append(",".join(
+            row[k] if isinstance(row[k], str) else f"{row[k]:.6g}"
+            for k in names))
+    path = Path(path)
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
 def _format(value) -> str:
     """One CSV field."""
     value = float(value)

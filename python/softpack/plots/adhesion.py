@@ -23,6 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
+from softpack.contract.tables import write_rows
+
 COLUMNS = ("run", "h_fine_m", "triangles", "spacing_m", "speed_m_s",
            "time_step_s", "pull_off_N_m", "pull_off_md_N_m", "pull_off_err",
            "a0_m", "a0_md_m", "a0_err", "c0_m", "c0_md_m", "c0_err",
@@ -48,16 +50,6 @@ def row(name, result) -> dict:
         "a_pull_off_m": result["a_pull_off"],
         "a_pull_off_md_m": t["md_a_pull_off"],
         "residual_over_work": b["max_abs_residual"] / b["max_abs_wall_work"]}
-
-
-def write_table(rows, path) -> None:
-    """CSV of the rows, 6 significant digits."""
-    lines = [",".join(COLUMNS)]
-    for r in rows:
-        lines.append(",".join(
-            r[k] if isinstance(r[k], str) else f"{r[k]:.6g}"
-            for k in COLUMNS))
-    Path(path).write_text("\n".join(lines) + "\n")
 
 
 def figure(results, path) -> None:
@@ -112,7 +104,8 @@ def main(argv=None) -> int:
             return 2
         results.append((run.name, json.loads(path.read_text())))
     args.out.mkdir(parents=True, exist_ok=True)
-    write_table([row(n, r) for n, r in results], args.out / "adhesion.csv")
+    write_rows(args.out / "adhesion.csv",
+               [row(n, r) for n, r in results], COLUMNS)
     figure(results, args.out / "force_width.png")
     print(f"wrote {args.out}/adhesion.csv, force_width.png/.pdf")
     return 0

@@ -230,19 +230,18 @@ def add_plate_arguments(parser, defaults: Params, out: Path) -> None:
                         f" {d.every})")
 
 
-def refused(params, config_of, out) -> bool:
-    """Whether ``softpack single-disk`` refuses to start (exit status 2),
+def refused(params, config_of, out, prog="softpack single-disk") -> bool:
+    """Whether ``prog`` refuses to start (exit status 2),
     having printed why: ``--max-strain`` outside (0, 1), what the schema
     refuses in ``config_of(params)``, an unusable ``out`` (made, writable).
     Nothing is meshed before."""
     if not 0 < params.max_strain < 1:
-        print("softpack single-disk: --max-strain must be in (0, 1)",
-              file=sys.stderr)
+        print(f"{prog}: --max-strain must be in (0, 1)", file=sys.stderr)
         return True
     try:
         config_of(params)
         check_out_directory(out)
     except (ConfigError, UsageError) as err:
-        print(f"softpack single-disk: {err}", file=sys.stderr)
+        print(f"{prog}: {err}", file=sys.stderr)
         return True
     return False

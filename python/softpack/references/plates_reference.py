@@ -45,15 +45,7 @@ class _Reference:
             ufl.Mesh(ufl.VectorElement("Lagrange", ufl.triangle, 1)))
         V = fem.VectorFunctionSpace(domain, ("Lagrange", 1))
         self.u = fem.Function(V)
-        v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
-        F = ufl.Identity(2) + ufl.grad(self.u)
-        J = ufl.det(F)
-        psi = (mu / 2 * (ufl.tr(F.T * F) + 1 - 3) - mu * ufl.ln(J)
-               + lam / 2 * ufl.ln(J) ** 2)
-        self.energy = fem.form(psi * ufl.dx)
-        residual = ufl.derivative(psi * ufl.dx, self.u, v)
-        self.residual = fem.form(residual)
-        self.tangent = fem.form(ufl.derivative(residual, self.u, du))
+        self._build_forms(V, mu, lam)
         # the dolfinx node of each input point (create_mesh reorders them)
         x = V.tabulate_dof_coordinates()[:, :2]
         distance, self.node_of = cKDTree(x).query(points)
@@ -65,7 +57,24 @@ class _Reference:
         self.k_weight = stiffness * weight
         # u_x = 0 at the node nearest the centroid (the x translation)
         self.pin = int(self.node_of[np.argmin(np.hypot(*points.T))])
+        self.pinned = [2 * self.pin]
         self.n = len(x)
+
+    def _build_forms(self, V, mu, lam):
+        """The energy, residual and tangent forms (plane-strain
+        neo-Hookean, paper Eq. 1)."""
+        import ufl
+        from dolfinx import fem
+
+        v, du = ufl.TestFunction(V), ufl.TrialFunction(V)
+        F = ufl.Identity(2) + ufl.grad(self.u)
+        J = ufl.det(F)
+        psi = (mu / 2 * (ufl.tr(F.T * F) + 1 - 3) - mu * ufl.ln(J)
+               + lam / 2 * ufl.ln(J) ** 2)
+        self.energy = fem.form(psi * ufl.dx)
+        residual = ufl.derivative(psi * ufl.dx, self.u, v)
+        self.residual = fem.form(residual)
+        self.tangent = fem.form(ufl.derivative(residual, self.u, du))
 
     def displacement(self):
         return self.u.x.array.reshape(-1, 2)
@@ -108,14 +117,14 @@ class _Reference:
         """Newton at fixed plates; returns iterations or None (diverged)."""
         import scipy.sparse.linalg as spla
 
-        pin = 2 * self.pin
         for iteration in range(1, max_iterations + 1):
             K, r = self.system(bottom, top)
-            r[pin] = 0.0
             K = K.tolil()
-            K[pin, :] = 0.0
-            K[:, pin] = 0.0
-            K[pin, pin] = 1.0
+            for pin in self.pinned:
+                r[pin] = 0.0
+                K[pin, :] = 0.0
+                K[:, pin] = 0.0
+                K[pin, pin] = 1.0
             step = spla.spsolve(K.tocsc(), -r)
             if not np.all(np.isfinite(step)):
                 return None
@@ -132,9 +141,10 @@ class _Reference:
         return fem.assemble_scalar(self.energy)
 
     def pin_reaction(self, bottom, top):
-        """|x force| the pin exerts (the x residual at the pinned node)."""
+        """The largest |force| a pin exerts (the residual at the pinned
+        dofs)."""
         _, r = self.system(bottom, top)
-        return abs(float(r[2 * self.pin]))
+        return float(np.abs(r[self.pinned]).max())
 
 
 def static_reference(points, cells, mu, lam, y_bottom0, y_top0, diameter,

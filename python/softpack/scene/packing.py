@@ -245,7 +245,7 @@ def random_packing(seed: int, *, counts=PAPER_COUNTS,
     """
     radii = _check_arguments(seed, counts, diameters, length, width, gap,
                              trials, max_sweeps)
-    centres = place(radii, length, width, gap, np.random.default_rng(seed),
+    centres = place(radii, (length, width), gap, np.random.default_rng(seed),
                     relax=relax, trials=trials, max_sweeps=max_sweeps)
     return Packing(centres=centres, radii=radii, length=length, width=width,
                    seed=seed)
@@ -289,7 +289,7 @@ def scene_packing(config, radii, areas=None) -> Packing:
             f" fit in the {length} x {width} m box {keys}")
     _check_requested_fraction(config, radii if areas is None else None,
                               areas)
-    phi = _fraction(radii, length, width)
+    phi = _fraction(radii, (length, width))
     if phi >= HEXAGONAL_FRACTION:
         raise PackingError(
             f"the particles' bounding circles would fill {phi:.3f} of the box,"
@@ -297,7 +297,7 @@ def scene_packing(config, radii, areas=None) -> Packing:
             f" cannot fit {keys}; placement uses bounding circles, so a"
             " non-disk shape needs a lower packing fraction")
     try:
-        centres = place(radii, length, width, gap,
+        centres = place(radii, (length, width), gap,
                         np.random.default_rng(seed))
     except PackingError as err:
         raise PackingError(f"{err} {keys}") from None
@@ -313,14 +313,14 @@ def _cell_packing(config, radii, areas) -> Packing:
     gap, seed = config["packing"]["gap"], config["packing"]["seed"]
     keys = ("([[species]] count, diameter and shape, [cell] a1 and a2,"
             " [packing] gap)")
-    phi = _fraction(radii, length, width)
+    phi = _fraction(radii, (length, width))
     if phi >= HEXAGONAL_FRACTION:
         raise PackingError(
             f"the particles' bounding circles would fill {phi:.3f} of the"
             f" cell, more than hexagonal disks ({HEXAGONAL_FRACTION:.3f})"
             f" {keys}")
     try:
-        centres = place(radii, length, width, gap,
+        centres = place(radii, (length, width), gap,
                         np.random.default_rng(seed), periodic=True)
     except PackingError as err:
         raise PackingError(f"{err} {keys}") from None
@@ -397,9 +397,10 @@ def _check_arguments(seed, counts, diameters, length, width, gap, trials,
         raise ValueError(f"a disk of diameter {diameters.max()} m does not fit"
                          f" in a {length} x {width} m box")
     radii = np.repeat(diameters / 2, counts.astype(int))
-    if _fraction(radii, length, width) >= HEXAGONAL_FRACTION:
+    phi = _fraction(radii, (length, width))
+    if phi >= HEXAGONAL_FRACTION:
         raise ValueError(
-            f"packing fraction {_fraction(radii, length, width):.3f} exceeds"
+            f"packing fraction {phi:.3f} exceeds"
             f" that of hexagonal disks ({HEXAGONAL_FRACTION:.3f})")
     return radii
 

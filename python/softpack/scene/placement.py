@@ -1,7 +1,11 @@
-"""Non-overlapping random placement of circles in a box.
+"""Non-overlapping random placement of circles (spheres) in a box.
 
 Every particle shape is placed through its bounding circle (see
-:mod:`softpack.scene.packing` and :mod:`softpack.scene.shapes`).
+:mod:`softpack.scene.packing` and :mod:`softpack.scene.shapes`). The box
+is ``extent``: (length, width) in 2D, (length, width, height) in 3D; the
+same algorithm places spheres in 3D (issue 40), with its own RSA fraction
+(RSA of equal spheres saturates near 0.38) and without the growth
+protocol, which is 2D.
 
 Random sequential addition (RSA) alone saturates far below 0.75 (near 0.55
 for equal disks), so :func:`place` first adds circles shrunken to a
@@ -34,9 +38,10 @@ from softpack.scene.preparation import Jammed, grow
 
 #: Relaxation sweeps over which the largest overlap must shrink by 10 %.
 STALL_SWEEPS = 500
-#: Packing fraction of the shrunken circles placed by plain RSA before
-#: they are inflated (RSA of equal disks saturates near 0.55).
-RSA_FRACTION = 0.35
+#: Packing fraction of the shrunken circles (spheres) placed by plain RSA
+#: before they are inflated, per dimension (RSA of equal disks saturates
+#: near 0.55, of equal spheres near 0.38).
+RSA_FRACTION = {2: 0.35, 3: 0.25}
 #: Inflation steps from the shrunken circles to their size, each followed
 #: by a relaxation of the overlaps.
 INFLATION_STEPS = 40
@@ -49,6 +54,10 @@ ATTEMPTS = 10
 NEIGHBOURS = 24
 #: Densest packing fraction of disks in the plane (hexagonal).
 HEXAGONAL_FRACTION = np.pi / (2 * np.sqrt(3))
+#: Volume of the unit ball, per dimension.
+UNIT_BALL = {2: np.pi, 3: 4.0 * np.pi / 3.0}
+#: The d-th root (the shrink factor of a fraction).
+ROOT = {2: np.sqrt, 3: np.cbrt}
 
 
 class PackingError(RuntimeError):
@@ -57,20 +66,22 @@ class PackingError(RuntimeError):
     meshed); the message names the keys."""
 
 
-def place(radii, length, width, gap, rng, *, relax=True, trials=200,
+def place(radii, extent, gap, rng, *, relax=True, trials=200,
           max_sweeps=20000, periodic=False) -> np.ndarray:
     """Centres of non-overlapping circles in the box (see the module doc).
 
     With ``periodic`` the box is a periodic cell: no walls, the distances
     between circles are those to the nearest images, the centres in
-    ``[0, length) x [0, width)``.
+    ``[0, extent)``.
 
     Parameters
     ----------
     radii : ndarray, shape (n,)
         Circle radii (m), in particle order (placed largest first).
-    length, width, gap : float
-        Box and smallest clearance (m).
+    extent : sequence of 2 or 3 floats
+        The box's edges (m): (length, width) or (length, width, height).
+    gap : float
+        Smallest clearance (m).
     rng : numpy.random.Generator
     relax, trials, max_sweeps
         As :func:`random_packing`.
@@ -80,26 +91,27 @@ def place(radii, length, width, gap, rng, *, relax=True, trials=200,
 
     Returns
     -------
-    ndarray, shape (n, 2)
+    ndarray, shape (n, d)
 
     Raises
     ------
     PackingError
     """
     radii = np.asarray(radii, dtype=float)
+    extent = tuple(float(e) for e in extent)
     order = np.argsort(-radii, kind="stable")  # largest first
-    phi = _fraction(radii, length, width)
+    phi = _fraction(radii, extent)
     # with relaxation: RSA of shrunken circles, then inflated step by step
-    start = min(1.0, np.sqrt(RSA_FRACTION / phi)) if relax else 1.0
+    start = (min(1.0, ROOT[len(extent)](RSA_FRACTION[len(extent)] / phi))
+             if relax else 1.0)
     scales = np.linspace(start, 1.0, INFLATION_STEPS + 1)[1:]
     for attempt in range(ATTEMPTS if relax else 1):
-        placed, overlapping = _sequential(radii[order] * start, length,
-                                          width, gap, rng, trials, relax,
-                                          periodic)
+        placed, overlapping = _sequential(radii[order] * start, extent,
+                                          gap, rng, trials, relax, periodic)
         try:
             for scale in scales if start < 1.0 else [1.0] * overlapping:
                 placed = _relax_overlaps(placed, radii[order] * scale,
-                                         length, width, gap, rng, max_sweeps,
+                                         extent, gap, rng, max_sweeps,
                                          periodic)
         except PackingError as err:
             failure = (f"{len(radii)} particles (requested phi of bounding"
@@ -111,49 +123,49 @@ def place(radii, length, width, gap, rng, *, relax=True, trials=200,
         return centres
     if not relax or start >= 1.0:
         raise PackingError(failure)
-    if periodic:
+    if periodic or len(extent) != 2:
         raise PackingError(f"{failure}; the growth protocol that goes"
-                           " further in a box is not periodic yet")
-    placed = _grown(radii[order], start * GROWTH_START, length, width, gap,
-                    rng, trials, failure)
+                           " further is for a 2D box only")
+    placed = _grown(radii[order], start * GROWTH_START, extent, gap, rng,
+                    trials, failure)
     centres = np.empty_like(placed)
     centres[order] = placed
     return centres
 
 
-def _grown(radii, start, length, width, gap, rng, trials, failure):
+def _grown(radii, start, extent, gap, rng, trials, failure):
     """The growth protocol (:mod:`.preparation`) from a plain RSA of the
-    shrunken circles, for a box too full for the inflation."""
+    shrunken circles, for a 2D box too full for the inflation."""
     try:
-        placed, _ = _sequential(radii * start, length, width, gap, rng,
-                                trials, relax=False)
-        return grow(placed, radii, length, width, _padded(gap), start, rng)
+        placed, _ = _sequential(radii * start, extent, gap, rng, trials,
+                                relax=False)
+        return grow(placed, radii, *extent, _padded(gap), start, rng)
     except (PackingError, Jammed) as err:
         raise PackingError(f"{failure}; then {err}") from None
 
 
-def _sequential(radii, length, width, gap, rng, trials, relax,
-                periodic=False):
+def _sequential(radii, extent, gap, rng, trials, relax, periodic=False):
     """Random sequential addition in the given order; with ``relax``, a
     circle with no free trial goes to the least-overlapping one; with
     ``periodic``, anywhere in the cell, clear of the nearest images.
 
     Returns the centres and whether any overlap.
     """
-    placed = np.empty((len(radii), 2))
+    d = len(extent)
+    placed = np.empty((len(radii), d))
     overlapping = False
-    cell = (length, width) if periodic else None
+    cell = extent if periodic else None
     for k, r in enumerate(radii):
         lo = 0.0 if periodic else r + _padded(gap)
-        candidates = rng.uniform((lo, lo), (length - lo, width - lo),
-                                 size=(trials, 2))
+        candidates = rng.uniform((lo,) * d, tuple(e - lo for e in extent),
+                                 size=(trials, d))
         clearance = _clearance_to(candidates, r, placed[:k], radii[:k],
                                   _padded(gap), cell)
         free = np.flatnonzero(clearance >= 0.0)
         if not len(free) and not relax:
             raise PackingError(
                 f"random sequential addition placed {k} of {len(radii)}"
-                f" particles (phi = {_fraction(radii, length, width):.3f} of"
+                f" particles (phi = {_fraction(radii, extent):.3f} of"
                 f" bounding circles); no free spot for a circle of diameter"
                 f" {2 * r:g} m in {trials} trials")
         pick = int(free[0]) if len(free) else int(np.argmax(clearance))
@@ -167,15 +179,25 @@ def _padded(gap) -> float:
     return 1.05 * gap + 1e-9
 
 
-def _fraction(radii, length, width) -> float:
-    """Packing fraction of disks of the given radii in the box."""
-    return float(np.pi * np.sum(radii**2) / (length * width))
+def _fraction(radii, extent) -> float:
+    """Packing fraction of disks (spheres) of the given radii in the box
+    of edges ``extent``."""
+    d = len(extent)
+    return float(UNIT_BALL[d] * np.sum(radii**d) / np.prod(extent))
+
+
+def _norm(diff) -> np.ndarray:
+    """|diff| along the last axis (np.hypot in 2D: the placements made
+    before 3D existed stay the same to the bit)."""
+    if diff.shape[-1] == 2:
+        return np.hypot(diff[..., 0], diff[..., 1])
+    return np.linalg.norm(diff, axis=-1)
 
 
 def _clearance_to(candidates, r, centres, radii, gap,
                   cell=None) -> np.ndarray:
     """For each candidate centre, the smallest clearance minus ``gap``
-    (to the nearest images in a periodic ``cell`` = (length, width)).
+    (to the nearest images in a periodic ``cell`` = the box's extent).
 
     Only circles whose centres lie within ``r + max(radii) + gap`` can make
     it negative: a k-d tree finds the nearest ``NEIGHBOURS`` of each
@@ -198,12 +220,11 @@ def _clearance_to(candidates, r, centres, radii, gap,
     if crowded.any():  # the k nearest may miss a larger circle farther out
         diff = _nearest_image(candidates[crowded, None, :]
                               - centres[None, :, :], cell)
-        out[crowded] = (np.hypot(diff[..., 0], diff[..., 1]) - r - radii
-                        - gap).min(axis=1)
+        out[crowded] = (_norm(diff) - r - radii - gap).min(axis=1)
     return np.minimum(out, np.inf)
 
 
-def _relax_overlaps(centres, radii, length, width, gap, rng, max_sweeps,
+def _relax_overlaps(centres, radii, extent, gap, rng, max_sweeps,
                     periodic=False):
     """Move circles apart until every pair is at least ``gap`` apart.
 
@@ -220,12 +241,12 @@ def _relax_overlaps(centres, radii, length, width, gap, rng, max_sweeps,
     from scipy.spatial import cKDTree
 
     x = centres.copy()
-    n = len(radii)
-    cell = (length, width) if periodic else None
+    n, d = x.shape
+    cell = extent if periodic else None
     skin = 0.2 * radii.min()
     reach = 2 * radii.max() + _padded(gap) + skin
     lo = radii + _padded(gap)
-    hi = np.stack([length - lo, width - lo], axis=1)
+    hi = np.stack([e - lo for e in extent], axis=1)
     checkpoint, moved = np.inf, np.inf
     for sweep in range(max_sweeps):
         if moved > 0.5 * skin:
@@ -235,34 +256,35 @@ def _relax_overlaps(centres, radii, length, width, gap, rng, max_sweeps,
             target = radii[i] + radii[j] + _padded(gap)
             listed, moved = x.copy(), 0.0
         diff = _nearest_image(x[i] - x[j], cell)
-        d = np.hypot(diff[:, 0], diff[:, 1])
-        if np.all(d - radii[i] - radii[j] >= gap):
+        distance = _norm(diff)
+        if np.all(distance - radii[i] - radii[j] >= gap):
             return x
-        if np.any(d == 0.0):  # coincident: separate in a random direction
+        if np.any(distance == 0.0):  # coincident: a random direction
             x += 1e-9 * rng.standard_normal(x.shape)
             continue
-        shortfall = np.maximum(target - d, 0.0)
+        shortfall = np.maximum(target - distance, 0.0)
         if sweep % STALL_SWEEPS == 0:
             if shortfall.max() > 0.9 * checkpoint:
                 break  # stalled: the overlaps no longer shrink
             checkpoint = shortfall.max()
-        push = (0.5 * shortfall / d)[:, None] * diff
+        push = (0.5 * shortfall / distance)[:, None] * diff
         move = np.zeros_like(x)
-        for axis in (0, 1):
+        for axis in range(d):
             move[:, axis] = (np.bincount(i, push[:, axis], n)
                              - np.bincount(j, push[:, axis], n))
         x = (_wrapped(x + move, cell) if periodic
              else np.clip(x + move, lo[:, None], hi))
-        moved = np.abs(_nearest_image(x - listed, cell)).max() * np.sqrt(2)
+        moved = np.abs(_nearest_image(x - listed, cell)).max() * np.sqrt(d)
     raise PackingError(
         f"could not remove the overlaps of {n} circles (phi ="
-        f" {_fraction(radii, length, width):.3f} in a {length} x {width} m"
-        f" box) in {sweep + 1} relaxation sweeps; the box is too full")
+        f" {_fraction(radii, extent):.3f} in a"
+        f" {' x '.join(f'{e:g}' for e in extent)} m box) in {sweep + 1}"
+        " relaxation sweeps; the box is too full")
 
 
 def _nearest_image(diff, cell):
     """Differences of positions to the nearest image in a periodic ``cell``
-    = (length, width) (unchanged without a cell)."""
+    = the box's extent (unchanged without a cell)."""
     if cell is None:
         return diff
     box = np.asarray(cell)
@@ -270,7 +292,7 @@ def _nearest_image(diff, cell):
 
 
 def _wrapped(x, cell):
-    """Positions wrapped into ``[0, length) x [0, width)``."""
+    """Positions wrapped into ``[0, extent)``."""
     box = np.asarray(cell)
     x = np.mod(x, box)
     return np.where(x >= box, 0.0, x)  # mod of a tiny negative: the length
