@@ -95,6 +95,10 @@ def solid_tetrahedra(shape, element_size, diameter, height=None,
         for name, value in (("Mesh.MeshSizeMin", element_size),
                             ("Mesh.MeshSizeMax", element_size),
                             ("Mesh.MeshSizeFromCurvature", 0),
+                            # MeshAdapt surfaces: Frontal-Delaunay (gmsh
+                            # 4.8's default) left a 10 mm edge on a 20 mm
+                            # sphere meshed at 4 mm
+                            ("Mesh.Algorithm", 1),
                             ("Mesh.ElementOrder", 1)):
             gmsh.option.setNumber(name, value)
         gmsh.model.mesh.generate(3)
