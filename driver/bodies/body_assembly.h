@@ -203,8 +203,9 @@ private:
     /// The nodal volumetric energy's lambda (0: none)
     double nodal_lambda = 0;
   };
-  /// `kernel` on each cell of body k with the cells' internal variables
-  template <int N, int D, typename Add>
+  /// `kernel` on each cell of body k (of dimension D) with the cells'
+  /// internal variables
+  template <int N, int D = 2, typename Add>
   void cells(int k, const CellKernel& kernel, const std::vector<Body>& bodies,
              std::span<const double> x, std::span<const double> u,
              Add&& add) const

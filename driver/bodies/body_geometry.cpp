@@ -225,7 +225,15 @@ BodyGeometry body_geometry(const BodyMesh& mesh, SpaceFunction function_space)
 BodyGeometry read_body_geometry(const std::filesystem::path& xdmf,
                                 SpaceFunction function_space)
 {
-  return body_geometry(read_body_mesh(MPI_COMM_SELF, xdmf), function_space);
+  const BodyMesh mesh = read_body_mesh(MPI_COMM_SELF, xdmf);
+  const int dim = mesh.mesh->geometry().dim();
+  if (function_space("v")->finite_element->topological_dimension != dim)
+    throw std::runtime_error(
+        "mesh file " + xdmf.string() + ": " +
+        (dim == 3 ? "tetrahedra (3D bodies)" : "triangles (2D bodies)") +
+        ", but the forms given are " + (dim == 3 ? "2D" : "3D") +
+        " (3D bodies have no time loop yet: docs/bodies_3d.md)");
+  return body_geometry(mesh, function_space);
 }
 
 std::vector<Body> build_bodies(const BodyGeometry& g)

@@ -131,6 +131,8 @@ BodyGeometry body_geometry(const BodyMesh& mesh, SpaceFunction function_space);
 
 /// The mesh file's geometry (read_body_mesh, then body_geometry), read on
 /// the calling process alone: the mesh lives during the call only
+/// @throws std::runtime_error naming the file if its cells are not of the
+/// forms' dimension (a 3D mesh given to the 2D driver)
 BodyGeometry read_body_geometry(const std::filesystem::path& xdmf,
                                 SpaceFunction function_space);
 

@@ -146,6 +146,28 @@ double inner_radius(const bodies::BodySet& bodies, bool sphere)
   }
   return least;
 }
+/// The area of the boundary faces of body 0 in the plane z = height
+double face_area(const bodies::BodySet& bodies, double height)
+{
+  const bodies::Body& body = bodies.body(0);
+  std::span<const double> X = bodies.reference_coordinates();
+  double area = 0;
+  for (const auto& face : body.boundary_faces)
+  {
+    double p[3][3];
+    bool in_plane = true;
+    for (int k = 0; k < 3; ++k)
+    {
+      for (int c = 0; c < 3; ++c)
+        p[k][c] = X[3 * body.nodes[face[k]] + c];
+      in_plane &= std::abs(p[k][2] - height) < 1e-9 * H;
+    }
+    if (in_plane)
+      area += 0.5 * std::abs((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
+                             (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
+  }
+  return area;
+}
 } // namespace
 
 TEST(Bodies3D, MassIsDensityTimesTheMeshedVolume)
@@ -338,7 +360,6 @@ TEST(Bodies3D, CylinderBetweenFrictionlessPlatesFollowsTheUniaxialClosedForm)
   const std::size_t nodes = X.size() / 3;
   const double tol = 1e-9 * H, s = 0.8, R = D / 2;
   std::vector<std::int32_t> fixed, top;
-  std::vector<double> zero;
   for (std::size_t n = 0; n < nodes; ++n)
   {
     const double x = X[3 * n], y = X[3 * n + 1], z = X[3 * n + 2];
@@ -387,21 +408,7 @@ TEST(Bodies3D, CylinderBetweenFrictionlessPlatesFollowsTheUniaxialClosedForm)
   double force = 0;
   for (std::int32_t n : top)
     force += f[3 * n + 2];
-  const bodies::Body& body = bodies.body(0);
-  double area = 0;
-  for (const auto& face : body.boundary_faces)
-  {
-    double p[3][3];
-    bool on_top = true;
-    for (int k = 0; k < 3; ++k)
-      for (int c = 0; c < 3; ++c)
-        p[k][c] = X[3 * body.nodes[face[k]] + c];
-    for (const auto& q : p)
-      on_top &= std::abs(q[2] - H / 2) < tol;
-    if (on_top)
-      area += 0.5 * std::abs((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
-                             (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
-  }
+  const double area = face_area(bodies, H / 2);
   EXPECT_NEAR(force, P33 * area, 1e-9 * std::abs(P33) * area);
   RecordProperty("lateral_stretch", std::to_string(a));
   RecordProperty("force_over_P33_pi_R2",
@@ -409,5 +416,30 @@ TEST(Bodies3D, CylinderBetweenFrictionlessPlatesFollowsTheUniaxialClosedForm)
   const double r = inner_radius(bodies, false);
   EXPECT_LT(std::abs(force), std::abs(P33) * M_PI * R * R);
   EXPECT_GT(std::abs(force), std::abs(P33) * M_PI * r * r);
-  EXPECT_NEAR(body.reference_area, area * H, 1e-12 * area * H);
+  EXPECT_NEAR(bodies.body(0).reference_area, area * H, 1e-12 * area * H);
+}
+
+TEST(Bodies3D, TheDriversReaderRefusesATetrahedralMeshForPlaneStrainForms)
+{
+  // The time loop reads its mesh with the laws' 2D space
+  // (run_simulation.cpp): a 3D mesh is refused naming the file
+  const std::filesystem::path path = mesh_file("sphere");
+  const forms::MaterialForms& law = forms::find_material("neo_hookean");
+  try
+  {
+    bodies::read_body_geometry(path, law.function_space);
+    ADD_FAILURE() << "a tetrahedral mesh read with 2D forms";
+  }
+  catch (const std::runtime_error& e)
+  {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(path.string()), std::string::npos) << what;
+    EXPECT_NE(what.find("tetrahedra"), std::string::npos) << what;
+  }
+  const bodies::BodyGeometry g = bodies::read_body_geometry(
+      path, forms::in_dimension(law, 3).function_space);
+  EXPECT_EQ(g.dim, 3);
+  ASSERT_FALSE(g.cells.empty());
+  EXPECT_EQ(g.cells[0].size(), 4);
+  EXPECT_EQ(g.x.size(), 3u * g.num_nodes());
 }
