@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <gtest/gtest.h>
+#include <map>
 #include <material_registry.h>
 #include <numeric>
 #include <random>
@@ -442,4 +443,42 @@ TEST(Bodies3D, TheDriversReaderRefusesATetrahedralMeshForPlaneStrainForms)
   ASSERT_FALSE(g.cells.empty());
   EXPECT_EQ(g.cells[0].size(), 4);
   EXPECT_EQ(g.x.size(), 3u * g.num_nodes());
+}
+
+TEST(Bodies3D, BoundaryFacesAreAClosedSurfaceOrientedOutward)
+{
+  // What the 3D detection's BoundarySurface takes: every edge in exactly
+  // two faces, once each way, and (b - a) x (c - a) outward (the sphere is
+  // convex: away from its centre)
+  const bodies::BodySet bodies = solid("sphere");
+  const bodies::Body& body = bodies.body(0);
+  std::span<const double> X = bodies.reference_coordinates();
+  std::map<std::pair<std::int32_t, std::int32_t>, int> edges;
+  for (const auto& f : body.boundary_faces)
+  {
+    for (int k = 0; k < 3; ++k)
+      ++edges[{f[k], f[(k + 1) % 3]}];
+    double p[3][3], n[3];
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c)
+        p[k][c] = X[3 * body.nodes[f[k]] + c];
+    for (int c = 0; c < 3; ++c)
+      n[c] = (p[1][(c + 1) % 3] - p[0][(c + 1) % 3]) *
+                 (p[2][(c + 2) % 3] - p[0][(c + 2) % 3]) -
+             (p[1][(c + 2) % 3] - p[0][(c + 2) % 3]) *
+                 (p[2][(c + 1) % 3] - p[0][(c + 1) % 3]);
+    EXPECT_GT(n[0] * (p[0][0] + p[1][0] + p[2][0]) +
+                  n[1] * (p[0][1] + p[1][1] + p[2][1]) +
+                  n[2] * (p[0][2] + p[1][2] + p[2][2]),
+              0);
+  }
+  for (const auto& [edge, count] : edges)
+  {
+    EXPECT_EQ(count, 1);
+    EXPECT_EQ(edges.count({edge.second, edge.first}), 1u);
+  }
+  // Euler: a sphere's surface has V - E + F = 2
+  const std::size_t V = body.boundary_nodes.size(), E = edges.size() / 2,
+                    F = body.boundary_faces.size();
+  EXPECT_EQ(V + F, E + 2);
 }
