@@ -30,6 +30,8 @@ from ufl import (Constant, Identity, TestFunction, TrialFunction,
                  Coefficient, VectorElement, as_vector, derivative, det, dx,
                  exp, grad, inner, inv, ln, tr, triangle)
 
+# Plane strain only (no `dimensions = (2, 3)`): the internal variables are
+# the plane-strain A_k (four entries each).
 element = VectorElement("Lagrange", triangle, 1)
 internal_element = VectorElement("DG", triangle, 0, dim=8)
 
