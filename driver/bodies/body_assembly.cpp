@@ -1,5 +1,4 @@
 #include "body_assembly.h"
-#include "nodal_volumetric.h"
 
 #include "body_materials.h"
 #include <cmath>
@@ -87,7 +86,7 @@ void for_each_body(std::size_t count, std::span<const char> only, Work&& work)
 BodyAssembly::BodyAssembly(
     const std::vector<BodyForms>& forms, std::vector<int> body_forms,
     const std::shared_ptr<const fem::Function<double>>& u)
-    : _body_forms(std::move(body_forms))
+    : _body_forms(std::move(body_forms)), _nodal(_body_forms.size())
 {
   for (const BodyForms& f : forms)
   {
@@ -109,6 +108,15 @@ BodyAssembly::BodyAssembly(
                         0,
                         f.nodal_lambda});
   }
+}
+
+NodalPatches& BodyAssembly::nodal(int k, const Body& body,
+                                  std::span<const double> x) const
+{
+  std::unique_ptr<NodalPatches>& patches = _nodal[k];
+  if (!patches || !patches->fits(body))
+    patches = std::make_unique<NodalPatches>(body, x);
+  return *patches;
 }
 
 void BodyAssembly::update_internal(std::span<double> next, double h,
@@ -154,17 +162,17 @@ void BodyAssembly::cell_energy(std::span<double> per_cell,
                                std::span<const double> u,
                                std::span<const char> only) const
 {
-  for_each_body(bodies.size(), only,
-                [&](int k)
-                {
-                  const Body& body = bodies[k];
-                  cells<1>(k, _kernels[_body_forms[k]].energy, bodies, x, u,
-                           [&](std::size_t c, const double* e)
-                           { per_cell[body.cells[c]] = e[0]; });
-                  if (const double lambda =
-                          _kernels[_body_forms[k]].nodal_lambda)
-                    add_nodal_cell_energy(body, x, u, lambda, per_cell);
-                });
+  for_each_body(
+      bodies.size(), only,
+      [&](int k)
+      {
+        const Body& body = bodies[k];
+        cells<1>(k, _kernels[_body_forms[k]].energy, bodies, x, u,
+                 [&](std::size_t c, const double* e)
+                 { per_cell[body.cells[c]] = e[0]; });
+        if (const double lambda = _kernels[_body_forms[k]].nodal_lambda)
+          nodal(k, body, x).add_cell_energy(body, x, u, lambda, per_cell);
+      });
 }
 
 void BodyAssembly::residual(std::span<double> b,
@@ -187,7 +195,7 @@ void BodyAssembly::residual(std::span<double> b,
                        b[2 * body.nodes[cell[i]] + d] += be[2 * i + d];
                  });
         if (const double lambda = _kernels[_body_forms[k]].nodal_lambda)
-          add_nodal_residual(body, x, u, lambda, b);
+          nodal(k, body, x).add_residual(body, x, u, lambda, b);
       });
 }
 
@@ -216,13 +224,13 @@ void BodyAssembly::tangent(std::vector<BodyMatrix>& K,
                            std::span<const char> only) const
 {
   matrices(&Kernels::tangent, K, bodies, x, u, only);
-  for_each_body(bodies.size(), only,
-                [&](int k)
-                {
-                  if (const double lambda =
-                          _kernels[_body_forms[k]].nodal_lambda)
-                    add_nodal_tangent(bodies[k], x, u, lambda, K[k]);
-                });
+  for_each_body(
+      bodies.size(), only,
+      [&](int k)
+      {
+        if (const double lambda = _kernels[_body_forms[k]].nodal_lambda)
+          nodal(k, bodies[k], x).add_tangent(bodies[k], x, u, lambda, K[k]);
+      });
 }
 
 void BodyAssembly::mass(std::vector<BodyMatrix>& M,

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "BodySet.h"
+#include "nodal_volumetric.h"
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/Function.h>
 #include <functional>
@@ -211,8 +212,12 @@ private:
   void matrices(CellKernel Kernels::*form, std::vector<BodyMatrix>& A,
                 const std::vector<Body>& bodies, std::span<const double> x,
                 std::span<const double> u, std::span<const char> only) const;
+  /// Body k's nodal patches (a law with nodal_lambda), made on first use
+  /// by the one thread that assembles the body
+  NodalPatches& nodal(int k, const Body& body, std::span<const double> x) const;
   std::vector<Kernels> _kernels;
   std::vector<int> _body_forms;
+  mutable std::vector<std::unique_ptr<NodalPatches>> _nodal;
   std::span<const double> _internal;
   int _stride = 0;
 };

@@ -31,6 +31,9 @@ the crowded end of the compaction without recomputing its start.
 ``--periodic 100,400`` times the periodic cell against the walled box with
 the same disks (:mod:`.periodic`).
 
+``--laws neo_hookean_nodal,viscoelastic_neo_hookean`` times each law
+against neo-Hookean on the paper case, alternating (:mod:`.laws`).
+
 ``--full`` also runs the whole paper case (fast settings, seed 0) with
 ``./softpack run`` and reports its wall time.
 
@@ -102,6 +105,12 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--periodic", metavar="N,...",
                         help="only time --steps steps of N paper disks in a"
                         " periodic cell and in the walled box (e.g. 100,400)")
+    parser.add_argument("--laws", metavar="LAW,...",
+                        help="only time --steps steps of the paper case with"
+                        " each law against neo_hookean, alternating"
+                        " --law-repeats times (issue 39: at most 1.3x)")
+    parser.add_argument("--law-repeats", type=int, default=2, metavar="R",
+                        help="with --laws: runs of each law (default 2)")
     return parser
 
 
@@ -121,6 +130,12 @@ def main(argv=None) -> int:
         return _save(result, f"disks-{args.disks}-{ranks}{_stamp()}.json")
     if args.periodic:
         return _periodic(args)
+    if args.laws:
+        from softpack.bench.laws import bench_laws, table
+        report = bench_laws(args.laws.split(","), args.steps,
+                            args.law_repeats)
+        print(table(report))
+        return _save_quiet(report, f"laws-{_stamp()}.json")
     if args.mpi:
         from softpack.bench.mpi import bench_mpi, table
         report = bench_mpi(WORK, args.steps, args.from_state,
