@@ -119,43 +119,6 @@ NodalPatches& BodyAssembly::nodal(int k, const Body& body,
   return *patches;
 }
 
-void BodyAssembly::update_internal(std::span<double> next, double h,
-                                   const std::vector<Body>& bodies,
-                                   std::span<const double> x,
-                                   std::span<const double> u,
-                                   std::span<const char> only) const
-{
-  for_each_body(
-      bodies.size(), only,
-      [&](int k)
-      {
-        const Kernels& kernels = _kernels[_body_forms[k]];
-        const int n = kernels.update.internal;
-        if (n == 0)
-          return;
-        CellKernel update = kernels.update;
-        update.constants[kernels.time_step] = h;
-        const Body& body = bodies[k];
-        // The form gives each value integrated over the cell (one point):
-        // divided by the cell's reference area.
-        cells<max_internal>(
-            k, update, bodies, x, u,
-            [&](std::size_t c, const double* integral)
-            {
-              const auto& cell = body.cell_nodes[c];
-              const double* p[3];
-              for (int i = 0; i < 3; ++i)
-                p[i] = &x[2 * body.nodes[cell[i]]];
-              const double area =
-                  0.5 * std::abs((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
-                                 (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
-              double* out = &next[std::size_t(_stride) * body.cells[c]];
-              for (int i = 0; i < n; ++i)
-                out[i] = integral[i] / area;
-            });
-      });
-}
-
 void BodyAssembly::cell_energy(std::span<double> per_cell,
                                const std::vector<Body>& bodies,
                                std::span<const double> x,

@@ -325,9 +325,11 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
   {
     // The internal variables relax at the converged configuration, once
     // per accepted step; the next step starts from their internal force.
+    t0 = clock::now();
     _energy.viscous += _bodies.update_internal_variables(h);
     _bodies.internal_force(_f_int);
     _rigid.zero(_f_int);
+    report.seconds.assembly += seconds_since(t0);
   }
   _time += h;
   ++_steps;
