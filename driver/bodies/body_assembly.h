@@ -153,12 +153,15 @@ public:
   /// has them, relaxed over a step h at displacement u (the law's
   /// internal_update) in place (`internal`, stride per cell: the view
   /// set_internal gave), with the cell's strain energy before and after
-  /// into before[c] and after[c]; one pass over the cells
-  /// (internal_variables.cpp). The others' entries are left as they are.
+  /// into before[c] and after[c], and (f not empty) the body's internal
+  /// force at the relaxed values into f (its entries overwritten); one
+  /// pass over the cells (internal_variables.cpp). The others' entries are
+  /// left as they are.
   void relax_internal(std::span<double> internal, double h,
                       const std::vector<Body>& bodies,
                       std::span<const double> x, std::span<const double> u,
                       std::span<double> before, std::span<double> after,
+                      std::span<double> f,
                       std::span<const char> only = {}) const;
   /// Whether body k's law has internal variables
   bool has_internal(int k) const

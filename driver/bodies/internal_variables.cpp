@@ -93,7 +93,7 @@ void BodyAssembly::relax_internal(std::span<double> internal, double h,
                                   std::span<const double> x,
                                   std::span<const double> u,
                                   std::span<double> before,
-                                  std::span<double> after,
+                                  std::span<double> after, std::span<double> f,
                                   std::span<const char> only) const
 {
   const int nb = static_cast<int>(bodies.size());
@@ -110,8 +110,11 @@ void BodyAssembly::relax_internal(std::span<double> internal, double h,
     // update and its energy at the updated ones (the values a pass per
     // kernel gives)
     const Body& body = bodies[k];
+    if (!f.empty()) // summed from zero, as residual does
+      for (const std::int32_t g : body.nodes)
+        f[2 * g] = f[2 * g + 1] = 0;
     double coordinates[9] = {}; // z = 0
-    double w[6 + max_internal] = {}, relaxed[max_internal];
+    double w[6 + max_internal] = {}, relaxed[max_internal], fe[6];
     for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
     {
       const std::array<std::int32_t, 3>& cell = body.cell_nodes[c];
@@ -144,6 +147,14 @@ void BodyAssembly::relax_internal(std::span<double> internal, double h,
       kernels.energy.tabulate(&e, w, kernels.energy.constants.data(),
                               coordinates, nullptr, nullptr);
       after[body.cells[c]] = e;
+      if (f.empty())
+        continue;
+      std::fill_n(fe, 6, 0.0);
+      kernels.residual.tabulate(fe, w, kernels.residual.constants.data(),
+                                coordinates, nullptr, nullptr);
+      for (int i = 0; i < 3; ++i)
+        for (int d = 0; d < 2; ++d)
+          f[2 * body.nodes[cell[i]] + d] += fe[2 * i + d];
     }
   }
 }
@@ -174,17 +185,20 @@ void BodySet::set_internal_variables(std::span<const double> values)
   std::copy(values.begin(), values.end(), _internal.begin());
 }
 
-double BodySet::update_internal_variables(double h)
+double BodySet::update_internal_variables(double h, std::span<double> f)
 {
   if (_internal_stride == 0)
     return 0;
+  if (!f.empty() && f.size() != num_dofs())
+    throw std::invalid_argument("update_internal_variables: wrong force "
+                                "vector size");
   std::vector<char> flagged(_bodies.size(), 0);
   for (const int b : _local)
     flagged[b] = _assembly->has_internal(b);
   std::vector<double> before(_cell_body.size(), 0.0),
       after(_cell_body.size(), 0.0);
   _assembly->relax_internal(_internal, h, _bodies, _reference_x, _u, before,
-                            after, flagged);
+                            after, f, flagged);
   // In body and cell order: the same sum on every run
   double dissipated = 0;
   for (std::size_t b = 0; b < _bodies.size(); ++b)
