@@ -203,9 +203,13 @@ public:
   /// Relax the internal variables of the local bodies whose law has them
   /// over a step h at the current displacement (the law's
   /// internal_update), once per accepted step.
+  /// @param[in,out] f Empty, or the internal force at the current
+  /// displacement (internal_force): the relaxed bodies' entries are then
+  /// replaced by their internal force at the relaxed values, in the same
+  /// pass (the others' do not change)
   /// @return The drop of those bodies' strain energy it makes: the viscous
   /// dissipation (>= 0)
-  double update_internal_variables(double h);
+  double update_internal_variables(double h, std::span<double> f = {});
 
   /// Reference area (3D: volume) of each cell (NaN for a cell whose nodes
   /// are not stored, keep_storage). Before set_local only (every body's

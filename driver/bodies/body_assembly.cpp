@@ -1,5 +1,4 @@
 #include "body_assembly.h"
-#include "nodal_volumetric.h"
 
 #include "body_materials.h"
 #include <cmath>
@@ -104,7 +103,8 @@ BodyAssembly::BodyAssembly(
     const std::vector<BodyForms>& forms, std::vector<int> body_forms,
     const std::shared_ptr<const fem::Function<double>>& u)
     : _body_forms(std::move(body_forms)),
-      _dim(u->function_space()->mesh()->geometry().dim())
+      _dim(u->function_space()->mesh()->geometry().dim()),
+      _nodal(_body_forms.size())
 {
   for (const BodyForms& f : forms)
   {
@@ -128,43 +128,13 @@ BodyAssembly::BodyAssembly(
   }
 }
 
-void BodyAssembly::update_internal(std::span<double> next, double h,
-                                   const std::vector<Body>& bodies,
-                                   std::span<const double> x,
-                                   std::span<const double> u,
-                                   std::span<const char> only) const
+NodalPatches& BodyAssembly::nodal(int k, const Body& body,
+                                  std::span<const double> x) const
 {
-  for_each_body(
-      bodies.size(), only,
-      [&](int k)
-      {
-        const Kernels& kernels = _kernels[_body_forms[k]];
-        const int n = kernels.update.internal;
-        if (n == 0)
-          return;
-        CellKernel update = kernels.update;
-        update.constants[kernels.time_step] = h;
-        const Body& body = bodies[k];
-        // The form gives each value integrated over the cell (one point):
-        // divided by the cell's reference area.
-        // Laws with internal variables are plane strain only
-        // (forms::in_dimension)
-        cells<max_internal, 2>(
-            k, update, bodies, x, u,
-            [&](std::size_t c, const double* integral)
-            {
-              const auto& cell = body.cell_nodes[c];
-              const double* p[3];
-              for (int i = 0; i < 3; ++i)
-                p[i] = &x[2 * body.nodes[cell[i]]];
-              const double area =
-                  0.5 * std::abs((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
-                                 (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
-              double* out = &next[std::size_t(_stride) * body.cells[c]];
-              for (int i = 0; i < n; ++i)
-                out[i] = integral[i] / area;
-            });
-      });
+  std::unique_ptr<NodalPatches>& patches = _nodal[k];
+  if (!patches || !patches->fits(body))
+    patches = std::make_unique<NodalPatches>(body, x);
+  return *patches;
 }
 
 void BodyAssembly::cell_energy(std::span<double> per_cell,
@@ -187,7 +157,7 @@ void BodyAssembly::cell_energy(std::span<double> per_cell,
                              { per_cell[body.cells[c]] = e[0]; });
                        });
         if (const double lambda = _kernels[_body_forms[k]].nodal_lambda)
-          add_nodal_cell_energy(body, x, u, lambda, per_cell);
+          nodal(k, body, x).add_cell_energy(body, x, u, lambda, per_cell);
       });
 }
 
@@ -218,7 +188,7 @@ void BodyAssembly::residual(std::span<double> b,
                              });
                        });
         if (const double lambda = _kernels[_body_forms[k]].nodal_lambda)
-          add_nodal_residual(body, x, u, lambda, b);
+          nodal(k, body, x).add_residual(body, x, u, lambda, b);
       });
 }
 
@@ -254,13 +224,13 @@ void BodyAssembly::tangent(std::vector<BodyMatrix>& K,
                            std::span<const char> only) const
 {
   matrices(&Kernels::tangent, K, bodies, x, u, only);
-  for_each_body(bodies.size(), only,
-                [&](int k)
-                {
-                  if (const double lambda =
-                          _kernels[_body_forms[k]].nodal_lambda)
-                    add_nodal_tangent(bodies[k], x, u, lambda, K[k]);
-                });
+  for_each_body(
+      bodies.size(), only,
+      [&](int k)
+      {
+        if (const double lambda = _kernels[_body_forms[k]].nodal_lambda)
+          nodal(k, bodies[k], x).add_tangent(bodies[k], x, u, lambda, K[k]);
+      });
 }
 
 void BodyAssembly::mass(std::vector<BodyMatrix>& M,

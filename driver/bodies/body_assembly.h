@@ -1,6 +1,7 @@
 #pragma once
 
 #include "BodySet.h"
+#include "nodal_volumetric.h"
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/Function.h>
 #include <functional>
@@ -156,12 +157,18 @@ public:
   }
   /// The internal variables of each cell of the flagged bodies whose law
   /// has them, relaxed over a step h at displacement u (the law's
-  /// internal_update) into next (stride per cell; the others' entries are
-  /// left as they are)
-  void update_internal(std::span<double> next, double h,
-                       const std::vector<Body>& bodies,
-                       std::span<const double> x, std::span<const double> u,
-                       std::span<const char> only = {}) const;
+  /// internal_update) in place (`internal`, stride per cell: the view
+  /// set_internal gave), with the cell's strain energy before and after
+  /// into before[c] and after[c], and (f not empty) the body's internal
+  /// force at the relaxed values into f (its entries overwritten); one
+  /// pass over the cells (internal_variables.cpp). The others' entries are
+  /// left as they are.
+  void relax_internal(std::span<double> internal, double h,
+                      const std::vector<Body>& bodies,
+                      std::span<const double> x, std::span<const double> u,
+                      std::span<double> before, std::span<double> after,
+                      std::span<double> f,
+                      std::span<const char> only = {}) const;
   /// Whether body k's law has internal variables
   bool has_internal(int k) const
   {
@@ -218,10 +225,14 @@ private:
   void matrices(CellKernel Kernels::*form, std::vector<BodyMatrix>& A,
                 const std::vector<Body>& bodies, std::span<const double> x,
                 std::span<const double> u, std::span<const char> only) const;
+  /// Body k's nodal patches (a law with nodal_lambda), made on first use
+  /// by the one thread that assembles the body
+  NodalPatches& nodal(int k, const Body& body, std::span<const double> x) const;
   std::vector<Kernels> _kernels;
   std::vector<int> _body_forms;
   /// The forms' spatial dimension (2 or 3)
   int _dim = 2;
+  mutable std::vector<std::unique_ptr<NodalPatches>> _nodal;
   std::span<const double> _internal;
   int _stride = 0;
 };

@@ -32,6 +32,9 @@ the crowded end of the compaction without recomputing its start.
 the same disks (:mod:`.periodic`); ``--periodic-shear 100,400`` the same
 disks' stress-controlled simple shear, in seconds per unit shear strain.
 
+``--laws neo_hookean_nodal,viscoelastic_neo_hookean`` times each law
+against neo-Hookean on the paper case, alternating (:mod:`.laws`).
+
 ``--full`` also runs the whole paper case (fast settings, seed 0) with
 ``./softpack run`` and reports its wall time.
 
@@ -111,6 +114,12 @@ def _parser() -> argparse.ArgumentParser:
                         help="only time --steps steps of N paper disks in a"
                         " stress-controlled periodic cell under simple shear"
                         " (e.g. 100,400): seconds per unit shear strain")
+    parser.add_argument("--laws", metavar="LAW,...",
+                        help="only time --steps steps of the paper case with"
+                        " each law against neo_hookean, alternating"
+                        " --law-repeats times (issue 39: at most 1.3x)")
+    parser.add_argument("--law-repeats", type=int, default=2, metavar="R",
+                        help="with --laws: runs of each law (default 2)")
     return parser
 
 
@@ -132,6 +141,12 @@ def main(argv=None) -> int:
                      f"disks-{args.disks}-{cell}{ranks}{_stamp()}.json")
     if args.periodic or args.periodic_shear:
         return _periodic(args)
+    if args.laws:
+        from softpack.bench.laws import bench_laws, table
+        report = bench_laws(args.laws.split(","), args.steps,
+                            args.law_repeats)
+        print(table(report))
+        return _save_quiet(report, f"laws-{_stamp()}.json")
     if args.mpi:
         from softpack.bench.mpi import bench_mpi, table
         report = bench_mpi(WORK, args.steps, args.from_state,
