@@ -25,6 +25,23 @@ const MaterialForms& find_material(std::string_view name)
                               "' (registered: " + allowed + ")");
 }
 
+const MaterialForms& in_dimension(const MaterialForms& law, int dimension)
+{
+  if (dimension == law.dimension)
+    return law;
+  if (dimension == 3 && law.solid)
+    return *law.solid;
+  if (dimension == 2 && law.dimension == 3)
+    return find_material(law.name);
+  if (dimension == 3)
+    throw std::invalid_argument(
+        std::string("law '") + law.name +
+        "' is plane strain only: forms/materials/" + law.name +
+        ".py does not declare dimensions = (2, 3), so it has no 3D forms");
+  throw std::invalid_argument("dimension " + std::to_string(dimension) +
+                              " (allowed: 2, 3)");
+}
+
 std::vector<std::string> material_parameters(const MaterialForms& m)
 {
   const char** names = m.residual->constant_name_map();

@@ -10,7 +10,8 @@
 namespace softpack::forms
 {
 
-/// The compiled forms of one hyperelastic material (plane strain, P1).
+/// The compiled forms of one hyperelastic material (P1; plane strain on
+/// triangles, or 3D on tetrahedra: dimension).
 struct MaterialForms
 {
   /// File stem of the UFL file, e.g. "neo_hookean"
@@ -36,6 +37,13 @@ struct MaterialForms
   /// pressure, driver/bodies/nodal_volumetric.h): the name of its lambda
   /// parameter, which its UFL forms leave out; nullptr for the others
   const char* nodal_volumetric = nullptr;
+  /// The cell dimension of these forms: 2 (triangles, plane strain) or 3
+  /// (tetrahedra)
+  int dimension = 2;
+  /// The same law compiled for tetrahedra (the material file declares
+  /// `dimensions = (2, 3)`; its cauchy_integral is null); nullptr for a law
+  /// written for plane strain only
+  const MaterialForms* solid = nullptr;
 };
 
 /// All registered materials (generated table; order of file names).
@@ -47,6 +55,12 @@ std::vector<std::string> material_names();
 /// Find a material by name.
 /// @throws std::invalid_argument naming the allowed materials
 const MaterialForms& find_material(std::string_view name);
+
+/// A law's forms in a dimension: the law itself in 2D, its tetrahedral
+/// forms (MaterialForms::solid) in 3D
+/// @throws std::invalid_argument naming the law and its file if it has no
+/// forms in that dimension, or for a dimension other than 2 and 3
+const MaterialForms& in_dimension(const MaterialForms& law, int dimension);
 
 /// Names of the material parameters: the constants of the residual, in the
 /// order the compiled form expects them, then those only the internal

@@ -125,9 +125,38 @@ def material_doc(path: Path, namespace: dict) -> str:
     return path.stem
 
 
+def check_dimensions(path: Path, namespace: dict) -> None:
+    """Refuse a ``dimensions`` other than (2,) (the default: plane strain
+    only) or (2, 3), and a file declaring (2, 3) whose forms are not on
+    tetrahedra with the same constants when run with ``cell`` = tetrahedron
+    (what forms/solid_wrapper.py.in compiles)."""
+    dimensions = tuple(namespace.get("dimensions", (2,)))
+    if dimensions not in ((2,), (2, 3)):
+        raise MaterialError(f"`dimensions` = {dimensions!r} must be (2,) or (2, 3)")
+    if dimensions == (2,):
+        return
+    # forms/CMakeLists.txt finds the 3D laws by this exact line
+    if not re.search(r"^dimensions = \(2, 3\)", path.read_text(), re.MULTILINE):
+        raise MaterialError("write `dimensions = (2, 3)` on a line of its own")
+    solid = runpy.run_path(str(path), init_globals={"cell": ufl.tetrahedron},
+                           run_name=f"material_{path.stem}_tetrahedron")
+    for name in ("energy", "residual", "tangent"):
+        form = solid.get(name)
+        cells = {d.ufl_cell() for d in form.ufl_domains()} if form else set()
+        if cells != {ufl.tetrahedron}:
+            raise MaterialError(
+                f"declares dimensions = (2, 3), but its form `{name}` is not on "
+                "tetrahedra when the file runs with cell = tetrahedron (take "
+                'the cell from `cell = globals().get("cell", triangle)`)')
+    if constants_of(solid) != constants_of(namespace):
+        raise MaterialError("its constants differ between triangles and "
+                            "tetrahedra")
+
+
 def read_material(path: Path) -> dict:
     """Return the registry entry of one material file (raises MaterialError)."""
     namespace = runpy.run_path(str(path), run_name=f"material_{path.stem}")
+    check_dimensions(path, namespace)
     # Constants the driver sets itself (a viscoelastic law's time step):
     # no parameter of the law.
     driver = namespace.get("driver_constants", [])

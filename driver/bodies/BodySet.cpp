@@ -3,6 +3,7 @@
 #include "body_assembly.h"
 #include <algorithm>
 #include <body.h>
+#include <body_tetrahedron.h>
 #include <dolfinx/fem/utils.h>
 #include <limits>
 #include <numeric>
@@ -23,8 +24,9 @@ BodySet::BodySet(BodyMesh mesh, const forms::MaterialForms& material,
 
 BodySet::BodySet(BodyMesh mesh, std::vector<BodyMaterial> materials,
                  std::vector<int> body_material)
-    : BodySet(body_geometry(mesh, displacement_space(materials)), materials,
-              std::move(body_material))
+    : BodySet(body_geometry(mesh, displacement_space(
+                                      materials, mesh.mesh->geometry().dim())),
+              materials, std::move(body_material))
 {
 }
 
@@ -34,10 +36,22 @@ BodySet::BodySet(BodyGeometry geometry, std::vector<BodyMaterial> materials,
 {
   if (_materials.empty())
     throw std::invalid_argument("BodySet: no material");
+  _dim = geometry.dim;
+  // Each law's forms of the mesh's dimension (the same law in 2D)
+  for (BodyMaterial& m : _materials)
+    if (m.law && m.law->dimension != _dim)
+      try
+      {
+        m.law = &forms::in_dimension(*m.law, _dim);
+      }
+      catch (const std::invalid_argument& e)
+      {
+        throw std::invalid_argument(m.name + ".law: " + e.what());
+      }
   _bodies = build_bodies(geometry);
   _cell_body = std::move(geometry.cell_body);
   _reference_x = std::move(geometry.x);
-  _num_global_nodes = _reference_x.size() / 2;
+  _num_global_nodes = _reference_x.size() / _dim;
   if (_body_material.empty())
     _body_material.assign(_bodies.size(), 0);
   if (_body_material.size() != _bodies.size())
@@ -63,14 +77,20 @@ void BodySet::build_assembly()
   // The forms of each material in use lend their kernels and constants to
   // the body assembly, and go with the space: nothing else reads them. A
   // kernel reads one cell's coordinates and displacement, which the
-  // assembly passes: one triangle's mesh carries the forms.
-  const double x[] = {0, 0, 1, 0, 0, 1};
-  const std::int64_t cell[] = {0, 1, 2};
+  // assembly passes: one cell's mesh (a triangle or a tetrahedron) carries
+  // the forms.
+  const double triangle[] = {0, 0, 1, 0, 0, 1};
+  const double tetrahedron[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const std::int64_t cell[] = {0, 1, 2, 3};
   const int body[] = {0};
+  const std::span<const double> x =
+      _dim == 3 ? std::span<const double>(tetrahedron) : triangle;
   const auto V =
       std::make_shared<const fem::FunctionSpace>(fem::create_functionspace(
-          displacement_space(_materials), "v",
-          create_body_mesh(MPI_COMM_SELF, x, cell, body).mesh));
+          displacement_space(_materials, _dim), "v",
+          create_body_mesh(MPI_COMM_SELF, x,
+                           std::span(cell, std::size_t(_dim + 1)), body, _dim)
+              .mesh));
   const auto u = std::make_shared<const fem::Function<double>>(V);
   const std::vector<std::shared_ptr<const fem::FunctionSpace>> none,
       v = {V}, vv = {V, V};
@@ -92,8 +112,12 @@ void BodySet::build_assembly()
               *form, spaces, {{"u", u}}, constants, {}, V->mesh())));
       return made.back().get();
     };
-    BodyForms bf{nullptr, nullptr, nullptr, make(form_body_mass, vv),
-                 make(form_body_lumped_mass, vv)};
+    BodyForms bf{
+        nullptr, nullptr, nullptr,
+        make(_dim == 3 ? form_body_tetrahedron_mass : form_body_mass, vv),
+        make(_dim == 3 ? form_body_tetrahedron_lumped_mass
+                       : form_body_lumped_mass,
+             vv)};
     // A law with internal variables: its own kernels (its forms read a
     // coefficient the one-triangle mesh has no space for)
     if (law.internal_update)
@@ -157,13 +181,13 @@ std::vector<double> BodySet::body_strain_energy() const
   return sums;
 }
 
-std::vector<std::array<std::int32_t, 3>> BodySet::cell_global_nodes() const
+std::vector<CellNodes> BodySet::cell_global_nodes() const
 {
   require_every_cell("cell_global_nodes");
-  std::vector<std::array<std::int32_t, 3>> nodes(_cell_body.size());
+  std::vector<CellNodes> nodes(_cell_body.size());
   for (const Body& body : _bodies)
     for (std::size_t k = 0; k < body.cells.size(); ++k)
-      for (int i = 0; i < 3; ++i)
+      for (int i = 0; i < body.cell_nodes[k].size(); ++i)
         nodes[body.cells[k]][i] = body.global_nodes[body.cell_nodes[k][i]];
   return nodes;
 }
@@ -175,10 +199,10 @@ std::vector<double> BodySet::cell_reference_area() const
   for (const Body& body : _bodies)
     for (std::size_t k = 0; k < body.cells.size(); ++k)
     {
-      const auto& [a, b, c] = body.cell_nodes[k];
-      area[body.cells[k]] =
-          0.5 * std::abs(signed_area2(_reference_x, body.nodes[a],
-                                      body.nodes[b], body.nodes[c]));
+      CellNodes stored = body.cell_nodes[k];
+      for (std::int32_t& node : stored)
+        node = body.nodes[node];
+      area[body.cells[k]] = cell_measure(_reference_x, stored, _dim);
     }
   return area;
 }
@@ -189,7 +213,7 @@ void BodySet::keep_storage(std::span<const char> kept)
     throw std::invalid_argument("keep_storage: one flag per body");
   // Where each global node is stored now (-1: not)
   std::vector<std::int32_t> old_index(_num_global_nodes, -1);
-  for (std::size_t s = 0; s < _reference_x.size() / 2; ++s)
+  for (std::size_t s = 0; s < _reference_x.size() / _dim; ++s)
     if (_stored_global.empty())
       old_index[s] = static_cast<std::int32_t>(s);
     else if (static_cast<std::int32_t>(s) != _unstored)
@@ -239,11 +263,11 @@ void BodySet::keep_storage(std::span<const char> kept)
 void BodySet::remap(std::vector<double>& v) const
 {
   constexpr double none = std::numeric_limits<double>::quiet_NaN();
-  std::vector<double> out(2 * _previous.size(), none);
+  std::vector<double> out(_dim * _previous.size(), none);
   for (std::size_t s = 0; s < _previous.size(); ++s)
     if (_previous[s] >= 0)
-      for (int c = 0; c < 2; ++c)
-        out[2 * s + c] = v[2 * _previous[s] + c];
+      for (int c = 0; c < _dim; ++c)
+        out[_dim * s + c] = v[_dim * _previous[s] + c];
   v = std::move(out);
 }
 
@@ -258,8 +282,8 @@ std::vector<double> BodySet::from_global(std::span<const double> global) const
   std::vector<double> out(num_dofs(), std::numeric_limits<double>::quiet_NaN());
   for (std::size_t s = 0; s < _stored_global.size(); ++s)
     if (_stored_global[s] >= 0)
-      for (int c = 0; c < 2; ++c)
-        out[2 * s + c] = global[2 * _stored_global[s] + c];
+      for (int c = 0; c < _dim; ++c)
+        out[_dim * s + c] = global[_dim * _stored_global[s] + c];
   return out;
 }
 
@@ -271,13 +295,15 @@ std::vector<double> BodySet::to_global(std::span<const double> stored) const
                           std::numeric_limits<double>::quiet_NaN());
   for (std::size_t s = 0; s < _stored_global.size(); ++s)
     if (_stored_global[s] >= 0)
-      for (int c = 0; c < 2; ++c)
-        out[2 * _stored_global[s] + c] = stored[2 * s + c];
+      for (int c = 0; c < _dim; ++c)
+        out[_dim * _stored_global[s] + c] = stored[_dim * s + c];
   return out;
 }
 
 std::vector<double> BodySet::body_current_area() const
 {
+  if (_dim == 3)
+    return body_current_volume();
   // The integral of det F over a P1 body is the signed area of its
   // deformed boundary polygon (shoelace): a pass over the boundary instead
   // of an assembly over every cell, cheap enough for every time step.
@@ -297,6 +323,35 @@ std::vector<double> BodySet::body_current_area() const
     area[b] = 0.5 * twice;
   }
   return area;
+}
+
+std::vector<double> BodySet::body_current_volume() const
+{
+  // The integral of det F over a P1 body is its deformed volume, by the
+  // divergence theorem (1/3) sum over its boundary faces of x . n da =
+  // (1/6) sum of x_a . (x_b x x_c), x taken from one of the body's nodes
+  // (no cancellation of the far positions).
+  std::vector<double> volume(_bodies.size(), 0.0);
+  for (std::size_t b = 0; b < _bodies.size(); ++b)
+  {
+    const Body& body = _bodies[b];
+    if (body.boundary_faces.empty())
+      continue;
+    const std::int32_t o = body.nodes[body.boundary_faces[0][0]];
+    auto x = [&](std::int32_t local, int c)
+    {
+      const std::int32_t g = body.nodes[local];
+      return _reference_x[3 * g + c] + _u[3 * g + c] -
+             (_reference_x[3 * o + c] + _u[3 * o + c]);
+    };
+    double six = 0;
+    for (const auto& [p, q, r] : body.boundary_faces)
+      six += x(p, 0) * (x(q, 1) * x(r, 2) - x(q, 2) * x(r, 1)) +
+             x(p, 1) * (x(q, 2) * x(r, 0) - x(q, 0) * x(r, 2)) +
+             x(p, 2) * (x(q, 0) * x(r, 1) - x(q, 1) * x(r, 0));
+    volume[b] = six / 6;
+  }
+  return volume;
 }
 
 } // namespace softpack::bodies

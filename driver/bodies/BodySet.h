@@ -18,10 +18,10 @@ namespace softpack::bodies
 class BodyAssembly;
 
 /// Sparse symmetric matrix of one body, in the body's local DOF numbering
-/// (2 per node: x then y), of which only the lower triangle (row >= col) is
-/// stored: the masses and tangents are symmetric (they derive from a kinetic
-/// energy and a strain-energy density), the factorization reads the lower
-/// triangle only, and the matrices are a third of the driver's memory.
+/// (dim per node: x then y (then z)), of which only the lower triangle (row >=
+/// col) is stored: the masses and tangents are symmetric (they derive from a
+/// kinetic energy and a strain-energy density), the factorization reads the
+/// lower triangle only, and the matrices are a third of the driver's memory.
 /// Multiply with symmetric_product(), never with operator*.
 using BodyMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
@@ -42,8 +42,14 @@ inline Eigen::VectorXd symmetric_product(const BodyMatrix& A,
 /// mesh (BodyGeometry), with per-body DOF blocks; each body is made of one
 /// of the set's materials.
 ///
+/// The dimension is a property of the mesh (dim(): P1 triangles in plane
+/// strain, or P1 tetrahedra), and the same code serves both: node vectors
+/// hold dim interleaved components per node, each law runs its forms of
+/// that dimension (forms::in_dimension: a plane-strain-only law is refused
+/// in 3D).
+///
 /// State is kept in one displacement vector of node entries (dolfinx's DOF
-/// ordering of the mesh, two interleaved components per node; in a
+/// ordering of the mesh, dim interleaved components per node; in a
 /// distributed run's share its storage, keep_storage); every per-body
 /// quantity is gathered from it through Body::nodes. Bodies never share a
 /// node, so every operator is block-diagonal by body.
@@ -51,7 +57,7 @@ inline Eigen::VectorXd symmetric_product(const BodyMatrix& A,
 /// No dolfinx mesh is kept: the bodies' cells, nodes and boundaries come
 /// from the geometry's arrays (read from a mesh by one process of a
 /// distributed run, parallel::broadcast_geometry), and the forms, made on a
-/// one-triangle mesh, lend their kernels only: every computation runs the
+/// one-cell mesh, lend their kernels only: every computation runs the
 /// kernels over Body::cell_nodes (BodyAssembly).
 class BodySet
 {
@@ -83,6 +89,9 @@ public:
   /// Number of bodies
   int num_bodies() const { return static_cast<int>(_bodies.size()); }
 
+  /// Spatial dimension: 2 (triangles, plane strain) or 3 (tetrahedra)
+  int dim() const { return _dim; }
+
   /// Body b
   const Body& body(int b) const { return _bodies[b]; }
 
@@ -92,11 +101,11 @@ public:
   /// Whether body b is rigid (its material's BodyMaterial::rigid)
   bool rigid(int b) const { return _materials[_body_material[b]].rigid; }
 
-  /// Length of the node vectors (2 per stored node): the number of global
+  /// Length of the node vectors (dim per stored node): the number of global
   /// scalar DOFs, or after keep_storage the share's number of them
   std::size_t num_dofs() const { return _reference_x.size(); }
-  /// Number of global scalar DOFs (2 per node of the mesh)
-  std::size_t num_global_dofs() const { return 2 * _num_global_nodes; }
+  /// Number of global scalar DOFs (dim per node of the mesh)
+  std::size_t num_global_dofs() const { return _dim * _num_global_nodes; }
 
   /// Keep the node vectors' entries of the flagged bodies' nodes, of every
   /// body's boundary nodes and of every rigid body's nodes only (what a
@@ -116,7 +125,7 @@ public:
   /// The reference coordinates, writable: a rebalance fills in the
   /// arriving bodies' interiors (parallel::move_bodies)
   std::span<double> stored_reference_coordinates() { return _reference_x; }
-  /// A global node vector (2 entries per mesh node) in this storage
+  /// A global node vector (dim entries per mesh node) in this storage
   std::vector<double> from_global(std::span<const double> global) const;
   /// A node vector of this storage as a global one (the entries not
   /// stored: NaN)
@@ -125,14 +134,14 @@ public:
   /// node is stored)
   std::int32_t unstored_node() const { return _unstored; }
 
-  /// Displacement (interleaved x, y per stored node); writable
+  /// Displacement (interleaved x, y (, z) per stored node); writable
   std::span<double> displacement() { return _u; }
   std::span<const double> displacement() const { return _u; }
 
-  /// Reference coordinates of the stored nodes (interleaved x, y)
+  /// Reference coordinates of the stored nodes (interleaved x, y (, z))
   std::span<const double> reference_coordinates() const { return _reference_x; }
 
-  /// Current coordinates X + u of the nodes (interleaved x, y per node)
+  /// Current coordinates X + u of the nodes (interleaved, dim per node)
   std::vector<double> current_coordinates() const;
 
   /// Internal force \f$F_{int}(u) = \partial E/\partial u\f$ of the local
@@ -194,25 +203,31 @@ public:
   /// Relax the internal variables of the local bodies whose law has them
   /// over a step h at the current displacement (the law's
   /// internal_update), once per accepted step.
+  /// @param[in,out] f Empty, or the internal force at the current
+  /// displacement (internal_force): the relaxed bodies' entries are then
+  /// replaced by their internal force at the relaxed values, in the same
+  /// pass (the others' do not change)
   /// @return The drop of those bodies' strain energy it makes: the viscous
   /// dissipation (>= 0)
-  double update_internal_variables(double h);
+  double update_internal_variables(double h, std::span<double> f = {});
 
-  /// Reference area of each cell (NaN for a cell whose nodes are not
-  /// stored, keep_storage). Before set_local only (every body's cells).
+  /// Reference area (3D: volume) of each cell (NaN for a cell whose nodes
+  /// are not stored, keep_storage). Before set_local only (every body's
+  /// cells).
   std::vector<double> cell_reference_area() const;
 
-  /// Current (deformed) area of each body, \f$\int \det F\,dX\f$,
-  /// from its boundary polygon
+  /// Current (deformed) area (3D: volume) of each body,
+  /// \f$\int \det F\,dX\f$, from its boundary polygon (3D: its boundary
+  /// faces)
   std::vector<double> body_current_area() const;
 
   /// Body id of each cell (cells numbered as Body::cells)
   const std::vector<int>& cell_body() const { return _cell_body; }
 
-  /// Each cell's three nodes (global node indices), cells numbered as
+  /// Each cell's nodes (global node indices), cells numbered as
   /// Body::cells: the mesh, for outputs. Before set_local only (every
   /// body's cells).
-  std::vector<std::array<std::int32_t, 3>> cell_global_nodes() const;
+  std::vector<CellNodes> cell_global_nodes() const;
 
   /// The bodies whose forces, tangents and energies this set computes, in
   /// increasing order (every body until set_local): the loops of the
@@ -249,11 +264,13 @@ public:
 
 private:
   /// The body assembly, from the per-body forms of each material in use
-  /// (made on a one-triangle mesh and dropped: their kernels and constants
+  /// (made on a one-cell mesh and dropped: their kernels and constants
   /// are what it keeps)
   void build_assembly();
   /// Every cell's internal variables at its law's initial values
   void init_internal();
+  /// body_current_area in 3D: each body's volume from its boundary faces
+  std::vector<double> body_current_volume() const;
   /// Every body's masses (all = false: empty ones, of each body's size)
   void build_mass(bool all);
   /// Zero matrices with the flagged bodies' patterns, the others' empty
@@ -271,6 +288,7 @@ private:
   /// outputs of the whole mesh read)
   void require_every_cell(const char* what) const;
 
+  int _dim = 2;
   std::vector<int> _cell_body;
   std::vector<BodyMaterial> _materials;
   std::vector<int> _body_material;
@@ -282,7 +300,7 @@ private:
   /// before the last keep_storage (-1: new)
   std::vector<std::int32_t> _stored_global, _previous;
   std::int32_t _unstored = -1;
-  /// The displacement (interleaved x, y per node)
+  /// The displacement (interleaved, dim per node)
   std::vector<double> _u;
   /// The internal variables (internal_stride per cell)
   std::vector<double> _internal;

@@ -1,10 +1,10 @@
 #include "body_assembly.h"
-#include "nodal_volumetric.h"
 
 #include "body_materials.h"
 #include <cmath>
 #include <dolfinx/fem/utils.h>
 #include <stdexcept>
+#include <type_traits>
 
 namespace softpack::bodies
 {
@@ -16,6 +16,7 @@ namespace
 std::string unsupported(const fem::Form<double>& a, int rank,
                         const std::shared_ptr<const fem::Function<double>>& u)
 {
+  const int dim = u->function_space()->mesh()->geometry().dim();
   if (a.rank() != rank)
     return "rank " + std::to_string(a.rank()) + ", not " + std::to_string(rank);
   if (a.integral_ids(fem::IntegralType::cell).size() != 1 ||
@@ -26,12 +27,12 @@ std::string unsupported(const fem::Form<double>& a, int rank,
       (a.coefficients().size() == 1 && a.coefficients()[0] != u))
     return "a coefficient other than the displacement";
   for (const auto& V : a.function_spaces())
-    if (V->element()->needs_dof_transformations() || V->dofmap()->bs() != 2 ||
-        V->dofmap()->cell_dofs(0).size() != 3 ||
+    if (V->element()->needs_dof_transformations() || V->dofmap()->bs() != dim ||
+        V->dofmap()->cell_dofs(0).size() != std::size_t(dim + 1) ||
         V->dofmap() != u->function_space()->dofmap())
       return "a space other than the displacement's (P1 vectors)";
-  if (a.mesh()->geometry().dofmap().num_links(0) != 3)
-    return "a geometry other than straight triangles";
+  if (a.mesh()->geometry().dofmap().num_links(0) != dim + 1)
+    return "a geometry other than straight triangles or tetrahedra";
   return "";
 }
 
@@ -42,27 +43,41 @@ CellKernel cell_kernel(const fem::Form<double>& a, int rank, const char* name,
   if (!why.empty())
     throw std::invalid_argument(std::string("BodyAssembly: the ") + name +
                                 " form has " + why +
-                                ": the body assembly handles P1 vector "
-                                "triangles with the displacement as the only "
-                                "coefficient");
+                                ": the body assembly handles P1 vectors on "
+                                "triangles or tetrahedra with the "
+                                "displacement as the only coefficient");
   return {a.kernel(fem::IntegralType::cell, cell_integral_id(a)),
           fem::pack_constants(a)};
 }
 
-/// Add a 6x6 element matrix into a body's matrix (its lower triangle), in
-/// the order of dolfinx's matrix assembler
-void add_element(BodyMatrix& A, const std::array<std::int32_t, 3>& cell,
-                 const double* Ae)
+/// The scalar DOFs of a P1 cell in dimension D (D per node)
+template <int D> constexpr int cell_dofs = D*(D + 1);
+
+/// Add an element matrix (6x6 in 2D, 12x12 in 3D) into a body's matrix
+/// (its lower triangle), in the order of dolfinx's matrix assembler
+template <int D>
+void add_element(BodyMatrix& A, const CellNodes& cell, const double* Ae)
 {
-  for (int i = 0; i < 3; ++i)
-    for (int ci = 0; ci < 2; ++ci)
-      for (int j = 0; j < 3; ++j)
-        for (int cj = 0; cj < 2; ++cj)
+  constexpr int n = cell_dofs<D>;
+  for (int i = 0; i <= D; ++i)
+    for (int ci = 0; ci < D; ++ci)
+      for (int j = 0; j <= D; ++j)
+        for (int cj = 0; cj < D; ++cj)
         {
-          const int row = 2 * cell[i] + ci, col = 2 * cell[j] + cj;
+          const int row = D * cell[i] + ci, col = D * cell[j] + cj;
           if (stored_entry(row, col))
-            A.coeffRef(row, col) += Ae[(2 * i + ci) * 6 + 2 * j + cj];
+            A.coeffRef(row, col) += Ae[(D * i + ci) * n + D * j + cj];
         }
+}
+
+/// work(std::integral_constant<int, D>) for D = dim: the dimension a
+/// template parameter of the loops from here on
+template <typename Work> void with_dimension(int dim, Work&& work)
+{
+  if (dim == 3)
+    work(std::integral_constant<int, 3>{});
+  else
+    work(std::integral_constant<int, 2>{});
 }
 
 /// Whether body b is flagged (all are when `only` is empty)
@@ -87,7 +102,9 @@ void for_each_body(std::size_t count, std::span<const char> only, Work&& work)
 BodyAssembly::BodyAssembly(
     const std::vector<BodyForms>& forms, std::vector<int> body_forms,
     const std::shared_ptr<const fem::Function<double>>& u)
-    : _body_forms(std::move(body_forms))
+    : _body_forms(std::move(body_forms)),
+      _dim(u->function_space()->mesh()->geometry().dim()),
+      _nodal(_body_forms.size())
 {
   for (const BodyForms& f : forms)
   {
@@ -111,41 +128,13 @@ BodyAssembly::BodyAssembly(
   }
 }
 
-void BodyAssembly::update_internal(std::span<double> next, double h,
-                                   const std::vector<Body>& bodies,
-                                   std::span<const double> x,
-                                   std::span<const double> u,
-                                   std::span<const char> only) const
+NodalPatches& BodyAssembly::nodal(int k, const Body& body,
+                                  std::span<const double> x) const
 {
-  for_each_body(
-      bodies.size(), only,
-      [&](int k)
-      {
-        const Kernels& kernels = _kernels[_body_forms[k]];
-        const int n = kernels.update.internal;
-        if (n == 0)
-          return;
-        CellKernel update = kernels.update;
-        update.constants[kernels.time_step] = h;
-        const Body& body = bodies[k];
-        // The form gives each value integrated over the cell (one point):
-        // divided by the cell's reference area.
-        cells<max_internal>(
-            k, update, bodies, x, u,
-            [&](std::size_t c, const double* integral)
-            {
-              const auto& cell = body.cell_nodes[c];
-              const double* p[3];
-              for (int i = 0; i < 3; ++i)
-                p[i] = &x[2 * body.nodes[cell[i]]];
-              const double area =
-                  0.5 * std::abs((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
-                                 (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
-              double* out = &next[std::size_t(_stride) * body.cells[c]];
-              for (int i = 0; i < n; ++i)
-                out[i] = integral[i] / area;
-            });
-      });
+  std::unique_ptr<NodalPatches>& patches = _nodal[k];
+  if (!patches || !patches->fits(body))
+    patches = std::make_unique<NodalPatches>(body, x);
+  return *patches;
 }
 
 void BodyAssembly::cell_energy(std::span<double> per_cell,
@@ -154,17 +143,22 @@ void BodyAssembly::cell_energy(std::span<double> per_cell,
                                std::span<const double> u,
                                std::span<const char> only) const
 {
-  for_each_body(bodies.size(), only,
-                [&](int k)
-                {
-                  const Body& body = bodies[k];
-                  cells<1>(k, _kernels[_body_forms[k]].energy, bodies, x, u,
-                           [&](std::size_t c, const double* e)
-                           { per_cell[body.cells[c]] = e[0]; });
-                  if (const double lambda =
-                          _kernels[_body_forms[k]].nodal_lambda)
-                    add_nodal_cell_energy(body, x, u, lambda, per_cell);
-                });
+  for_each_body(
+      bodies.size(), only,
+      [&](int k)
+      {
+        const Body& body = bodies[k];
+        with_dimension(_dim,
+                       [&](auto d)
+                       {
+                         cells<1, decltype(d)::value>(
+                             k, _kernels[_body_forms[k]].energy, bodies, x, u,
+                             [&](std::size_t c, const double* e)
+                             { per_cell[body.cells[c]] = e[0]; });
+                       });
+        if (const double lambda = _kernels[_body_forms[k]].nodal_lambda)
+          nodal(k, body, x).add_cell_energy(body, x, u, lambda, per_cell);
+      });
 }
 
 void BodyAssembly::residual(std::span<double> b,
@@ -178,16 +172,23 @@ void BodyAssembly::residual(std::span<double> b,
       [&](int k)
       {
         const Body& body = bodies[k];
-        cells<6>(k, _kernels[_body_forms[k]].residual, bodies, x, u,
-                 [&](std::size_t c, const double* be)
-                 {
-                   const auto& cell = body.cell_nodes[c];
-                   for (int i = 0; i < 3; ++i)
-                     for (int d = 0; d < 2; ++d)
-                       b[2 * body.nodes[cell[i]] + d] += be[2 * i + d];
-                 });
+        with_dimension(_dim,
+                       [&](auto dim)
+                       {
+                         constexpr int D = decltype(dim)::value;
+                         cells<cell_dofs<D>, D>(
+                             k, _kernels[_body_forms[k]].residual, bodies, x, u,
+                             [&](std::size_t c, const double* be)
+                             {
+                               const CellNodes& cell = body.cell_nodes[c];
+                               for (int i = 0; i <= D; ++i)
+                                 for (int d = 0; d < D; ++d)
+                                   b[D * body.nodes[cell[i]] + d] +=
+                                       be[D * i + d];
+                             });
+                       });
         if (const double lambda = _kernels[_body_forms[k]].nodal_lambda)
-          add_nodal_residual(body, x, u, lambda, b);
+          nodal(k, body, x).add_residual(body, x, u, lambda, b);
       });
 }
 
@@ -198,16 +199,23 @@ void BodyAssembly::matrices(CellKernel Kernels::*form,
                             std::span<const double> u,
                             std::span<const char> only) const
 {
-  for_each_body(bodies.size(), only,
-                [&](int k)
-                {
-                  BodyMatrix& Ak = A[k];
-                  std::fill_n(Ak.valuePtr(), Ak.nonZeros(), 0.0);
-                  const Body& body = bodies[k];
-                  cells<36>(k, _kernels[_body_forms[k]].*form, bodies, x, u,
-                            [&](std::size_t c, const double* Ae)
-                            { add_element(Ak, body.cell_nodes[c], Ae); });
-                });
+  for_each_body(
+      bodies.size(), only,
+      [&](int k)
+      {
+        BodyMatrix& Ak = A[k];
+        std::fill_n(Ak.valuePtr(), Ak.nonZeros(), 0.0);
+        const Body& body = bodies[k];
+        with_dimension(
+            _dim,
+            [&](auto dim)
+            {
+              constexpr int D = decltype(dim)::value, n = cell_dofs<D>;
+              cells<n * n, D>(k, _kernels[_body_forms[k]].*form, bodies, x, u,
+                              [&](std::size_t c, const double* Ae)
+                              { add_element<D>(Ak, body.cell_nodes[c], Ae); });
+            });
+      });
 }
 
 void BodyAssembly::tangent(std::vector<BodyMatrix>& K,
@@ -216,13 +224,13 @@ void BodyAssembly::tangent(std::vector<BodyMatrix>& K,
                            std::span<const char> only) const
 {
   matrices(&Kernels::tangent, K, bodies, x, u, only);
-  for_each_body(bodies.size(), only,
-                [&](int k)
-                {
-                  if (const double lambda =
-                          _kernels[_body_forms[k]].nodal_lambda)
-                    add_nodal_tangent(bodies[k], x, u, lambda, K[k]);
-                });
+  for_each_body(
+      bodies.size(), only,
+      [&](int k)
+      {
+        if (const double lambda = _kernels[_body_forms[k]].nodal_lambda)
+          nodal(k, bodies[k], x).add_tangent(bodies[k], x, u, lambda, K[k]);
+      });
 }
 
 void BodyAssembly::mass(std::vector<BodyMatrix>& M,
@@ -247,16 +255,23 @@ BodyAssembly::lumped_mass(const std::vector<Body>& bodies,
                   // The diagonal of the form's matrix, summed as its entries
                   // are
                   const Body& body = bodies[k];
-                  for_each_cell<36>(body, _kernels[_body_forms[k]].lumped_mass,
-                                    x, {},
-                                    [&](std::size_t c, const double* Ae)
-                                    {
-                                      const auto& cell = body.cell_nodes[c];
-                                      for (int i = 0; i < 3; ++i)
-                                        for (int d = 0; d < 2; ++d)
-                                          m[2 * cell[i] + d] +=
-                                              Ae[(2 * i + d) * 6 + 2 * i + d];
-                                    });
+                  with_dimension(
+                      _dim,
+                      [&](auto dim)
+                      {
+                        constexpr int D = decltype(dim)::value,
+                                      n = cell_dofs<D>;
+                        for_each_cell<n * n, D>(
+                            body, _kernels[_body_forms[k]].lumped_mass, x, {},
+                            [&](std::size_t c, const double* Ae)
+                            {
+                              const CellNodes& cell = body.cell_nodes[c];
+                              for (int i = 0; i <= D; ++i)
+                                for (int d = 0; d < D; ++d)
+                                  m[D * cell[i] + d] +=
+                                      Ae[(D * i + d) * n + D * i + d];
+                            });
+                      });
                 });
   return lumped;
 }

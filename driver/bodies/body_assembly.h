@@ -1,6 +1,7 @@
 #pragma once
 
 #include "BodySet.h"
+#include "nodal_volumetric.h"
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/Function.h>
 #include <functional>
@@ -66,34 +67,37 @@ struct BodyForms
 InternalForms internal_forms(const forms::MaterialForms& law,
                              const std::map<std::string, double>& constants);
 
-/// Call `kernel` on each cell of `body`, in order, with the cell's node
-/// coordinates (x, global interleaved; z = 0) and displacement (u, global
-/// interleaved; none when empty), and hand (k, element tensor of N values)
-/// to add, k the cell's index in body.cell_nodes and body.cells. A kernel
-/// that reads internal variables gets cell c's from internal[stride c].
-template <int N, typename Add>
+/// Call `kernel` on each cell of `body` (of dimension D: body.dim), in
+/// order, with the cell's node coordinates (x, global interleaved; z = 0 in
+/// 2D) and displacement (u, global interleaved; none when empty), and hand
+/// (k, element tensor of N values) to add, k the cell's index in
+/// body.cell_nodes and body.cells. A kernel that reads internal variables
+/// gets cell c's from internal[stride c].
+template <int N, int D = 2, typename Add>
 void for_each_cell(const Body& body, const CellKernel& kernel,
                    std::span<const double> x, std::span<const double> u,
                    Add&& add, std::span<const double> internal = {},
                    int stride = 0)
 {
-  double coordinates[9] = {}; // z stays 0: the geometry's third component
-  double w[6 + max_internal] = {}, tensor[N];
+  constexpr int nodes = D + 1, dofs = D * nodes;
+  // In 2D z stays 0: the geometry's third component
+  double coordinates[3 * nodes] = {};
+  double w[dofs + max_internal] = {}, tensor[N];
   for (std::size_t k = 0; k < body.cell_nodes.size(); ++k)
   {
-    const std::array<std::int32_t, 3>& cell = body.cell_nodes[k];
-    for (int i = 0; i < 3; ++i)
+    const CellNodes& cell = body.cell_nodes[k];
+    for (int i = 0; i < nodes; ++i)
     {
       const std::int32_t g = body.nodes[cell[i]];
-      for (int c = 0; c < 2; ++c)
+      for (int c = 0; c < D; ++c)
       {
-        coordinates[3 * i + c] = x[2 * g + c];
+        coordinates[3 * i + c] = x[D * g + c];
         if (!u.empty())
-          w[2 * i + c] = u[2 * g + c];
+          w[D * i + c] = u[D * g + c];
       }
     }
     for (int i = 0; i < kernel.internal; ++i)
-      w[6 + i] = internal[std::size_t(stride) * body.cells[k] + i];
+      w[dofs + i] = internal[std::size_t(stride) * body.cells[k] + i];
     std::fill_n(tensor, N, 0.0);
     kernel.tabulate(tensor, w, kernel.constants.data(), coordinates, nullptr,
                     nullptr);
@@ -118,9 +122,12 @@ void for_each_cell(const Body& body, const CellKernel& kernel,
 /// kernels need nothing of the mesh after construction: a body is
 /// assembled from its cells and coordinates alone.
 ///
-/// The forms must be of the kind the materials produce (P1 vector
-/// triangles, one cell integral, the displacement as the only coefficient
-/// or none, no DOF transformations); anything else is refused. Built, the
+/// The forms must be of the kind the materials produce (P1 vectors on
+/// triangles or tetrahedra, one cell integral, the displacement as the
+/// only coefficient or none, no DOF transformations); anything else is
+/// refused. The dimension is the forms' (that of the displacement's mesh):
+/// each loop runs its cells with the dimension a template parameter
+/// (for_each_cell), so 2D and 3D bodies share every line. Built, the
 /// assembly holds no dolfinx object: the forms, spaces and mesh may go.
 class BodyAssembly
 {
@@ -150,12 +157,18 @@ public:
   }
   /// The internal variables of each cell of the flagged bodies whose law
   /// has them, relaxed over a step h at displacement u (the law's
-  /// internal_update) into next (stride per cell; the others' entries are
-  /// left as they are)
-  void update_internal(std::span<double> next, double h,
-                       const std::vector<Body>& bodies,
-                       std::span<const double> x, std::span<const double> u,
-                       std::span<const char> only = {}) const;
+  /// internal_update) in place (`internal`, stride per cell: the view
+  /// set_internal gave), with the cell's strain energy before and after
+  /// into before[c] and after[c], and (f not empty) the body's internal
+  /// force at the relaxed values into f (its entries overwritten); one
+  /// pass over the cells (internal_variables.cpp). The others' entries are
+  /// left as they are.
+  void relax_internal(std::span<double> internal, double h,
+                      const std::vector<Body>& bodies,
+                      std::span<const double> x, std::span<const double> u,
+                      std::span<double> before, std::span<double> after,
+                      std::span<double> f,
+                      std::span<const char> only = {}) const;
   /// Whether body k's law has internal variables
   bool has_internal(int k) const
   {
@@ -197,22 +210,29 @@ private:
     /// The nodal volumetric energy's lambda (0: none)
     double nodal_lambda = 0;
   };
-  /// `kernel` on each cell of body k with the cells' internal variables
-  template <int N, typename Add>
+  /// `kernel` on each cell of body k (of dimension D) with the cells'
+  /// internal variables
+  template <int N, int D = 2, typename Add>
   void cells(int k, const CellKernel& kernel, const std::vector<Body>& bodies,
              std::span<const double> x, std::span<const double> u,
              Add&& add) const
   {
-    for_each_cell<N>(bodies[k], kernel, x, u, std::forward<Add>(add), _internal,
-                     _stride);
+    for_each_cell<N, D>(bodies[k], kernel, x, u, std::forward<Add>(add),
+                        _internal, _stride);
   }
   /// One bilinear form (a member of Kernels) of each flagged body into
   /// A[b] (its pattern; the values overwritten)
   void matrices(CellKernel Kernels::*form, std::vector<BodyMatrix>& A,
                 const std::vector<Body>& bodies, std::span<const double> x,
                 std::span<const double> u, std::span<const char> only) const;
+  /// Body k's nodal patches (a law with nodal_lambda), made on first use
+  /// by the one thread that assembles the body
+  NodalPatches& nodal(int k, const Body& body, std::span<const double> x) const;
   std::vector<Kernels> _kernels;
   std::vector<int> _body_forms;
+  /// The forms' spatial dimension (2 or 3)
+  int _dim = 2;
+  mutable std::vector<std::unique_ptr<NodalPatches>> _nodal;
   std::span<const double> _internal;
   int _stride = 0;
 };

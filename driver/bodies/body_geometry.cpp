@@ -27,7 +27,7 @@ void trace_boundary(Body& body, const BodyGeometry& g,
   const std::int64_t n = body.nodes.size();
   for (std::int32_t c : body.cells)
   {
-    const std::array<std::int32_t, 3>& d = g.cells[c];
+    const CellNodes& d = g.cells[c];
     std::array<std::int32_t, 3> v = {node_local[d[0]], node_local[d[1]],
                                      node_local[d[2]]};
     const double a2 = signed_area2(g.x, d[0], d[1], d[2]);
@@ -56,6 +56,53 @@ void trace_boundary(Body& body, const BodyGeometry& g,
     body.segment_to[s[1]] = static_cast<std::int32_t>(k);
   }
   std::sort(body.boundary_nodes.begin(), body.boundary_nodes.end());
+}
+
+/// The body's reference volume, boundary faces and boundary nodes (3D;
+/// body-local numbers)
+void trace_faces(Body& body, const BodyGeometry& g,
+                 std::span<const std::int32_t> node_local)
+{
+  // A face on the boundary belongs to one cell only; each cell's faces,
+  // oriented out of the cell, are out of the body there.
+  std::unordered_map<std::int64_t, std::pair<int, std::array<std::int32_t, 3>>>
+      faces;
+  const std::int64_t n = body.nodes.size();
+  for (std::int32_t c : body.cells)
+  {
+    const CellNodes& d = g.cells[c];
+    const double v6 = signed_volume6(g.x, d[0], d[1], d[2], d[3]);
+    body.reference_area += std::abs(v6) / 6;
+    std::array<std::int32_t, 4> v;
+    for (int i = 0; i < 4; ++i)
+      v[i] = node_local[d[i]];
+    if (v6 < 0)
+      std::swap(v[2], v[3]);
+    // Face opposite vertex i of a positive tetrahedron, outward
+    static constexpr int face[4][3] = {
+        {1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+    for (const auto& f : face)
+    {
+      std::array<std::int32_t, 3> tri = {v[f[0]], v[f[1]], v[f[2]]};
+      std::array<std::int32_t, 3> key = tri;
+      std::sort(key.begin(), key.end());
+      auto& [count, oriented] = faces[(key[0] * n + key[1]) * n + key[2]];
+      ++count;
+      oriented = tri;
+    }
+  }
+  std::vector<char> on_boundary(body.nodes.size(), 0);
+  for (const auto& [key, entry] : faces)
+    if (entry.first == 1)
+    {
+      body.boundary_faces.push_back(entry.second);
+      for (std::int32_t k : entry.second)
+        on_boundary[k] = 1;
+    }
+  std::sort(body.boundary_faces.begin(), body.boundary_faces.end());
+  for (std::size_t k = 0; k < on_boundary.size(); ++k)
+    if (on_boundary[k])
+      body.boundary_nodes.push_back(static_cast<std::int32_t>(k));
 }
 
 /// Each node's position within its body in the input file's node order
@@ -91,6 +138,29 @@ std::vector<std::int32_t> node_bodies(const BodyGeometry& g)
 }
 } // namespace
 
+double signed_volume6(std::span<const double> x, std::int32_t a, std::int32_t b,
+                      std::int32_t c, std::int32_t d)
+{
+  double e[3][3];
+  for (int k = 0; k < 3; ++k)
+  {
+    e[0][k] = x[3 * b + k] - x[3 * a + k];
+    e[1][k] = x[3 * c + k] - x[3 * a + k];
+    e[2][k] = x[3 * d + k] - x[3 * a + k];
+  }
+  return e[2][0] * (e[0][1] * e[1][2] - e[0][2] * e[1][1]) +
+         e[2][1] * (e[0][2] * e[1][0] - e[0][0] * e[1][2]) +
+         e[2][2] * (e[0][0] * e[1][1] - e[0][1] * e[1][0]);
+}
+
+double cell_measure(std::span<const double> x, const CellNodes& cell, int dim)
+{
+  return dim == 3
+             ? std::abs(signed_volume6(x, cell[0], cell[1], cell[2], cell[3])) /
+                   6
+             : 0.5 * std::abs(signed_area2(x, cell[0], cell[1], cell[2]));
+}
+
 double signed_area2(std::span<const double> x, std::int32_t a, std::int32_t b,
                     std::int32_t c)
 {
@@ -98,11 +168,12 @@ double signed_area2(std::span<const double> x, std::int32_t a, std::int32_t b,
          (x[2 * b + 1] - x[2 * a + 1]) * (x[2 * c] - x[2 * a]);
 }
 
-SpaceFunction displacement_space(const std::vector<BodyMaterial>& materials)
+SpaceFunction displacement_space(const std::vector<BodyMaterial>& materials,
+                                 int dim)
 {
   if (materials.empty())
     throw std::invalid_argument("BodySet: no material");
-  return materials.front().law->function_space;
+  return forms::in_dimension(*materials.front().law, dim).function_space;
 }
 
 int BodyGeometry::num_bodies() const
@@ -117,19 +188,20 @@ BodyGeometry body_geometry(const BodyMesh& mesh, SpaceFunction function_space)
   const fem::FunctionSpace V =
       fem::create_functionspace(function_space, "v", mesh.mesh);
   const fem::DofMap& dofmap = *V.dofmap();
-  if (dofmap.bs() != 2 || dofmap.cell_dofs(0).size() != 3)
-    throw std::invalid_argument("body_geometry: the displacement space is "
-                                "not P1 vectors on triangles");
+  const int dim = mesh.mesh->geometry().dim();
+  if (dofmap.bs() != dim || dofmap.cell_dofs(0).size() != std::size_t(dim + 1))
+    throw std::invalid_argument(
+        "body_geometry: the displacement space is not P1 vectors on the "
+        "mesh's cells (triangles in 2D, tetrahedra in 3D)");
   const std::int32_t num_nodes =
       dofmap.index_map->size_local() + dofmap.index_map->num_ghosts();
   BodyGeometry g;
+  g.dim = dim;
   const std::vector<double> dof_x = V.tabulate_dof_coordinates(false);
-  g.x.resize(2 * num_nodes);
+  g.x.resize(dim * num_nodes);
   for (std::int32_t i = 0; i < num_nodes; ++i)
-  {
-    g.x[2 * i] = dof_x[3 * i];
-    g.x[2 * i + 1] = dof_x[3 * i + 1];
-  }
+    for (int c = 0; c < dim; ++c)
+      g.x[dim * i + c] = dof_x[3 * i + c];
   // A P1 cell lists its DOF blocks as its geometry nodes (both follow the
   // reference cell's vertices), which carry the input file's indices.
   const mesh::Geometry& geometry = mesh.mesh->geometry();
@@ -141,7 +213,7 @@ BodyGeometry body_geometry(const BodyMesh& mesh, SpaceFunction function_space)
   {
     auto dofs = dofmap.cell_dofs(static_cast<std::int32_t>(c));
     auto x = geometry.dofmap().links(static_cast<std::int32_t>(c));
-    for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t i = 0; i < dofs.size(); ++i)
     {
       g.cells[c][i] = dofs[i];
       g.node_input[dofs[i]] = input[x[i]];
@@ -153,7 +225,15 @@ BodyGeometry body_geometry(const BodyMesh& mesh, SpaceFunction function_space)
 BodyGeometry read_body_geometry(const std::filesystem::path& xdmf,
                                 SpaceFunction function_space)
 {
-  return body_geometry(read_body_mesh(MPI_COMM_SELF, xdmf), function_space);
+  const BodyMesh mesh = read_body_mesh(MPI_COMM_SELF, xdmf);
+  const int dim = mesh.mesh->geometry().dim();
+  if (function_space("v")->finite_element->topological_dimension != dim)
+    throw std::runtime_error(
+        "mesh file " + xdmf.string() + ": " +
+        (dim == 3 ? "tetrahedra (3D bodies)" : "triangles (2D bodies)") +
+        ", but the forms given are " + (dim == 3 ? "2D" : "3D") +
+        " (3D bodies have no time loop yet: docs/bodies_3d.md)");
+  return body_geometry(mesh, function_space);
 }
 
 std::vector<Body> build_bodies(const BodyGeometry& g)
@@ -178,15 +258,20 @@ std::vector<Body> build_bodies(const BodyGeometry& g)
   }
   for (Body& body : bodies)
   {
+    body.dim = g.dim;
     body.global_nodes = body.nodes;
     number_input_order(body, g.node_input);
-    trace_boundary(body, g, node_local);
+    if (g.dim == 3)
+      trace_faces(body, g, node_local);
+    else
+      trace_boundary(body, g, node_local);
     body.cell_nodes.reserve(body.cells.size());
     for (std::int32_t c : body.cells)
     {
-      const std::array<std::int32_t, 3>& d = g.cells[c];
-      body.cell_nodes.push_back(
-          {node_local[d[0]], node_local[d[1]], node_local[d[2]]});
+      CellNodes local;
+      for (int i = 0; i < g.cells[c].size(); ++i)
+        local[i] = node_local[g.cells[c][i]];
+      body.cell_nodes.push_back(local);
     }
   }
   return bodies;

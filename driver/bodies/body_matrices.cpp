@@ -32,15 +32,16 @@ BodySet::create_matrices(std::span<const char> only) const
       matrices.emplace_back(body.num_dofs(), body.num_dofs());
       continue;
     }
+    const int d = body.dim, n = d * (d + 1);
     std::vector<Eigen::Triplet<double>> pattern;
-    pattern.reserve(36 * body.cells.size());
-    for (const std::array<std::int32_t, 3>& cell : body.cell_nodes)
+    pattern.reserve(n * n * body.cells.size());
+    for (const CellNodes& cell : body.cell_nodes)
       for (std::int32_t ni : cell)
         for (std::int32_t nj : cell)
-          for (int ci = 0; ci < 2; ++ci)
-            for (int cj = 0; cj < 2; ++cj)
+          for (int ci = 0; ci < d; ++ci)
+            for (int cj = 0; cj < d; ++cj)
             {
-              const int row = 2 * ni + ci, col = 2 * nj + cj;
+              const int row = d * ni + ci, col = d * nj + cj;
               if (stored_entry(row, col))
                 pattern.emplace_back(row, col, 0.0);
             }
@@ -105,7 +106,7 @@ std::vector<char> BodySet::kept_masses(std::span<const char> local) const
 
 void BodySet::mark_local_nodes()
 {
-  _local_node.assign(num_dofs() / 2, 0);
+  _local_node.assign(num_dofs() / _dim, 0);
   for (const int b : _local)
     for (const std::int32_t node : _bodies[b].nodes)
       _local_node[node] = 1;
@@ -159,7 +160,7 @@ void BodySet::keep_cell_lists(std::span<const char> kept)
     {
       Body& body = _bodies[b];
       std::vector<std::int32_t>().swap(body.cells);
-      std::vector<std::array<std::int32_t, 3>>().swap(body.cell_nodes);
+      std::vector<CellNodes>().swap(body.cell_nodes);
       std::vector<std::int32_t>().swap(body.input_position);
     }
 }
@@ -168,10 +169,11 @@ std::vector<std::int32_t> BodySet::cell_lists(int b) const
 {
   const Body& body = _bodies[b];
   std::vector<std::int32_t> out;
-  out.reserve(1 + 4 * body.cells.size() + body.input_position.size());
+  out.reserve(1 + (body.dim + 2) * body.cells.size() +
+              body.input_position.size());
   out.push_back(static_cast<std::int32_t>(body.cells.size()));
   out.insert(out.end(), body.cells.begin(), body.cells.end());
-  for (const std::array<std::int32_t, 3>& cell : body.cell_nodes)
+  for (const CellNodes& cell : body.cell_nodes)
     out.insert(out.end(), cell.begin(), cell.end());
   out.insert(out.end(), body.input_position.begin(), body.input_position.end());
   return out;
@@ -181,7 +183,7 @@ std::size_t BodySet::take_cell_lists(int b, std::span<const std::int32_t> in)
 {
   Body& body = _bodies[b];
   const std::size_t nc = in.empty() ? 0 : in[0];
-  const std::size_t n = 1 + 4 * nc + body.nodes.size();
+  const std::size_t n = 1 + (body.dim + 2) * nc + body.nodes.size();
   if (in.size() < n)
     throw std::invalid_argument("BodySet::take_cell_lists: body " +
                                 std::to_string(b) + " needs " +
@@ -190,10 +192,10 @@ std::size_t BodySet::take_cell_lists(int b, std::span<const std::int32_t> in)
   auto at = in.begin() + 1;
   body.cells.assign(at, at + nc);
   at += nc;
-  body.cell_nodes.resize(nc);
-  for (std::array<std::int32_t, 3>& cell : body.cell_nodes)
-    for (std::int32_t& node : cell)
-      node = *at++;
+  body.cell_nodes.assign(nc, CellNodes());
+  for (CellNodes& cell : body.cell_nodes)
+    for (int i = 0; i <= body.dim; ++i)
+      cell[i] = *at++;
   body.input_position.assign(at, at + body.nodes.size());
   return n;
 }

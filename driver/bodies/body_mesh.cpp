@@ -31,12 +31,22 @@ BodyMesh read_body_mesh(MPI_Comm comm, const std::filesystem::path& xdmf)
                              h5.string() + " does not exist");
 
   dolfinx::io::XDMFFile file(comm, xdmf, "r");
-  fem::CoordinateElement cmap(mesh::CellType::triangle, 1);
+  const auto [type, degree] = file.read_cell_type("mesh");
+  if ((type != mesh::CellType::triangle &&
+       type != mesh::CellType::tetrahedron) ||
+      degree != 1)
+    throw std::runtime_error("mesh file " + xdmf.string() +
+                             ": expected linear triangles (2D) or "
+                             "tetrahedra (3D)");
+  fem::CoordinateElement cmap(type, 1);
   auto mesh = std::make_shared<dolfinx::mesh::Mesh>(
       file.read_mesh(cmap, mesh::GhostMode::none, "mesh"));
-  if (mesh->geometry().dim() != 2)
-    throw std::runtime_error("mesh file " + xdmf.string() +
-                             ": expected a 2D triangle mesh");
+  const int dim = type == mesh::CellType::triangle ? 2 : 3;
+  if (mesh->geometry().dim() != dim)
+    throw std::runtime_error("mesh file " + xdmf.string() + ": " +
+                             (dim == 2 ? "triangles" : "tetrahedra") +
+                             " with coordinates of dimension " +
+                             std::to_string(mesh->geometry().dim()));
   dolfinx::mesh::MeshTags<std::int32_t> tags =
       file.read_meshtags(mesh, "bodies");
 
@@ -54,19 +64,24 @@ BodyMesh read_body_mesh(MPI_Comm comm, const std::filesystem::path& xdmf)
 
 BodyMesh create_body_mesh(MPI_Comm comm, std::span<const double> x,
                           std::span<const std::int64_t> cells,
-                          std::span<const int> cell_body)
+                          std::span<const int> cell_body, int dim)
 {
-  const std::size_t num_cells = cells.size() / 3;
+  if (dim != 2 && dim != 3)
+    throw std::invalid_argument("create_body_mesh: dimension " +
+                                std::to_string(dim) + " (allowed: 2, 3)");
+  const std::size_t per_cell = dim + 1, num_cells = cells.size() / per_cell;
   if (cell_body.size() != num_cells)
     throw std::invalid_argument("create_body_mesh: one body id per cell");
   std::vector<std::int32_t> offsets(num_cells + 1);
   for (std::size_t c = 0; c <= num_cells; ++c)
-    offsets[c] = 3 * c;
+    offsets[c] = per_cell * c;
   graph::AdjacencyList<std::int64_t> adj(
       std::vector<std::int64_t>(cells.begin(), cells.end()), offsets);
-  fem::CoordinateElement cmap(mesh::CellType::triangle, 1);
-  auto mesh = std::make_shared<dolfinx::mesh::Mesh>(mesh::create_mesh(
-      comm, adj, cmap, x, {x.size() / 2, 2}, mesh::GhostMode::none));
+  fem::CoordinateElement cmap(
+      dim == 2 ? mesh::CellType::triangle : mesh::CellType::tetrahedron, 1);
+  auto mesh = std::make_shared<dolfinx::mesh::Mesh>(
+      mesh::create_mesh(comm, adj, cmap, x, {x.size() / dim, std::size_t(dim)},
+                        mesh::GhostMode::none));
 
   // dolfinx reorders cells; original_cell_index maps back to the input.
   const std::vector<std::int64_t>& original =

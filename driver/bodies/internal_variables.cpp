@@ -5,6 +5,7 @@
 #include "BodySet.h"
 
 #include "body_assembly.h"
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -87,6 +88,77 @@ InternalForms internal_forms(const forms::MaterialForms& law,
   return f;
 }
 
+void BodyAssembly::relax_internal(std::span<double> internal, double h,
+                                  const std::vector<Body>& bodies,
+                                  std::span<const double> x,
+                                  std::span<const double> u,
+                                  std::span<double> before,
+                                  std::span<double> after, std::span<double> f,
+                                  std::span<const char> only) const
+{
+  const int nb = static_cast<int>(bodies.size());
+#pragma omp parallel for schedule(dynamic) if (nb >= 16)
+  for (int k = 0; k < nb; ++k)
+  {
+    const Kernels& kernels = _kernels[_body_forms[k]];
+    const int n = kernels.update.internal;
+    if ((!only.empty() && !only[k]) || n == 0)
+      continue;
+    CellKernel update = kernels.update;
+    update.constants[kernels.time_step] = h;
+    // Each cell read once for its energy at its internal variables, their
+    // update and its energy at the updated ones (the values a pass per
+    // kernel gives)
+    const Body& body = bodies[k];
+    if (!f.empty()) // summed from zero, as residual does
+      for (const std::int32_t g : body.nodes)
+        f[2 * g] = f[2 * g + 1] = 0;
+    double coordinates[9] = {}; // z = 0
+    double w[6 + max_internal] = {}, relaxed[max_internal], fe[6];
+    for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
+    {
+      const CellNodes& cell = body.cell_nodes[c];
+      for (int i = 0; i < 3; ++i)
+        for (int d = 0; d < 2; ++d)
+        {
+          coordinates[3 * i + d] = x[2 * body.nodes[cell[i]] + d];
+          w[2 * i + d] = u[2 * body.nodes[cell[i]] + d];
+        }
+      double* values = &internal[std::size_t(_stride) * body.cells[c]];
+      std::copy_n(values, n, w + 6);
+      double e = 0;
+      kernels.energy.tabulate(&e, w, kernels.energy.constants.data(),
+                              coordinates, nullptr, nullptr);
+      before[body.cells[c]] = e;
+      std::fill_n(relaxed, n, 0.0);
+      update.tabulate(relaxed, w, update.constants.data(), coordinates, nullptr,
+                      nullptr);
+      // The form gives each value integrated over the cell (one point):
+      // divided by the cell's reference area.
+      const double* p[3];
+      for (int i = 0; i < 3; ++i)
+        p[i] = &x[2 * body.nodes[cell[i]]];
+      const double area =
+          0.5 * std::abs((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
+                         (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
+      for (int i = 0; i < n; ++i)
+        values[i] = w[6 + i] = relaxed[i] / area;
+      e = 0;
+      kernels.energy.tabulate(&e, w, kernels.energy.constants.data(),
+                              coordinates, nullptr, nullptr);
+      after[body.cells[c]] = e;
+      if (f.empty())
+        continue;
+      std::fill_n(fe, 6, 0.0);
+      kernels.residual.tabulate(fe, w, kernels.residual.constants.data(),
+                                coordinates, nullptr, nullptr);
+      for (int i = 0; i < 3; ++i)
+        for (int d = 0; d < 2; ++d)
+          f[2 * body.nodes[cell[i]] + d] += fe[2 * i + d];
+    }
+  }
+}
+
 void BodySet::init_internal()
 {
   _internal_stride = 0;
@@ -113,21 +185,20 @@ void BodySet::set_internal_variables(std::span<const double> values)
   std::copy(values.begin(), values.end(), _internal.begin());
 }
 
-double BodySet::update_internal_variables(double h)
+double BodySet::update_internal_variables(double h, std::span<double> f)
 {
   if (_internal_stride == 0)
     return 0;
+  if (!f.empty() && f.size() != num_dofs())
+    throw std::invalid_argument("update_internal_variables: wrong force "
+                                "vector size");
   std::vector<char> flagged(_bodies.size(), 0);
   for (const int b : _local)
     flagged[b] = _assembly->has_internal(b);
   std::vector<double> before(_cell_body.size(), 0.0),
       after(_cell_body.size(), 0.0);
-  _assembly->cell_energy(before, _bodies, _reference_x, _u, flagged);
-  std::vector<double> next(_internal);
-  _assembly->update_internal(next, h, _bodies, _reference_x, _u, flagged);
-  _internal.swap(next);
-  _assembly->set_internal(_internal, _internal_stride);
-  _assembly->cell_energy(after, _bodies, _reference_x, _u, flagged);
+  _assembly->relax_internal(_internal, h, _bodies, _reference_x, _u, before,
+                            after, f, flagged);
   // In body and cell order: the same sum on every run
   double dissipated = 0;
   for (std::size_t b = 0; b < _bodies.size(); ++b)

@@ -26,11 +26,12 @@ void update_body(const BodySet& bodies, int b, BodyMatrix& K,
   const Body& body = bodies.body(b);
   std::vector<char> body_fixed(body.num_dofs());
   Eigen::VectorXd rb(body.num_dofs());
+  const int d = body.dim;
   for (std::size_t k = 0; k < body.nodes.size(); ++k)
-    for (int c = 0; c < 2; ++c)
+    for (int c = 0; c < d; ++c)
     {
-      body_fixed[2 * k + c] = fixed[2 * body.nodes[k] + c];
-      rb[2 * k + c] = r[2 * body.nodes[k] + c];
+      body_fixed[d * k + c] = fixed[d * body.nodes[k] + c];
+      rb[d * k + c] = r[d * body.nodes[k] + c];
     }
   constrain(K, body_fixed);
   if (first)
@@ -41,8 +42,8 @@ void update_body(const BodySet& bodies, int b, BodyMatrix& K,
                              std::to_string(b) + " is singular");
   const Eigen::VectorXd du = factor.solve(-rb);
   for (std::size_t k = 0; k < body.nodes.size(); ++k)
-    for (int c = 0; c < 2; ++c)
-      u[2 * body.nodes[k] + c] += du[2 * k + c];
+    for (int c = 0; c < d; ++c)
+      u[d * body.nodes[k] + c] += du[d * k + c];
 }
 } // namespace
 

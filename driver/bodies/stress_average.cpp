@@ -8,6 +8,9 @@ namespace softpack::bodies
 
 std::vector<CauchyIntegral> cauchy_integrals(const BodySet& bodies)
 {
+  if (bodies.dim() != 2)
+    throw std::invalid_argument("cauchy_integrals: plane-strain (2D) bodies "
+                                "only; these are 3D");
   std::vector<double> f(bodies.num_dofs());
   bodies.internal_force(f);
   const std::span<const double> X = bodies.reference_coordinates();

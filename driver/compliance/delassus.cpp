@@ -156,12 +156,11 @@ contact::DelassusMatrix assemble_delassus(std::size_t num_contacts,
   for (const DelassusBlock& k : blocks)
     if (wanted(k.a))
       W.add_block(k.a, k.b, k.block);
+  // Each coupling as one rank-one term, its diagonal blocks added after the
+  // bodies' (the sums of the dense assembly it replaces, bit for bit); a
+  // rank keeps whole terms, whose sums read every rank's contacts.
   for (const WallCoupling& wall : walls)
-    for (std::size_t i = 0; i < wall.contacts.size(); ++i)
-      for (std::size_t j = 0; j < wall.contacts.size(); ++j)
-        if (wanted(wall.contacts[i]))
-          W.add_block(wall.contacts[i], wall.contacts[j],
-                      wall.inverse_mass * wall.g[i] * wall.g[j].transpose());
+    W.add_rank_one(wall.contacts, wall.g, wall.inverse_mass);
   W.finalize();
   return W;
 }

@@ -12,7 +12,8 @@ namespace softpack::dynamics
 /// DOF along its normal n, so contact c's relative velocity gains
 /// -g_c V with g_c = frame_c^T n, and V gains -(1/m) sum_d g_d . R_d: block
 /// (c, d) of W gains inverse_mass g_c g_d^T (every pair of the wall's
-/// contacts).
+/// contacts), kept as one rank-one term (contact::DelassusMatrix::RankOne),
+/// not as blocks.
 struct WallCoupling
 {
   std::vector<std::int32_t> contacts;
@@ -39,7 +40,8 @@ std::vector<DelassusBlock> delassus_blocks(const bodies::BodySet& bodies,
                                            const RigidBodies* rigid);
 
 /// W from the bodies' contributions (in body order: the sums are then
-/// those of the serial build, bit for bit) and the servo walls' couplings.
+/// those of the serial build, bit for bit) and the servo walls' couplings
+/// (rank-one terms, whole on every rank).
 /// @param[in] rows 1 for the rows (contacts) wanted, the others left empty
 /// (a rank of a distributed run keeps the rows of its own contacts); empty:
 /// every row. `blocks` may hold only the wanted rows' contributions.

@@ -41,6 +41,87 @@ void DelassusMatrixD<D>::add_block(std::size_t a, std::size_t b,
 }
 //-----------------------------------------------------------------------------
 template <int D>
+void DelassusMatrixD<D>::add_rank_one(std::span<const std::int32_t> contacts,
+                                      std::span<const Vector> g,
+                                      double inverse_mass, bool add_diagonal)
+{
+  if (_finalized)
+    throw std::logic_error("DelassusMatrix::add_rank_one after finalize()");
+  if (g.size() != contacts.size())
+    throw std::invalid_argument(
+        "DelassusMatrix::add_rank_one: one g per contact");
+  std::vector<char> seen(_num_contacts, 0);
+  for (const std::int32_t c : contacts)
+  {
+    if (c < 0 or static_cast<std::size_t>(c) >= _num_contacts)
+      throw std::out_of_range("DelassusMatrix::add_rank_one: contact " +
+                              std::to_string(c) + " outside " +
+                              std::to_string(_num_contacts) + " contacts");
+    if (seen[c]++)
+      throw std::invalid_argument("DelassusMatrix::add_rank_one: contact " +
+                                  std::to_string(c) + " listed twice");
+  }
+  if (add_diagonal)
+    for (std::size_t i = 0; i < contacts.size(); ++i)
+      _diagonal[contacts[i]] += inverse_mass * g[i] * g[i].transpose();
+  _terms.push_back(
+      {{contacts.begin(), contacts.end()}, {g.begin(), g.end()}, inverse_mass});
+}
+//-----------------------------------------------------------------------------
+template <int D> void DelassusMatrixD<D>::index_terms()
+{
+  _term_offsets.clear();
+  _term_entries.clear();
+  if (_terms.empty())
+    return;
+  _term_offsets.assign(_num_contacts + 1, 0);
+  for (const RankOne& t : _terms)
+    for (const std::int32_t c : t.contacts)
+      ++_term_offsets[c + 1];
+  for (std::size_t a = 0; a < _num_contacts; ++a)
+    _term_offsets[a + 1] += _term_offsets[a];
+  _term_entries.resize(_term_offsets[_num_contacts]);
+  std::vector<std::int32_t> next(_term_offsets.begin(),
+                                 _term_offsets.end() - 1);
+  for (std::size_t k = 0; k < _terms.size(); ++k)
+    for (std::size_t i = 0; i < _terms[k].contacts.size(); ++i)
+      _term_entries[next[_terms[k].contacts[i]]++] = {
+          static_cast<std::int32_t>(k), static_cast<std::int32_t>(i)};
+}
+//-----------------------------------------------------------------------------
+template <int D>
+void DelassusMatrixD<D>::rank_one_sums(const double* r, double* sums) const
+{
+  for (std::size_t k = 0; k < _terms.size(); ++k)
+  {
+    const RankOne& t = _terms[k];
+    double s = 0;
+    for (std::size_t i = 0; i < t.contacts.size(); ++i)
+      s += t.g[i].dot(contact_vector<D>(r, t.contacts[i]));
+    sums[k] = s;
+  }
+}
+//-----------------------------------------------------------------------------
+template <int D> DelassusMatrixD<D> DelassusMatrixD<D>::expanded() const
+{
+  if (!_finalized)
+    throw std::logic_error("DelassusMatrix::expanded before finalize()");
+  DelassusMatrixD out(_num_contacts);
+  out._diagonal = _diagonal;
+  for (std::size_t a = 0; a < _num_contacts; ++a)
+    for (std::int32_t k = _offsets[a]; k < _offsets[a + 1]; ++k)
+      out.add_block(a, _columns[k], _blocks[k]);
+  for (const RankOne& t : _terms)
+    for (std::size_t i = 0; i < t.contacts.size(); ++i)
+      for (std::size_t j = 0; j < t.contacts.size(); ++j)
+        if (i != j)
+          out.add_block(t.contacts[i], t.contacts[j],
+                        t.inverse_mass * t.g[i] * t.g[j].transpose());
+  out.finalize();
+  return out;
+}
+//-----------------------------------------------------------------------------
+template <int D>
 void DelassusMatrixD<D>::bucket_by_row(std::vector<std::int32_t>& start,
                                        std::vector<std::int32_t>& by_row) const
 {
@@ -109,6 +190,7 @@ template <int D> void DelassusMatrixD<D>::finalize()
   }
   _pending.clear();
   _pending.shrink_to_fit();
+  index_terms();
   _finalized = true;
 }
 //-----------------------------------------------------------------------------
@@ -144,6 +226,11 @@ DelassusMatrixD<D>::renumbered(std::span<const std::int32_t> order) const
     }
     out._offsets[i + 1] = static_cast<std::int32_t>(out._columns.size());
   }
+  out._terms = _terms;
+  for (RankOne& t : out._terms)
+    for (std::int32_t& c : t.contacts)
+      c = position[c];
+  out.index_terms();
   out._finalized = true;
   return out;
 }
@@ -154,9 +241,12 @@ void DelassusMatrixD<D>::multiply_add(std::span<const double> r,
 {
   if (r.size() != D * _num_contacts or u.size() != D * _num_contacts)
     throw std::invalid_argument("DelassusMatrix::multiply_add: wrong sizes");
+  std::vector<double> sums(_terms.size());
+  rank_one_sums(r.data(), sums.data());
+  const double* s = _terms.empty() ? nullptr : sums.data();
   for (std::size_t a = 0; a < _num_contacts; ++a)
   {
-    const Vector ua = row_product(a, r.data());
+    const Vector ua = row_product(a, r.data(), s);
     for (int j = 0; j < D; ++j)
       u[D * a + j] += ua[j];
   }

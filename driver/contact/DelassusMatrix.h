@@ -118,21 +118,106 @@ public:
   }
 
   /// Block row a applied to r: \f$\sum_b W_{ab} r_b\f$.
-  Vector row_product(std::size_t a, const double* r) const
+  /// @param[in] sums The rank-one terms' sums at r (rank_one_sums()); may
+  /// be null when W has none
+  Vector row_product(std::size_t a, const double* r,
+                     const double* sums = nullptr) const
   {
-    return _diagonal[a] * contact_vector<D>(r, a) + offdiagonal_product(a, r);
+    return _diagonal[a] * contact_vector<D>(r, a) +
+           offdiagonal_product(a, r, sums);
   }
 
+  /// A rank-one term of W, \f$m^{-1} G G^T\f$ over some contacts: the
+  /// compliance of a servo unknown (a servo wall, a stress-controlled
+  /// cell component) that every one of these contacts moves, contact c_i
+  /// by \f$g_i\f$ (dynamics::WallCoupling). Its off-diagonal blocks
+  /// \f$m^{-1} g_i g_j^T\f$ are never stored: a solver keeps the sum
+  /// \f$s = \sum_j g_j \cdot r_{c_j}\f$ (rank_one_sums()) and row c_i
+  /// reads \f$m^{-1} g_i (s - g_i \cdot r_{c_i})\f$, O(contacts) per sweep
+  /// and in memory where the blocks cost their square.
+  struct RankOne
+  {
+    std::vector<std::int32_t> contacts;
+    std::vector<Vector> g;
+    double inverse_mass = 0;
+  };
+
+  /// Add a rank-one term (builder phase). Its diagonal blocks
+  /// \f$m^{-1} g_i g_i^T\f$ are added to W's diagonal now, after what
+  /// add_block() gave them so far (unless `add_diagonal` is false: a
+  /// diagonal that has them already).
+  /// @throws std::out_of_range if a contact is not one, std::logic_error
+  /// after finalize(), std::invalid_argument for a contact listed twice or
+  /// sizes that differ
+  void add_rank_one(std::span<const std::int32_t> contacts,
+                    std::span<const Vector> g, double inverse_mass,
+                    bool add_diagonal = true);
+
+  /// @return The rank-one terms
+  std::span<const RankOne> rank_one_terms() const { return _terms; }
+
+  /// Contact a's place in a rank-one term: the term and a's index in it
+  struct TermEntry
+  {
+    std::int32_t term, index;
+  };
+
+  /// @return The rank-one terms contact a is in (finalized)
+  std::span<const TermEntry> terms_of(std::size_t a) const
+  {
+    if (_term_offsets.empty())
+      return {};
+    return {_term_entries.data() + _term_offsets[a],
+            static_cast<std::size_t>(_term_offsets[a + 1] - _term_offsets[a])};
+  }
+
+  /// Each rank-one term's sum \f$s_k = \sum_j g_{k,j} \cdot r_{c_j}\f$
+  /// at r, written to sums (one per term)
+  void rank_one_sums(const double* r, double* sums) const;
+
+  /// After contact a's reaction changed by dr: its terms' sums updated
+  void update_sums(std::size_t a, const Vector& dr, double* sums) const
+  {
+    for (const TermEntry& e : terms_of(a))
+      sums[e.term] += _terms[e.term].g[e.index].dot(dr);
+  }
+
+  /// offdiagonal_product() and the rank-one terms' off-diagonal part,
+  /// \f$\sum_{k \ni a} m_k^{-1} g_{k,a} (s_k - g_{k,a} \cdot r_a)\f$, with
+  /// the terms' current sums (null: W has none; then it is
+  /// offdiagonal_product(), the same bits)
+  Vector offdiagonal_product(std::size_t a, const double* r,
+                             const double* sums) const
+  {
+    Vector sum = offdiagonal_product(a, r);
+    if (sums)
+      for (const TermEntry& e : terms_of(a))
+      {
+        const RankOne& t = _terms[e.term];
+        const Vector& g = t.g[e.index];
+        sum +=
+            (t.inverse_mass * (sums[e.term] - g.dot(contact_vector<D>(r, a)))) *
+            g;
+      }
+    return sum;
+  }
+
+  /// The same W with the rank-one terms' off-diagonal blocks stored as
+  /// blocks (a file format or a dense check needs them; O(contacts^2) per
+  /// term)
+  DelassusMatrixD expanded() const;
+
   /// The same operator with its contacts renumbered: contact `order[i]`
-  /// becomes contact i. Each row keeps its blocks in their order (sorted by
-  /// the old numbers, so no longer by the new ones), so every product sums
-  /// in the same order as before and gives the same bits. A solver that
-  /// visits the rows in `order` then reads them one after the other.
+  /// becomes contact i (in the rank-one terms too). Each row keeps its blocks
+  /// in their order (sorted by the old numbers, so no longer by the new ones),
+  /// so every product sums in the same order as before and gives the same bits.
+  /// A solver that visits the rows in `order` then reads them one after the
+  /// other.
   /// @param[in] order A permutation of the contacts, finalized operator
   /// @throws std::invalid_argument if order is not a permutation
   DelassusMatrixD renumbered(std::span<const std::int32_t> order) const;
 
-  /// \f$u \leftarrow u + W r\f$.
+  /// \f$u \leftarrow u + W r\f$ (the rank-one terms included).
   /// @param[in] r Reactions, size D num_contacts()
   /// @param[in,out] u Velocities, size D num_contacts()
   void multiply_add(std::span<const double> r, std::span<double> u) const;
@@ -157,6 +242,13 @@ private:
   std::vector<std::int32_t> _offsets;
   std::vector<std::int32_t> _columns;
   std::vector<Block> _blocks;
+
+  // The rank-one terms, and the terms of each contact (compressed rows,
+  // made by finalize(); empty without terms)
+  std::vector<RankOne> _terms;
+  std::vector<std::int32_t> _term_offsets;
+  std::vector<TermEntry> _term_entries;
+  void index_terms();
 };
 
 /// The 2D operator (2x2 blocks, (n, t)) and the 3D one (3x3, (n, t1, t2))

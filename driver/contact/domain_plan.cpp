@@ -44,6 +44,40 @@ void sort_unique(std::vector<std::int32_t>& v)
   std::sort(v.begin(), v.end());
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
+
+/// A rank-one term's contacts by domain: each of its contacts reads all the
+/// others (through the term's sum), as if every pair had a block
+std::map<int, std::vector<std::int32_t>>
+term_by_domain(const DelassusMatrix::RankOne& term, std::span<const int> owner)
+{
+  std::map<int, std::vector<std::int32_t>> by_domain;
+  for (const std::int32_t c : term.contacts)
+    by_domain[owner[c]].push_back(c);
+  return by_domain;
+}
+
+/// The links a rank-one term adds to domain `me`'s, and `me`'s contacts in
+/// it marked interface (nothing unless `me` and another domain hold some of
+/// its contacts)
+void link_term(const DelassusMatrix::RankOne& term, std::span<const int> owner,
+               int me, std::map<int, DomainPlan::Link>& links,
+               std::vector<char>& interface)
+{
+  const auto by_domain = term_by_domain(term, owner);
+  const auto mine = by_domain.find(me);
+  if (mine == by_domain.end() or by_domain.size() < 2)
+    return;
+  for (const auto& [domain, contacts] : by_domain)
+  {
+    if (domain == me)
+      continue;
+    DomainPlan::Link& link = links[domain];
+    link.receive.insert(link.receive.end(), contacts.begin(), contacts.end());
+    link.send.insert(link.send.end(), mine->second.begin(), mine->second.end());
+  }
+  for (const std::int32_t c : mine->second)
+    interface[c] = 1;
+}
 } // namespace
 
 std::size_t DomainPlan::sent_per_sweep() const
@@ -63,6 +97,14 @@ std::vector<int> neighbour_domains(const DelassusMatrix& W,
       for (const std::int32_t b : W.row_columns(a))
         if (owner[b] != me)
           domains.insert(owner[b]);
+  for (const DelassusMatrix::RankOne& term : W.rank_one_terms())
+  {
+    const auto by_domain = term_by_domain(term, owner);
+    if (by_domain.count(me))
+      for (const auto& [domain, contacts] : by_domain)
+        if (domain != me)
+          domains.insert(domain);
+  }
   return {domains.begin(), domains.end()};
 }
 
@@ -83,19 +125,21 @@ DomainPlan plan_domain(const DelassusMatrix& W, std::span<const int> owner,
   // Row a reads r_b for each stored block W_ab, and (the pattern being
   // symmetric) row b, owned by b's domain, reads r_a.
   std::map<int, DomainPlan::Link> links;
+  std::vector<char> interface(n, 0);
+  for (const DelassusMatrix::RankOne& term : W.rank_one_terms())
+    link_term(term, owner, me, links, interface);
   for (std::size_t a = 0; a < n; ++a)
   {
     if (owner[a] != me)
       continue;
-    bool interface = false;
     for (const std::int32_t b : W.row_columns(a))
       if (owner[b] != me)
       {
-        interface = true;
+        interface[a] = 1;
         links[owner[b]].receive.push_back(b);
         links[owner[b]].send.push_back(static_cast<std::int32_t>(a));
       }
-    plan.stages[interface ? 1 + plan.colour[me] : 0].push_back(
+    plan.stages[interface[a] ? 1 + plan.colour[me] : 0].push_back(
         static_cast<std::int32_t>(a));
   }
   for (auto& [domain, link] : links)

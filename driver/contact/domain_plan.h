@@ -22,6 +22,10 @@ namespace softpack::contact
 /// - stage 1 + c: the domains of colour c sweep their interface (same
 ///   colour: not linked), then send the new reactions to the neighbours
 ///   that read them.
+/// The contacts of one of W's rank-one terms (DelassusMatrix::RankOne)
+/// read one another as if each pair had a block: those of a term held by
+/// several domains are interface contacts, sent to every domain holding
+/// some of its contacts.
 /// This is the serial Gauss–Seidel sweep in one global order (interiors,
 /// then the interfaces colour by colour), so it converges as the serial
 /// NLGS does. The block-Jacobi alternative (every domain at once with its

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 using namespace softpack::contact;
 
@@ -68,14 +69,29 @@ bool q_is_zero(const FrictionContactProblem<D>& problem,
                      { return std::abs(v) <= q_zero_tolerance; });
 }
 //-----------------------------------------------------------------------------
-/// Contact a's terms of the ErrorSums, its u_a written
+/// W's rank-one terms' sums at r (DelassusMatrix::rank_one_sums): u sees
+/// the whole W
+template <int D>
+std::vector<double> term_sums(const FrictionContactProblem<D>& problem,
+                              std::span<const double> r)
+{
+  std::vector<double> terms(problem.W.rank_one_terms().size());
+  problem.W.rank_one_sums(r.data(), terms.data());
+  return terms;
+}
+//-----------------------------------------------------------------------------
+/// Contact a's terms of the ErrorSums, its u_a written (`terms`: the
+/// rank-one terms' sums, empty when W has none)
 template <int D>
 void add_contact(ErrorSums& sums, const FrictionContactProblem<D>& problem,
-                 std::span<const double> r, std::span<double> u, std::size_t a)
+                 std::span<const double> r, std::span<double> u, std::size_t a,
+                 const std::vector<double>& terms)
 {
   using Vector = Eigen::Matrix<double, D, 1>;
   const Vector qa = contact_vector<D>(problem.q.data(), a);
-  const Vector ua = qa + problem.W.row_product(a, r.data());
+  const Vector ua =
+      qa + problem.W.row_product(a, r.data(),
+                                 terms.empty() ? nullptr : terms.data());
   for (int j = 0; j < D; ++j)
     u[D * a + j] = ua[j];
   const Vector ra = contact_vector<D>(r.data(), a);
@@ -102,9 +118,10 @@ ErrorSums sums_over(const FrictionContactProblem<D>& problem,
                     std::span<const std::int32_t> rows)
 {
   check_sizes(problem, r, u);
+  const std::vector<double> terms = term_sums(problem, r);
   ErrorSums sums;
   for (const std::int32_t a : rows)
-    add_contact(sums, problem, r, u, static_cast<std::size_t>(a));
+    add_contact(sums, problem, r, u, static_cast<std::size_t>(a), terms);
   return sums;
 }
 //-----------------------------------------------------------------------------
@@ -114,9 +131,10 @@ NaturalMapError full_error(const FrictionContactProblem<D>& problem,
                            double q_zero_tolerance)
 {
   check_sizes(problem, r, u);
+  const std::vector<double> terms = term_sums(problem, r);
   ErrorSums sums;
   for (std::size_t a = 0; a < problem.num_contacts(); ++a)
-    add_contact(sums, problem, r, u, a);
+    add_contact(sums, problem, r, u, a, terms);
   return natural_map_error(sums, q_is_zero(problem, q_zero_tolerance));
 }
 } // namespace

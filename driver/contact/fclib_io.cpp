@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 using namespace softpack::contact;
 namespace h5 = softpack::io::h5;
@@ -185,7 +186,11 @@ void write_problem(hid_t file, const FrictionContactProblem2D& problem,
                    const std::string& title, const std::string& description)
 {
   const auto m = static_cast<std::int32_t>(2 * problem.num_contacts());
-  const CsrMatrix W = to_csr(problem.W);
+  // A file has blocks only: W's rank-one terms are written as theirs.
+  std::optional<DelassusMatrix> expanded;
+  if (!problem.W.rank_one_terms().empty())
+    expanded = problem.W.expanded();
+  const CsrMatrix W = to_csr(expanded ? *expanded : problem.W);
   const auto nnz = static_cast<std::int32_t>(W.x.size());
   for (const char* g : {"", "/W", "/vectors", "/info"})
     h5::create_group(file, local + g);

@@ -2,6 +2,7 @@
 
 #include "error.h"
 #include "local_solver.h"
+#include "running_sums.h"
 #include "sweep_split.h"
 
 #include <algorithm>
@@ -64,19 +65,20 @@ struct SweepSums
 };
 //-----------------------------------------------------------------------------
 /// Contact a's Gauss–Seidel update (relaxed, projected on its cone when
-/// over-relaxed), its change and norm added to `sums`. `Cohesive`: the
+/// over-relaxed), its change and norm added to `sums`; its rank-one terms'
+/// running sums `terms` (null: W has none) follow. `Cohesive`: the
 /// problem has a cohesion vector; without one the update is the plain
 /// Signorini–Coulomb one, instruction for instruction (the sweep is the
 /// simulator's hot loop). D: 2 or 3, the local solver and the cone of that
 /// dimension (the same operations on 2-vectors as before it was a template).
 template <bool Cohesive, int D>
 inline void relax(const FrictionContactProblem<D>& problem, double* r,
-                  double omega, std::size_t a, SweepSums& sums)
+                  double* terms, double omega, std::size_t a, SweepSums& sums)
 {
   using Vector = Eigen::Matrix<double, D, 1>;
   const DelassusMatrixD<D>& W = problem.W;
-  const Vector qa =
-      contact_vector<D>(problem.q.data(), a) + W.offdiagonal_product(a, r);
+  const Vector qa = contact_vector<D>(problem.q.data(), a) +
+                    W.offdiagonal_product(a, r, terms);
   const double mu = problem.friction[a];
   const double c = Cohesive ? problem.cohesion[a] : 0.0;
   Vector ra = Cohesive ? solve_local(W.diagonal(a), qa, mu, c).r
@@ -98,42 +100,46 @@ inline void relax(const FrictionContactProblem<D>& problem, double* r,
   sums.norm += ra.squaredNorm();
   for (int j = 0; j < D; ++j)
     r[D * a + j] = ra[j];
+  if (terms)
+    W.update_sums(a, ra - old, terms);
 }
 //-----------------------------------------------------------------------------
 /// Gauss–Seidel over the contacts, in the order `contacts` gives them
 template <bool Cohesive, int D, typename Contacts>
 SweepSums sweep_law(const FrictionContactProblem<D>& problem, double* r,
-                    double omega, const Contacts& contacts)
+                    double* terms, double omega, const Contacts& contacts)
 {
   SweepSums sums;
   for (const auto a : contacts)
-    relax<Cohesive>(problem, r, omega, static_cast<std::size_t>(a), sums);
+    relax<Cohesive>(problem, r, terms, omega, static_cast<std::size_t>(a),
+                    sums);
   return sums;
 }
 //-----------------------------------------------------------------------------
 template <int D, typename Contacts>
 SweepSums sweep_contacts(const FrictionContactProblem<D>& problem, double* r,
-                         double omega, const Contacts& contacts)
+                         double* terms, double omega, const Contacts& contacts)
 {
   return problem.cohesion.empty()
-             ? sweep_law<false>(problem, r, omega, contacts)
-             : sweep_law<true>(problem, r, omega, contacts);
+             ? sweep_law<false>(problem, r, terms, omega, contacts)
+             : sweep_law<true>(problem, r, terms, omega, contacts);
 }
 //-----------------------------------------------------------------------------
 /// Gauss–Seidel over the contacts [begin, end), in order
 template <int D>
 SweepSums sweep(const FrictionContactProblem<D>& problem, double* r,
-                double omega, std::size_t begin, std::size_t end)
+                double* terms, double omega, std::size_t begin, std::size_t end)
 {
-  return sweep_contacts(problem, r, omega, std::views::iota(begin, end));
+  return sweep_contacts(problem, r, terms, omega, std::views::iota(begin, end));
 }
 //-----------------------------------------------------------------------------
 /// Gauss–Seidel over the listed contacts, in their order (a domain's stage)
 template <int D>
 SweepSums sweep(const FrictionContactProblem<D>& problem, double* r,
-                double omega, std::span<const std::int32_t> contacts)
+                double* terms, double omega,
+                std::span<const std::int32_t> contacts)
 {
-  return sweep_contacts(problem, r, omega, contacts);
+  return sweep_contacts(problem, r, terms, omega, contacts);
 }
 //-----------------------------------------------------------------------------
 /// The sets swept in the order the options ask for (SweepOrder)
@@ -258,6 +264,9 @@ template <int D> void Monitor<D>::finish()
 //-----------------------------------------------------------------------------
 /// Sweeps of a swept problem: its two parts on two threads when `threads`
 /// > 1 (the separator on one, between two barriers), else all in order.
+/// The contacts of W's rank-one terms are in the separator of a split
+/// (split_for_two_threads), so that one thread alone updates the terms'
+/// sums; they are made again from r between two sweeps, on one thread.
 template <int D>
 void swept_sweeps(const SweepPlanD<D>& swept, double* r, int threads,
                   Monitor<D>& monitor)
@@ -265,6 +274,8 @@ void swept_sweeps(const SweepPlanD<D>& swept, double* r, int threads,
   const FrictionContactProblem<D>& problem = swept.problem;
   const std::size_t bounds[4] = {0, swept.ends[0], swept.ends[1],
                                  problem.num_contacts()};
+  RunningSums<D> terms(problem.W);
+  terms.reset(r);
   SweepSums partial[2];
   bool more = true;
 #pragma omp parallel num_threads(2) if (threads > 1)
@@ -274,13 +285,15 @@ void swept_sweeps(const SweepPlanD<D>& swept, double* r, int threads,
     while (more)
     {
       for (int k = t; k < t + parts_here; ++k)
-        partial[k] = sweep(problem, r, monitor.omega, bounds[k], bounds[k + 1]);
+        partial[k] = sweep(problem, r, terms.data(), monitor.omega, bounds[k],
+                           bounds[k + 1]);
 #pragma omp barrier
 #pragma omp single
       {
-        const SweepSums s =
-            sweep(problem, r, monitor.omega, bounds[2], bounds[3]);
+        const SweepSums s = sweep(problem, r, terms.data(), monitor.omega,
+                                  bounds[2], bounds[3]);
         more = monitor.after_sweep(combine(partial[0], partial[1], s));
+        terms.reset(r);
       } // the implicit barrier: `more` and `omega` are read after it
     }
   }
@@ -296,17 +309,26 @@ void domain_sweeps(const FrictionContactProblem<D>& problem,
   std::vector<std::vector<std::int32_t>> stages;
   for (const std::vector<std::int32_t>& stage : domain.stages)
     stages.push_back(in_order(stage, options));
+  // A rank-one term's contacts on several domains are interface contacts
+  // that read one another (plan_domain): after each exchange this domain
+  // holds all their current reactions and makes the sums again.
+  RunningSums<D> terms(problem.W);
   bool more = true;
   while (more)
   {
     double sums[2] = {0, 0};
+    terms.reset(r.data());
     for (std::size_t s = 0; s < domain.stages.size(); ++s)
     {
-      const SweepSums part = sweep(problem, r.data(), monitor.omega, stages[s]);
+      const SweepSums part =
+          sweep(problem, r.data(), terms.data(), monitor.omega, stages[s]);
       sums[0] += part.change;
       sums[1] += part.norm;
       if (s > 0)
+      {
         domain.exchange(static_cast<int>(s), r);
+        terms.reset(r.data());
+      }
     }
     domain.reduce(sums);
     more = monitor.after_sweep({sums[0], sums[1]});
@@ -437,10 +459,13 @@ NlgsResult solve(const FrictionContactProblem<D>& problem, std::span<double> r,
   else
   {
     Monitor<D> monitor(problem, r, u, options, result, {});
+    RunningSums<D> terms(problem.W);
     if (sweeps)
-      while (monitor.after_sweep(
-          sweep(problem, r.data(), monitor.omega, 0, problem.num_contacts())))
-        ;
+      do
+        terms.reset(r.data());
+      while (
+          monitor.after_sweep(sweep(problem, r.data(), terms.data(),
+                                    monitor.omega, 0, problem.num_contacts())));
     monitor.finish();
   }
   // The reactions are made whole (the caller's next Newton iterate needs

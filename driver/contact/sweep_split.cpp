@@ -21,27 +21,32 @@ struct Graph
   }
 };
 
-template <int D> Graph coupling_graph(const DelassusMatrixD<D>& W)
+/// The graph of the stored blocks between contacts not `held` (the
+/// held ones left without edges)
+template <int D>
+Graph coupling_graph(const DelassusMatrixD<D>& W, const std::vector<char>& held)
 {
   const std::size_t n = W.num_contacts();
   Graph g;
   g.offsets.assign(n + 1, 0);
   for (std::size_t a = 0; a < n; ++a)
     for (const std::int32_t b : W.row_columns(a))
-    {
-      ++g.offsets[a + 1];
-      ++g.offsets[b + 1];
-    }
+      if (!held[a] and !held[b])
+      {
+        ++g.offsets[a + 1];
+        ++g.offsets[b + 1];
+      }
   for (std::size_t a = 0; a < n; ++a)
     g.offsets[a + 1] += g.offsets[a];
   g.neighbours.resize(g.offsets[n]);
   std::vector<std::int32_t> next(g.offsets.begin(), g.offsets.end() - 1);
   for (std::size_t a = 0; a < n; ++a)
     for (const std::int32_t b : W.row_columns(a))
-    {
-      g.neighbours[next[a]++] = b;
-      g.neighbours[next[b]++] = static_cast<std::int32_t>(a);
-    }
+      if (!held[a] and !held[b])
+      {
+        g.neighbours[next[a]++] = b;
+        g.neighbours[next[b]++] = static_cast<std::int32_t>(a);
+      }
   return g;
 }
 
@@ -64,15 +69,16 @@ std::vector<std::int32_t> levels_from(const Graph& g, std::int32_t start,
 
 /// Each contact's level in the sequence of all components' levels laid end
 /// to end (a component starts at a pseudo-peripheral contact, so that its
-/// levels are many and thin).
+/// levels are many and thin); the held contacts have none (-1).
 std::vector<std::int32_t> global_levels(const Graph& g, std::size_t n,
+                                        const std::vector<char>& held,
                                         std::int32_t& num_levels)
 {
   std::vector<std::int32_t> probe(n, -1), level(n, -1), global(n, -1);
   num_levels = 0;
   for (std::size_t s = 0; s < n; ++s)
   {
-    if (level[s] >= 0)
+    if (level[s] >= 0 or held[s])
       continue;
     const std::int32_t far =
         levels_from(g, static_cast<std::int32_t>(s), probe).back();
@@ -96,13 +102,21 @@ template <int D> SweepSplit split_contacts(const DelassusMatrixD<D>& W)
       split.part[0].push_back(static_cast<std::int32_t>(a));
     return split;
   }
-  const Graph g = coupling_graph(W);
+  // The contacts of a rank-one term all read one another (through its
+  // sum): they are held for the separator, the others split.
+  std::vector<char> held(n, 0);
+  for (const auto& term : W.rank_one_terms())
+    for (const std::int32_t c : term.contacts)
+      held[c] = 1;
+  const Graph g = coupling_graph(W, held);
   std::int32_t num_levels = 0;
-  const std::vector<std::int32_t> global = global_levels(g, n, num_levels);
+  const std::vector<std::int32_t> global =
+      global_levels(g, n, held, num_levels);
   // A contact's work in a sweep: its local solve and its row's blocks.
   std::vector<double> work(num_levels, 0.0);
   for (std::size_t a = 0; a < n; ++a)
-    work[global[a]] += 1.0 + static_cast<double>(W.row_columns(a).size());
+    if (!held[a])
+      work[global[a]] += 1.0 + static_cast<double>(W.row_columns(a).size());
   double total = 0;
   for (const double w : work)
     total += w;
@@ -122,7 +136,9 @@ template <int D> SweepSplit split_contacts(const DelassusMatrixD<D>& W)
   for (std::size_t a = 0; a < n; ++a)
   {
     const auto c = static_cast<std::int32_t>(a);
-    if (global[a] < cut)
+    if (held[a])
+      split.separator.push_back(c);
+    else if (global[a] < cut)
       split.part[0].push_back(c);
     else if (global[a] > cut)
       split.part[1].push_back(c);

@@ -31,7 +31,9 @@ struct SweepSplit
 /// work (one plus the off-diagonal blocks of each contact's row) of the two
 /// sides plus the separator level itself. Edges between adjacent levels
 /// only: the cut level separates the levels before it from those after.
-/// The coupling graph is W's block pattern made symmetric.
+/// The coupling graph is W's block pattern made symmetric. The contacts of
+/// W's rank-one terms (DelassusMatrix::RankOne), each coupled to all the
+/// others of its term, are all in the separator, the others split.
 /// @param[in] W A finalized Delassus operator
 /// @return The split; with fewer than 3 contacts everything is in part[0]
 SweepSplit split_for_two_threads(const DelassusMatrix& W);

@@ -119,6 +119,10 @@ contact::FrictionContactProblem2D ContactExchange::whole_problem(
   whole.W = contact::DelassusMatrix(W.num_contacts());
   for (const WireBlock& w : _dist.comm().gather_items<WireBlock>(mine))
     whole.W.add_block(w.a, w.b, from_wire(w));
+  // Every rank holds the rank-one terms whole; the diagonal came with the
+  // blocks.
+  for (const contact::DelassusMatrix::RankOne& term : W.rank_one_terms())
+    whole.W.add_rank_one(term.contacts, term.g, term.inverse_mass, false);
   whole.W.finalize();
   return whole;
 }

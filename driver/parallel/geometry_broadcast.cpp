@@ -27,10 +27,12 @@ void broadcast_geometry(MPI_Comm comm, bodies::BodyGeometry& geometry)
   MPI_Comm_size(comm, &size);
   if (size == 1)
     return;
-  std::int64_t counts[2] = {geometry.num_nodes(),
-                            static_cast<std::int64_t>(geometry.cells.size())};
-  MPI_Bcast(counts, 2, MPI_INT64_T, 0, comm);
-  geometry.x.resize(2 * counts[0]);
+  std::int64_t counts[3] = {geometry.num_nodes(),
+                            static_cast<std::int64_t>(geometry.cells.size()),
+                            geometry.dim};
+  MPI_Bcast(counts, 3, MPI_INT64_T, 0, comm);
+  geometry.dim = static_cast<int>(counts[2]);
+  geometry.x.resize(geometry.dim * counts[0]);
   geometry.node_input.resize(counts[0]);
   geometry.cells.resize(counts[1]);
   geometry.cell_body.resize(counts[1]);

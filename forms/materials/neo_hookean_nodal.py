@@ -20,6 +20,8 @@ from ufl import (Constant, Identity, TestFunction, TrialFunction,
                  Coefficient, VectorElement, derivative, det,
                  dx, grad, ln, tr, triangle)
 
+# Plane strain only (no `dimensions = (2, 3)`): the driver's nodal energy
+# sums triangle areas (nodal_volumetric.h).
 element = VectorElement("Lagrange", triangle, 1)
 
 u = Coefficient(element)

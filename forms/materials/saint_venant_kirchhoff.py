@@ -1,6 +1,6 @@
 # Saint Venant-Kirchhoff solid in plane strain.
 #
-#   E = (F^T F - I)/2 (2x2; E33 = 0 in plane strain)
+#   E = (F^T F - I)/2 (2x2; E33 = 0 in plane strain; 3x3 in 3D)
 #   Psi = lambda/2 (tr E)^2 + mu tr(E E)
 #   (mu = shear_modulus, lambda = lame_lambda)
 #
@@ -11,14 +11,20 @@ from ufl import (Constant, Identity, TestFunction, TrialFunction,
                  Coefficient, VectorElement, derivative, dx,
                  grad, inner, tr, triangle)
 
-element = VectorElement("Lagrange", triangle, 1)
+# The cell: triangle (plane strain) unless the build compiles this law for
+# tetrahedra (3D, no plane-strain restriction): `dimensions` lists both, and
+# forms/solid_wrapper.py.in runs this file with `cell` = tetrahedron.
+cell = globals().get("cell", triangle)
+dimensions = (2, 3)
+
+element = VectorElement("Lagrange", cell, 1)
 
 u = Coefficient(element)
 v = TestFunction(element)
 du = TrialFunction(element)
 
-shear_modulus = Constant(triangle)
-lame_lambda = Constant(triangle)
+shear_modulus = Constant(cell)
+lame_lambda = Constant(cell)
 
 parameters = {
     "shear_modulus": {"unit": "Pa", "range": "(0, inf)", "default": 0.15e6,
@@ -30,8 +36,10 @@ parameters = {
                            "elasticity as neo_hookean's)"},
 }
 
-F = Identity(2) + grad(u)
-E = (F.T * F - Identity(2)) / 2
+# Plane strain (2D): E33 = 0
+d = cell.geometric_dimension()
+F = Identity(d) + grad(u)
+E = (F.T * F - Identity(d)) / 2
 psi = lame_lambda / 2 * tr(E) ** 2 + shear_modulus * inner(E, E)
 
 energy = psi * dx

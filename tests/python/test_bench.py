@@ -143,6 +143,31 @@ def test_the_periodic_bench_differs_from_the_walled_only_in_the_bounds(
     assert cell["stop"]["steps"] == 7
 
 
+def test_the_periodic_shear_bench_is_shear_small_s_shear_of_the_same_disks(
+        registry):
+    """The stress-controlled shear has the walled run's disks and settings
+    in a cell of its box's edges, the width fixed, L_xy and sigma_yy those
+    of examples/shear_small.toml, the height the servo unknown."""
+    from softpack.bench import common as bench
+    from softpack.bench.periodic import shear_config
+    from softpack.scene.config import load_config
+    from softpack import paths
+
+    walled = bench.scaled_config(1, {**bench.FAST, "stop.steps": 7,
+                                     "damping.alpha": 0.0})
+    cell = shear_config(walled, 7)
+    example = load_config(paths.ROOT / "examples" / "shear_small.toml")
+    assert cell["species"] == walled["species"]
+    for section in ("mesh", "time", "packing", "material"):
+        assert cell[section] == walled[section], section
+    assert cell["cell"]["a1"] == [walled["box"]["length"], 0.0]
+    assert cell["cell"]["a2"] == [0.0, walled["box"]["width"]]
+    for key in ("velocity_gradient_x", "velocity_gradient_y", "control_xx",
+                "control_yy", "stress_yy"):
+        assert cell["cell"][key] == example["cell"][key], key
+    assert cell["stop"]["steps"] == 7
+
+
 CONTACTS = "candidate,node,antagonist,wall,fn\n"
 
 

@@ -29,7 +29,11 @@ from a state a run wrote (``runs/<run>/raw/state.bin``), at both settings:
 the crowded end of the compaction without recomputing its start.
 
 ``--periodic 100,400`` times the periodic cell against the walled box with
-the same disks (:mod:`.periodic`).
+the same disks (:mod:`.periodic`); ``--periodic-shear 100,400`` the same
+disks' stress-controlled simple shear, in seconds per unit shear strain.
+
+``--laws neo_hookean_nodal,viscoelastic_neo_hookean`` times each law
+against neo-Hookean on the paper case, alternating (:mod:`.laws`).
 
 ``--full`` also runs the whole paper case (fast settings, seed 0) with
 ``./softpack run`` and reports its wall time.
@@ -106,6 +110,16 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--periodic", metavar="N,...",
                         help="only time --steps steps of N paper disks in a"
                         " periodic cell and in the walled box (e.g. 100,400)")
+    parser.add_argument("--periodic-shear", metavar="N,...",
+                        help="only time --steps steps of N paper disks in a"
+                        " stress-controlled periodic cell under simple shear"
+                        " (e.g. 100,400): seconds per unit shear strain")
+    parser.add_argument("--laws", metavar="LAW,...",
+                        help="only time --steps steps of the paper case with"
+                        " each law against neo_hookean, alternating"
+                        " --law-repeats times (issue 39: at most 1.3x)")
+    parser.add_argument("--law-repeats", type=int, default=2, metavar="R",
+                        help="with --laws: runs of each law (default 2)")
     return parser
 
 
@@ -125,8 +139,14 @@ def main(argv=None) -> int:
         cell = "periodic-" if args.disks_periodic else ""
         return _save(result,
                      f"disks-{args.disks}-{cell}{ranks}{_stamp()}.json")
-    if args.periodic:
+    if args.periodic or args.periodic_shear:
         return _periodic(args)
+    if args.laws:
+        from softpack.bench.laws import bench_laws, table
+        report = bench_laws(args.laws.split(","), args.steps,
+                            args.law_repeats)
+        print(table(report))
+        return _save_quiet(report, f"laws-{_stamp()}.json")
     if args.mpi:
         from softpack.bench.mpi import bench_mpi, table
         report = bench_mpi(WORK, args.steps, args.from_state,
@@ -140,16 +160,22 @@ def main(argv=None) -> int:
 
 def _periodic(args) -> int:
     """``--periodic N,...``."""
-    from softpack.bench.periodic import bench_periodic, table
+    from softpack.bench import periodic
 
+    option, given = (("--periodic-shear", args.periodic_shear)
+                     if args.periodic_shear else ("--periodic", args.periodic))
     try:
-        counts = [int(n) for n in args.periodic.split(",")]
+        counts = [int(n) for n in given.split(",")]
     except ValueError:
-        print("softpack bench: --periodic takes disk counts separated by"
-              f" commas, e.g. 100,400; got {args.periodic!r}")
+        print(f"softpack bench: {option} takes disk counts separated by"
+              f" commas, e.g. 100,400; got {given!r}")
         return 2
-    report = bench_periodic(counts, args.steps)
-    print(table(report))
+    if args.periodic_shear:
+        report = periodic.bench_periodic_shear(counts, args.steps)
+        print(periodic.shear_table(report))
+        return _save_quiet(report, f"periodic-shear-{_stamp()}.json")
+    report = periodic.bench_periodic(counts, args.steps)
+    print(periodic.table(report))
     return _save_quiet(report, f"periodic-{_stamp()}.json")
 
 

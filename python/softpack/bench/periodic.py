@@ -23,7 +23,7 @@ its extra detection (issue 38's target: under 10 % more).
 from __future__ import annotations
 
 from softpack import paths
-from softpack.bench.common import (FAST, PARTS, PISTON, bench_nlgs,
+from softpack.bench.common import (FAST, PARTS, PISTON, WORK, bench_nlgs,
                                    run_driver, scaled_config, scene_for)
 from softpack.scene.config import load_config
 
@@ -40,12 +40,11 @@ def _setting(config, key: str):
     return config[section][name]
 
 
-def periodic_config(walled, steps: int = 0, to_phi: float = 0.0):
+def _cell_overrides(walled, steps: int = 0, to_phi: float = 0.0) -> dict:
     """The walled config's disks and settings in a periodic cell of its
-    box's edges, compacted at the piston's rate of area change for
-    ``steps`` steps or to Phi = ``to_phi`` (0: no such bound)."""
+    box's edges (no velocity gradient yet), for ``steps`` steps or to Phi =
+    ``to_phi`` (0: no such bound)."""
     box = walled["box"]
-    rate = walled["walls"][PISTON]["velocity"][0] / box["length"] / 2
     overrides = {key: _setting(walled, key) for key in PAPER_SETTINGS}
     for i, s in enumerate(walled["species"]):
         overrides[f"species.{i}.count"] = s["count"]
@@ -54,10 +53,89 @@ def periodic_config(walled, steps: int = 0, to_phi: float = 0.0):
         **FAST, "output.fields": False, "output.every_steps": 50,
         "stop.steps": steps, "stop.packing_fraction": to_phi,
         "stop.max_time": 10.0,
-        "cell.a1": [box["length"], 0.0], "cell.a2": [0.0, box["width"]],
-        "cell.velocity_gradient_x": [rate, 0.0],
-        "cell.velocity_gradient_y": [0.0, rate]})
+        "cell.a1": [box["length"], 0.0], "cell.a2": [0.0, box["width"]]})
+    return overrides
+
+
+def periodic_config(walled, steps: int = 0, to_phi: float = 0.0):
+    """The walled config's disks and settings in a periodic cell of its
+    box's edges, compacted at the piston's rate of area change for
+    ``steps`` steps or to Phi = ``to_phi`` (0: no such bound)."""
+    box = walled["box"]
+    rate = walled["walls"][PISTON]["velocity"][0] / box["length"] / 2
+    overrides = _cell_overrides(walled, steps, to_phi)
+    overrides.update({"cell.velocity_gradient_x": [rate, 0.0],
+                      "cell.velocity_gradient_y": [0.0, rate]})
     return load_config(PERIODIC_TOML, overrides)
+
+
+#: The stress-controlled simple shear of examples/shear_small.toml: the
+#: shear rate L_xy (1/s) and the normal stress on the free height (Pa).
+SHEAR_RATE = 2.0
+SHEAR_STRESS = 2000.0
+
+
+def shear_config(walled, steps: int):
+    """The walled config's disks in a cell of its box's edges under
+    examples/shear_small.toml's simple shear at constant normal stress: the
+    width fixed, L_xy = SHEAR_RATE, the height a servo unknown under
+    SHEAR_STRESS (its coupling to every contact: W's rank-one term)."""
+    overrides = _cell_overrides(walled, steps)
+    overrides.update({"cell.velocity_gradient_x": [0.0, SHEAR_RATE],
+                      "cell.velocity_gradient_y": [0.0, 0.0],
+                      "cell.control_yy": "stress",
+                      "cell.stress_yy": SHEAR_STRESS})
+    return load_config(PERIODIC_TOML, overrides)
+
+
+def _walled(n: int, steps: int):
+    """The paper's disks scaled to n in the walled box for ``steps`` steps,
+    without the mass-proportional damping a cell refuses."""
+    return scaled_config(n / 100, {**FAST, "output.every_steps": 50,
+                                   "stop.steps": steps, "damping.alpha": 0.0})
+
+
+def bench_periodic_shear(counts, steps: int) -> dict:
+    """The stress-controlled shear (:func:`shear_config`) of each count of
+    disks for ``steps`` steps from the random placement: ms per step, by
+    part, the contacts at the end, and the seconds per unit shear strain
+    (1 / (SHEAR_RATE time_step) steps), with the NLGS yardstick."""
+    from softpack.contract.tables import read_table
+
+    rows = []
+    for n in counts:
+        walled = _walled(n, steps)
+        cell = shear_config(walled, steps)
+        tag = f"n{sum(s['count'] for s in walled['species'])}"
+        result = run_driver(cell, scene_for(cell, f"cell-{tag}"),
+                            f"shear-{tag}")
+        steps_csv = WORK / f"shear-{tag}" / "raw" / "steps.csv"
+        contacts = read_table(steps_csv)["contacts"]
+        dt = cell["time"]["time_step"]
+        rows.append({"disks": n, "shear": result,
+                     "contacts_end": int(contacts[-1]),
+                     "seconds_per_unit_strain":
+                     result["ms_per_step"] / 1e3 / (SHEAR_RATE * dt)})
+    return {"steps": steps, "rows": rows,
+            "nlgs_yardstick": bench_nlgs().get("sweeps_per_second")}
+
+
+def shear_table(report: dict) -> str:
+    """A few lines for a person."""
+    lines = [f"{report['steps']} steps of stress-controlled simple shear"
+             f" (L_xy {SHEAR_RATE} 1/s, sigma_yy {SHEAR_STRESS} Pa) from the"
+             " random placement (ms per step: whole; " + ", ".join(PARTS)
+             + ")"]
+    for r in report["rows"]:
+        x = r["shear"]
+        parts = ", ".join(f"{x['ms_' + p]:.1f}" for p in PARTS)
+        lines.append(f"{r['disks']:5d} disks: {x['ms_per_step']:.1f}"
+                     f" ({parts}), {r['contacts_end']} contacts at the end,"
+                     f" {r['seconds_per_unit_strain']:.0f} s per unit shear"
+                     f" strain, peak {x['peak_memory_mb']:.0f} MB")
+    lines.append(f"NLGS yardstick today: {report['nlgs_yardstick']:.0f}"
+                 " sweeps/s")
+    return "\n".join(lines)
 
 
 def _fastest(results: list[dict]) -> dict:
@@ -73,9 +151,7 @@ def bench_periodic(counts, steps: int, repeats: int = 2) -> dict:
     """Both runs for each count of disks; see the module doc."""
     rows = []
     for n in counts:
-        walled = scaled_config(n / 100, {**FAST, "output.every_steps": 50,
-                                       "stop.steps": steps,
-                                       "damping.alpha": 0.0})
+        walled = _walled(n, steps)
         cell = periodic_config(walled, steps)
         tag = f"n{sum(s['count'] for s in walled['species'])}"
         runs = {"walled": [], "periodic": []}

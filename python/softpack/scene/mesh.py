@@ -250,22 +250,22 @@ XDMF_TEMPLATE = """<?xml version="1.0"?>
 <Xdmf Version="3.0" xmlns:xi="http://www.w3.org/2001/XInclude">
   <Domain>
     <Grid Name="mesh" GridType="Uniform">
-      <Topology TopologyType="Triangle" NumberOfElements="{cells}" \
-NodesPerElement="3">
-        <DataItem Dimensions="{cells} 3" NumberType="Int" Format="HDF">\
-{h5}:/Mesh/mesh/topology</DataItem>
+      <Topology TopologyType="{topology}" NumberOfElements="{cells}" \
+NodesPerElement="{per_cell}">
+        <DataItem Dimensions="{cells} {per_cell}" NumberType="Int" \
+Format="HDF">{h5}:/Mesh/mesh/topology</DataItem>
       </Topology>
-      <Geometry GeometryType="XY">
-        <DataItem Dimensions="{nodes} 2" Format="HDF">\
+      <Geometry GeometryType="{geometry}">
+        <DataItem Dimensions="{nodes} {dim}" Format="HDF">\
 {h5}:/Mesh/mesh/geometry</DataItem>
       </Geometry>
     </Grid>
     <Grid Name="bodies" GridType="Uniform">
       <xi:include xpointer="xpointer(/Xdmf/Domain/Grid/Geometry)" />
-      <Topology TopologyType="Triangle" NumberOfElements="{cells}" \
-NodesPerElement="3">
-        <DataItem Dimensions="{cells} 3" NumberType="Int" Format="HDF">\
-{h5}:/MeshTags/bodies/topology</DataItem>
+      <Topology TopologyType="{topology}" NumberOfElements="{cells}" \
+NodesPerElement="{per_cell}">
+        <DataItem Dimensions="{cells} {per_cell}" NumberType="Int" \
+Format="HDF">{h5}:/MeshTags/bodies/topology</DataItem>
       </Topology>
       <Attribute Name="bodies" AttributeType="Scalar" Center="Cell">
         <DataItem Dimensions="{cells} 1" Format="HDF">\
@@ -277,8 +277,9 @@ NodesPerElement="3">
 """
 
 
-def _write_xdmf(xdmf, points, cells, body) -> None:
-    """The mesh and its cell tags in dolfinx's XDMF layout, written with
+def write_xdmf(xdmf, points, cells, body) -> None:
+    """The mesh (triangles in 2D, tetrahedra in 3D: the points' number of
+    coordinates) and its cell tags in dolfinx's XDMF layout, written with
     h5py: dolfinx's own writer first builds a distributed mesh, whose cell
     reordering takes most of the time for a thousand particles (12 s of
     16 s); the driver's reader (and tests/python/test_mesh.py) reads this
@@ -292,8 +293,15 @@ def _write_xdmf(xdmf, points, cells, body) -> None:
         f["MeshTags/bodies/topology"] = np.asarray(cells, dtype=np.int64)
         f["MeshTags/bodies/Values"] = np.asarray(
             body, dtype=np.int32).reshape(-1, 1)
-    xdmf.write_text(XDMF_TEMPLATE.format(cells=len(cells), nodes=len(points),
-                                         h5=h5.name))
+    dim = np.shape(points)[1]
+    xdmf.write_text(XDMF_TEMPLATE.format(
+        cells=len(cells), nodes=len(points), h5=h5.name, dim=dim,
+        per_cell=dim + 1, topology="Triangle" if dim == 2 else "Tetrahedron",
+        geometry="XY" if dim == 2 else "XYZ"))
+
+
+#: The 2D meshes' writer (tests replace it)
+_write_xdmf = write_xdmf
 
 
 def _write_outputs(xdmf, mesh, bodies_csv, rows) -> None:

@@ -116,7 +116,7 @@ TEST(BodyGeometry, TheBodiesOfTwoTrianglesAreTheirTrianglesOriented)
       bodies::build_bodies(two_triangles(false));
   ASSERT_EQ(b.size(), 2u);
   EXPECT_EQ(b[1].nodes, (std::vector<std::int32_t>{3, 4, 5}));
-  EXPECT_EQ(b[1].cell_nodes[0], (std::array<std::int32_t, 3>{0, 1, 2}));
+  EXPECT_EQ(b[1].cell_nodes[0], (bodies::CellNodes{0, 1, 2}));
   EXPECT_DOUBLE_EQ(b[0].reference_area, 0.5);
   EXPECT_DOUBLE_EQ(b[1].reference_area, 0.5);
   // Counter-clockwise: the body on the left of each segment

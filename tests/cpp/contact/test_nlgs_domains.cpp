@@ -15,6 +15,7 @@
 #include <barrier>
 #include <cmath>
 #include <gtest/gtest.h>
+#include <random>
 #include <thread>
 
 using namespace softpack::contact;
@@ -54,8 +55,40 @@ FrictionContactProblem2D rows_of(const FrictionContactProblem2D& p,
       for (std::size_t k = 0; k < p.W.row_columns(a).size(); ++k)
         mine.W.add_block(a, p.W.row_columns(a)[k], p.W.row_blocks(a)[k]);
     }
+  // A rank holds the rank-one terms whole (their diagonal came above)
+  for (const DelassusMatrix::RankOne& t : p.W.rank_one_terms())
+    mine.W.add_rank_one(t.contacts, t.g, t.inverse_mass, false);
   mine.W.finalize();
   return mine;
+}
+
+/// The problem with a servo wall's rank-one term added to W: every fourth
+/// contact moved by it, g random of the size of W's normal diagonal
+FrictionContactProblem2D with_servo_term(const FrictionContactProblem2D& p)
+{
+  const std::size_t n = p.num_contacts();
+  FrictionContactProblem2D out = p;
+  out.W = DelassusMatrix(n);
+  double mean_nn = 0;
+  for (std::size_t a = 0; a < n; ++a)
+  {
+    out.W.add_block(a, a, p.W.diagonal(a));
+    mean_nn += p.W.diagonal(a)(0, 0) / static_cast<double>(n);
+    for (std::size_t k = 0; k < p.W.row_columns(a).size(); ++k)
+      out.W.add_block(a, p.W.row_columns(a)[k], p.W.row_blocks(a)[k]);
+  }
+  std::mt19937 gen(3);
+  std::uniform_real_distribution<double> unit(-0.5, 0.5);
+  std::vector<std::int32_t> contacts;
+  std::vector<Eigen::Vector2d> g;
+  for (std::size_t a = 0; a < n; a += 4)
+  {
+    contacts.push_back(static_cast<std::int32_t>(a));
+    g.push_back(std::sqrt(mean_nn) * Eigen::Vector2d(unit(gen), unit(gen)));
+  }
+  out.W.add_rank_one(contacts, g, 1.0);
+  out.W.finalize();
+  return out;
 }
 
 /// Every domain's problem (its rows) and plan, each plan from its own rows
@@ -247,4 +280,38 @@ TEST(NlgsDomains, PlanSplitsContactsAndLinksNeighboursBothWays)
     }
   }
   EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<long>(n));
+}
+
+TEST(NlgsDomains, ARankOneTermIsSweptAsItsDenseBlocksAre)
+{
+  // A servo wall's term across the domains: its contacts are interface
+  // contacts reading one another, as the dense blocks made them, so the
+  // domain-wise sweep is the same Gauss–Seidel iteration on the term and on
+  // its blocks (W expanded): the same sweeps, reactions apart by rounding.
+  const FrictionContactProblem2D p = with_servo_term(
+      read_fclib_local(hdf5_file("fc2d_granularflowonwall_02020_00213")));
+  FrictionContactProblem2D blocks = p;
+  blocks.W = p.W.expanded();
+  NlgsOptions opt;
+  opt.tolerance = 1e-8;
+  opt.max_sweeps = 20000;
+  for (const int D : {2, 3})
+  {
+    const DomainRun term = solve_in_domains(p, D, opt);
+    const DomainRun dense = solve_in_domains(blocks, D, opt);
+    ASSERT_TRUE(term.result[0].converged) << "D=" << D;
+    EXPECT_GT(term.result[0].iterations, 0);
+    EXPECT_EQ(term.result[0].iterations, dense.result[0].iterations);
+    for (int k = 1; k < D; ++k)
+      EXPECT_EQ(term.r[k], term.r[0]);
+    double scale = 0;
+    for (const double v : dense.r[0])
+      scale = std::max(scale, std::abs(v));
+    ASSERT_GT(scale, 0);
+    for (std::size_t i = 0; i < term.r[0].size(); ++i)
+      ASSERT_NEAR(term.r[0][i], dense.r[0][i], 1e-12 * scale) << "D=" << D;
+    std::vector<double> w(term.r[0].size());
+    EXPECT_LE(compute_error(blocks, term.r[0], w, opt.q_zero_tolerance).value,
+              opt.tolerance);
+  }
 }

@@ -18,23 +18,11 @@ using softpack::test::icosphere;
 using softpack::test::Mesh;
 using softpack::test::octahedron;
 
-using Vec = std::array<double, 3>;
+using softpack::test::surface_detail::cross;
+using softpack::test::surface_detail::dot;
+using softpack::test::surface_detail::unit;
+using softpack::test::surface_detail::Vec;
 using Tri = std::array<std::int32_t, 3>;
-
-inline double dot(const Vec& a, const Vec& b)
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-inline Vec cross(const Vec& a, const Vec& b)
-{
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-          a[0] * b[1] - a[1] * b[0]};
-}
-inline Vec unit(Vec a)
-{
-  const double l = std::sqrt(dot(a, a));
-  return {a[0] / l, a[1] / l, a[2] / l};
-}
 
 /// Bodies made of meshes, each scaled, turned and moved: the surfaces and
 /// the coordinates (3 per node, the bodies' nodes one after another)
