@@ -41,6 +41,9 @@ struct InternalForms
   CellKernel energy, residual, tangent, update;
   /// The entry of update.constants that is the step size
   std::size_t time_step = 0;
+  /// Whether the update's last entry is the cell's dissipation over the
+  /// relaxation (else it is the energy before less the energy after)
+  bool update_dissipates = false;
 };
 
 /// The forms of one material that run body by body: the strain energy,
@@ -158,16 +161,15 @@ public:
   /// The internal variables of each cell of the flagged bodies whose law
   /// has them, relaxed over a step h at displacement u (the law's
   /// internal_update) in place (`internal`, stride per cell: the view
-  /// set_internal gave), with the cell's strain energy before and after
-  /// into before[c] and after[c], and (f not empty) the body's internal
-  /// force at the relaxed values into f (its entries overwritten); one
+  /// set_internal gave), with the cell's dissipation (its strain energy
+  /// before less after) into dissipated[c], and (f not empty) the body's
+  /// internal force at the relaxed values into f (its entries overwritten); one
   /// pass over the cells (internal_variables.cpp). The others' entries are
   /// left as they are.
   void relax_internal(std::span<double> internal, double h,
                       const std::vector<Body>& bodies,
                       std::span<const double> x, std::span<const double> u,
-                      std::span<double> before, std::span<double> after,
-                      std::span<double> f,
+                      std::span<double> dissipated, std::span<double> f,
                       std::span<const char> only = {}) const;
   /// Whether body k's law has internal variables
   bool has_internal(int k) const
@@ -207,6 +209,7 @@ private:
     /// A law with internal variables: their update (none: internal = 0)
     CellKernel update;
     std::size_t time_step = 0;
+    bool update_dissipates = false;
     /// The nodal volumetric energy's lambda (0: none)
     double nodal_lambda = 0;
   };
