@@ -114,8 +114,7 @@ BodyAssembly::BodyAssembly(
       _kernels.push_back({in.energy, in.residual, in.tangent,
                           cell_kernel(*f.mass, 2, "mass", u),
                           cell_kernel(*f.lumped_mass, 2, "lumped mass", u),
-                          in.update, in.time_step, in.update_dissipates,
-                          f.nodal_lambda});
+                          in.update, in.time_step, f.nodal_lambda});
       continue;
     }
     _kernels.push_back({cell_kernel(*f.energy, 0, "energy", u),

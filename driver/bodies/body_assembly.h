@@ -41,9 +41,6 @@ struct InternalForms
   CellKernel energy, residual, tangent, update;
   /// The entry of update.constants that is the step size
   std::size_t time_step = 0;
-  /// Whether the update's last entry is the cell's dissipation over the
-  /// relaxation (else it is the energy before less the energy after)
-  bool update_dissipates = false;
 };
 
 /// The forms of one material that run body by body: the strain energy,
@@ -162,10 +159,10 @@ public:
   /// has them, relaxed over a step h at displacement u (the law's
   /// internal_update) in place (`internal`, stride per cell: the view
   /// set_internal gave), with the cell's dissipation (its strain energy
-  /// before less after) into dissipated[c], and (f not empty) the body's
-  /// internal force at the relaxed values into f (its entries overwritten); one
-  /// pass over the cells (internal_variables.cpp). The others' entries are
-  /// left as they are.
+  /// before less after: the update's last entry) into dissipated[c], and (f not
+  /// empty) the body's internal force at the relaxed values into f (its entries
+  /// overwritten); one pass over the cells (internal_variables.cpp). The
+  /// others' entries are left as they are.
   void relax_internal(std::span<double> internal, double h,
                       const std::vector<Body>& bodies,
                       std::span<const double> x, std::span<const double> u,
@@ -209,7 +206,6 @@ private:
     /// A law with internal variables: their update (none: internal = 0)
     CellKernel update;
     std::size_t time_step = 0;
-    bool update_dissipates = false;
     /// The nodal volumetric energy's lambda (0: none)
     double nodal_lambda = 0;
   };

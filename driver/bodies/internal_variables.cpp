@@ -77,16 +77,16 @@ InternalForms internal_forms(const forms::MaterialForms& law,
       internal_kernel(law, *law.tangent, 2, "tangent", constants, nullptr);
   f.update = internal_kernel(law, *law.internal_update, 1, "internal_update",
                              constants, &f.time_step);
-  const int tested = law.internal_update->finite_elements[0]->space_dimension;
-  f.update_dissipates = tested == f.update.internal + 1;
-  if ((tested != f.update.internal && !f.update_dissipates) ||
+  // the relaxed values, then the cell's dissipation over the relaxation
+  if (law.internal_update->finite_elements[0]->space_dimension !=
+          f.update.internal + 1 ||
       f.update.internal !=
           static_cast<int>(forms::internal_initial(law.name).size()))
     throw std::invalid_argument(
         std::string("law '") + law.name +
-        "': internal_update's test space (the internal variables, "
-        "optionally followed by the dissipation), its coefficient internal "
-        "and internal_initial differ in size");
+        "': internal_update's test space must be its coefficient internal "
+        "(of internal_initial's size) and one more entry, the cell's "
+        "dissipation");
   return f;
 }
 
@@ -108,8 +108,8 @@ void BodyAssembly::relax_internal(std::span<double> internal, double h,
       continue;
     CellKernel update = kernels.update;
     update.constants[kernels.time_step] = h;
-    // Each cell read once for its update, its dissipation (from the update
-    // or from its energy before and after) and its internal force after
+    // Each cell read once for its update (the relaxed values and the
+    // cell's dissipation) and its internal force after
     const Body& body = bodies[k];
     if (!f.empty()) // summed from zero, as residual does
       for (const std::int32_t g : body.nodes)
@@ -127,10 +127,6 @@ void BodyAssembly::relax_internal(std::span<double> internal, double h,
         }
       double* values = &internal[std::size_t(_stride) * body.cells[c]];
       std::copy_n(values, n, w + 6);
-      double e = 0;
-      if (!kernels.update_dissipates)
-        kernels.energy.tabulate(&e, w, kernels.energy.constants.data(),
-                                coordinates, nullptr, nullptr);
       std::fill_n(relaxed, n + 1, 0.0);
       update.tabulate(relaxed, w, update.constants.data(), coordinates, nullptr,
                       nullptr);
@@ -144,15 +140,7 @@ void BodyAssembly::relax_internal(std::span<double> internal, double h,
                          (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
       for (int i = 0; i < n; ++i)
         values[i] = w[6 + i] = relaxed[i] / area;
-      if (kernels.update_dissipates)
-        dissipated[body.cells[c]] = relaxed[n];
-      else
-      {
-        double after = 0;
-        kernels.energy.tabulate(&after, w, kernels.energy.constants.data(),
-                                coordinates, nullptr, nullptr);
-        dissipated[body.cells[c]] = e - after;
-      }
+      dissipated[body.cells[c]] = relaxed[n];
       if (f.empty())
         continue;
       std::fill_n(fe, 6, 0.0);
