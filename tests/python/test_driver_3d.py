@@ -5,6 +5,7 @@ step until the 3D time step is built."""
 
 import json
 import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,7 +13,7 @@ import pytest
 from driver_required import require_driver
 from softpack.analysis import solids as fractions
 from softpack.scene.build import build_scene
-from softpack.scene.config import validate
+from softpack.scene.config import load_config, validate
 from softpack.simulation.driver_input import write_driver_json
 
 meshio = pytest.importorskip("meshio")
@@ -108,3 +109,17 @@ def test_stepping_a_3d_scene_is_refused(scene_3d, tmp_path):
     # the initial state is written before the refusal, and nothing more
     assert (tmp_path / "raw" / "setup.json").is_file()
     assert not (tmp_path / "raw" / "done.json").exists()
+
+
+def test_initial_only_in_2d_writes_the_first_row_and_stops(tmp_path):
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    config = load_config(examples / "small.toml")
+    scene = build_scene(config, tmp_path / "mesh" / "packing")
+    write_driver_json(config, scene.record(), tmp_path)
+    done = simulate(tmp_path, "--initial-only")
+    assert done.returncode == 0, done.stderr
+    rows = (tmp_path / "raw" / "steps.csv").read_text().splitlines()
+    assert len(rows) == 2 and rows[1].startswith("0,0,")  # step 0 at t = 0
+    finish = json.loads((tmp_path / "raw" / "done.json").read_text())
+    assert finish["reason"] == "initial_only" and finish["steps"] == 0
+    assert (tmp_path / "raw" / "state.bin").is_file()
