@@ -109,22 +109,15 @@ int rank_of(MPI_Comm comm)
 
 bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
 {
-  bodies::BodyGeometry geometry;
-  try
+  try // a law without forms of the dimension, a bad material parameter
   {
+    bodies::BodyGeometry geometry;
     if (rank_of(comm) == 0)
       geometry = bodies::read_body_geometry(
           config.mesh, bodies::displacement_space(
                            config.body_materials.materials, config.dimension));
-  }
-  catch (const std::invalid_argument& e) // a law without 3D forms
-  {
-    throw std::runtime_error(config.file.string() + ": " + e.what());
-  }
-  parallel::broadcast_geometry(comm, geometry);
-  io::check_body_count(config, geometry.num_bodies());
-  try
-  {
+    parallel::broadcast_geometry(comm, geometry);
+    io::check_body_count(config, geometry.num_bodies());
     // A distributed run's ranks assemble the masses they keep only
     // (parallel::Distribution, BodySet::set_local)
     int ranks = 1;

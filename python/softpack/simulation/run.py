@@ -453,7 +453,6 @@ def _run_logged(config, out, initial_state, log, say, known=None,
     return _postprocess(out, say)
 
 
-
 def _reporter(log, verbose=True):
     """``say(text)``: print a line (if ``verbose``), append it to the log."""
     def say(text):
@@ -469,7 +468,7 @@ def _postprocess(out: Path, say) -> int:
     """Check the driver finished, write the observables, print a summary."""
     from softpack.analysis.observables import (process_run, retained_report,
                                                z_report)
-    from softpack.analysis.summary import summary_lines
+    from softpack.analysis.summary import check_lines, summary_lines
     from softpack.contract.tables import read_table
 
     finish = RunDirectory(out).done()
@@ -486,7 +485,8 @@ def _postprocess(out: Path, say) -> int:
     for report in (z_report(s), retained_report(s)):  # Z says what it is
         if report:
             say(report)
-    _say_checks(finish, say)
+    for line in check_lines(finish):
+        say(line)
     say(f"wrote {series_csv} and {particles_csv}")
     flags = run_flags(finish)
     if flags:
@@ -494,31 +494,3 @@ def _postprocess(out: Path, say) -> int:
         return EXIT_FLAGGED
     return EXIT_DONE
 
-
-def _say_checks(finish: dict, say) -> None:
-    """Say when the driver marked the run as not converged or overlapping.
-
-    ``raw/done.json`` counts the steps whose Newton iterations or contact
-    solves stopped unconverged, and the output steps whose bodies overlapped
-    by more than ``contact.alert_distance`` (the driver's independent check).
-    """
-    if finish.get("complete", True) is False:
-        say(f"WARNING: incomplete: the run ended in stage"
-            f" {finish.get('stage', '?')} '{finish.get('stage_name', '?')}'"
-            f" (of {finish.get('stages', '?')}) before its stop criterion:"
-            f" {finish.get('reason', '?')} (raw/done.json complete = false)")
-    if finish.get("converged", True) is False:
-        say(f"WARNING: marked as not converged:"
-            f" {finish.get('newton_unconverged_steps', '?')} steps with"
-            f" Newton and {finish.get('nlgs_unconverged_steps', '?')} with a"
-            f" contact solve unconverged (raw/steps.csv"
-            f" newton_unconverged_steps, nlgs_unconverged_steps)")
-    if finish.get("retried_steps", 0):
-        say(f"{finish['retried_steps']} steps were solved only after a retry"
-            f" at half the time step (time.max_step_factor; raw/steps.csv"
-            f" retried_steps)")
-    if finish.get("overlap_steps", 0):
-        say(f"WARNING: bodies overlap by up to"
-            f" {finish.get('max_overlap_depth', 0):.3g} m at"
-            f" {finish['overlap_steps']} output steps (more than"
-            f" contact.alert_distance; raw/steps.csv max_overlap_depth)")
