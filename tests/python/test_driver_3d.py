@@ -73,6 +73,13 @@ def test_setup_json_describes_the_tetrahedral_bodies(initial_run):
                        rtol=1e-12, atol=0)
     assert setup["units"]["force"] == "N"
     assert setup["scene"]["model"]["dimension"] == 3
+    # the fractions of the fields at t = 0 are the scene's
+    extent = scene.packing.extent
+    at_start = fractions.fractions_at(out / "fields.h5", 0.0, extent)
+    assert at_start["volume_fraction"] == pytest.approx(
+        fractions.volume_fraction(points, tets, body, extent), rel=1e-12)
+    assert at_start["base_area_fraction"] == pytest.approx(
+        fractions.base_area_fraction(points, tets, body, extent), rel=1e-12)
 
 
 def test_meshio_reads_the_tetrahedral_fields(initial_run):

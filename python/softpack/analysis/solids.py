@@ -128,3 +128,20 @@ def scene_summary(xdmf, extent, seed) -> str:
             f" fraction), bottom faces on the base"
             f" {base_area_fraction(points, tets, body, extent):.4f} of its"
             f" area; mesh: {len(tets)} tetrahedra")
+
+
+def fractions_at(fields_h5, time, extent, tolerance=BASE_TOLERANCE) -> dict:
+    """The ``volume_fraction`` and ``base_area_fraction`` of a 3D run's
+    fields (``DIR/fields.h5``) at the stored time nearest ``time``, on the
+    current coordinates X + u (the box's ``extent`` at that time)."""
+    from softpack.analysis.fields import read_snapshot
+
+    snap = read_snapshot(fields_h5, time)
+    if snap.cells.shape[1] != 4:
+        raise ValueError(f"{fields_h5}: not a mesh of tetrahedra")
+    x = snap.current
+    return {"time": snap.time,
+            "volume_fraction": volume_fraction(x, snap.cells, snap.body,
+                                               extent),
+            "base_area_fraction": base_area_fraction(
+                x, snap.cells, snap.body, extent, tolerance)}
