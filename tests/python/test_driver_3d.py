@@ -130,3 +130,21 @@ def test_initial_only_in_2d_writes_the_first_row_and_stops(tmp_path):
     finish = json.loads((tmp_path / "raw" / "done.json").read_text())
     assert finish["reason"] == "initial_only" and finish["steps"] == 0
     assert (tmp_path / "raw" / "state.bin").is_file()
+
+
+@pytest.mark.parametrize("section, key, value, words", [
+    ("model", "dimension", 4, "must be 2 or 3"),
+    ("box", "height", 0.0, "must be > 0 in 3D"),
+    ("box", "height", -1.0, "must be a number >= 0")])
+def test_the_driver_refuses_a_bad_dimension_naming_the_key(
+        scene_3d, tmp_path, section, key, value, words):
+    out, _ = scene_3d
+    document = json.loads((out / "driver.json").read_text())
+    document["directory"] = str(tmp_path)
+    document["scene"][section][key] = value
+    (tmp_path / "driver.json").write_text(json.dumps(document))
+    refused = simulate(tmp_path)
+    assert refused.returncode == 1
+    assert f"scene.{section}.{key}" in refused.stderr and words in \
+        refused.stderr, refused.stderr
+    assert not (tmp_path / "raw").exists()  # refused before anything
