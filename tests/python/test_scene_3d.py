@@ -271,3 +271,16 @@ def test_spheres_are_placed_clear_of_each_other_and_of_the_box(tmp_path):
     assert distance.min() >= 0.02 + gap
     assert fractions.base_area_fraction(points, tets, body,
                                         scene.packing.extent) == 0.0
+
+
+def test_a_solid_in_a_2d_scene_is_refused(tmp_path):
+    points, tets = cube_tetrahedra(0.01)
+    write_msh(tmp_path / "cube.msh", points, tets)
+    data = {"species": [{"shape": "msh", "file": str(tmp_path / "cube.msh"),
+                         "diameter": 0.02, "count": 2}],
+            "box": {"length": 0.1, "width": 0.1}, "stop": {"max_time": 0.1}}
+    with pytest.raises(ShapeError) as err:
+        check_user_shapes(validate(data, "flat.toml"))
+    for word in ("[species.0]", "cube.msh", "a 3D solid (tetrahedra) in a 2D"
+                 " scene"):
+        assert word in str(err.value)
