@@ -148,3 +148,13 @@ def test_the_driver_refuses_a_bad_dimension_naming_the_key(
     assert f"scene.{section}.{key}" in refused.stderr and words in \
         refused.stderr, refused.stderr
     assert not (tmp_path / "raw").exists()  # refused before anything
+
+
+def test_a_3d_scene_runs_on_one_rank_for_now():
+    from softpack.scene.config import ConfigError
+    from softpack.simulation.driver import check_ranks
+
+    config = load_config(Path(__file__).resolve().parents[2] / "examples"
+                         / "cylinders3d_small.toml")
+    with pytest.raises(ConfigError, match="--ranks 2: a 3D scene"):
+        check_ranks(2, config)

@@ -70,7 +70,8 @@ def executable() -> Path:
 
 def check_ranks(ranks: int, config) -> None:
     """Refuse a number of MPI ranks outside 1..number of bodies, or above 1
-    for a periodic cell or with a bonded pair (not yet distributed).
+    for a 3D scene, a periodic cell or with a bonded pair (not yet
+    distributed).
 
     Raises
     ------
@@ -81,6 +82,11 @@ def check_ranks(ranks: int, config) -> None:
 
     if ranks == 1:  # a valid config has a body
         return
+    if config["model"]["dimension"] == 3:
+        raise ConfigError(
+            f"--ranks {ranks}: a 3D scene ([model] dimension = 3 in"
+            f" {config.source}) runs on one rank for now"
+            " (docs/bodies_3d.md)")
     if config["cell"]["enabled"]:
         raise ConfigError(
             f"--ranks {ranks}: a periodic cell ([cell] enabled in"
