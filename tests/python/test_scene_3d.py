@@ -3,7 +3,6 @@ standing cylinders and spheres, and the two packing fractions of 3D
 (softpack.analysis.solids) against hand-computed cases."""
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -220,10 +219,14 @@ def test_a_scene_of_standing_cylinders(tmp_path):
     scene = build_scene(config, tmp_path / "packing")
     points, tets, body = fractions.read_scene_mesh(scene.mesh.xdmf)
     assert body.max() == 13 and np.all(signed_volumes(points, tets) > 0)
+    diameters, _ = particle_table(config["species"], 0)
     for b in range(14):
-        z = points[np.unique(tets[body == b])][:, 2]
-        assert z.min() == pytest.approx(0.0, abs=1e-15)
-        assert z.max() == pytest.approx(0.015, abs=1e-15)
+        x = points[np.unique(tets[body == b])]
+        assert x[:, 2].min() == pytest.approx(0.0, abs=1e-15)
+        assert x[:, 2].max() == pytest.approx(0.015, abs=1e-15)
+        # every node within D/2 of the axis the placement put at the centre
+        r = np.hypot(*(x[:, :2] - scene.packing.centres[b, :2]).T)
+        assert r.max() == pytest.approx(diameters[b] / 2, rel=1e-12)
     extent = scene.packing.extent
     disks = math.pi * (10 * 0.01**2 + 4 * 0.015**2)
     base = fractions.base_area_fraction(points, tets, body, extent)

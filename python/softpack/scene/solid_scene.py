@@ -117,8 +117,10 @@ def solid_template(spec, s, diameter, config, base=None) -> SolidTemplate:
     volumes = solids.signed_volumes(points, tets)
     centroid = (volumes[:, None] * points[tets].mean(axis=1)).sum(0) \
         / volumes.sum()
-    if shape == "cylinder":  # its axis on z, its end faces at -H/2, H/2
-        centroid[2] = 0.5 * (points[:, 2].min() + points[:, 2].max())
+    if shape == "cylinder":  # its axis on z (gmsh's), end faces at -+H/2:
+        # its nodes on the circle of the placement's radius D/2
+        centroid = np.array([0.0, 0.0, 0.5 * (points[:, 2].min()
+                                              + points[:, 2].max())])
     points = points - centroid
     return SolidTemplate(points=points, tets=tets, volume=volumes.sum(),
                          bounding_radius=float(np.linalg.norm(
