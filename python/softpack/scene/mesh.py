@@ -304,15 +304,16 @@ def write_xdmf(xdmf, points, cells, body) -> None:
 _write_xdmf = write_xdmf
 
 
-def _write_outputs(xdmf, mesh, bodies_csv, rows) -> None:
-    """Write mesh (``(points, cells, body)``), tags and body table into place
-    atomically (see module)."""
+def _write_outputs(xdmf, mesh, bodies_csv, rows,
+                   columns=BODIES_COLUMNS) -> None:
+    """Write mesh (``(points, cells, body)``), tags and body table (its
+    header ``columns``) into place atomically (see module)."""
     xdmf.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{xdmf.stem}.tmp-", dir=xdmf.parent))
     try:
         _write_xdmf(tmp / xdmf.name, *mesh)
         (tmp / bodies_csv.name).write_text(
-            "\n".join([BODIES_COLUMNS, *rows]) + "\n")
+            "\n".join([columns, *rows]) + "\n")
         bodies_csv.unlink(missing_ok=True)
         h5_name = xdmf.with_suffix(".h5").name
         os.replace(tmp / h5_name, xdmf.with_name(h5_name))
