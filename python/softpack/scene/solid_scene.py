@@ -190,20 +190,14 @@ def rotated_about_z(points, angle) -> np.ndarray:
 def write_solids(bodies, centres, angles, out_stem) -> mesh_files.MeshInfo:
     """Copy each template to its place and write the one mesh."""
     xdmf, h5, bodies_csv = mesh_files.output_paths(out_stem)
-    points, cells, tags = [], [], []
-    offset = 0
-    for i, (t, c, a) in enumerate(zip(bodies, centres, angles)):
-        points.append((rotated_about_z(t.points, a) if a else t.points) + c)
-        cells.append(t.tets + offset)
-        tags.append(np.full(len(t.tets), i, dtype=np.int32))
-        offset += len(t.points)
-    points, cells = np.vstack(points), np.vstack(cells)
+    points, cells, tags = mesh_files.placed_copies(
+        bodies, centres, angles, [t.tets for t in bodies], rotated_about_z)
     if np.any(solids.signed_volumes(points, cells) <= 0):
         raise RuntimeError("mesh has non-positively oriented tetrahedra")
     rows = [f"{i},{c[0]!r},{c[1]!r},{c[2]!r},{t.bounding_radius!r},"
             f"{t.volume!r},{a!r}"
             for i, (t, c, a) in enumerate(zip(bodies, centres, angles))]
-    mesh_files._write_outputs(xdmf, (points, cells, np.concatenate(tags)),
+    mesh_files._write_outputs(xdmf, (points, cells, tags),
                               bodies_csv, rows, BODIES_COLUMNS)
     return mesh_files.MeshInfo(
         xdmf=xdmf, h5=h5, bodies_csv=bodies_csv,
