@@ -6,7 +6,9 @@ The paper case (100 disks, 92k triangles, the defaults, no fields) runs
 neo_hookean (A) and to each LAW (B), everything else the paper's. A law
 whose volumetric part is at the nodes (neo_hookean_nodal) gets the same
 ``lame_lambda`` as neo-Hookean's default (2 mu), so that both run the same
-compressible material (its own default, nu = 0.499, is another material).
+compressible material (its own default, nu = 0.499, is another material);
+Mooney-Rivlin gets c10 and c01 with 2 (c10 + c01) = mu, the paper's shear
+modulus.
 
 This host is shared (other processes on its two cores), and wall times
 there move by 2x between minutes. So each run is one OpenMP thread, and
@@ -33,6 +35,9 @@ BASE_LAW = "neo_hookean"
 #: Per law, what it needs beyond material.law to be the paper's material
 LAW_OVERRIDES = {
     "neo_hookean_nodal": {"material.parameters.lame_lambda": 0.3e6},
+    # mu = 2 (c10 + c01), lambda = 2 mu: the paper's small-strain moduli
+    "mooney_rivlin": {"material.parameters": {
+        "c10": 0.05e6, "c01": 0.025e6, "lame_lambda": 0.3e6}},
 }
 
 
