@@ -94,13 +94,22 @@ def scaled_overrides(base, n_scale: float) -> dict:
     return out
 
 
-def scaled_config(n_scale: float, overrides: dict):
+def scaled_config(n_scale: float, overrides: dict, tables=None):
     """The paper's config scaled (:func:`scaled_overrides`), no fields,
-    with ``overrides`` on top; validated once, never edited after."""
+    with ``overrides`` on top and ``tables`` (list sections, e.g.
+    ``{"friction": [...]}``) added; validated once, never edited after."""
+    import tomllib
+
+    from softpack.scene.config import validate
+
     merged = scaled_overrides(load_config(PAPER_TOML), n_scale)
     merged["output.fields"] = False
     merged.update(overrides)
-    return load_config(PAPER_TOML, merged)
+    if not tables:
+        return load_config(PAPER_TOML, merged)
+    with open(PAPER_TOML, "rb") as f:
+        data = tomllib.load(f)
+    return validate({**data, **tables}, PAPER_TOML, merged)
 
 
 def scene_for(config, tag: str) -> dict:

@@ -1,5 +1,7 @@
 """``./softpack bench --laws LAW,...``: each law's cost per step against
-neo-Hookean's on the paper case (issue 39: at most 1.3x).
+neo-Hookean's on the paper case (issue 39: at most 1.3x). LAW a material
+of forms/materials/, or a contact law (``cohesive``, ``bonded``) on every
+pair of the paper's neo-Hookean disks and the walls.
 
 The paper case (100 disks, 92k triangles, the defaults, no fields) runs
 ``--steps`` steps from its initial packing with ``material.law`` set to
@@ -41,12 +43,37 @@ LAW_OVERRIDES = {
 }
 
 
+
+
+def _pairs(law: str, **parameters) -> list:
+    """Every pair of the paper's species (and each with the walls) under
+    a contact law, the paper's friction 0.3 (docs/contact_laws.md)."""
+    pairs = [("small", "small"), ("small", "large"), ("large", "large"),
+             ("small", "walls"), ("large", "walls")]
+    return [{"species": a, "against": b, "coefficient": 0.3, "law": law,
+             **parameters} for a, b in pairs]
+
+
+#: Contact laws timed on neo-Hookean disks, with examples/
+#: adhesive_small.toml's and bonded_small.toml's parameters (the bonding
+#: distance at most the paper's alert distance, 0.2 mm)
+CONTACT_LAWS = {
+    "cohesive": {"friction": _pairs("cohesive", cohesion=2.0e4,
+                                    cohesive_distance=2.0e-4)},
+    "bonded": {"friction": _pairs("bonded", tensile_strength=2.0e4,
+                                  shear_strength=1.0e4,
+                                  bonding_distance=2.0e-4)},
+}
+
+
 def _config(law: str, steps: int):
-    """The paper case with ``law``, ``steps`` steps, the defaults."""
+    """The paper case with ``law`` (a material, or a contact law on every
+    pair of neo-Hookean disks), ``steps`` steps, the defaults."""
+    material = {} if law in CONTACT_LAWS else {"material.law": law}
     return scaled_config(1, {**FAST, "stop.steps": steps,
-                             "output.every_steps": steps,
-                             "material.law": law,
-                             **LAW_OVERRIDES.get(law, {})})
+                             "output.every_steps": steps, **material,
+                             **LAW_OVERRIDES.get(law, {})},
+                         CONTACT_LAWS.get(law))
 
 
 def _timed_run(config, scene: dict, name: str) -> dict:
