@@ -43,10 +43,6 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
   _energy.strain0 =
       std::accumulate(_body_strain.begin(), _body_strain.end(), 0.0);
   link_walls(_walls);
-  if (_options.friction.bonded() && dist().distributed())
-    throw std::invalid_argument(
-        "friction: law \"bonded\" runs on one MPI rank only "
-        "(docs/contact_laws.md)");
 }
 
 void MoreauJean::set_initial_velocity(std::vector<double> v)
