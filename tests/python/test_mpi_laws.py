@@ -1,8 +1,10 @@
-"""The contact and material laws that carry state on several MPI ranks
-(docs/mpi_design.md, "Laws with state"): the viscoelastic law's internal
-variables (each body's with its owner, moved at a rebalance, gathered for
-the state file), the bonded law's bonds and the adhesive law's cohesion,
-each run on 2 (and 3) ranks against the same run on one.
+"""What carries state beyond the bodies' node vectors, on several MPI
+ranks (docs/mpi_design.md, "Laws with state and the periodic cell"): the
+viscoelastic law's internal variables (each body's with its owner, moved at
+a rebalance, gathered for the state file), the bonded law's bonds, the
+adhesive law's cohesion and the periodic cell (its vectors and rates
+replicated, the bodies re-wrapped and kicked from centroids summed from
+their owners), each run on 2 (and 3) ranks against the same run on one.
 
 The references are the 1-rank runs of the same configurations: the ranks
 change the order of the contact solve's Gauss–Seidel sweeps only, so the
@@ -140,3 +142,41 @@ def test_the_adhesive_law_on_two_ranks_gives_the_serial_run(tmp_path):
     runs = _runs(tmp_path, "adhesive_small.toml", {"stop.steps": 300}, (1, 2))
     assert np.abs(runs[1]["cohesion"]).max() > 0
     _assert_close(runs[1], runs[2], 8e-10, 4e-8, (("cohesion", 2e-7),))
+
+
+def test_a_periodic_cell_on_two_and_three_ranks_gives_the_serial_run(
+        tmp_path):
+    """examples/periodic_small.toml's first 150 steps (the cell closing at
+    an imposed rate; bodies re-wrapped from step 90): measured 2026-12-03
+    over its whole run (340 steps), Phi 9.0e-10 (2 ranks) and 5.7e-10 (3),
+    strain energy 1.2e-7 and 6.7e-8 of its largest, the cell's work 3.4e-8
+    and 1.3e-8, the re-wrapping account 1.7e-8 and 4.8e-8, the kinetic
+    energy 6.6e-8 and 6.2e-8; the cell's vectors the same bits (imposed
+    rates); over 150 steps on 3
+    ranks with rebalance_tolerance = 0 (3 bodies moved) Phi 3.9e-11,
+    strain energy 4.7e-9."""
+    runs = _runs(tmp_path, "periodic_small.toml", {"stop.steps": 150},
+                 (1, 2, 3), {3: {"parallel.rebalance_tolerance": 0.0}})
+    assert runs[1]["rewrap"][-1] != 0  # bodies crossed the edges
+    for r in (2, 3):
+        _assert_close(runs[1], runs[r], 1e-8, 1e-6,
+                      (("cell_work", 3e-7), ("rewrap", 5e-7),
+                       ("kinetic_energy", 7e-7)))
+        np.testing.assert_array_equal(runs[r]["cell_a1x"], runs[1]["cell_a1x"])
+
+
+def test_a_stress_controlled_cell_on_two_ranks_gives_the_serial_run(
+        tmp_path):
+    """examples/shear_small.toml's first 600 steps (the cell's height
+    free under sigma_yy, its rate an unknown of the contact problem: W's
+    rank-one term over the ranks' contacts). Measured 2026-12-03: Phi
+    9.2e-10, strain energy 4.8e-8 of its largest, the cell's height
+    1.6e-10 of itself, its work 1.5e-8. Over the whole example
+    (5,500 steps) the runs part: the difference grows tenfold every ~250
+    steps from 1e-12 (Phi at step 250) to 8e-7 (step 1,500) and 1e-2
+    after step 2,250, as a 1-rank run with another NLGS tolerance does
+    (docs/mpi_design.md): a sheared dense flow amplifies any difference."""
+    runs = _runs(tmp_path, "shear_small.toml", {"stop.steps": 600}, (1, 2))
+    assert np.ptp(runs[1]["cell_a2y"]) > 0  # the height moved
+    _assert_close(runs[1], runs[2], 1e-8, 5e-7,
+                  (("cell_a2y", 2e-9), ("cell_work", 2e-7)))

@@ -69,8 +69,7 @@ def executable() -> Path:
 
 
 def check_ranks(ranks: int, config) -> None:
-    """Refuse a number of MPI ranks outside 1..number of bodies, or above 1
-    for a periodic cell (not yet distributed).
+    """Refuse a number of MPI ranks outside 1..number of bodies.
 
     Raises
     ------
@@ -81,11 +80,6 @@ def check_ranks(ranks: int, config) -> None:
 
     if ranks == 1:  # a valid config has a body
         return
-    if config["cell"]["enabled"]:
-        raise ConfigError(
-            f"--ranks {ranks}: a periodic cell ([cell] enabled in"
-            f" {config.source}) runs on one rank for now"
-            " (docs/periodic_cell.md)")
     bodies = sum(int(s["count"]) for s in config["species"])
     if not 1 <= ranks <= bodies:
         raise ConfigError(
