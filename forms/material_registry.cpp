@@ -61,8 +61,10 @@ std::vector<std::string> material_parameters(const MaterialForms& m)
 
 int internal_size(const MaterialForms& m)
 {
+  // the coefficient `internal` (the update's test space may add the
+  // dissipation)
   return m.internal_update
-             ? m.internal_update->finite_elements[0]->space_dimension
+             ? m.internal_update->finite_elements[2]->space_dimension
              : 0;
 }
 

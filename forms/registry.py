@@ -125,16 +125,16 @@ def material_doc(path: Path, namespace: dict) -> str:
     return path.stem
 
 
-def check_dimensions(path: Path, namespace: dict) -> None:
+def check_dimensions(path: Path, namespace: dict) -> tuple:
     """Refuse a ``dimensions`` other than (2,) (the default: plane strain
     only) or (2, 3), and a file declaring (2, 3) whose forms are not on
     tetrahedra with the same constants when run with ``cell`` = tetrahedron
-    (what forms/solid_wrapper.py.in compiles)."""
+    (what forms/solid_wrapper.py.in compiles); the dimensions."""
     dimensions = tuple(namespace.get("dimensions", (2,)))
     if dimensions not in ((2,), (2, 3)):
         raise MaterialError(f"`dimensions` = {dimensions!r} must be (2,) or (2, 3)")
     if dimensions == (2,):
-        return
+        return dimensions
     # forms/CMakeLists.txt finds the 3D laws by this exact line
     if not re.search(r"^dimensions = \(2, 3\)", path.read_text(), re.MULTILINE):
         raise MaterialError("write `dimensions = (2, 3)` on a line of its own")
@@ -151,18 +151,20 @@ def check_dimensions(path: Path, namespace: dict) -> None:
     if constants_of(solid) != constants_of(namespace):
         raise MaterialError("its constants differ between triangles and "
                             "tetrahedra")
+    return dimensions
 
 
 def read_material(path: Path) -> dict:
     """Return the registry entry of one material file (raises MaterialError)."""
     namespace = runpy.run_path(str(path), run_name=f"material_{path.stem}")
-    check_dimensions(path, namespace)
+    dimensions = check_dimensions(path, namespace)
     # Constants the driver sets itself (a viscoelastic law's time step):
     # no parameter of the law.
     driver = namespace.get("driver_constants", [])
     constants = [c for c in constants_of(namespace) if c not in driver]
     entry = {"doc": material_doc(path, namespace),
-             "parameters": check_parameters(namespace.get("parameters"), constants)}
+             "parameters": check_parameters(namespace.get("parameters"), constants),
+             "dimensions": list(dimensions)}
     nodal = namespace.get("nodal_volumetric")
     if nodal is not None and nodal not in entry["parameters"]:
         raise MaterialError(f"`nodal_volumetric` = {nodal!r} must name one of "

@@ -71,6 +71,12 @@ int main(int argc, char** argv)
   config_option->excludes(info_option);
   info_option->excludes(config_option);
   app.add_flag("--quiet", quiet, "no progress lines");
+  bool initial_only = false;
+  app.add_flag("--initial-only", initial_only,
+               "read and check driver.json and the bodies, write the initial "
+               "state (raw/setup.json, the first output row and state, the "
+               "fields at the start) and stop before the first step; a 3D "
+               "scene's only run until the 3D time step is built");
   int threads = 0;
   app.add_option("--threads", threads,
                  "OpenMP threads (default 0: one per core this process may "
@@ -94,8 +100,8 @@ int main(int argc, char** argv)
     softpack::apps::set_thread_count(threads);
     const softpack::io::DriverConfig config =
         softpack::io::read_driver_config(config_path);
-    const auto summary =
-        softpack::simulation::run_simulation(MPI_COMM_WORLD, config, quiet);
+    const auto summary = softpack::simulation::run_simulation(
+        MPI_COMM_WORLD, config, quiet, initial_only);
     int rank = 0;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     if (rank == 0)

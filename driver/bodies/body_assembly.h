@@ -158,16 +158,15 @@ public:
   /// The internal variables of each cell of the flagged bodies whose law
   /// has them, relaxed over a step h at displacement u (the law's
   /// internal_update) in place (`internal`, stride per cell: the view
-  /// set_internal gave), with the cell's strain energy before and after
-  /// into before[c] and after[c], and (f not empty) the body's internal
-  /// force at the relaxed values into f (its entries overwritten); one
-  /// pass over the cells (internal_variables.cpp). The others' entries are
-  /// left as they are.
+  /// set_internal gave), with the cell's dissipation (its strain energy
+  /// before less after: the update's last entry) into dissipated[c], and (f not
+  /// empty) the body's internal force at the relaxed values into f (its entries
+  /// overwritten); one pass over the cells (internal_variables.cpp). The
+  /// others' entries are left as they are.
   void relax_internal(std::span<double> internal, double h,
                       const std::vector<Body>& bodies,
                       std::span<const double> x, std::span<const double> u,
-                      std::span<double> before, std::span<double> after,
-                      std::span<double> f,
+                      std::span<double> dissipated, std::span<double> f,
                       std::span<const char> only = {}) const;
   /// Whether body k's law has internal variables
   bool has_internal(int k) const

@@ -77,14 +77,16 @@ InternalForms internal_forms(const forms::MaterialForms& law,
       internal_kernel(law, *law.tangent, 2, "tangent", constants, nullptr);
   f.update = internal_kernel(law, *law.internal_update, 1, "internal_update",
                              constants, &f.time_step);
-  if (f.update.internal !=
-          law.internal_update->finite_elements[0]->space_dimension ||
+  // the relaxed values, then the cell's dissipation over the relaxation
+  if (law.internal_update->finite_elements[0]->space_dimension !=
+          f.update.internal + 1 ||
       f.update.internal !=
           static_cast<int>(forms::internal_initial(law.name).size()))
     throw std::invalid_argument(
         std::string("law '") + law.name +
-        "': internal_update's test space, its coefficient internal and "
-        "internal_initial differ in size");
+        "': internal_update's test space must be its coefficient internal "
+        "(of internal_initial's size) and one more entry, the cell's "
+        "dissipation");
   return f;
 }
 
@@ -92,8 +94,8 @@ void BodyAssembly::relax_internal(std::span<double> internal, double h,
                                   const std::vector<Body>& bodies,
                                   std::span<const double> x,
                                   std::span<const double> u,
-                                  std::span<double> before,
-                                  std::span<double> after, std::span<double> f,
+                                  std::span<double> dissipated,
+                                  std::span<double> f,
                                   std::span<const char> only) const
 {
   const int nb = static_cast<int>(bodies.size());
@@ -106,15 +108,14 @@ void BodyAssembly::relax_internal(std::span<double> internal, double h,
       continue;
     CellKernel update = kernels.update;
     update.constants[kernels.time_step] = h;
-    // Each cell read once for its energy at its internal variables, their
-    // update and its energy at the updated ones (the values a pass per
-    // kernel gives)
+    // Each cell read once for its update (the relaxed values and the
+    // cell's dissipation) and its internal force after
     const Body& body = bodies[k];
     if (!f.empty()) // summed from zero, as residual does
       for (const std::int32_t g : body.nodes)
         f[2 * g] = f[2 * g + 1] = 0;
     double coordinates[9] = {}; // z = 0
-    double w[6 + max_internal] = {}, relaxed[max_internal], fe[6];
+    double w[6 + max_internal] = {}, relaxed[max_internal + 1], fe[6];
     for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
     {
       const CellNodes& cell = body.cell_nodes[c];
@@ -126,11 +127,7 @@ void BodyAssembly::relax_internal(std::span<double> internal, double h,
         }
       double* values = &internal[std::size_t(_stride) * body.cells[c]];
       std::copy_n(values, n, w + 6);
-      double e = 0;
-      kernels.energy.tabulate(&e, w, kernels.energy.constants.data(),
-                              coordinates, nullptr, nullptr);
-      before[body.cells[c]] = e;
-      std::fill_n(relaxed, n, 0.0);
+      std::fill_n(relaxed, n + 1, 0.0);
       update.tabulate(relaxed, w, update.constants.data(), coordinates, nullptr,
                       nullptr);
       // The form gives each value integrated over the cell (one point):
@@ -143,10 +140,7 @@ void BodyAssembly::relax_internal(std::span<double> internal, double h,
                          (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
       for (int i = 0; i < n; ++i)
         values[i] = w[6 + i] = relaxed[i] / area;
-      e = 0;
-      kernels.energy.tabulate(&e, w, kernels.energy.constants.data(),
-                              coordinates, nullptr, nullptr);
-      after[body.cells[c]] = e;
+      dissipated[body.cells[c]] = relaxed[n];
       if (f.empty())
         continue;
       std::fill_n(fe, 6, 0.0);
@@ -195,17 +189,16 @@ double BodySet::update_internal_variables(double h, std::span<double> f)
   std::vector<char> flagged(_bodies.size(), 0);
   for (const int b : _local)
     flagged[b] = _assembly->has_internal(b);
-  std::vector<double> before(_cell_body.size(), 0.0),
-      after(_cell_body.size(), 0.0);
-  _assembly->relax_internal(_internal, h, _bodies, _reference_x, _u, before,
-                            after, f, flagged);
+  std::vector<double> dissipated(_cell_body.size(), 0.0);
+  _assembly->relax_internal(_internal, h, _bodies, _reference_x, _u, dissipated,
+                            f, flagged);
   // In body and cell order: the same sum on every run
-  double dissipated = 0;
+  double total = 0;
   for (std::size_t b = 0; b < _bodies.size(); ++b)
     if (flagged[b])
       for (const std::int32_t c : _bodies[b].cells)
-        dissipated += before[c] - after[c];
-  return dissipated;
+        total += dissipated[c];
+  return total;
 }
 
 std::vector<double> pick_cells(std::span<const double> values, int stride,

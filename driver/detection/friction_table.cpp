@@ -1,4 +1,6 @@
 #include "friction_table.h"
+#include <map>
+#include <tuple>
 
 #include "detection.h"
 
@@ -117,20 +119,74 @@ double contact_share(const bodies::BodySet& bodies, const Contact& c)
   return sides * boundary_share(bodies, c.candidate_body, c.candidate_node);
 }
 
+namespace
+{
+/// Where a node's contact is: its body, node and antagonist (body, wall,
+/// image)
+using ContactPlace = std::tuple<int, int, int, int, int, int>;
+
+ContactPlace place_of(const Contact& k, int node)
+{
+  return {k.candidate_body, node,       k.antagonist_body,
+          k.wall,           k.image[0], k.image[1]};
+}
+
+/// \f$\int_0^1 (1 - s) [g(s) \le g_c] ds\f$ for the gap linear along a
+/// boundary segment from the node (gap gi, s = 0) to its neighbour (gj):
+/// the node's shape function over the part of the segment within the
+/// cohesive distance
+double within(double gi, double gj, double gc)
+{
+  if (gi <= gc && gj <= gc)
+    return 0.5;
+  if (gi > gc && gj > gc)
+    return 0.0;
+  const double s = (gc - gi) / (gj - gi); // where the gap crosses gc
+  return gi <= gc ? s - 0.5 * s * s : 0.5 * (1 - s) * (1 - s);
+}
+} // namespace
+
 std::vector<double> cohesion_impulses(const FrictionTable& table,
                                       const bodies::BodySet& bodies,
                                       const std::vector<Contact>& contacts,
                                       double h)
 {
   std::vector<double> c(contacts.size(), 0.0);
+  std::map<ContactPlace, double> gaps;
+  for (const Contact& k : contacts)
+    if (table.cohesion(k).traction > 0)
+      gaps[place_of(k, k.candidate_node)] = k.gap;
+  const std::span<const double> X = bodies.reference_coordinates();
+  const std::vector<double> x = bodies.current_coordinates();
   for (std::size_t a = 0; a < contacts.size(); ++a)
   {
     const Contact& k = contacts[a];
     const Cohesion law = table.cohesion(k);
-    if (law.traction == 0 || k.gap > law.distance)
+    if (law.traction == 0)
       continue;
-    // (sides is 1 or 1/2: the product is that of traction x sides first)
-    c[a] = law.traction * contact_share(bodies, k) * h;
+    const bodies::Body& body = bodies.body(k.candidate_body);
+    const int i = k.candidate_node;
+    double share = 0; // the node's shape function within g_c (m)
+    for (const std::int32_t s : {body.segment_from[i], body.segment_to[i]})
+    {
+      if (s < 0)
+        continue;
+      const auto& [p, q] = body.boundary_segments[s];
+      const int j = p == i ? q : p;
+      const auto found = gaps.find(place_of(k, j));
+      // a neighbour not detected (beyond the alert distance): its gap
+      // along this contact's normal, exact against a plane wall
+      const std::int32_t gi = body.nodes[i], gj = body.nodes[j];
+      const double gap_j = found != gaps.end()
+                               ? found->second
+                               : k.gap + (x[2 * gj] - x[2 * gi]) * k.n[0] +
+                                     (x[2 * gj + 1] - x[2 * gi + 1]) * k.n[1];
+      const std::int32_t gp = body.nodes[p], gq = body.nodes[q];
+      share += within(k.gap, gap_j, law.distance) *
+               std::hypot(X[2 * gq] - X[2 * gp], X[2 * gq + 1] - X[2 * gp + 1]);
+    }
+    const double sides = k.wall >= 0 ? 1.0 : 0.5;
+    c[a] = law.traction * sides * share * h;
   }
   return c;
 }

@@ -195,8 +195,34 @@ void read_cell(const Reader& r, DriverConfig& c)
   read_cell_control(r, p, *c.cell);
 }
 
-/// scene: the driver uses box.enabled and bodies; the rest is the scene
-/// stage's record, kept for raw/setup.json.
+/// scene.model.dimension and scene.box.height (absent from the records
+/// written before 3D scenes: 2D, no height).
+void read_dimension(const Reader& r, const json& scene, DriverConfig& c)
+{
+  const json& model = scene.at("model");
+  if (model.is_object() && model.contains("dimension"))
+  {
+    const json& d = model.at("dimension");
+    if (!d.is_number_integer() || (d.get<long>() != 2 && d.get<long>() != 3))
+      r.fail("scene.model.dimension", "= " + d.dump() + ": must be 2 or 3");
+    c.dimension = d.get<int>();
+  }
+  const json& box = scene.at("box");
+  if (box.contains("height"))
+  {
+    const json& h = box.at("height");
+    if (!h.is_number() || !(h.get<double>() >= 0))
+      r.fail("scene.box.height", "= " + h.dump() + ": must be a number >= 0");
+    c.box_height = h.get<double>();
+  }
+  if (c.dimension == 2 && c.box_height != 0)
+    r.fail("scene.box.height", "must be 0 in 2D (scene.model.dimension = 2)");
+  if (c.dimension == 3 && c.box && !(c.box_height > 0))
+    r.fail("scene.box.height", "must be > 0 in 3D (the box's edge along z)");
+}
+
+/// scene: the driver uses model.dimension, box.enabled, box.height and
+/// bodies; the rest is the scene stage's record, kept for raw/setup.json.
 void read_scene(const Reader& r, const json& scene, DriverConfig& c)
 {
   // The scene stage's sections (named by the schema) and the bodies.
@@ -208,6 +234,7 @@ void read_scene(const Reader& r, const json& scene, DriverConfig& c)
       !box.at("enabled").is_boolean())
     r.fail("scene.box.enabled", "missing or not true/false");
   c.box = box.at("enabled").get<bool>();
+  read_dimension(r, scene, c);
   const json& species = scene.at("species");
   if (!species.is_array() || species.empty())
     r.fail("scene.species", "must be a non-empty list of species");

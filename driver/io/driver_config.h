@@ -33,6 +33,12 @@ struct DriverConfig
   /// scene.box.enabled: Phi is measured inside the walls left, right,
   /// bottom and top
   bool box = false;
+  /// scene.model.dimension: 2 (plane strain, triangles) or 3 (tetrahedra);
+  /// a scene record without it (written before 3D scenes) is 2D
+  int dimension = 2;
+  /// scene.box.height: in 3D the box's edge along z, between the base
+  /// z = 0 and the lid (> 0 with a box); 0 in 2D
+  double box_height = 0;
   /// The periodic cell (cell.enabled; docs/periodic_cell.md), in place of
   /// a box and walls
   std::optional<dynamics::PeriodicCell> cell;

@@ -106,7 +106,8 @@ void write_whole(const std::filesystem::path& path, Fill fill)
 
 FieldOutput::FieldOutput(const std::filesystem::path& directory,
                          const bodies::BodySet& bodies, bool continued)
-    : _directory(directory), _num_nodes(bodies.num_global_dofs() / 2),
+    : _directory(directory), _dim(bodies.dim()),
+      _num_nodes(bodies.num_global_dofs() / bodies.dim()),
       _num_cells(bodies.cell_body().size()),
       _cell_area(bodies.cell_reference_area()),
       _particle(bodies.cell_body().begin(), bodies.cell_body().end())
@@ -124,7 +125,7 @@ void FieldOutput::create(const bodies::BodySet& bodies)
   std::filesystem::remove_all(_directory / frame_directory);
   std::filesystem::create_directory(_directory / frame_directory);
   std::vector<std::int64_t> topology;
-  topology.reserve(3 * _num_cells);
+  topology.reserve((_dim + 1) * _num_cells);
   for (const auto& cell : bodies.cell_global_nodes())
     topology.insert(topology.end(), cell.begin(), cell.end());
   write_whole(_directory / mesh_file,
@@ -133,9 +134,10 @@ void FieldOutput::create(const bodies::BodySet& bodies)
                 for (const char* group : {"/Mesh", "/Mesh/mesh"})
                   h5::create_group(f, group);
                 h5::write_table(f, "/Mesh/mesh/geometry",
-                                bodies.reference_coordinates(), 2);
+                                bodies.reference_coordinates(), _dim);
                 h5::write_table(f, "/Mesh/mesh/topology",
-                                std::span<const std::int64_t>(topology), 3);
+                                std::span<const std::int64_t>(topology),
+                                _dim + 1);
               });
   write_xml();
 }
@@ -220,13 +222,14 @@ void FieldOutput::remove_inner_frames_after(double t) const
 void FieldOutput::write(std::span<const double> u,
                         std::span<const double> cell_energy, double t)
 {
-  if (u.size() != 2 * _num_nodes || cell_energy.size() != _num_cells)
+  const auto dim = static_cast<std::size_t>(_dim);
+  if (u.size() != dim * _num_nodes || cell_energy.size() != _num_cells)
     throw std::invalid_argument("FieldOutput::write: not the mesh's sizes");
   const std::string key = time_key(t);
   std::vector<double> u3(3 * _num_nodes, 0.0); // XDMF vectors have 3 parts
   for (std::size_t n = 0; n < _num_nodes; ++n)
-    for (int c = 0; c < 2; ++c)
-      u3[3 * n + c] = u[2 * n + c];
+    for (std::size_t c = 0; c < dim; ++c)
+      u3[3 * n + c] = u[dim * n + c];
   std::vector<double> psi(cell_energy.begin(), cell_energy.end());
   for (std::size_t c = 0; c < psi.size(); ++c)
     psi[c] /= _cell_area[c];
@@ -255,6 +258,8 @@ void FieldOutput::write_xml() const
 {
   const std::string nodes = std::to_string(_num_nodes);
   const std::string cells = std::to_string(_num_cells);
+  const std::string per_cell = std::to_string(_dim + 1);
+  const bool solid = _dim == 3;
   const std::string mesh = "/Mesh/mesh";
   std::ostringstream x;
   x << "<?xml version=\"1.0\"?>\n"
@@ -268,12 +273,16 @@ void FieldOutput::write_xml() const
     const std::string& file = _frames[k].file;
     x << "      <Grid Name=\"fields\" GridType=\"Uniform\">\n";
     if (k == 0)
-      x << "        <Topology TopologyType=\"Triangle\" NumberOfElements=\""
-        << cells << "\" NodesPerElement=\"3\">\n          "
-        << data_item(cells + " 3", mesh_file, mesh + "/topology", "Int")
+      x << "        <Topology TopologyType=\""
+        << (solid ? "Tetrahedron" : "Triangle") << "\" NumberOfElements=\""
+        << cells << "\" NodesPerElement=\"" << per_cell << "\">\n          "
+        << data_item(cells + " " + per_cell, mesh_file, mesh + "/topology",
+                     "Int")
         << "\n        </Topology>\n"
-           "        <Geometry GeometryType=\"XY\">\n          "
-        << data_item(nodes + " 2", mesh_file, mesh + "/geometry")
+           "        <Geometry GeometryType=\""
+        << (solid ? "XYZ" : "XY") << "\">\n          "
+        << data_item(nodes + " " + std::to_string(_dim), mesh_file,
+                     mesh + "/geometry")
         << "\n        </Geometry>\n";
     else
       x << "        <xi:include xpointer=\"xpointer(/Xdmf/Domain/Grid/Grid[1]/"

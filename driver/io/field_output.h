@@ -16,7 +16,8 @@ namespace softpack::io
 ///
 /// The HDF5 datasets keep the layout dolfinx's XDMFFile gave them (read by
 /// python/softpack/analysis/fields.py): fields.h5 holds /Mesh/mesh/geometry
-/// (nodes x 2) and /Mesh/mesh/topology (cells x 3, int64); the frame of time
+/// (nodes x 2; 3D: x 3) and /Mesh/mesh/topology (cells x 3, int64; 3D:
+/// tetrahedra, x 4); the frame of time
 /// t, `fields/<key>.h5`, holds /Function/<name>/<key> (nodes x 3 or cells x
 /// 1), the key being t written with 17 digits, '.' as '_'. They are written
 /// from the BodySet's arrays (nodes in its DOF order, cells as Body::cells
@@ -58,7 +59,7 @@ public:
 
   /// Write the fields at time t (a frame at a time already written is
   /// replaced).
-  /// @param[in] u Global displacement (2 entries per mesh node)
+  /// @param[in] u Global displacement (dim entries per mesh node)
   /// @param[in] cell_energy Strain energy of each cell
   void write(std::span<const double> u, std::span<const double> cell_energy,
              double t);
@@ -82,6 +83,7 @@ private:
   void write_xml() const;
 
   std::filesystem::path _directory;
+  int _dim = 2; // the bodies' dimension: triangles or tetrahedra
   std::size_t _num_nodes = 0, _num_cells = 0;
   std::vector<Frame> _frames; // in ascending time
   std::vector<double> _cell_area, _particle;

@@ -35,11 +35,34 @@ json bodies_json(const DriverConfig& config, const bodies::BodySet& bodies)
     area.push_back(bodies.body(b).reference_area);
     nodes.push_back(bodies.body(b).nodes.size());
   }
+  // 2D: "triangles" as before 3D bodies; 3D: "tetrahedra" and the volumes
+  // under "reference_area" (the one name of a body's reference measure)
   return {{"count", bodies.num_bodies()},
           {"species", config.body_species},
           {"reference_area", area},
           {"nodes", nodes},
-          {"triangles", triangles}};
+          {bodies.dim() == 3 ? "tetrahedra" : "triangles", triangles}};
+}
+
+json units(int dim)
+{
+  if (dim == 3)
+    return {{"length", "m"},
+            {"time", "s"},
+            {"mass", "kg"},
+            {"force", "N"},
+            {"energy", "J"},
+            {"stress", "Pa"},
+            {"note", "3D model: tetrahedral solids; reference_area is "
+                     "each body's volume (m^3)"}};
+  return {{"length", "m"},
+          {"time", "s"},
+          {"mass", "kg"},
+          {"force", "N/m"},
+          {"energy", "J/m"},
+          {"stress", "Pa"},
+          {"note", "2D model: per unit length along z; multiply by "
+                   "scene.model.thickness"}};
 }
 } // namespace
 
@@ -47,15 +70,7 @@ json setup_json(const DriverConfig& config, const bodies::BodySet& bodies)
 {
   const parameters::Parameters& p = config.parameters;
   return {{"schema_version", parameters::schema_version},
-          {"units",
-           {{"length", "m"},
-            {"time", "s"},
-            {"mass", "kg"},
-            {"force", "N/m"},
-            {"energy", "J/m"},
-            {"stress", "Pa"},
-            {"note", "2D model: per unit length along z; multiply by "
-                     "scene.model.thickness"}}},
+          {"units", units(bodies.dim())},
           {"scene", config.scene},
           {"material", parameters::to_json(p.material)},
           {"materials", config.materials},

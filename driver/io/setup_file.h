@@ -13,8 +13,10 @@ namespace softpack::io
 /// (as driver.json gave them), the walls at t = 0, the loading stages (each
 /// its name, wall drives and stop keys, as driver.json gave them; empty
 /// without stages), the parameters of each driver section, initial_state,
-/// and per body its species, reference area (from the boundary polygon),
-/// node and triangle counts.
+/// and per body its species, reference area (from the boundary polygon;
+/// 3D: the volume from the boundary faces), node and triangle (3D:
+/// tetrahedron) counts; the units of the dimension (per unit length in
+/// 2D).
 nlohmann::json setup_json(const DriverConfig& config,
                           const bodies::BodySet& bodies);
 

@@ -17,6 +17,7 @@
 #include <material_registry.h>
 #include <numeric>
 #include <parallel/geometry_broadcast.h>
+#include <simulation/initial_3d.h>
 #include <simulation/overlap_check.h>
 #include <simulation/rank_report.h>
 #include <simulation/stages.h>
@@ -24,9 +25,6 @@
 
 namespace softpack::simulation
 {
-namespace
-{
-/// Box area from the four box walls' current positions.
 double box_area(const std::vector<dynamics::Wall>& walls)
 {
   auto gap = [&](const std::string& a, const std::string& b)
@@ -40,6 +38,8 @@ double box_area(const std::vector<dynamics::Wall>& walls)
   return gap(names[0], names[1]) * gap(names[2], names[3]);
 }
 
+namespace
+{
 /// The bodies' current area over the box's or the periodic cell's.
 double packing_fraction(const bodies::BodySet& bodies, double area_of_space)
 {
@@ -105,21 +105,19 @@ int rank_of(MPI_Comm comm)
   return rank;
 }
 
-/// The bodies of driver.json's mesh and materials (a collective: rank 0
-/// alone reads the mesh and sends its arrays to the others,
-/// parallel::broadcast_geometry); errors in a material name driver.json and
-/// the key (material.parameters.KEY, materials[0].parameters.KEY).
+} // namespace
+
 bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
 {
-  bodies::BodyGeometry geometry;
-  if (rank_of(comm) == 0)
-    geometry = bodies::read_body_geometry(
-        config.mesh,
-        bodies::displacement_space(config.body_materials.materials));
-  parallel::broadcast_geometry(comm, geometry);
-  io::check_body_count(config, geometry.num_bodies());
-  try
+  try // a law without forms of the dimension, a bad material parameter
   {
+    bodies::BodyGeometry geometry;
+    if (rank_of(comm) == 0)
+      geometry = bodies::read_body_geometry(
+          config.mesh, bodies::displacement_space(
+                           config.body_materials.materials, config.dimension));
+    parallel::broadcast_geometry(comm, geometry);
+    io::check_body_count(config, geometry.num_bodies());
     // A distributed run's ranks assemble the masses they keep only
     // (parallel::Distribution, BodySet::set_local)
     int ranks = 1;
@@ -133,6 +131,8 @@ bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
   }
 }
 
+namespace
+{
 /// The stop criterion met after `step` (counted from `first`), or "".
 std::string stop_reason(const io::DriverConfig& config,
                         const dynamics::MoreauJean& scheme, long first,
@@ -154,8 +154,9 @@ public:
   /// Rank 0 reads the mesh and sends its arrays to every rank; a rank then
   /// keeps and computes its own bodies and every boundary
   /// (parallel::Distribution); rank 0 alone writes.
-  Run(MPI_Comm comm, const io::DriverConfig& config, bool quiet)
-      : _config(config), _p(config.parameters),
+  Run(MPI_Comm comm, const io::DriverConfig& config, bool quiet,
+      bool initial_only)
+      : _config(config), _p(config.parameters), _initial_only(initial_only),
         _raw_dir(config.directory / "raw"), _root(rank_of(comm) == 0),
         _quiet(quiet || !_root), _bodies(make_bodies(comm, config)),
         // The state's identity and fields.h5's mesh from every node, before
@@ -213,6 +214,8 @@ public:
   {
     output(_first, dynamics::StepReport{}, _phi0,
            _program.empty() ? 0 : _program.start().index);
+    if (_initial_only)
+      return finish(_first, "initial_only");
     fail_if_asked();
     for (long step = _first + 1;; ++step)
     {
@@ -458,6 +461,7 @@ private:
   using clock = std::chrono::steady_clock;
   const io::DriverConfig& _config;
   const parameters::Parameters& _p;
+  const bool _initial_only;
   const std::filesystem::path _raw_dir;
   const bool _root;
   const bool _quiet;
@@ -481,9 +485,11 @@ private:
 } // namespace
 
 RunSummary run_simulation(MPI_Comm comm, const io::DriverConfig& config,
-                          bool quiet)
+                          bool quiet, bool initial_only)
 {
-  return Run(comm, config, quiet).run();
+  if (config.dimension == 3)
+    return run_initial_3d(comm, config, quiet, initial_only);
+  return Run(comm, config, quiet, initial_only).run();
 }
 
 } // namespace softpack::simulation

@@ -23,7 +23,9 @@
 # the DG0 coefficient `internal` (per cell: A_1 then A_2, each as
 # (A11, A12, A22, A33)), its value in the virgin state `internal_initial`,
 # and the rank-1 form `internal_update` (the cell integral of the relaxed
-# values against a DG0 test function of the same element). `time_step` is
+# values against a DG0 test function, followed by the cell's dissipation
+# over the relaxation, Psi(F, A) - Psi(F, A relaxed), integrated: the
+# driver then need not evaluate the energy before and after). `time_step` is
 # the step size h, set by the driver at each update: no parameter
 # (`driver_constants`).
 from ufl import (Constant, Identity, TestFunction, TrialFunction,
@@ -34,12 +36,14 @@ from ufl import (Constant, Identity, TestFunction, TrialFunction,
 # the plane-strain A_k (four entries each).
 element = VectorElement("Lagrange", triangle, 1)
 internal_element = VectorElement("DG", triangle, 0, dim=8)
+# internal_update's test space: the relaxed values, then the dissipation
+update_element = VectorElement("DG", triangle, 0, dim=9)
 
 u = Coefficient(element)
 internal = Coefficient(internal_element)
 v = TestFunction(element)
 du = TrialFunction(element)
-q = TestFunction(internal_element)
+q = TestFunction(update_element)
 
 shear_modulus = Constant(triangle)
 lame_lambda = Constant(triangle)
@@ -89,14 +93,14 @@ Jm23 = exp(-2.0 / 3.0 * ln(J))
 Cinv = inv(C)
 
 
-def entries(k):
-    """(A11, A12, A22, A33) of branch k, from `internal`."""
-    return [internal[4 * k + i] for i in range(4)]
+def entries(k, values=internal):
+    """(A11, A12, A22, A33) of branch k, from `values` (8 entries)."""
+    return [values[4 * k + i] for i in range(4)]
 
 
-def log_det(k):
+def log_det(k, values=internal):
     """ln det A_k, A_k = [[a11, a12, 0], [a12, a22, 0], [0, 0, a33]]."""
-    a11, a12, a22, a33 = entries(k)
+    a11, a12, a22, a33 = entries(k, values)
     return ln((a11 * a22 - a12 ** 2) * a33)
 
 
@@ -113,17 +117,25 @@ psi_eq = (shear_modulus / 2 * (I1 - 3) - shear_modulus * ln(J)
 # first, tr(Cbar sum_k g_k A_k): the forms then differentiate one trace
 # (ln det A_k does not depend on u; the residual 10 % faster)
 ratios = (branch_ratio_1, branch_ratio_2)
-weighted = [sum(r * entries(k)[i] for k, r in enumerate(ratios))
-            for i in range(4)]
-trace = (C[0, 0] * weighted[0] + 2 * C[0, 1] * weighted[1]
-         + C[1, 1] * weighted[2] + weighted[3]) * Jm23
-psi_branches = shear_modulus / 2 * (
-    trace - sum(r * (3 + log_det(k)) for k, r in enumerate(ratios)))
 
-energy = (psi_eq + psi_branches) * dx1
+
+def branch_energy(values=internal):
+    """sum_k Psi_k at the branches' `values` (8 entries)."""
+    weighted = [sum(r * entries(k, values)[i] for k, r in enumerate(ratios))
+                for i in range(4)]
+    trace = (C[0, 0] * weighted[0] + 2 * C[0, 1] * weighted[1]
+             + C[1, 1] * weighted[2] + weighted[3]) * Jm23
+    return shear_modulus / 2 * (
+        trace - sum(r * (3 + log_det(k, values))
+                    for k, r in enumerate(ratios)))
+
+
+energy = (psi_eq + branch_energy()) * dx1
 residual = derivative(energy, u, v)
 tangent = derivative(residual, u, du)
-internal_update = inner(as_vector(relaxed(0, relaxation_time_1)
-                                  + relaxed(1, relaxation_time_2)), q) * dx1
+relaxed_values = relaxed(0, relaxation_time_1) + relaxed(1, relaxation_time_2)
+# Psi_eq does not depend on the A_k: the drop is the branches' alone
+dissipation = branch_energy() - branch_energy(relaxed_values)
+internal_update = inner(as_vector(relaxed_values + [dissipation]), q) * dx1
 
 forms = [energy, residual, tangent, internal_update]

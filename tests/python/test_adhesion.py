@@ -73,12 +73,12 @@ def test_maugis_dugdale_tends_to_jkr_for_a_short_zone():
 def test_coarse_pull_off_within_its_mesh_error(tmp_path):
     """h_fine = 100 um (1 to 2 boundary segments over the pull-off's
     cohesive zone): the convergence study (docs/adhesion/README.md)
-    measures this mesh's pull-off force 36 % above the Maugis-Dugdale value
-    (22.57 N/m against 16.58), the error falling about as h towards the
-    finer meshes. Here at twice the speed and step: measured 22.30 N/m
-    (+34.5 %). Asserted: between +25 % and +45 %, and the energy balance
-    within 2e-3 of the largest wall work (measured 6.2e-4, most of it where
-    the disk snaps off the flat)."""
+    measures this mesh's pull-off force 2.6 % above the Maugis-Dugdale
+    value (17.01 N/m against 16.58), +1.9 to +2.05 % on the finer meshes.
+    Here at twice the speed and step: measured 17.18 N/m (+3.6 %).
+    Asserted: within the issue's 5 % above MD (and not below it), and the
+    energy balance within 5e-4 of the largest wall work (measured
+    5.8e-5)."""
     require_driver()
     params = adhesion.Params(h_fine=1e-4, time_step=1e-4, speed=2e-3,
                              every=10)
@@ -86,7 +86,7 @@ def test_coarse_pull_off_within_its_mesh_error(tmp_path):
     result = adhesion_measure.measure(tmp_path / "sim", params)
     theory = result["theory"]
     ratio = result["pull_off"] / theory["md_pull_off"]
-    assert 1.25 < ratio < 1.45
+    assert 1.0 < ratio < 1.05
     assert theory["lambda"] == pytest.approx(2.52, abs=0.01)
     b = result["balance"]
-    assert b["max_abs_residual"] < 2e-3 * b["max_abs_wall_work"]
+    assert b["max_abs_residual"] < 5e-4 * b["max_abs_wall_work"]

@@ -77,7 +77,9 @@ def test_the_scene_record(paper_document):
     scene = doc["scene"]
     assert list(scene) == ["model", "box", "packing", "species", "mesh",
                            "bodies"]
-    assert scene["box"] == {"enabled": True, "length": 0.286, "width": 0.202}
+    assert scene["box"] == {"enabled": True, "length": 0.286, "width": 0.202,
+                            "height": 0.0}
+    assert scene["model"] == {"dimension": 2, "thickness": 0.015}
     assert [(s["name"], s["diameter"], s["count"])
             for s in scene["species"]] == [("small", 0.02, 70),
                                            ("large", 0.03, 30)]

@@ -44,8 +44,12 @@ SMALL = sorted([EXAMPLES / "small.toml", *EXAMPLES.glob("*_small.toml")])
 # mixture_small with seed 0 launched its rigid disks: 6-80 J.
 MAX_KINETIC_ENERGY = 2.0
 
-# Examples expected to fail (xfail, strict): none today.
-KNOWN_FAILURES: dict[str, str] = {}
+# Examples expected to fail (xfail, strict): the 3D scenes, whose driver
+# writes the initial state and refuses to step until the 3D time step is
+# built (docs/bodies_3d.md); strict, so that they become checks then.
+NOT_YET = "3D time stepping: not yet built"
+KNOWN_FAILURES: dict[str, str] = {"cylinders3d_small.toml": NOT_YET,
+                                  "spheres3d_small.toml": NOT_YET}
 
 # Examples that finish flagged (exit status 3, run_flags), and the one flag
 # expected of each. mixture_small: one contact solve of its 379 steps

@@ -149,6 +149,55 @@ def test_unbalanced_threshold_is_relative_to_piston_force():
     assert net.z_without_walls == pytest.approx(2 * 2 / 4)
 
 
+def hanging_contacts(w=3.0):
+    """Particle 0 hangs from the top wall (3) by two tensile nodal contacts
+    of -w each (a cohesive or bonded contact pulls the candidate towards
+    the wall, +y); particle 1 hangs from 0 by two of -w/2 (0 pulled down
+    by 1): every force is tensile."""
+    return contacts([
+        (0, 10, -1, 3, -w, 0, 0, w), (0, 11, -1, 3, -w, 0, 0, w),
+        (1, 20, 0, -1, -w / 2, 0, 0, w / 2),
+        (1, 21, 0, -1, -w / 2, 0, 0, w / 2),
+    ])
+
+
+def test_tensile_contacts_bear_load_by_default():
+    # The weights (body forces) balance the tensile contacts: 0 carries
+    # its own and 1's (-2 w + w), 1 its own (-w)
+    w = 3.0
+    weights = [(0.0, -w), (0.0, -w)]
+    bearing = net_.contact_network(hanging_contacts(w), 2, 0.0, Rules(
+        force_threshold=1e-4, unbalanced_threshold=1e-3,
+        rule="loaded_nodes"), weights)
+    assert [tuple(p) for p in bearing.pairs] == [(0, 1)]
+    assert [tuple(p) for p in bearing.walls] == [(0, 3)]
+    assert not bearing.unbalanced.any() and bearing.retained.all()
+    assert bearing.z == pytest.approx(3 / 2)  # (2 x 1 pair + 1 wall) / 2
+    ignored = net_.contact_network(hanging_contacts(w), 2, 0.0, Rules(
+        force_threshold=1e-4, unbalanced_threshold=1e-3,
+        rule="loaded_nodes", tensile_contacts="ignored"), weights)
+    assert len(ignored.pairs) == 0 and ignored.rattler.all()
+    assert math.isnan(ignored.z)
+    # f of total_normal_force: the sum of |fn| when tensile forces bear
+    assert net_.reference_force(hanging_contacts(w), 0.0,
+                                "total_normal_force", "bearing") == 3 * w
+    with pytest.raises(ValueError, match="tensile_contacts must be one of"):
+        net_.active_mask([1.0], 1e-4, "both")
+
+
+@pytest.mark.parametrize("tensile", ["bearing", "ignored"])
+def test_without_tensile_forces_both_readings_agree(tensile):
+    net = net_.contact_network(chain_contacts(), 5, F, Rules(
+        force_threshold=1e-4, unbalanced_threshold=1e-3,
+        rule="loaded_nodes", unbalanced_reference="piston_force",
+        excluded_contacts="dropped", tensile_contacts=tensile))
+    reference = net_.contact_network(chain_contacts(), 5, F, RULES)
+    assert net.z == reference.z
+    assert net.rattler.tolist() == reference.rattler.tolist()
+    assert [tuple(p) for p in net.pairs] == [tuple(p) for p in
+                                             reference.pairs]
+
+
 def test_no_contacts_gives_nan_z():
     net = net_.contact_network(contacts([]), 3, 0.0, RULES)
     assert math.isnan(net.z) and net.rattler.all()

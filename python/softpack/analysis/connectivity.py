@@ -8,6 +8,12 @@ and applies the rules of :class:`softpack.analysis.setup.Rules`.
 force-bearing contact (two-node rule)
     A nodal contact is active when its normal force ``fn`` exceeds
     ``contact_force_threshold`` x the largest ``fn`` of the output step.
+    Under a cohesive law or a bond ``fn`` may be tensile (negative); with
+    ``tensile_contacts = "bearing"`` (the default) a tensile force bears
+    load as a compressive one does (``|fn|`` against the largest ``|fn|``:
+    the contact constrains both particles whichever its sign), with
+    ``"ignored"`` only compressive forces count. Without a tensile force
+    both readings are the same.
     A particle pair is in contact when at least two nodes of each particle
     carry force (Sec. VI). With ``rule="loaded_nodes"`` the loaded nodes of
     a particle are its own active candidate nodes plus the two end nodes of
@@ -61,6 +67,8 @@ RULES = ("loaded_nodes", "candidate_nodes")
 REFERENCES = ("piston_force", "total_normal_force")
 #: What an unbalanced particle's contacts do for its neighbours.
 EXCLUDED_CONTACTS = ("dropped", "kept")
+#: Whether a tensile normal force bears load (``tensile_contacts``).
+TENSILE_CONTACTS = ("bearing", "ignored")
 #: Why Z is undefined (``series.csv`` column ``z_undefined``; 0: defined).
 Z_UNDEFINED = {
     1: "no raw/contacts file for this output step",
@@ -71,12 +79,13 @@ CONTACT_COLUMNS = ("candidate", "node", "antagonist", "wall", "fn", "ft",
                    "fx", "fy")
 
 
-def active_mask(fn, threshold) -> np.ndarray:
+def active_mask(fn, threshold, tensile="ignored") -> np.ndarray:
     """Nodal contacts whose normal force is nonzero.
 
-    ``fn > threshold x max(fn)`` and ``fn > 0``.
+    ``fn > threshold x max(fn)`` and ``fn > 0``; with ``tensile =
+    "bearing"``, ``|fn|`` in place of ``fn``.
     """
-    fn = np.asarray(fn, dtype=float)
+    fn = _bearing(fn, tensile)
     if fn.size == 0:
         return np.zeros(0, dtype=bool)
     return (fn > 0.0) & (fn > threshold * fn.max())
@@ -209,7 +218,8 @@ def contact_network(contacts: dict, n_particles: int, piston_force: float,
     -------
     ContactNetwork
     """
-    active = active_mask(contacts["fn"], rules.force_threshold)
+    tensile = _rule(rules, "tensile_contacts")
+    active = active_mask(contacts["fn"], rules.force_threshold, tensile)
     pairs = force_bearing_pairs(contacts["candidate"], contacts["node"],
                                 contacts["antagonist"], active, rules.rule)
     walls = force_bearing_walls(contacts["candidate"], contacts["node"],
@@ -221,7 +231,8 @@ def contact_network(contacts: dict, n_particles: int, piston_force: float,
         resultant = resultant + np.asarray(body_forces, float)
     resultant = np.linalg.norm(resultant, axis=1)
     reference = reference_force(contacts, piston_force,
-                                _rule(rules, "unbalanced_reference"))
+                                _rule(rules, "unbalanced_reference"),
+                                tensile)
     unbalanced = resultant > rules.unbalanced_threshold * reference
     if _rule(rules, "excluded_contacts") == "kept":
         pair_ok = np.ones(len(pairs), dtype=bool)
@@ -246,16 +257,17 @@ def contact_network(contacts: dict, n_particles: int, piston_force: float,
 
 
 def reference_force(contacts: dict, piston_force: float,
-                    reference: str) -> float:
+                    reference: str, tensile: str = "ignored") -> float:
     """The f of f_p* = unbalanced_threshold x f under a reading.
 
     ``"piston_force"``: ``piston_force``; ``"total_normal_force"``: the sum
-    of the positive normal forces of all nodal contacts.
+    of the positive normal forces of all nodal contacts (of their
+    magnitudes with ``tensile = "bearing"``).
     """
     if reference == "piston_force":
         return float(piston_force)
     if reference == "total_normal_force":
-        return float(np.sum(np.maximum(np.asarray(contacts["fn"], float),
+        return float(np.sum(np.maximum(_bearing(contacts["fn"], tensile),
                                        0.0)))
     raise ValueError(f"unbalanced_reference must be one of {REFERENCES},"
                      f" got {reference!r}")
@@ -288,11 +300,24 @@ def z_change(phi, z_a, z_b, phi_range=None) -> float:
     return float(np.max(np.abs(z_a[keep] - z_b[keep])))
 
 
+def _bearing(fn, tensile) -> np.ndarray:
+    """The normal forces as they bear load under ``tensile_contacts``."""
+    if tensile not in TENSILE_CONTACTS:
+        raise ValueError(f"tensile_contacts must be one of"
+                         f" {TENSILE_CONTACTS}, got {tensile!r}")
+    fn = np.asarray(fn, dtype=float)
+    return np.abs(fn) if tensile == "bearing" else fn
+
+
+_READINGS = {"unbalanced_reference": REFERENCES,
+             "excluded_contacts": EXCLUDED_CONTACTS,
+             "tensile_contacts": TENSILE_CONTACTS}
+
+
 def _rule(rules, name):
     """A reading of ``rules``, checked."""
     value = getattr(rules, name)
-    allowed = REFERENCES if name == "unbalanced_reference" \
-        else EXCLUDED_CONTACTS
+    allowed = _READINGS[name]
     if value not in allowed:
         raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
     return value

@@ -9,7 +9,8 @@ module does not read it). ``fields.h5`` holds the mesh:
 ``/Mesh/<mesh>/geometry``
     reference node coordinates, shape ``(n, 2)`` (or ``(n, 3)``);
 ``/Mesh/<mesh>/topology``
-    triangles, shape ``(m, 3)``;
+    triangles, shape ``(m, 3)`` (a 3D scene's: tetrahedra, ``(m, 4)``, its
+    coordinates and displacements then read with their three components);
 
 and each written time has its own file, ``fields/<key>.h5`` (written whole
 and renamed, so that a killed driver leaves no frame half written), holding
@@ -49,9 +50,11 @@ class Snapshot:
     time : float
         The stored time read (s).
     points : ndarray, shape (n, 2)
-        Reference node coordinates (m).
+        Reference node coordinates (m); (n, 3) for tetrahedra.
     cells : ndarray of int, shape (m, 3)
+        Triangles; (m, 4): tetrahedra.
     displacement : ndarray, shape (n, 2)
+        (n, 3) for tetrahedra.
     psi : ndarray, shape (m,) or None
         Strain energy per reference area of each cell (J/m^3); None when
         the file has no ``Psi``.
@@ -158,23 +161,25 @@ def _times(group) -> dict:
     return {float(key.replace("_", ".")): key for key in group}
 
 
-def _read(file, name, key) -> np.ndarray:
-    """Values of function ``name`` at key ``key`` of a file: ``(n, 2)`` for a
-    vector function (its in-plane part), ``(m,)`` for a cell function."""
+def _read(file, name, key, dim=2) -> np.ndarray:
+    """Values of function ``name`` at key ``key`` of a file: ``(n, dim)``
+    for a vector function (2D: its in-plane part), ``(m,)`` for a cell
+    function."""
     with _h5py().File(file, "r") as f:
         group = _function_group(f, name, file)
         if key not in group:
             raise KeyError(f"{file}: no {name!r} at {key}")
         values = np.asarray(group[key])
-    return values[:, :2] if values.shape[1] >= 2 else values.reshape(-1)
+    return values[:, :dim] if values.shape[1] >= 2 else values.reshape(-1)
 
 
 def read_mesh(path):
-    """Reference node coordinates ``(n, 2)`` and triangles ``(m, 3)``."""
+    """Reference node coordinates ``(n, 2)`` and triangles ``(m, 3)``; a
+    mesh of tetrahedra ``(m, 4)``: coordinates ``(n, 3)``."""
     with _h5py().File(path, "r") as f:
         mesh = _mesh_group(f, path)
-        return (np.asarray(mesh["geometry"])[:, :2],
-                np.asarray(mesh["topology"]).astype(np.int64))
+        cells = np.asarray(mesh["topology"]).astype(np.int64)
+        return np.asarray(mesh["geometry"])[:, :cells.shape[1] - 1], cells
 
 
 def stored_times(path, name=DISPLACEMENT) -> np.ndarray:
@@ -206,8 +211,10 @@ def read_snapshot(path, time) -> Snapshot:
         When the file has no mesh or no displacement.
     """
     points, cells = read_mesh(path)
-    u, stored = read_function(path, DISPLACEMENT, time)
-    file, key = _index(path, DISPLACEMENT)[stored]
+    index = _index(path, DISPLACEMENT)
+    stored = _nearest(index, time)
+    file, key = index[stored]
+    u = _read(file, DISPLACEMENT, key, points.shape[1])
     optional = {}
     for name in (PSI, BODY):
         try:

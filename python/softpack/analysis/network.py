@@ -18,7 +18,8 @@ a, b
     -1 - w`` (each wall its own node of the graph; ``w`` indexes
     ``raw/setup.json``'s walls).
 nodes
-    The nodal contacts of the pair with a positive normal force.
+    The nodal contacts of the pair with a nonzero normal force
+    (compressive, or tensile under a cohesive law or a bond).
 fx, fy
     The force on ``a`` from ``b`` (N): the sum of its nodal forces.
 fn, ft
@@ -61,7 +62,7 @@ def pairs(contacts: dict, centroids: np.ndarray, walls: list,
         (:func:`softpack.analysis.cell.image_offsets`); the branch vector
         runs to the image touched.
     """
-    loaded = contacts["fn"] > 0
+    loaded = contacts["fn"] != 0
     a = contacts["candidate"][loaded]
     wall = contacts["wall"][loaded]
     other = np.where(wall >= 0, -1 - wall, contacts["antagonist"][loaded])

@@ -157,6 +157,10 @@ class Rules:
         The readings of the exclusion rule
         (:mod:`softpack.analysis.connectivity`); ``None``: the schema's
         default.
+    tensile_contacts : str
+        ``tensile_contacts``: whether a tensile normal force bears load
+        (:mod:`softpack.analysis.connectivity`); ``None``: the schema's
+        default.
     """
 
     force_threshold: float
@@ -164,12 +168,14 @@ class Rules:
     rule: str
     unbalanced_reference: str = None
     excluded_contacts: str = None
+    tensile_contacts: str = None
 
     def __post_init__(self):
         from softpack.contract.schema import load_schema
 
         spec = load_schema()["observables"].parameters
-        for name in ("unbalanced_reference", "excluded_contacts"):
+        for name in ("unbalanced_reference", "excluded_contacts",
+                     "tensile_contacts"):
             if getattr(self, name) is None:
                 object.__setattr__(self, name, spec[name].default)
 
@@ -289,9 +295,11 @@ def read_rules(run_dir) -> Rules:
              "unbalanced_threshold": "unbalanced_threshold",
              "two_node_rule": "rule",
              "unbalanced_reference": "unbalanced_reference",
-             "excluded_contacts": "excluded_contacts"}
-    # runs older than these two readings: the schema's default
-    optional = {"unbalanced_reference", "excluded_contacts"}
+             "excluded_contacts": "excluded_contacts",
+             "tensile_contacts": "tensile_contacts"}
+    # runs older than these readings: the schema's default
+    optional = {"unbalanced_reference", "excluded_contacts",
+                "tensile_contacts"}
     unknown = set(section) - set(names)
     missing = set(names) - set(section) - optional
     if unknown or missing:

@@ -96,3 +96,39 @@ def summary_lines(run_dir) -> list[str]:
                      f" (step {int(series['step'][last])}); "
                      + _state(series, stress, last, rigid))
     return lines
+
+
+def check_lines(finish: dict) -> list:
+    """What ``raw/done.json`` (``finish``) marks: a run incomplete, not
+    converged, retried or overlapping.
+
+    ``raw/done.json`` counts the steps whose Newton iterations or contact
+    solves stopped unconverged, and the output steps whose bodies overlapped
+    by more than ``contact.alert_distance`` (the driver's independent check).
+    """
+    lines = []
+    if finish.get("complete", True) is False:
+        lines.append(
+            f"WARNING: incomplete: the run ended in stage"
+            f" {finish.get('stage', '?')} '{finish.get('stage_name', '?')}'"
+            f" (of {finish.get('stages', '?')}) before its stop criterion:"
+            f" {finish.get('reason', '?')} (raw/done.json complete = false)")
+    if finish.get("converged", True) is False:
+        lines.append(
+            f"WARNING: marked as not converged:"
+            f" {finish.get('newton_unconverged_steps', '?')} steps with"
+            f" Newton and {finish.get('nlgs_unconverged_steps', '?')} with a"
+            f" contact solve unconverged (raw/steps.csv"
+            f" newton_unconverged_steps, nlgs_unconverged_steps)")
+    if finish.get("retried_steps", 0):
+        lines.append(
+            f"{finish['retried_steps']} steps were solved only after a retry"
+            f" at half the time step (time.max_step_factor; raw/steps.csv"
+            f" retried_steps)")
+    if finish.get("overlap_steps", 0):
+        lines.append(
+            f"WARNING: bodies overlap by up to"
+            f" {finish.get('max_overlap_depth', 0):.3g} m at"
+            f" {finish['overlap_steps']} output steps (more than"
+            f" contact.alert_distance; raw/steps.csv max_overlap_depth)")
+    return lines

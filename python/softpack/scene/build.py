@@ -31,8 +31,9 @@ class Scene:
     ----------
     config : Config
         The configuration it was built from.
-    packing : Packing
-        Particle centres and radii in body order.
+    packing : Packing or SolidPacking
+        Particle centres and radii in body order (3D: centres and volumes,
+        :class:`softpack.scene.solid_scene.SolidPacking`).
     mesh : MeshInfo
         The mesh files and sizes per body.
     species : ndarray of int
@@ -105,12 +106,18 @@ def check_user_shapes(config) -> dict:
         return {}
     diameters, index = particle_table(species, config["packing"]["seed"])
     keep = np.isin(index, user)
+    if config["model"]["dimension"] == 3:
+        from softpack.scene.solid_scene import solid_templates
+
+        return solid_templates(config, diameters[keep], index[keep],
+                               _base(config))
     return shapes.templates(species, diameters[keep], index[keep],
                             config["mesh"]["element_size"], _base(config))
 
 
 def build_scene(config, mesh_stem, known=None) -> Scene:
-    """Draw, mesh, place and write a configuration's particles.
+    """Draw, mesh, place and write a configuration's particles (3D:
+    :func:`softpack.scene.solid_scene.build_solids`).
 
     Each distinct (shape, size) is meshed once (:mod:`.shapes`); the
     packing places the particles' bounding circles (:mod:`.packing`); the
@@ -133,6 +140,13 @@ def build_scene(config, mesh_stem, known=None) -> Scene:
         :class:`~softpack.scene.shapes.ShapeError`) a shape cannot be
         meshed; nothing is written then.
     """
+    if config["model"]["dimension"] == 3:
+        from softpack.scene.solid_scene import build_solids
+
+        packing, info, index = build_solids(config, mesh_stem, known,
+                                            _base(config))
+        return Scene(config=config, packing=packing, mesh=info,
+                     species=index, walls=scene_walls(config))
     species, seed = config["species"], config["packing"]["seed"]
     diameters, index = particle_table(species, seed)
     if not (config["box"]["enabled"] or config["cell"]["enabled"]):

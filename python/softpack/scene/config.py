@@ -34,7 +34,7 @@ import math
 import tomllib
 from pathlib import Path
 
-from softpack.scene import consistency, species as species_rules, stages
+from softpack.scene import consistency, dimension, species as species_rules, stages
 from softpack.scene.materials import RegistryError, load_registry, resolve
 from softpack.contract.schema import MATERIAL_CHOICES, load_schema
 from softpack.scene.walls import BOX_WALLS, CONTROL, box_geometry, unit
@@ -154,6 +154,10 @@ def validate(data: dict, source="<config>", overrides=None,
     except stages.StageError as err:
         raise ConfigError(f"{source}: {err}") from None
     sections = {name: sections[name] for name in schema}
+    try:
+        dimension.check(sections, checker.registry())
+    except dimension.DimensionError as err:
+        raise ConfigError(f"{source}: {err}") from None
     try:
         consistency.derive(sections)
         consistency.check(sections)

@@ -98,8 +98,8 @@ def check(sections) -> None:
         raise Inconsistent(str(err)) from None
     if sections["cell"]["enabled"]:
         _check_cell(sections)
-    else:
-        _check_box(sections)
+    elif sections["model"]["dimension"] == 2:
+        _check_box(sections)  # 3D: dimension.check
     try:
         check_controls(sections["walls"], sections["box"]["enabled"])
     except ValueError as err:

@@ -46,11 +46,15 @@ class Law:
     parameters : dict
         ``key -> Parameter`` (section ``material.parameters``); a default
         may be an expression string (see :func:`resolve`).
+    dimensions : tuple of int
+        Where its forms are compiled: (2,) plane strain only, (2, 3) also
+        on tetrahedra (the file's ``dimensions``).
     """
 
     name: str
     doc: str
     parameters: dict
+    dimensions: tuple = (2,)
 
 
 def load_registry(path: Path | None = None) -> dict:
@@ -85,7 +89,8 @@ def load_registry(path: Path | None = None) -> dict:
             spec = dict(spec, type="float")
             parameters[key] = make_parameter("material.parameters", key, spec)
         laws[name] = Law(name=name, doc=entry.get("doc", ""),
-                         parameters=parameters)
+                         parameters=parameters,
+                         dimensions=tuple(entry.get("dimensions", (2,))))
     if not laws:
         raise RegistryError(f"{path}: no materials registered")
     return laws

@@ -216,24 +216,33 @@ def mesh_particles(bodies, centres, angles, out_stem) -> MeshInfo:
     centres = np.asarray(centres, dtype=float).reshape(-1, 2)
     angles = np.asarray(angles, dtype=float).reshape(-1)
     xdmf, h5, bodies_csv = output_paths(out_stem)
-    points, cells, body = [], [], []
-    offset = 0
-    for i, (t, c, a) in enumerate(zip(bodies, centres, angles)):
-        points.append((rotated(t.points, a) if a else t.points) + c)
-        cells.append(t.triangles + offset)
-        body.append(np.full(len(t.triangles), i, dtype=np.int32))
-        offset += len(t.points)
-    points, cells = np.vstack(points), np.vstack(cells)
+    points, cells, body = placed_copies(bodies, centres, angles,
+                                        [t.triangles for t in bodies],
+                                        rotated)
     _check_cells(points, cells)
     rows = [f"{i},{c[0]!r},{c[1]!r},{t.bounding_radius!r},{t.area!r},{a!r}"
             for i, (t, c, a) in enumerate(zip(bodies, centres, angles))]
-    _write_outputs(xdmf, (points, cells, np.concatenate(body)), bodies_csv,
-                   rows)
+    _write_outputs(xdmf, (points, cells, body), bodies_csv, rows)
     return MeshInfo(
         xdmf=xdmf, h5=h5, bodies_csv=bodies_csv,
         triangles_per_body=tuple(len(t.triangles) for t in bodies),
         nodes_per_body=tuple(len(t.points) for t in bodies),
         reference_areas=tuple(float(t.area) for t in bodies))
+
+
+def placed_copies(templates, centres, angles, template_cells, rotate):
+    """Each template's points rotated by its angle (``rotate(points,
+    angle)``) and moved to its centre, its cells renumbered into the one
+    mesh: (points, cells, the body of each cell)."""
+    points, cells, body = [], [], []
+    offset = 0
+    for i, (t, own, c, a) in enumerate(zip(templates, template_cells,
+                                            centres, angles)):
+        points.append((rotate(t.points, a) if a else t.points) + c)
+        cells.append(own + offset)
+        body.append(np.full(len(own), i, dtype=np.int32))
+        offset += len(t.points)
+    return np.vstack(points), np.vstack(cells), np.concatenate(body)
 
 
 def _check_cells(points, cells) -> None:
@@ -304,15 +313,16 @@ def write_xdmf(xdmf, points, cells, body) -> None:
 _write_xdmf = write_xdmf
 
 
-def _write_outputs(xdmf, mesh, bodies_csv, rows) -> None:
-    """Write mesh (``(points, cells, body)``), tags and body table into place
-    atomically (see module)."""
+def _write_outputs(xdmf, mesh, bodies_csv, rows,
+                   columns=BODIES_COLUMNS) -> None:
+    """Write mesh (``(points, cells, body)``), tags and body table (its
+    header ``columns``) into place atomically (see module)."""
     xdmf.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{xdmf.stem}.tmp-", dir=xdmf.parent))
     try:
         _write_xdmf(tmp / xdmf.name, *mesh)
         (tmp / bodies_csv.name).write_text(
-            "\n".join([BODIES_COLUMNS, *rows]) + "\n")
+            "\n".join([columns, *rows]) + "\n")
         bodies_csv.unlink(missing_ok=True)
         h5_name = xdmf.with_suffix(".h5").name
         os.replace(tmp / h5_name, xdmf.with_name(h5_name))

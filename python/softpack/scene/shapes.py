@@ -240,6 +240,10 @@ def _template(gmsh, spec, s, diameter, h, base) -> Template:
 
             path = user_file(spec, where, base)
             where = f"{where} file = {str(path)!r}"
+            if shape == "msh" and _holds_tetrahedra(path):
+                raise ShapeError(f"{where}: a 3D solid (tetrahedra) in a 2D"
+                                 " scene ([model] dimension = 2): give its"
+                                 " triangles, or set [model] dimension = 3")
             points, triangles = user_mesh(shape, path, exact_area(diameter),
                                           h)
         else:
@@ -257,6 +261,17 @@ def _template(gmsh, spec, s, diameter, h, base) -> Template:
                             triangles=template.triangles, area=template.area,
                             bounding_radius=diameter / 2)
     return template
+
+
+def _holds_tetrahedra(path) -> bool:
+    """Whether a gmsh mesh file holds tetrahedra (meshio reads it; a file
+    meshio cannot read is left to gmsh, whose message is then the one)."""
+    try:
+        import meshio
+
+        return any(c.type == "tetra" for c in meshio.read(str(path)).cells)
+    except Exception:  # meshio raises many kinds on files it cannot read
+        return False
 
 
 def boundary_loops(triangles) -> list:

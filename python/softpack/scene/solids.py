@@ -31,7 +31,10 @@ import numpy as np
 
 from softpack.scene.triangulation import MeshingError, initialize_gmsh
 
-SHAPES = ("sphere", "cylinder")
+SHAPES = ("sphere", "cylinder", "ellipsoid")
+#: A tetrahedron whose |volume| is at most this fraction of the largest
+#: one's is degenerate (flat).
+DEGENERATE = 1e-12
 
 
 def signed_volumes(points, tets) -> np.ndarray:
@@ -41,14 +44,26 @@ def signed_volumes(points, tets) -> np.ndarray:
     return np.einsum("ij,ij->i", np.cross(e[:, 0], e[:, 1]), e[:, 2]) / 6
 
 
+def spheroid_axes(aspect_ratio, diameter) -> tuple[float, float]:
+    """Semi-axes (a along x, b the two others) of the spheroid of axis
+    ratio a/b = ``aspect_ratio`` and the volume of the sphere of diameter
+    D: a b^2 = (D/2)^3."""
+    r = diameter / 2
+    return r * aspect_ratio ** (2 / 3), r * aspect_ratio ** (-1 / 3)
+
+
 def _solid(gmsh, shape, diameter, height, element_size,
            symmetry_planes) -> None:
-    """The OCC volume(s) of one solid."""
+    """The OCC volume(s) of one solid (``height``: a cylinder's height or an
+    ellipsoid's aspect ratio)."""
     occ, r = gmsh.model.occ, diameter / 2
-    if shape == "sphere":
+    if shape in ("sphere", "ellipsoid"):
         if symmetry_planes:
             raise ValueError("symmetry_planes: cylinders only")
-        occ.addSphere(0, 0, 0, r)
+        tag = occ.addSphere(0, 0, 0, r)
+        if shape == "ellipsoid":
+            a, b = spheroid_axes(height, diameter)
+            occ.dilate([(3, tag)], 0, 0, 0, a / r, b / r, b / r)
         occ.synchronize()
         return
     disk = [(2, occ.addDisk(0, 0, -height / 2, r, r))]
@@ -71,11 +86,13 @@ def solid_tetrahedra(shape, element_size, diameter, height=None,
     Parameters
     ----------
     shape : str
-        ``"sphere"`` or ``"cylinder"``.
+        ``"sphere"``, ``"cylinder"`` or ``"ellipsoid"``.
     element_size : float
         gmsh's element size (absolute, m).
     diameter, height : float
-        The solid's diameter, and a cylinder's height.
+        The solid's diameter (an ellipsoid's: of the sphere of equal
+        volume), and a cylinder's height or an ellipsoid's aspect ratio
+        (its axis along x over the two others, >= 1).
     symmetry_planes : bool
         Conform the mesh to the planes x = 0 and y = 0 (cylinders).
     """
@@ -85,6 +102,8 @@ def solid_tetrahedra(shape, element_size, diameter, height=None,
         raise ValueError("diameter and element_size must be positive")
     if shape == "cylinder" and not (height and height > 0):
         raise ValueError("a cylinder needs a positive height")
+    if shape == "ellipsoid" and not (height and height >= 1):
+        raise ValueError("an ellipsoid needs an aspect ratio >= 1")
     import gmsh
 
     initialize_gmsh(gmsh)
@@ -121,11 +140,75 @@ def _compact(tags, points, element_nodes):
     used, tets = np.unique(tets, return_inverse=True)
     points, tets = points[used], tets.reshape(-1, 4)
     volumes = signed_volumes(points, tets)
-    if np.any(np.abs(volumes) <= 1e-12 * np.abs(volumes).max()):
+    if np.any(np.abs(volumes) <= DEGENERATE * np.abs(volumes).max()):
         raise MeshingError("degenerate tetrahedra (zero volume)")
     flip = volumes < 0
     tets[flip] = tets[flip][:, [0, 1, 3, 2]]
     return points, tets
+
+
+def checked_tetrahedra(points, tets):
+    """A user's tetrahedra, refused when some are degenerate (|volume| <=
+    ``DEGENERATE`` of the largest) or inverted (oriented against the
+    others: a tangled mesh); a mesh oriented negatively throughout (a
+    writer's convention) is turned over.
+
+    Raises
+    ------
+    MeshingError
+        Saying how many tetrahedra are degenerate or inverted, and the
+        first one's index.
+    """
+    points = np.asarray(points, dtype=float)
+    tets = np.array(tets, dtype=np.int64).reshape(-1, 4)
+    if not len(tets):
+        raise MeshingError("no tetrahedra (a 3D solid needs 4-node"
+                           " tetrahedra)")
+    volumes = signed_volumes(points, tets)
+    flat = np.flatnonzero(np.abs(volumes) <= DEGENERATE
+                          * np.abs(volumes).max())
+    if len(flat):
+        raise MeshingError(f"{len(flat)} of {len(tets)} tetrahedra are"
+                           f" degenerate (zero volume; the first: tetrahedron"
+                           f" {flat[0]})")
+    sign = 1.0 if np.sum(volumes > 0) >= np.sum(volumes < 0) else -1.0
+    inverted = np.flatnonzero(sign * volumes < 0)
+    if len(inverted):
+        raise MeshingError(f"{len(inverted)} of {len(tets)} tetrahedra are"
+                           f" inverted (oriented against the others: a"
+                           f" tangled mesh; the first: tetrahedron"
+                           f" {inverted[0]})")
+    if sign < 0:
+        tets = tets[:, [0, 1, 3, 2]]
+    return points, tets
+
+
+def read_solid(path):
+    """The nodes and tetrahedra of a user's gmsh mesh of one solid (meshio
+    reads it; only its 4-node tetrahedra are kept, the nodes they use
+    numbered from 0), checked by :func:`checked_tetrahedra`.
+
+    Raises
+    ------
+    MeshingError
+        Unreadable, no tetrahedra, degenerate or inverted ones.
+    """
+    import meshio
+
+    try:
+        mesh = meshio.read(str(path))
+    except Exception as err:  # meshio raises many kinds on a bad file
+        raise MeshingError(f"cannot read it: {err}") from None
+    blocks = [c.data for c in mesh.cells if c.type == "tetra"]
+    if not blocks:
+        raise MeshingError("no tetrahedra (a 3D solid needs 4-node"
+                           " tetrahedra)")
+    tets = np.vstack(blocks).astype(np.int64)
+    used, tets = np.unique(tets, return_inverse=True)
+    points = np.asarray(mesh.points, dtype=float)[used]
+    if points.shape[1] != 3:
+        raise MeshingError("its nodes have 2 coordinates, not 3")
+    return checked_tetrahedra(points, tets.reshape(-1, 4))
 
 
 def write_solids(xdmf, points, tets, body=None) -> None:
@@ -143,7 +226,9 @@ def main(argv=None) -> int:
                                      description=__doc__.splitlines()[0])
     parser.add_argument("shape", choices=SHAPES)
     parser.add_argument("--diameter", type=float, required=True)
-    parser.add_argument("--height", type=float)
+    parser.add_argument("--height", type=float,
+                        help="a cylinder's height; an ellipsoid's aspect"
+                        " ratio")
     parser.add_argument("--element-size", type=float, required=True)
     parser.add_argument("--symmetry-planes", action="store_true")
     parser.add_argument("--out", type=Path, required=True,

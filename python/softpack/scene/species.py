@@ -22,6 +22,8 @@ from softpack.scene import distributions
 
 #: The seed-sequence stream of the orientations.
 ORIENTATION_STREAM = 2
+#: The shapes a rotation about their centre (about z in 3D) leaves alone.
+ROUND = ("disk", "sphere", "cylinder")
 
 
 def particle_table(species, seed=0) -> tuple[np.ndarray, np.ndarray]:
@@ -52,13 +54,14 @@ def orientations(species, index, seed=0) -> np.ndarray:
     """Each particle's rotation about its centre (rad), in body order.
 
     ``orientation = "random"``: uniform in [0, 2 pi), seeded; ``"fixed"``:
-    the species' ``angle``. Disks are never rotated (0).
+    the species' ``angle`` (3D: about the z axis). Disks, spheres and
+    cylinders are never rotated (0).
     """
     index = np.asarray(index)
     out = np.zeros(len(index))
     for k, s in enumerate(species):
         mine = index == k
-        if s.get("shape", "disk") == "disk":
+        if s.get("shape", "disk") in ROUND:
             continue
         if s.get("orientation", "random") == "random":
             rng = np.random.default_rng([int(seed), ORIENTATION_STREAM, k])

@@ -69,7 +69,8 @@ def executable() -> Path:
 
 
 def check_ranks(ranks: int, config) -> None:
-    """Refuse a number of MPI ranks outside 1..number of bodies.
+    """Refuse a number of MPI ranks outside 1..number of bodies, or above 1
+    for a 3D scene (not yet distributed).
 
     Raises
     ------
@@ -80,6 +81,11 @@ def check_ranks(ranks: int, config) -> None:
 
     if ranks == 1:  # a valid config has a body
         return
+    if config["model"]["dimension"] == 3:
+        raise ConfigError(
+            f"--ranks {ranks}: a 3D scene ([model] dimension = 3 in"
+            f" {config.source}) runs on one rank for now"
+            " (docs/bodies_3d.md)")
     bodies = sum(int(s["count"]) for s in config["species"])
     if not 1 <= ranks <= bodies:
         raise ConfigError(
@@ -88,8 +94,11 @@ def check_ranks(ranks: int, config) -> None:
             " body")
 
 
-def command(driver_json, quiet=False, ranks=1, threads=None) -> list[str]:
-    """The command line that runs the driver on ``ranks`` MPI ranks.
+def command(driver_json, quiet=False, ranks=1, threads=None,
+            initial_only=False) -> list[str]:
+    """The command line that runs the driver on ``ranks`` MPI ranks
+    (``initial_only``: ``--initial-only``, the initial state written and
+    no step).
 
     One rank: the executable itself (OpenMP uses the cores). Several:
     ``mpirun -np RANKS`` (``--oversubscribe``: more ranks than cores is
@@ -100,6 +109,8 @@ def command(driver_json, quiet=False, ranks=1, threads=None) -> list[str]:
     cmd = [str(executable()), str(driver_json)]
     if quiet:
         cmd.append("--quiet")
+    if initial_only:
+        cmd.append("--initial-only")
     if threads is None and ranks > 1:
         threads = max(1, len(os.sched_getaffinity(0)) // ranks)
     if threads is not None:
@@ -117,7 +128,7 @@ def command(driver_json, quiet=False, ranks=1, threads=None) -> list[str]:
 
 
 def start(driver_json, log, quiet=False, ranks=1,
-          threads=None) -> subprocess.Popen:
+          threads=None, initial_only=False) -> subprocess.Popen:
     """Start the driver on ``driver_json``; its output goes to ``log``.
 
     Parameters
@@ -131,10 +142,13 @@ def start(driver_json, log, quiet=False, ranks=1,
     ranks, threads : int
         MPI ranks and OpenMP threads per rank (:func:`command`); the
         caller checked the range.
+    initial_only : bool
+        As :func:`command`.
     """
     driver_json = Path(driver_json).resolve()
     return subprocess.Popen(
-        command(driver_json, quiet, ranks, threads), cwd=driver_json.parent,
+        command(driver_json, quiet, ranks, threads, initial_only),
+        cwd=driver_json.parent,
         env=_launch_environment(), stdin=subprocess.DEVNULL,
         stdout=log if log is not None else subprocess.DEVNULL,
         stderr=subprocess.STDOUT, process_group=0,
@@ -236,7 +250,7 @@ def _signal_group(proc: subprocess.Popen, sig) -> None:
 
 def launch(run: RunDirectory, config=None, scene=None, *,
            initial_state=None, log=None, quiet=False, ranks=1,
-           threads=None, watch=None) -> Finished:
+           threads=None, watch=None, initial_only=False) -> Finished:
     """Write driver.json, run the driver on it to the end, check it finished.
 
     Parameters
@@ -251,8 +265,9 @@ def launch(run: RunDirectory, config=None, scene=None, *,
     log : file object or path-like, optional
         The driver's output: appended to an open file (e.g. run.log, shared
         with the caller), written afresh to a path, or discarded (None).
-    quiet, ranks, threads
-        As :func:`command`.
+    quiet, ranks, threads, initial_only
+        As :func:`command` (``initial_only``: no raw/done.json is
+        required, ``Finished.done`` is None).
     watch : callable, optional
         Progress: see :func:`wait`.
 
@@ -266,17 +281,19 @@ def launch(run: RunDirectory, config=None, scene=None, *,
     executable()
     if config is not None:
         write_driver_json(config, scene, run.path, initial_state)
+    how = (quiet, ranks, threads, watch, initial_only)
     if log is None or hasattr(log, "write"):
-        return _launched(run, log, quiet, ranks, threads, watch)
+        return _launched(run, log, *how)
     with open(log, "w") as stream:
-        return _launched(run, stream, quiet, ranks, threads, watch)
+        return _launched(run, stream, *how)
 
 
-def _launched(run, log, quiet, ranks, threads, watch) -> Finished:
+def _launched(run, log, quiet, ranks, threads, watch,
+              initial_only=False) -> Finished:
     """The driver started on ``run``'s driver.json, waited for, checked."""
     if log is not None:
         log.flush()
-    proc = start(run.driver_json, log, quiet, ranks, threads)
+    proc = start(run.driver_json, log, quiet, ranks, threads, initial_only)
     try:
         status, peak_mb = wait(proc, watch)
     except BaseException:
@@ -287,7 +304,8 @@ def _launched(run, log, quiet, ranks, threads, watch) -> Finished:
             f"; last lines of {log.name}:\n" + _tail(log.name))
         raise DriverFailed(f"{DRIVER} failed (exit status {status}){where}",
                            status)
-    return Finished(peak_memory_mb=peak_mb, done=run.done())
+    return Finished(peak_memory_mb=peak_mb,
+                    done=None if initial_only else run.done())
 
 
 def _tail(path, lines: int = 20) -> str:

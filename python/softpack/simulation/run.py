@@ -114,6 +114,12 @@ def _parser() -> argparse.ArgumentParser:
                    help="MPI ranks (mpirun -np N): the bodies split by"
                    " space, each rank computing its own (1 to the number"
                    " of bodies; default 1)")
+    p.add_argument("--initial-only", action="store_true",
+                   help="build the scene and let the driver read, check and"
+                   " write the initial state (raw/setup.json, the fields at"
+                   " t = 0) and stop before the first step: no series.csv;"
+                   " a 3D scene's only run until the 3D time step is built"
+                   " (docs/bodies_3d.md)")
     p.add_argument("--observables-only", action="store_true",
                    help="only recompute series.csv, particles.csv,"
                    " network.csv and stress.csv of the run in --out DIR from"
@@ -160,7 +166,8 @@ def main(argv=None) -> int:
         if args.resume is not None:
             return resume(config, out, ranks=args.ranks)
         return run(config, out, force=args.force,
-                   initial_state=args.from_state, ranks=args.ranks)
+                   initial_state=args.from_state, ranks=args.ranks,
+                   initial_only=args.initial_only)
     except RunError as err:
         return _said(err)
     except (KeyboardInterrupt, Stopped) as err:
@@ -250,7 +257,7 @@ def default_out_dir(config, with_friction=False) -> Path:
 
 
 def run(config, out: Path, force=False, initial_state: Path | None = None,
-        verbose=True, ranks=1) -> int:
+        verbose=True, ranks=1, initial_only=False) -> int:
     """Packing, mesh, driver, observables into ``out``; returns EXIT_DONE,
     or EXIT_FLAGGED when the finished run is flagged (run_flags).
 
@@ -269,6 +276,10 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
         Print the log lines and the progress (always written to run.log).
     ranks : int
         MPI ranks of the driver (:func:`driver.check_ranks`).
+    initial_only : bool
+        The driver writes the initial state and stops before the first
+        step (``--initial-only``); no observables. A 3D scene's driver
+        refuses to step (3D time stepping: not yet built) without it.
 
     Raises
     ------
@@ -291,17 +302,20 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
                            " copy it elsewhere")
     known = _check_user_shapes(config)
     with prepare_directory(out, force):  # the directory's lock, held
-        return _run_locked(config, out, initial_state, verbose, ranks, known)
+        return _run_locked(config, out, initial_state, verbose, ranks, known,
+                           initial_only)
 
 
-def _run_locked(config, out, initial_state, verbose, ranks, known) -> int:
+def _run_locked(config, out, initial_state, verbose, ranks, known,
+                initial_only=False) -> int:
     """:func:`run` in its prepared, locked directory."""
     RunDirectory(out).config_toml.write_text(to_toml(config))
     with open(RunDirectory(out).run_log, "a", buffering=1) as log:
         say = _reporter(log, verbose)
         try:
             say.ranks = ranks
-            return _run_logged(config, out, initial_state, log, say, known)
+            return _run_logged(config, out, initial_state, log, say, known,
+                               initial_only)
         except (KeyboardInterrupt, Stopped) as err:
             log.write(f"[softpack run {time.strftime('%H:%M:%S')}] stopped"
                       f" ({why(err)}): the driver was stopped; no"
@@ -378,7 +392,8 @@ def _check_ranks(ranks, config) -> None:
         raise UsageError(str(err)) from None
 
 
-def _drive(config, out, log, say, scene=None, initial_state=None) -> None:
+def _drive(config, out, log, say, scene=None, initial_state=None,
+           initial_only=False) -> None:
     """Run the driver on ``out/driver.json`` (written first from ``scene``
     if given), its output to the log, progress shown; RunError if it
     fails."""
@@ -392,14 +407,16 @@ def _drive(config, out, log, say, scene=None, initial_state=None) -> None:
     try:
         driver.launch(run, config if scene is not None else None, scene,
                       initial_state=initial_state, log=log, ranks=ranks,
-                      watch=lambda final: progress.update(log, final=final))
+                      watch=lambda final: progress.update(log, final=final),
+                      initial_only=initial_only)
     except DriverFailed as err:
         say(f"{DRIVER} failed with exit status {err.status}")
         raise
     say(f"{DRIVER} done in {_duration(time.time() - started)}")
 
 
-def _run_logged(config, out, initial_state, log, say, known=None) -> int:
+def _run_logged(config, out, initial_state, log, say, known=None,
+                initial_only=False) -> int:
     """The body of :func:`run` once run.log is open."""
     from softpack.scene.build import build_scene
     from softpack.scene.packing import PackingError
@@ -415,13 +432,24 @@ def _run_logged(config, out, initial_state, log, say, known=None) -> int:
                   f" failed: {err}\n")
         raise RunError(f"{config.source}: {err}") from None
     reclaim_signals()
-    phi0 = scene.packing.packing_fraction
-    say(f"packing: {scene.packing.n_particles} particles, seed"
-        f" {config['packing']['seed']}, Phi0 = {phi0:.4f}; mesh:"
-        f" {scene.mesh.n_triangles} triangles")
+    if config["model"]["dimension"] == 3:
+        from softpack.analysis.solids import scene_summary
+
+        say(scene_summary(scene.mesh.xdmf, scene.packing.extent,
+                          config["packing"]["seed"]))
+    else:
+        phi0 = scene.packing.packing_fraction
+        say(f"packing: {scene.packing.n_particles} particles, seed"
+            f" {config['packing']['seed']}, Phi0 = {phi0:.4f}; mesh:"
+            f" {scene.mesh.n_triangles} triangles")
     if initial_state is not None:
         say(f"starting from {initial_state}")
-    _drive(config, out, log, say, scene.record(), initial_state)
+    _drive(config, out, log, say, scene.record(), initial_state,
+           initial_only)
+    if initial_only:
+        say(f"initial state written ({RunDirectory(out).raw.setup_json},"
+            " fields.xdmf); --initial-only: no step, no series.csv")
+        return EXIT_DONE
     return _postprocess(out, say)
 
 
@@ -440,7 +468,7 @@ def _postprocess(out: Path, say) -> int:
     """Check the driver finished, write the observables, print a summary."""
     from softpack.analysis.observables import (process_run, retained_report,
                                                z_report)
-    from softpack.analysis.summary import summary_lines
+    from softpack.analysis.summary import check_lines, summary_lines
     from softpack.contract.tables import read_table
 
     finish = RunDirectory(out).done()
@@ -457,7 +485,8 @@ def _postprocess(out: Path, say) -> int:
     for report in (z_report(s), retained_report(s)):  # Z says what it is
         if report:
             say(report)
-    _say_checks(finish, say)
+    for line in check_lines(finish):
+        say(line)
     say(f"wrote {series_csv} and {particles_csv}")
     flags = run_flags(finish)
     if flags:
@@ -465,31 +494,3 @@ def _postprocess(out: Path, say) -> int:
         return EXIT_FLAGGED
     return EXIT_DONE
 
-
-def _say_checks(finish: dict, say) -> None:
-    """Say when the driver marked the run as not converged or overlapping.
-
-    ``raw/done.json`` counts the steps whose Newton iterations or contact
-    solves stopped unconverged, and the output steps whose bodies overlapped
-    by more than ``contact.alert_distance`` (the driver's independent check).
-    """
-    if finish.get("complete", True) is False:
-        say(f"WARNING: incomplete: the run ended in stage"
-            f" {finish.get('stage', '?')} '{finish.get('stage_name', '?')}'"
-            f" (of {finish.get('stages', '?')}) before its stop criterion:"
-            f" {finish.get('reason', '?')} (raw/done.json complete = false)")
-    if finish.get("converged", True) is False:
-        say(f"WARNING: marked as not converged:"
-            f" {finish.get('newton_unconverged_steps', '?')} steps with"
-            f" Newton and {finish.get('nlgs_unconverged_steps', '?')} with a"
-            f" contact solve unconverged (raw/steps.csv"
-            f" newton_unconverged_steps, nlgs_unconverged_steps)")
-    if finish.get("retried_steps", 0):
-        say(f"{finish['retried_steps']} steps were solved only after a retry"
-            f" at half the time step (time.max_step_factor; raw/steps.csv"
-            f" retried_steps)")
-    if finish.get("overlap_steps", 0):
-        say(f"WARNING: bodies overlap by up to"
-            f" {finish.get('max_overlap_depth', 0):.3g} m at"
-            f" {finish['overlap_steps']} output steps (more than"
-            f" contact.alert_distance; raw/steps.csv max_overlap_depth)")
