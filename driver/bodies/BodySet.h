@@ -197,6 +197,11 @@ public:
   /// keeps its law's initial values, or zeros): what the forms of a
   /// viscoelastic law read beside the displacement
   std::span<const double> internal_variables() const { return _internal; }
+  /// The same, to write: a rebalanced run moves a body's values to its new
+  /// owner (parallel::move_bodies). On a distributed run's share the cells
+  /// of the other ranks' bodies hold NaN (set_local): their owners alone
+  /// relax them, and the state file gathers them from there.
+  std::span<double> internal_variables() { return _internal; }
   /// Set them (a state restored)
   /// @throws std::invalid_argument if the size is not internal_variables'
   void set_internal_variables(std::span<const double> values);
@@ -314,5 +319,19 @@ private:
   std::vector<int> _local;
   std::vector<char> _local_flag, _local_node;
 };
+
+/// The values (`stride` per cell, cell c's at stride * c) of the cells of
+/// the flagged bodies (a flag per body; `cell_body`: each cell's body),
+/// cell by cell in increasing order: what travels with a body to another
+/// rank, or to rank 0 at an output
+std::vector<double> pick_cells(std::span<const double> values, int stride,
+                               std::span<const int> cell_body,
+                               std::span<const char> flagged);
+/// Write values picked by pick_cells with the same flags back in place
+/// @return The number of values read from `in`
+std::size_t place_cells(std::span<double> values, int stride,
+                        std::span<const int> cell_body,
+                        std::span<const char> flagged,
+                        std::span<const double> in);
 
 } // namespace softpack::bodies

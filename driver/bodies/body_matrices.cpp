@@ -4,6 +4,7 @@
 #include "nodal_volumetric.h"
 
 #include "body_assembly.h"
+#include <limits>
 #include <stdexcept>
 
 namespace softpack::bodies
@@ -94,6 +95,12 @@ void BodySet::set_local(std::vector<int> local)
   _local = std::move(local);
   _local_flag = std::move(flag);
   mark_local_nodes();
+  // The other ranks' bodies' internal variables are theirs to relax: a
+  // read of one here shows as NaN instead of passing for a value
+  for (std::size_t c = 0; c < _cell_body.size(); ++c)
+    if (!_local_flag[_cell_body[c]] && _assembly->has_internal(_cell_body[c]))
+      std::fill_n(_internal.begin() + c * _internal_stride, _internal_stride,
+                  std::numeric_limits<double>::quiet_NaN());
 }
 
 std::vector<char> BodySet::kept_masses(std::span<const char> local) const

@@ -201,4 +201,35 @@ double BodySet::update_internal_variables(double h, std::span<double> f)
   return total;
 }
 
+std::vector<double> pick_cells(std::span<const double> values, int stride,
+                               std::span<const int> cell_body,
+                               std::span<const char> flagged)
+{
+  std::vector<double> out;
+  for (std::size_t c = 0; c < cell_body.size(); ++c)
+    if (flagged[cell_body[c]])
+      out.insert(out.end(), values.begin() + c * stride,
+                 values.begin() + (c + 1) * stride);
+  return out;
+}
+
+std::size_t place_cells(std::span<double> values, int stride,
+                        std::span<const int> cell_body,
+                        std::span<const char> flagged,
+                        std::span<const double> in)
+{
+  std::size_t k = 0;
+  for (std::size_t c = 0; c < cell_body.size(); ++c)
+    if (flagged[cell_body[c]])
+    {
+      if (k + stride > in.size())
+        throw std::invalid_argument(
+            "place_cells: " + std::to_string(in.size()) +
+            " values, the flagged bodies' cells have more");
+      std::copy_n(in.begin() + k, stride, values.begin() + c * stride);
+      k += stride;
+    }
+  return k;
+}
+
 } // namespace softpack::bodies

@@ -43,14 +43,6 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
   _energy.strain0 =
       std::accumulate(_body_strain.begin(), _body_strain.end(), 0.0);
   link_walls(_walls);
-  if (_options.friction.bonded() && dist().distributed())
-    throw std::invalid_argument(
-        "friction: law \"bonded\" runs on one MPI rank only "
-        "(docs/contact_laws.md)");
-  if (_bodies.internal_stride() > 0 && dist().distributed())
-    throw std::invalid_argument(
-        "material: a law with internal variables (viscoelastic_neo_hookean) "
-        "runs on one MPI rank only (docs/materials.md)");
 }
 
 void MoreauJean::set_initial_velocity(std::vector<double> v)
@@ -327,7 +319,9 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
     // per accepted step; the next step starts from their internal force
     // (the relaxed bodies' entries of _f_int, in the same pass).
     t0 = clock::now();
-    _energy.viscous += _bodies.update_internal_variables(h, _f_int);
+    double viscous = _bodies.update_internal_variables(h, _f_int);
+    dist().comm().sum(std::span<double>(&viscous, 1)); // the local bodies'
+    _energy.viscous += viscous;
     _rigid.zero(_f_int);
     report.seconds.assembly += seconds_since(t0);
   }

@@ -14,10 +14,6 @@ void MoreauJean::set_cell(const PeriodicCell& cell)
 {
   if (_started)
     throw std::logic_error("MoreauJean::set_cell: after the first step");
-  if (dist().distributed())
-    throw std::runtime_error(
-        "periodic cell ([cell] enabled): one MPI rank only for now (run "
-        "without --ranks)");
   if (!_rigid.empty())
     throw std::runtime_error("periodic cell ([cell] enabled): rigid "
                              "materials are not supported in a cell yet");
@@ -39,7 +35,10 @@ std::vector<std::array<double, 2>> MoreauJean::body_centroids() const
 {
   const std::vector<double> x = _bodies.current_coordinates();
   std::vector<std::array<double, 2>> centroids(_bodies.num_bodies());
-  for (int b = 0; b < _bodies.num_bodies(); ++b)
+  // Each from its owner (the only rank that stores the interior), summed
+  // over the ranks with zeros: every rank gets the owner's bits and
+  // re-wraps and kicks the boundaries it stores alike
+  for (const int b : _bodies.local_bodies())
   {
     const bodies::Body& body = _bodies.body(b);
     std::array<double, 2> c = {0, 0};
@@ -48,6 +47,9 @@ std::vector<std::array<double, 2>> MoreauJean::body_centroids() const
         c[d] += x[2 * g + d] / static_cast<double>(body.nodes.size());
     centroids[b] = c;
   }
+  if (dist().distributed())
+    dist().comm().sum(
+        std::span<double>(centroids.front().data(), 2 * centroids.size()));
   return centroids;
 }
 

@@ -81,7 +81,8 @@ SchemeState MoreauJean::scalar_state() const
     s.cell = {_cell->a1[0],      _cell->a1[1],      _cell->a2[0],
               _cell->a2[1],      _cell->a1_rate[0], _cell->a1_rate[1],
               _cell->a2_rate[0], _cell->a2_rate[1]};
-  // Whole on every run that has them (one rank only)
+  // Whole when serial; a distributed run's share has its local bodies'
+  // current (the others' NaN): io::OutputGather gathers them
   const std::span<const double> internal = _bodies.internal_variables();
   s.internal.assign(internal.begin(), internal.end());
   if (_matrix_age >= 0)

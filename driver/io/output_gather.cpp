@@ -18,6 +18,16 @@ OutputGather::OutputGather(const dynamics::MoreauJean& scheme,
   _v = scatter.gather_to_root(bodies, scheme.velocity());
   if (scheme.matrix_age() >= 0)
     _u_tangent = scatter.gather_to_root(bodies, scheme.tangent_displacement());
+  // Each cell's internal variables are current on its body's owner only
+  if (const int stride = bodies.internal_stride();
+      stride > 0 && dist.distributed())
+  {
+    _internal = scatter.gather_cells_to_root(
+        bodies, bodies.internal_variables(), stride);
+    if (scheme.matrix_age() >= 0)
+      _internal_tangent = scatter.gather_cells_to_root(
+          bodies, scheme.tangent_internal(), stride);
+  }
 }
 
 void OutputGather::require(const char* what) const
@@ -43,6 +53,12 @@ dynamics::SchemeState OutputGather::take_state()
   std::vector<double> u_tangent = std::exchange(_u_tangent, {});
   if (s.matrix_age >= 0)
     s.u_tangent = std::move(u_tangent);
+  if (!_internal.empty())
+  {
+    s.internal = std::exchange(_internal, {});
+    if (s.matrix_age >= 0)
+      s.internal_tangent = std::exchange(_internal_tangent, {});
+  }
   return s;
 }
 

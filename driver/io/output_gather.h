@@ -16,9 +16,9 @@ namespace softpack::io
 class OutputGather
 {
 public:
-  /// Gather the displacement, the velocity and the kept tangent's
-  /// displacement. Every process calls it at the same point, after
-  /// MoreauJean::prepare_output (the state's energies).
+  /// Gather the displacement, the velocity, the kept tangent's
+  /// displacement and the internal variables. Every process calls it at the
+  /// same point, after MoreauJean::prepare_output (the state's energies).
   OutputGather(const dynamics::MoreauJean& scheme,
                const bodies::BodySet& bodies);
 
@@ -36,6 +36,9 @@ private:
   const dynamics::MoreauJean& _scheme;
   bool _root;
   std::vector<double> _u, _v, _u_tangent;
+  /// The internal variables, now and of the kept tangent, gathered by
+  /// cell when distributed (else the scheme's own copies are whole)
+  std::vector<double> _internal, _internal_tangent;
 };
 
 } // namespace softpack::io

@@ -58,6 +58,55 @@ void body_entries(bodies::BodySet& bodies, int b,
       for (int c = 0; c < 2; ++c)
         visit(v[2 * node + c]);
 }
+
+/// The internal variables of the bodies that leave this rank sent to
+/// their new owners, cell by cell (a third all-to-all, when a law has
+/// them); what arrives from each sender, in the senders' rank order
+std::vector<double> move_internal(const Communicator& comm,
+                                  std::span<const int> before,
+                                  std::span<const int> split,
+                                  const bodies::BodySet& bodies)
+{
+  const int stride = bodies.internal_stride();
+  if (stride == 0)
+    return {};
+  const int rank = comm.rank();
+  std::vector<std::vector<double>> to_rank(comm.size());
+  for (int r = 0; r < comm.size(); ++r)
+  {
+    if (r == rank)
+      continue;
+    std::vector<char> leaving(before.size());
+    for (std::size_t b = 0; b < before.size(); ++b)
+      leaving[b] = before[b] == rank && split[b] == r;
+    to_rank[r] = bodies::pick_cells(bodies.internal_variables(), stride,
+                                    bodies.cell_body(), leaving);
+  }
+  return comm.exchange_items(to_rank);
+}
+
+/// Put the arriving bodies' internal variables (move_internal) in place
+void take_internal(const Communicator& comm, std::span<const int> before,
+                   std::span<const int> after, bodies::BodySet& bodies,
+                   std::span<const double> in)
+{
+  const int stride = bodies.internal_stride(), rank = comm.rank();
+  std::size_t k = 0;
+  for (int r = 0; r < comm.size() && stride > 0; ++r)
+  {
+    if (r == rank)
+      continue;
+    std::vector<char> arriving(before.size());
+    for (std::size_t b = 0; b < before.size(); ++b)
+      arriving[b] = before[b] == r && after[b] == rank;
+    k += bodies::place_cells(bodies.internal_variables(), stride,
+                             bodies.cell_body(), arriving, in.subspan(k));
+  }
+  if (k != in.size())
+    throw std::logic_error("move_bodies: " + std::to_string(in.size()) +
+                           " internal variables received, " +
+                           std::to_string(k) + " expected");
+}
 } // namespace
 
 void move_bodies(Distribution& distribution, std::vector<int> split,
@@ -88,6 +137,8 @@ void move_bodies(Distribution& distribution, std::vector<int> split,
   // Received in the senders' rank order, each sender's bodies in order
   const std::vector<double> in = comm.exchange_items(to_rank);
   const std::vector<std::int32_t> lists_in = comm.exchange_items(lists_to_rank);
+  const std::vector<double> internal_in =
+      move_internal(comm, before, split, bodies);
   long moved = 0;
   for (int b = 0; b < nb; ++b)
     moved += split[b] != before[b];
@@ -111,6 +162,7 @@ void move_bodies(Distribution& distribution, std::vector<int> split,
                            " entries and " + std::to_string(lists_in.size()) +
                            " list entries received, " + std::to_string(k) +
                            " and " + std::to_string(l) + " expected");
+  take_internal(comm, before, after, bodies, internal_in);
   // The arriving bodies' masses from their reference coordinates and
   // cells, now here
   bodies.set_local(distribution.index_map().local_bodies());

@@ -34,9 +34,10 @@ drifted_split(const Distribution& distribution, const bodies::BodySet& bodies,
 /// Give the bodies to the ranks of a drifted_split (counted as a
 /// rebalance): each body that changes rank sends its entries of the
 /// displacement, the reference coordinates and the given node vectors
-/// (the empty ones skipped), and its cell lists (BodySet::cell_lists),
-/// from its old owner to its new one (two all-to-alls: its interior and
-/// cells are its old owner's only); `bodies` keeps the new share
+/// (the empty ones skipped), its cell lists (BodySet::cell_lists) and its
+/// cells' internal variables (a law that has them), from its old owner to
+/// its new one (all-to-alls: its interior, cells and internal variables
+/// are its old owner's only); `bodies` keeps the new share
 /// (Distribution::assign, BodySet::set_local), and the given vectors are
 /// remapped to its storage.
 void move_bodies(Distribution& distribution, std::vector<int> split,

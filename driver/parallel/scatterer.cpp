@@ -1,5 +1,6 @@
 #include "scatterer.h"
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -74,6 +75,40 @@ Scatterer::gather_to_root(const bodies::BodySet& bodies,
     for (const std::int32_t g : bodies.body(b).global_nodes)
       for (int c = 0; c < 2; ++c)
         global[2 * g + c] = all[k++];
+  return global;
+}
+
+std::vector<double>
+Scatterer::gather_cells_to_root(const bodies::BodySet& bodies,
+                                std::span<const double> values,
+                                int stride) const
+{
+  if (!_comm.distributed())
+    return {values.begin(), values.end()};
+  const int size = _map.size(), rank = _comm.rank();
+  const std::vector<int>& owner = _map.body_rank();
+  const std::span<const int> cell_body = bodies.cell_body();
+  std::vector<int> counts(size, 0);
+  for (const int b : cell_body)
+    counts[owner[b]] += stride;
+  std::vector<char> mine(owner.size());
+  for (std::size_t b = 0; b < owner.size(); ++b)
+    mine[b] = owner[b] == rank;
+  const std::vector<double> all = _comm.gather_to_root(
+      bodies::pick_cells(values, stride, cell_body, mine), counts);
+  if (rank != 0)
+    return {};
+  // Rank r's block holds its bodies' cells in increasing order
+  std::vector<int> at(size, 0);
+  for (int r = 1; r < size; ++r)
+    at[r] = at[r - 1] + counts[r - 1];
+  std::vector<double> global(values.size());
+  for (std::size_t c = 0; c < cell_body.size(); ++c)
+  {
+    int& k = at[owner[cell_body[c]]];
+    std::copy_n(all.begin() + k, stride, global.begin() + c * stride);
+    k += stride;
+  }
   return global;
 }
 

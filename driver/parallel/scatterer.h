@@ -36,6 +36,13 @@ public:
   /// collective.
   std::vector<double> gather_to_root(const bodies::BodySet& bodies,
                                      std::span<const double> stored) const;
+  /// Per-cell values (`stride` per cell of the whole mesh, cell c's at
+  /// stride * c: the internal variables) made global on rank 0, each
+  /// cell's from its body's owner (an MPI_Gatherv); empty on the other
+  /// ranks, a copy when serial. A collective.
+  std::vector<double> gather_cells_to_root(const bodies::BodySet& bodies,
+                                           std::span<const double> values,
+                                           int stride) const;
   /// Make per-body values (`width` per body, body b's at width * b) those
   /// of each body's owner on every rank: a rank computes its own bodies'
   /// (energies, stresses) and sends only those

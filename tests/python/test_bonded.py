@@ -93,16 +93,6 @@ def test_a_resumed_run_gives_the_same_bits(tmp_path):
                                           err_msg=column)
 
 
-def test_several_ranks_are_refused_naming_the_pair(capsys):
-    from softpack.scene.config import load_config
-    config = load_config(BONDED)
-    with pytest.raises(Exception) as err:
-        run.run(config, Path("/nonexistent/never-written"), verbose=False,
-                ranks=2)
-    assert "[friction.0] law = \"bonded\" runs on one rank only" in str(
-        err.value)
-
-
 def test_bonds_form_after_a_state_in_which_none_had(tmp_path):
     """A packing compacted without bonds, then bonded: a run started from
     its state (--from-state) forms its bonds at its first step, where a

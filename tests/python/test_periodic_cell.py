@@ -63,14 +63,6 @@ def test_bad_cells_are_refused_naming_the_keys(data, keys):
         assert key in str(err.value)
 
 
-def test_a_cell_on_several_ranks_is_refused_before_it_runs(tmp_path):
-    from softpack.contract.run_directory import RunError
-    config = load_config(EXAMPLE)
-    with pytest.raises(RunError, match="--ranks 2: a periodic cell"):
-        run(config, tmp_path / "run", verbose=False, ranks=2)
-    assert not (tmp_path / "run").exists()
-
-
 def test_the_example_is_valid():
     config = load_config(EXAMPLE)
     assert config["cell"]["enabled"] and not config["box"]["enabled"]

@@ -70,8 +70,7 @@ def executable() -> Path:
 
 def check_ranks(ranks: int, config) -> None:
     """Refuse a number of MPI ranks outside 1..number of bodies, or above 1
-    for a 3D scene, a periodic cell or with a bonded pair (not yet
-    distributed).
+    for a 3D scene (not yet distributed).
 
     Raises
     ------
@@ -87,17 +86,6 @@ def check_ranks(ranks: int, config) -> None:
             f"--ranks {ranks}: a 3D scene ([model] dimension = 3 in"
             f" {config.source}) runs on one rank for now"
             " (docs/bodies_3d.md)")
-    if config["cell"]["enabled"]:
-        raise ConfigError(
-            f"--ranks {ranks}: a periodic cell ([cell] enabled in"
-            f" {config.source}) runs on one rank for now"
-            " (docs/periodic_cell.md)")
-    bonded = [i for i, f in enumerate(config["friction"])
-              if f["law"] == "bonded"]
-    if bonded:
-        raise ConfigError(
-            f"--ranks {ranks}: [friction.{bonded[0]}] law = \"bonded\""
-            " runs on one rank only (docs/contact_laws.md): --ranks 1")
     bodies = sum(int(s["count"]) for s in config["species"])
     if not 1 <= ranks <= bodies:
         raise ConfigError(

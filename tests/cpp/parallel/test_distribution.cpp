@@ -381,3 +381,57 @@ TEST(ContactExchange, DetectionAndDelassusRowsAreTheSerialOnes)
   for (std::size_t a = 0; a < contacts.size(); ++a)
     expect_same_row(whole_problem.W, W0, a);
 }
+
+TEST(Rebalance, InternalVariablesLiveWithTheOwnerMoveAndGatherToRoot)
+{
+  const std::map<std::string, double> p = {
+      {"shear_modulus", 0.15e6}, {"lame_lambda", 0.3e6},
+      {"branch_ratio_1", 1.0},   {"relaxation_time_1", 0.01},
+      {"branch_ratio_2", 0.5},   {"relaxation_time_2", 0.1}};
+  bodies::BodySet bodies(test::bodies_mesh(parts(), MPI_COMM_SELF),
+                         forms::find_material("viscoelastic_neo_hookean"), p,
+                         1180);
+  const int stride = bodies.internal_stride();
+  ASSERT_GT(stride, 0);
+  // Every cell's values told apart, as every rank would have relaxed them
+  const std::vector<double> g = tagged(bodies.internal_variables().size());
+  bodies.set_internal_variables(g);
+  parallel::Distribution dist(MPI_COMM_WORLD, bodies);
+  const std::vector<int>& cell_body = bodies.cell_body();
+  const std::span<const double> mine = bodies.internal_variables();
+  for (std::size_t c = 0; c < cell_body.size(); ++c)
+    for (int i = 0; i < stride; ++i)
+      if (bodies.is_local(cell_body[c]))
+        ASSERT_EQ(mine[c * stride + i], g[c * stride + i]);
+      else // another rank's to relax
+        ASSERT_TRUE(std::isnan(mine[c * stride + i])) << c;
+  auto gathered = [&]
+  {
+    return dist.scatterer().gather_cells_to_root(
+        bodies, bodies.internal_variables(), stride);
+  };
+  if (dist.comm().rank() == 0)
+    EXPECT_EQ(gathered(), g);
+  else
+    EXPECT_TRUE(gathered().empty());
+  if (!dist.distributed())
+    return;
+  // Every body to the next rank: its cells' values go with it
+  const int size = dist.comm().size(), nb = bodies.num_bodies();
+  std::vector<int> split(nb);
+  for (int b = 0; b < nb; ++b)
+    split[b] = (dist.index_map().body_rank()[b] + 1) % size;
+  std::vector<double>* none[] = {nullptr};
+  parallel::move_bodies(dist, split, bodies, std::span(none, 0));
+  const std::span<const double> after = bodies.internal_variables();
+  for (std::size_t c = 0; c < cell_body.size(); ++c)
+    for (int i = 0; i < stride; ++i)
+      if (bodies.is_local(cell_body[c]))
+        ASSERT_EQ(after[c * stride + i], g[c * stride + i]) << c;
+      else
+        ASSERT_TRUE(std::isnan(after[c * stride + i])) << c;
+  if (dist.comm().rank() == 0)
+    EXPECT_EQ(gathered(), g);
+  else
+    EXPECT_TRUE(gathered().empty());
+}
