@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 /// A periodic cell: the assembly as one cell of a periodic tiling
@@ -17,13 +18,41 @@ using ImageShift = std::array<int, 2>;
 /// (docs/periodic_cell.md, "A stress-controlled cell").
 struct CellServo
 {
-  /// The component i (0: h_xx, the edge a1's x; 1: h_yy, the edge a2's y)
+  /// The isotropic mode's axis: dh/dt += V h / sqrt(det h), held by the
+  /// mean stress ([cell] control_mean)
+  static constexpr int mean = 2;
+  /// The component i (0: h_xx, the edge a1's x; 1: h_yy, the edge a2's y;
+  /// CellServo::mean: the isotropic mode)
   int axis = 1;
-  /// The imposed normal stress sigma_ii (Pa), compressive positive as a
-  /// servo wall's pressure
+  /// The imposed normal stress sigma_ii, or the mean stress (Pa),
+  /// compressive positive as a servo wall's pressure
   double stress = 0;
-  /// The fictitious mass (kg/m) of the degree of freedom h_ii
+  /// The fictitious mass (kg/m) of the degree of freedom
   double mass = 1;
+  /// The isotropic mode's velocity V (m/s; a diagonal component's is its
+  /// edge's rate, PeriodicCell::axis_rate)
+  double velocity = 0;
+};
+
+/// A cell's drive ([cell] or a stage's cell table): the imposed velocity
+/// gradient's rows and the stress-controlled components.
+struct CellDrive
+{
+  std::array<double, 2> gradient_x = {0, 0}, gradient_y = {0, 0};
+  std::vector<CellServo> servo;
+  /// The same gradient and components (their velocities aside)
+  bool same(const CellDrive& o) const
+  {
+    if (gradient_x != o.gradient_x || gradient_y != o.gradient_y ||
+        servo.size() != o.servo.size())
+      return false;
+    for (std::size_t k = 0; k < servo.size(); ++k)
+      if (servo[k].axis != o.servo[k].axis ||
+          servo[k].stress != o.servo[k].stress ||
+          servo[k].mass != o.servo[k].mass)
+        return false;
+    return true;
+  }
 };
 
 /// The cell spanned by the edge vectors a1, a2 (the columns of h), whose
@@ -84,9 +113,19 @@ struct PeriodicCell
   /// conjugate: -stress x the cofactor of h_ii (the edge's length across
   /// the axis, h_yy for h_xx and h_xx for h_yy): negative (closing) under
   /// a compressive stress
+  /// The isotropic mode's: -2 P sqrt(det h), the work of sigma = -P I on
+  /// the change dh = h dV / sqrt(det h)
   double servo_force(const CellServo& s) const
   {
+    if (s.axis == CellServo::mean)
+      return -2 * s.stress * std::sqrt(area());
     return -s.stress * (s.axis == 0 ? a2[1] : a1[0]);
+  }
+  /// The velocity of a servo unknown: its component's rate or the
+  /// isotropic mode's V
+  double servo_velocity(const CellServo& s) const
+  {
+    return s.axis == CellServo::mean ? s.velocity : axis_rate(s.axis);
   }
   /// Remap a cell leaning more than remap_lean: a2 -> a2 - n a1 (n = the
   /// nearest integer to h_xy / h_xx), the same lattice, and its rate
