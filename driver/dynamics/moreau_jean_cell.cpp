@@ -40,9 +40,8 @@ void MoreauJean::change_cell_drive(const CellDrive& drive)
 {
   PeriodicCell& cell = *_cell;
   const PeriodicCell old = cell;
-  const PeriodicCell now = PeriodicCell::moving(cell.a1, cell.a2,
-                                                drive.gradient_x,
-                                                drive.gradient_y);
+  const PeriodicCell now = PeriodicCell::moving(
+      cell.a1, cell.a2, drive.gradient_x, drive.gradient_y);
   cell.a1_rate = now.a1_rate;
   cell.a2_rate = now.a2_rate;
   cell.servo = drive.servo;

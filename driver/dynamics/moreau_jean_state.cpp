@@ -126,13 +126,12 @@ void MoreauJean::restore_cell(const std::vector<double>& c)
             : 0;
   if (_cell ? (c.size() != 4 && c.size() != 8 + modes) : !c.empty())
     throw std::invalid_argument(
-        !_cell ? "state: of a periodic cell, the run has none ([cell])"
-        : c.empty()
-            ? "state: no periodic cell in it, the run has one ([cell])"
-            : "state: a cell of " + std::to_string(c.size()) +
-                  " values, the run's drive (its stage's) needs " +
-                  std::to_string(8 + modes) +
-                  " (9 with [cell] control_mean = \"stress\")");
+        !_cell      ? "state: of a periodic cell, the run has none ([cell])"
+        : c.empty() ? "state: no periodic cell in it, the run has one ([cell])"
+                    : "state: a cell of " + std::to_string(c.size()) +
+                          " values, the run's drive (its stage's) needs " +
+                          std::to_string(8 + modes) +
+                          " (9 with [cell] control_mean = \"stress\")");
   if (!_cell)
     return;
   _cell->a1 = {c[0], c[1]};

@@ -149,15 +149,16 @@ dynamics::CellDrive read_cell_drive(const Reader& r, const Drive& p,
     {
       if (axes[i].second != 0)
         r.fail(key + "stress_" + axis, "is given with " + key + "control_" +
-                                           axis + " = \"velocity\": set "
+                                           axis +
+                                           " = \"velocity\": set "
                                            "control_" +
                                            axis + " = \"stress\"");
       continue;
     }
     if (rates[i] != 0)
       r.fail(key + "control_" + axis,
-             "= \"stress\" with an imposed rate L_" + axis + " != 0 (" +
-                 key + "velocity_gradient_*): the rate is the unknown");
+             "= \"stress\" with an imposed rate L_" + axis + " != 0 (" + key +
+                 "velocity_gradient_*): the rate is the unknown");
     if (p.velocity_gradient_y[0] != 0)
       r.fail(key + "control_" + axis,
              "= \"stress\" needs L_yx = 0 (" + key +
@@ -167,8 +168,8 @@ dynamics::CellDrive read_cell_drive(const Reader& r, const Drive& p,
   if (p.control_mean != "stress")
   {
     if (p.stress_mean != 0)
-      r.fail(key + "stress_mean", "is given with " + key +
-                                      "control_mean = \"velocity\"");
+      r.fail(key + "stress_mean",
+             "is given with " + key + "control_mean = \"velocity\"");
   }
   else if (!drive.servo.empty())
     r.fail(key + "control_mean", "= \"stress\" with a stress-controlled "
@@ -351,10 +352,10 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
     // The fastest edges of the cell's drives, at the initial cell
     double speed = c.cell->speed();
     for (const dynamics::CellDrive& d : c.stage_cells)
-      speed = std::max(speed, dynamics::PeriodicCell::moving(
-                                  c.cell->a1, c.cell->a2, d.gradient_x,
-                                  d.gradient_y)
-                                  .speed());
+      speed = std::max(
+          speed, dynamics::PeriodicCell::moving(c.cell->a1, c.cell->a2,
+                                                d.gradient_x, d.gradient_y)
+                     .speed());
     if (speed > 0)
       c.velocity_scale = speed;
   }

@@ -260,9 +260,9 @@ Balance StageProgram::balance(const dynamics::MoreauJean& scheme,
                               const bodies::BodySet& bodies) const
 {
   const dynamics::EnergyBalance& e = scheme.energy();
-  const double work = std::abs(e.wall_work - _start.wall_work +
-                               e.external_work - _start.external_work +
-                               (e.cell_work - _start.cell_work));
+  const double work =
+      std::abs(e.wall_work - _start.wall_work + e.external_work -
+               _start.external_work + (e.cell_work - _start.cell_work));
   Balance b;
   b.kinetic =
       work > 0 ? e.kinetic / work

@@ -10,8 +10,8 @@
 /// gives every body the affine velocity change (V+ - V-) e_i s_{b,i}
 /// (s_b = h^-1 c_b, c_b its centroid), which keeps a body and its images
 /// on the same motion (the isotropic mode's, held by the mean stress:
-/// (V+ - V-) W s_b, W = h / sqrt(det h)); a contact's relative velocity then gains
-/// (V+ - V-) frame^T e_i (h^-1 l)_i, l its branch vector: the rank-one
+/// (V+ - V-) W s_b, W = h / sqrt(det h)); a contact's relative velocity then
+/// gains (V+ - V-) frame^T e_i (h^-1 l)_i, l its branch vector: the rank-one
 /// coupling of the unknown to every particle contact, g_c = -(h^-1 l)_i
 /// frame_c^T e_i.
 namespace softpack::dynamics
