@@ -11,13 +11,20 @@ criterion. In the TOML file::
     contact = { friction = 0.0 }            # from here on; else kept
     stop = { equilibrium = 1e-3, max_time = 0.5 }
 
+or, in a periodic cell, a new drive of the cell (given whole: the keys it
+leaves out take [cell]'s defaults)::
+
+    cell = { velocity_gradient_x = [0.0, 2.0], control_yy = "stress",
+             stress_yy = 2e3 }
+
 A :class:`~softpack.scene.config.Config` holds every stage complete, as
 driver.json takes it: ``{"name", "walls": {NAME: {"control", "velocity",
-"pressure", "force"}}, "contact": {KEY: value}, "stop": {KEY: value}}``
-with every contact and stop key of the schema (``contact.KEY``,
-``stop.KEY``) set, the derived ``max_time`` and ``strain_wall`` computed.
-Walls a stage does not name keep the drive they had, and a contact key its
-value; the first stage starts from ``[walls]`` and ``[contact]``.
+"pressure", "force"}}, "contact": {KEY: value}, "cell": {KEY: value},
+"stop": {KEY: value}}`` with every contact, cell and stop key of the schema
+(``contact.KEY``, ``cell.KEY``, ``stop.KEY``) set, the derived ``max_time``
+and ``strain_wall`` computed. Walls a stage does not name keep the drive
+they had, a contact key its value and the cell its drive; the first stage
+starts from ``[walls]``, ``[contact]`` and ``[cell]``.
 
 Errors name the file, the stage (``[stages.INDEX]``) and the key, like
 the rest of the configuration's.
