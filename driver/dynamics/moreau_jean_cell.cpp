@@ -212,14 +212,23 @@ bool MoreauJean::mean_mode_kick(double h, const ServoWalls& servo,
 
 bool MoreauJean::affine_kick(double h, const ServoWalls& servo)
 {
-  // The change of the controlled rates over the step, per axis
+  // The change of the controlled rates over the step, per axis, and of
+  // h_xy's (its velocity change at a body is dV e_x s_y)
   std::array<double, 2> delta = {0, 0};
-  bool any = false;
+  double shear = 0;
+  bool any = false, sheared = false;
   for (const ServoStep& s : servo.cell)
   {
-    if (_cell->servo[s.index].axis == CellServo::mean)
+    const int axis = _cell->servo[s.index].axis;
+    if (axis == CellServo::mean)
       continue; // mean_mode_kick
-    delta[_cell->servo[s.index].axis] += s.v_new - s.v_old;
+    if (axis == CellServo::shear_xy)
+    {
+      shear += s.v_new - s.v_old;
+      sheared = true;
+    }
+    else
+      delta[axis] += s.v_new - s.v_old;
     any = any || s.v_new != s.v_old;
   }
   if (!any)
@@ -239,6 +248,12 @@ bool MoreauJean::affine_kick(double h, const ServoWalls& servo)
       {
         _v[2 * g + d] += delta[d] * s[d];
         u[2 * g + d] += h * th * delta[d] * s[d];
+      }
+    if (sheared)
+      for (const std::int32_t g : _bodies.body(b).nodes)
+      {
+        _v[2 * g] += shear * s[1];
+        u[2 * g] += h * th * shear * s[1];
       }
   }
   return true;

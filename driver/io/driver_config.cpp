@@ -165,6 +165,19 @@ dynamics::CellDrive read_cell_drive(const Reader& r, const Drive& p,
                  "velocity_gradient_y[0]): the edge a1 stays along x");
     drive.servo.push_back({i, axes[i].second, mass});
   }
+  if (p.control_xy != "stress")
+  {
+    if (p.stress_xy != 0)
+      r.fail(key + "stress_xy",
+             "is given with " + key + "control_xy = \"velocity\"");
+  }
+  else if (p.velocity_gradient_x[1] != 0 || p.velocity_gradient_y[0] != 0)
+    r.fail(key + "control_xy",
+           "= \"stress\" with an imposed L_xy or L_yx != 0 (" + key +
+               "velocity_gradient_x[1], velocity_gradient_y[0]): the rate "
+               "of h_xy is the unknown, the edge a1 stays along x");
+  else
+    drive.servo.push_back({dynamics::CellServo::shear_xy, p.stress_xy, mass});
   if (p.control_mean != "stress")
   {
     if (p.stress_mean != 0)
@@ -173,8 +186,8 @@ dynamics::CellDrive read_cell_drive(const Reader& r, const Drive& p,
   }
   else if (!drive.servo.empty())
     r.fail(key + "control_mean", "= \"stress\" with a stress-controlled "
-                                 "diagonal component: control one or the "
-                                 "other");
+                                 "component (xx, yy or xy): control one or "
+                                 "the other");
   else
     drive.servo.push_back({dynamics::CellServo::mean, p.stress_mean, mass});
   if (!drive.servo.empty() && !(mass > 0))
@@ -189,10 +202,11 @@ void read_cell(const Reader& r, DriverConfig& c)
   const parameters::Cell& p = c.parameters.cell;
   if (!p.enabled)
   {
-    for (const std::string axis : {"xx", "yy", "mean"})
+    for (const std::string axis : {"xx", "yy", "xy", "mean"})
     {
       const std::string& control = axis == "xx"   ? p.control_xx
                                    : axis == "yy" ? p.control_yy
+                                   : axis == "xy" ? p.control_xy
                                                   : p.control_mean;
       if (control == "stress")
         r.fail("cell.control_" + axis,

@@ -21,8 +21,11 @@ struct CellServo
   /// The isotropic mode's axis: dh/dt += V h / sqrt(det h), held by the
   /// mean stress ([cell] control_mean)
   static constexpr int mean = 2;
-  /// The component i (0: h_xx, the edge a1's x; 1: h_yy, the edge a2's y;
-  /// CellServo::mean: the isotropic mode)
+  /// The shear component h_xy (the edge a2's x), held by the shear stress
+  /// sigma_xy ([cell] control_xy)
+  static constexpr int shear_xy = 3;
+  /// The component (0: h_xx, the edge a1's x; 1: h_yy, the edge a2's y;
+  /// CellServo::mean: the isotropic mode; CellServo::shear_xy: h_xy)
   int axis = 1;
   /// The imposed normal stress sigma_ii, or the mean stress (Pa),
   /// compressive positive as a servo wall's pressure
@@ -32,6 +35,10 @@ struct CellServo
   /// The isotropic mode's velocity V (m/s; a diagonal component's is its
   /// edge's rate, PeriodicCell::axis_rate)
   double velocity = 0;
+  /// The row i and column j of the component h_ij (not for the mode): its
+  /// rate's change gives a body at s the velocity change dV e_i s_j
+  int row() const { return axis == shear_xy ? 0 : axis; }
+  int column() const { return axis == shear_xy ? 1 : axis; }
 };
 
 /// A cell's drive ([cell] or a stage's cell table): the imposed velocity
@@ -107,8 +114,15 @@ struct PeriodicCell
   /// One step of size dt: \f$h^+ = h^- + dt\, \dot h\f$
   void advance(double dt);
   /// The rate of the component h_ii (m/s)
-  double& axis_rate(int i) { return i == 0 ? a1_rate[0] : a2_rate[1]; }
-  double axis_rate(int i) const { return i == 0 ? a1_rate[0] : a2_rate[1]; }
+  /// (CellServo::shear_xy: h_xy's, the edge a2's x)
+  double& axis_rate(int i)
+  {
+    return i == 0 ? a1_rate[0] : i == 1 ? a2_rate[1] : a2_rate[0];
+  }
+  double axis_rate(int i) const
+  {
+    return i == 0 ? a1_rate[0] : i == 1 ? a2_rate[1] : a2_rate[0];
+  }
   /// The imposed force per unit length along z on the component h_ii, its
   /// conjugate: -stress x the cofactor of h_ii (the edge's length across
   /// the axis, h_yy for h_xx and h_xx for h_yy): negative (closing) under
@@ -119,6 +133,10 @@ struct PeriodicCell
   {
     if (s.axis == CellServo::mean)
       return -2 * s.stress * std::sqrt(area());
+    // h_xy's: the work of sigma_yx = stress on dh_xy, det h sigma_yx /
+    // h_yy = stress h_xx (a1 along x)
+    if (s.axis == CellServo::shear_xy)
+      return s.stress * a1[0];
     return -s.stress * (s.axis == 0 ? a2[1] : a1[0]);
   }
   /// The velocity of a servo unknown: its component's rate or the

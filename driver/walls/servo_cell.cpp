@@ -29,7 +29,9 @@ void set_antagonist_velocities(const ServoWalls& servo,
           w[d] -= (s.*rate - s.v_old) * l[d];
       }
       else
-        w[i] -= (s.*rate - s.v_old) * servo.cell_branch[a][i];
+        w[cell.servo[s.index].row()] -=
+            (s.*rate - s.v_old) *
+            servo.cell_branch[a][cell.servo[s.index].column()];
     }
     H.set_wall_velocity(a, w);
   }
@@ -77,8 +79,8 @@ void start_servo_cell(const PeriodicCell& cell,
                                  l[1] * H.frame(a).row(1).transpose()));
         }
         else
-          coupling.g.push_back(-servo.cell_branch[a][c.axis] *
-                               H.frame(a).row(c.axis).transpose());
+          coupling.g.push_back(-servo.cell_branch[a][c.column()] *
+                               H.frame(a).row(c.row()).transpose());
       }
     servo.couplings.push_back(std::move(coupling));
   }

@@ -1,11 +1,14 @@
 """A periodic cell's stress-controlled components ([cell] control_xx,
-control_yy, control_mean, stress_xx, stress_yy, stress_mean, mass;
-docs/periodic_cell.md, "A stress-controlled cell" and "Mean stress").
+control_yy, control_xy, control_mean, stress_xx, stress_yy, stress_xy,
+stress_mean, mass; docs/periodic_cell.md, "A stress-controlled cell",
+"Shear stress" and "Mean stress").
 
 A component h_ii under ``control_ii = "stress"`` is an unknown of each step
 found so that ``stress_ii`` holds: its rate is not imposed, so the
 velocity gradient's L_ii must be 0, and L_yx too (the edge a1 stays along
-x, so that the load on h_ii is conjugate to sigma_ii alone). The isotropic
+x, so that the load on h_ii is conjugate to sigma_ii alone); h_xy under
+``control_xy = "stress"`` likewise holds sigma_xy (L_xy and L_yx 0). The
+isotropic
 mode under ``control_mean = "stress"`` is one unknown acting on the whole
 cell (dh/dt += V h / sqrt(det h)), found so that the mean stress holds; L
 then gives the shape's change, and h_xx, h_yy must be under "velocity" (the
@@ -18,11 +21,12 @@ A drive is the [cell] table or a stage's ``cell`` table (the keys of
 from __future__ import annotations
 
 #: The controlled components: (key suffix, row of L, column of L)
-AXES = (("xx", "velocity_gradient_x", 0), ("yy", "velocity_gradient_y", 1))
+AXES = (("xx", "velocity_gradient_x", 0), ("yy", "velocity_gradient_y", 1),
+        ("xy", "velocity_gradient_x", 1))
 #: The keys of the cell's drive (a stage's ``cell`` table has these)
 DRIVE_KEYS = ("velocity_gradient_x", "velocity_gradient_y", "control_xx",
-              "control_yy", "control_mean", "stress_xx", "stress_yy",
-              "stress_mean")
+              "control_yy", "control_xy", "control_mean", "stress_xx",
+              "stress_yy", "stress_xy", "stress_mean")
 
 
 class CellControlError(ValueError):
@@ -32,7 +36,7 @@ class CellControlError(ValueError):
 def controlled(cell) -> list[str]:
     """The stress-controlled components' suffixes (``"xx"``, ``"yy"``,
     ``"mean"``)."""
-    return [axis for axis in ("xx", "yy", "mean")
+    return [axis for axis in ("xx", "yy", "xy", "mean")
             if cell[f"control_{axis}"] == "stress"]
 
 
@@ -121,6 +125,6 @@ def _check_mean(cell, enabled, where) -> None:
         if cell[f"control_{axis}"] == "stress":
             raise CellControlError(
                 f"{key} with {_key(where, 'control_' + axis)} = \"stress\":"
-                " the mean stress moves h_xx and h_yy already (its mode is"
-                " the whole cell's isotropic change); control one or the"
-                " other")
+                " the mean stress moves h_xx, h_yy and h_xy already (its"
+                " mode is the whole cell's isotropic change); control one"
+                " or the other")
