@@ -165,8 +165,8 @@ public:
   void set_cell(const PeriodicCell& cell);
   /// Change the cell's drive between two steps (a stage's; docs/
   /// periodic_cell.md, "Stages"): the imposed rates L h (h the cell now),
-  /// the stress-controlled components `drive.servo`, a diagonal one
-  /// keeping its rate and the isotropic mode starting at rest; every body
+  /// the stress-controlled components `drive.servo`, a component (xx, yy,
+  /// xy) keeping its rate and the isotropic mode starting at rest; every body
   /// receives the rates' change of the affine field at its centroid (its
   /// kinetic energy booked in rewrap), a servo unknown's m V^2 / 2 that
   /// leaves or enters the accounts in cell_work. Before the first step (or

@@ -45,7 +45,7 @@ void MoreauJean::change_cell_drive(const CellDrive& drive)
   cell.a1_rate = now.a1_rate;
   cell.a2_rate = now.a2_rate;
   cell.servo = drive.servo;
-  // A diagonal component under stress keeps its rate; the isotropic mode
+  // A component under stress keeps its rate; the isotropic mode
   // starts at rest (its V = 0: the rates are L h)
   for (CellServo& s : cell.servo)
     if (s.axis != CellServo::mean)

@@ -3,8 +3,8 @@
 2).
 
 Validation: a stage's cell drive that cannot hold (a stress-controlled
-component with an imposed rate, the mean stress with a diagonal component
-under stress, a stress on an imposed component, a negative stress, a stage
+component with an imposed rate, the mean stress with a component under
+stress, a stress on an imposed component, a negative stress, a stage
 cell table without a cell, a stage criterion measured on walls, a stage
 without its time bound) is refused before anything runs, naming the key.
 End to end, examples/compress_shear_small.toml shortened (compacted by a
@@ -64,6 +64,18 @@ def staged(*stages, **sections):
     (staged({"cell": {"control_mean": "stress", "stress_mean": -2e3},
              "stop": {"max_time": 0.05}}),
      ["stress_mean", "-2000.0"]),
+    (staged({"cell": {"velocity_gradient_x": [0.0, 2.0],
+                      "control_xy": "stress", "stress_xy": 500.0},
+             "stop": {"max_time": 0.05}}),
+     ["[stages.0] cell.control_xy = \"stress\"",
+      "[stages.0] cell.velocity_gradient_x[1]"]),
+    (staged({"cell": {"stress_xy": -500.0}, "stop": {"max_time": 0.05}}),
+     ["[stages.0] cell.stress_xy = -500.0", "control_xy"]),
+    (staged({"cell": {"control_mean": "stress", "stress_mean": 1e3,
+                      "control_xy": "stress", "stress_xy": 100.0},
+             "stop": {"max_time": 0.05}}),
+     ["[stages.0] cell.control_mean = \"stress\"",
+      "[stages.0] cell.control_xy = \"stress\""]),
     (staged({"cell": {"control_yy": "stres"}, "stop": {"max_time": 0.05}}),
      ["control_yy", "stres"]),
     (staged({"cell": {"stress": 1e3}, "stop": {"max_time": 0.05}}),
