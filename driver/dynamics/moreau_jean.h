@@ -30,6 +30,7 @@
 namespace softpack::dynamics
 {
 struct ServoWalls;
+struct ServoStep;
 
 /// The Moreau–Jean theta-method with Newton iterations on finite-strain
 /// bodies and Signorini–Coulomb contacts solved by NLGS (METHOD.md §3).
@@ -162,6 +163,15 @@ public:
   /// mass-proportional damping or a cell of no positive area (not yet:
   /// refused)
   void set_cell(const PeriodicCell& cell);
+  /// Change the cell's drive between two steps (a stage's; docs/
+  /// periodic_cell.md, "Stages"): the imposed rates L h (h the cell now),
+  /// the stress-controlled components `drive.servo`, a component (xx, yy,
+  /// xy) keeping its rate and the isotropic mode starting at rest; every body
+  /// receives the rates' change of the affine field at its centroid (its
+  /// kinetic energy booked in rewrap), a servo unknown's m V^2 / 2 that
+  /// leaves or enters the accounts in cell_work. Before the first step (or
+  /// a restore) only the drive is set.
+  void change_cell_drive(const CellDrive& drive);
   /// The periodic cell as it is now (none: a run with walls)
   const std::optional<PeriodicCell>& cell() const { return _cell; }
   /// Steps done so far (including those before a restore)
@@ -261,6 +271,22 @@ private:
   /// rates' affine field at its centroid (and its position by th h times
   /// that); false when no rate changed
   bool affine_kick(double h, const ServoWalls& servo);
+  /// The cell's edges and rates (and the isotropic mode's V) from a state
+  void restore_cell(const std::vector<double>& cell);
+  /// The rates at the servo unknowns' `velocity` (V_mid, V+) from the
+  /// step's start rates: a diagonal component's set, the isotropic mode's
+  /// (V - V-) W added
+  void set_servo_rates(const ServoWalls& servo,
+                       const std::array<double, 2>& a1_rate,
+                       const std::array<double, 2>& a2_rate,
+                       double ServoStep::*velocity);
+  /// The isotropic mode's rates V+ W moved to V+ W+ (the mode at the
+  /// advanced cell); the change of the rates (a1's x, y, a2's x, y)
+  std::array<double, 4> rebase_mean_mode(const ServoWalls& servo);
+  /// The isotropic mode's affine changes of the bodies' velocities (and
+  /// positions), as affine_kick's; false without the mode
+  bool mean_mode_kick(double h, const ServoWalls& servo,
+                      const std::array<double, 4>& rebase);
   /// Every body whose centroid left the cell moved back by a whole cell
   /// vector, with its image's velocity; false when none moved
   bool rewrap();

@@ -2,6 +2,7 @@
 // and its end of step (the cell advanced, the bodies re-wrapped).
 #include "moreau_jean.h"
 
+#include <walls/servo_cell.h>
 #include <walls/servo_walls.h>
 
 #include <cmath>
@@ -31,6 +32,47 @@ void MoreauJean::set_cell(const PeriodicCell& cell)
   _cell = cell;
 }
 
+void MoreauJean::change_cell_drive(const CellDrive& drive)
+{
+  PeriodicCell& cell = *_cell;
+  const PeriodicCell old = cell;
+  const PeriodicCell now = PeriodicCell::moving(
+      cell.a1, cell.a2, drive.gradient_x, drive.gradient_y);
+  cell.a1_rate = now.a1_rate;
+  cell.a2_rate = now.a2_rate;
+  cell.servo = drive.servo;
+  // A component under stress keeps its rate; the isotropic mode
+  // starts at rest (its V = 0: the rates are L h)
+  for (CellServo& s : cell.servo)
+    if (s.axis != CellServo::mean)
+      cell.axis_rate(s.axis) = old.axis_rate(s.axis);
+  if (!_started)
+    return; // the run's drive from its start (or a state's, restored next)
+  // The servo unknowns' kinetic energy that leaves (or enters) the
+  // accounts is the loading's, as a servo wall's is
+  _energy.cell_work += cell_kinetic_energy(cell) - cell_kinetic_energy(old);
+  // Every body takes the change of the affine field at its centroid, so
+  // that a body and its images (c + h k) keep the relative velocity
+  // (dh/dt) k; its kinetic energy is booked in rewrap, as a re-wrapping's
+  const std::array<double, 2> d1 = {cell.a1_rate[0] - old.a1_rate[0],
+                                    cell.a1_rate[1] - old.a1_rate[1]};
+  const std::array<double, 2> d2 = {cell.a2_rate[0] - old.a2_rate[0],
+                                    cell.a2_rate[1] - old.a2_rate[1]};
+  const std::vector<std::array<double, 2>> centroids = body_centroids();
+  for (int b = 0; b < _bodies.num_bodies(); ++b)
+  {
+    const std::array<double, 2> s = cell.fractional(centroids[b]);
+    for (const std::int32_t g : _bodies.body(b).nodes)
+      for (int d = 0; d < 2; ++d)
+        _v[2 * g + d] += d1[d] * s[0] + d2[d] * s[1];
+  }
+  _products_valid = false;
+  const double kinetic = body_kinetic_energy();
+  _energy.rewrap += kinetic - _body_kinetic;
+  _body_kinetic = kinetic;
+  _energy_stale = true;
+}
+
 std::vector<std::array<double, 2>> MoreauJean::body_centroids() const
 {
   const std::vector<double> x = _bodies.current_coordinates();
@@ -56,12 +98,12 @@ std::vector<std::array<double, 2>> MoreauJean::body_centroids() const
 void MoreauJean::finish_cell_step(double h, const ServoWalls& servo)
 {
   PeriodicCell& cell = *_cell;
+  const std::array<double, 2> a1_rate = cell.a1_rate, a2_rate = cell.a2_rate;
   // The controlled components moved at their mid-step rates, end at V+
-  for (const ServoStep& s : servo.cell)
-    cell.axis_rate(cell.servo[s.index].axis) = s.v_mid;
+  set_servo_rates(servo, a1_rate, a2_rate, &ServoStep::v_mid);
   cell.advance(h);
-  for (const ServoStep& s : servo.cell)
-    cell.axis_rate(cell.servo[s.index].axis) = s.v_new;
+  set_servo_rates(servo, a1_rate, a2_rate, &ServoStep::v_new);
+  const std::array<double, 4> rebase = rebase_mean_mode(servo);
   if (!servo.cell.empty() &&
       cell.speed() * _h > _options.contact.alert_distance)
     throw std::runtime_error(
@@ -72,6 +114,7 @@ void MoreauJean::finish_cell_step(double h, const ServoWalls& servo)
         "away (a stress the assembly cannot hold?); make [cell] mass "
         "larger or the time step smaller");
   bool changed = affine_kick(h, servo);
+  changed = mean_mode_kick(h, servo, rebase) || changed;
   // The same lattice in a less leaning basis: the contacts' image shifts
   // in it
   if (const int n = cell.remap(); n != 0)
@@ -90,14 +133,104 @@ void MoreauJean::finish_cell_step(double h, const ServoWalls& servo)
   _energy_stale = true;
 }
 
-bool MoreauJean::affine_kick(double h, const ServoWalls& servo)
+void MoreauJean::set_servo_rates(const ServoWalls& servo,
+                                 const std::array<double, 2>& a1_rate,
+                                 const std::array<double, 2>& a2_rate,
+                                 double ServoStep::*velocity)
 {
-  // The change of the controlled rates over the step, per axis
-  std::array<double, 2> delta = {0, 0};
-  bool any = false;
+  PeriodicCell& cell = *_cell;
   for (const ServoStep& s : servo.cell)
   {
-    delta[_cell->servo[s.index].axis] += s.v_new - s.v_old;
+    const int axis = cell.servo[s.index].axis;
+    if (axis != CellServo::mean)
+    {
+      cell.axis_rate(axis) = s.*velocity;
+      continue;
+    }
+    // dh/dt = (dh/dt)- + (V - V-) W, W the mode at the step's start
+    const double dv = s.*velocity - s.v_old;
+    for (int d = 0; d < 2; ++d)
+    {
+      cell.a1_rate[d] = a1_rate[d] + dv * servo.cell_mode[d];
+      cell.a2_rate[d] = a2_rate[d] + dv * servo.cell_mode[2 + d];
+    }
+    cell.servo[s.index].velocity = s.*velocity;
+  }
+}
+
+std::array<double, 4> MoreauJean::rebase_mean_mode(const ServoWalls& servo)
+{
+  // The isotropic mode follows the cell, W = h / sqrt(det h), so that the
+  // mode's load is the mean stress at any shape: at the end of the step
+  // the rates V+ W become V+ W+, the change (W+ - W) V+ (returned) given to
+  // the bodies' affine field as a rate change is (mean_mode_kick)
+  PeriodicCell& cell = *_cell;
+  std::array<double, 4> change = {0, 0, 0, 0};
+  for (const ServoStep& s : servo.cell)
+    if (cell.servo[s.index].axis == CellServo::mean)
+    {
+      const std::array<double, 4> w = isotropic_mode(cell);
+      for (int j = 0; j < 4; ++j)
+        change[j] = s.v_new * (w[j] - servo.cell_mode[j]);
+      for (int d = 0; d < 2; ++d)
+      {
+        cell.a1_rate[d] += change[d];
+        cell.a2_rate[d] += change[2 + d];
+      }
+    }
+  return change;
+}
+
+bool MoreauJean::mean_mode_kick(double h, const ServoWalls& servo,
+                                const std::array<double, 4>& rebase)
+{
+  const ServoStep* mean = nullptr;
+  for (const ServoStep& s : servo.cell)
+    if (_cell->servo[s.index].axis == CellServo::mean)
+      mean = &s;
+  if (mean == nullptr)
+    return false;
+  // The step's change (V+ - V-) W s at the velocity and th h times it at
+  // the position, as affine_kick's; the rebase's at the velocity only (a
+  // change of the rates between two steps)
+  const double dv = mean->v_new - mean->v_old;
+  const double th = _options.time.theta;
+  const std::span<double> u = _bodies.displacement();
+  for (int b = 0; b < _bodies.num_bodies(); ++b)
+  {
+    const std::array<double, 2>& s = servo.cell_coordinates[b];
+    const std::array<double, 2> ws = servo.mode_times(s);
+    const std::array<double, 2> rs = {rebase[0] * s[0] + rebase[2] * s[1],
+                                      rebase[1] * s[0] + rebase[3] * s[1]};
+    for (const std::int32_t g : _bodies.body(b).nodes)
+      for (int d = 0; d < 2; ++d)
+      {
+        _v[2 * g + d] += dv * ws[d] + rs[d];
+        u[2 * g + d] += h * th * dv * ws[d];
+      }
+  }
+  return true;
+}
+
+bool MoreauJean::affine_kick(double h, const ServoWalls& servo)
+{
+  // The change of the controlled rates over the step, per axis, and of
+  // h_xy's (its velocity change at a body is dV e_x s_y)
+  std::array<double, 2> delta = {0, 0};
+  double shear = 0;
+  bool any = false, sheared = false;
+  for (const ServoStep& s : servo.cell)
+  {
+    const int axis = _cell->servo[s.index].axis;
+    if (axis == CellServo::mean)
+      continue; // mean_mode_kick
+    if (axis == CellServo::shear_xy)
+    {
+      shear += s.v_new - s.v_old;
+      sheared = true;
+    }
+    else
+      delta[axis] += s.v_new - s.v_old;
     any = any || s.v_new != s.v_old;
   }
   if (!any)
@@ -117,6 +250,12 @@ bool MoreauJean::affine_kick(double h, const ServoWalls& servo)
       {
         _v[2 * g + d] += delta[d] * s[d];
         u[2 * g + d] += h * th * delta[d] * s[d];
+      }
+    if (sheared)
+      for (const std::int32_t g : _bodies.body(b).nodes)
+      {
+        _v[2 * g] += shear * s[1];
+        u[2 * g] += h * th * shear * s[1];
       }
   }
   return true;

@@ -4,6 +4,7 @@
 
 #include <walls/servo_cell.h>
 
+#include <algorithm>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -78,9 +79,15 @@ SchemeState MoreauJean::scalar_state() const
   s.last_iterations = _last_iterations;
   s.step_size = _step_size.state();
   if (_cell)
+  {
     s.cell = {_cell->a1[0],      _cell->a1[1],      _cell->a2[0],
               _cell->a2[1],      _cell->a1_rate[0], _cell->a1_rate[1],
               _cell->a2_rate[0], _cell->a2_rate[1]};
+    // The isotropic mode's V (its rates are in dh/dt, not V itself)
+    for (const CellServo& c : _cell->servo)
+      if (c.axis == CellServo::mean)
+        s.cell.push_back(c.velocity);
+  }
   // Whole when serial; a distributed run's share has its local bodies'
   // current (the others' NaN): io::OutputGather gathers them
   const std::span<const double> internal = _bodies.internal_variables();
@@ -109,6 +116,37 @@ void MoreauJean::check_internal(const SchemeState& s) const
                                 " values, the run has " + std::to_string(n));
 }
 
+void MoreauJean::restore_cell(const std::vector<double>& c)
+{
+  // (4 values: a state written before the rates were kept; the rates are
+  // then the run's own; 9: with the isotropic mode's V)
+  const std::size_t modes =
+      _cell ? std::count_if(_cell->servo.begin(), _cell->servo.end(),
+                            [](const CellServo& s)
+                            { return s.axis == CellServo::mean; })
+            : 0;
+  if (_cell ? (c.size() != 4 && c.size() != 8 + modes) : !c.empty())
+    throw std::invalid_argument(
+        !_cell      ? "state: of a periodic cell, the run has none ([cell])"
+        : c.empty() ? "state: no periodic cell in it, the run has one ([cell])"
+                    : "state: a cell of " + std::to_string(c.size()) +
+                          " values, the run's drive (its stage's) needs " +
+                          std::to_string(8 + modes) +
+                          " (9 with [cell] control_mean = \"stress\")");
+  if (!_cell)
+    return;
+  _cell->a1 = {c[0], c[1]};
+  _cell->a2 = {c[2], c[3]};
+  if (c.size() < 8)
+    return;
+  _cell->a1_rate = {c[4], c[5]};
+  _cell->a2_rate = {c[6], c[7]};
+  std::size_t k = 8;
+  for (CellServo& s : _cell->servo)
+    if (s.axis == CellServo::mean)
+      s.velocity = c[k++];
+}
+
 void MoreauJean::restore(const SchemeState& s)
 {
   const std::size_t n = _bodies.num_global_dofs();
@@ -126,20 +164,7 @@ void MoreauJean::restore(const SchemeState& s)
   check_internal(s);
   // (4 values: a state written before the rates were kept; the rates are
   // then the run's own)
-  if (_cell ? (s.cell.size() != 4 && s.cell.size() != 8) : !s.cell.empty())
-    throw std::invalid_argument(
-        _cell ? "state: no periodic cell in it, the run has one ([cell])"
-              : "state: of a periodic cell, the run has none ([cell])");
-  if (_cell)
-  {
-    _cell->a1 = {s.cell[0], s.cell[1]};
-    _cell->a2 = {s.cell[2], s.cell[3]};
-    if (s.cell.size() == 8)
-    {
-      _cell->a1_rate = {s.cell[4], s.cell[5]};
-      _cell->a2_rate = {s.cell[6], s.cell[7]};
-    }
-  }
+  restore_cell(s.cell);
   std::span<double> u = _bodies.displacement();
   // The step first: the kept matrix is rebuilt with the h it was built for.
   _step_size.restore(s.step_size);

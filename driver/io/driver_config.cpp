@@ -120,19 +120,24 @@ void read_stages(const Reader& r, const json& stages, DriverConfig& c)
              "= \"" + s.strain_wall + "\" names no wall");
     if (s.strain > 0 && s.strain_wall.empty())
       r.fail(p + ".stop.strain_wall", "must name a wall when strain > 0");
-    if ((s.packing_fraction > 0 || s.pressure > 0) && !c.box)
-      r.fail(p + ".stop", "packing_fraction and pressure need a box "
-                          "(scene.box.enabled)");
+    if ((s.packing_fraction > 0 && !c.box && !c.parameters.cell.enabled) ||
+        (s.pressure > 0 && !c.box))
+      r.fail(p + ".stop", "packing_fraction needs a box (scene.box.enabled) "
+                          "or a cell, pressure a box");
   }
 }
 
-/// The cell's stress-controlled components (docs/periodic_cell.md, "A
-/// stress-controlled cell"): an imposed rate of the same component, a
-/// tilting edge a1 and a stress on an imposed component refused, naming
-/// the keys (the Python stage refuses them first).
-void read_cell_control(const Reader& r, const parameters::Cell& p,
-                       dynamics::PeriodicCell& cell)
+/// A cell's drive ([cell], or a stage's cell.*; docs/periodic_cell.md, "A
+/// stress-controlled cell" and "Mean stress"): an imposed rate of a
+/// stress-controlled component, a tilting edge a1, a stress on an imposed
+/// component and the mean stress with a diagonal one refused, naming the
+/// keys (the Python stage refuses them first). `key`: "cell." or
+/// "stages[k].cell.".
+template <typename Drive>
+dynamics::CellDrive read_cell_drive(const Reader& r, const Drive& p,
+                                    const std::string& key, double mass)
 {
+  dynamics::CellDrive drive{p.velocity_gradient_x, p.velocity_gradient_y, {}};
   const std::array<std::pair<const std::string*, double>, 2> axes = {
       {{&p.control_xx, p.stress_xx}, {&p.control_yy, p.stress_yy}}};
   const std::array<double, 2> rates = {p.velocity_gradient_x[0],
@@ -143,37 +148,71 @@ void read_cell_control(const Reader& r, const parameters::Cell& p,
     if (*axes[i].first != "stress")
     {
       if (axes[i].second != 0)
-        r.fail("cell.stress_" + axis, "is given with cell.control_" + axis +
-                                          " = \"velocity\": set control_" +
-                                          axis + " = \"stress\"");
+        r.fail(key + "stress_" + axis, "is given with " + key + "control_" +
+                                           axis +
+                                           " = \"velocity\": set "
+                                           "control_" +
+                                           axis + " = \"stress\"");
       continue;
     }
     if (rates[i] != 0)
-      r.fail("cell.control_" + axis,
-             "= \"stress\" with an imposed rate L_" + axis +
-                 " != 0 (cell.velocity_gradient_*): the rate is the unknown");
+      r.fail(key + "control_" + axis,
+             "= \"stress\" with an imposed rate L_" + axis + " != 0 (" + key +
+                 "velocity_gradient_*): the rate is the unknown");
     if (p.velocity_gradient_y[0] != 0)
-      r.fail("cell.control_" + axis,
-             "= \"stress\" needs L_yx = 0 (cell.velocity_gradient_y[0]): "
-             "the edge a1 stays along x");
-    if (!(p.mass > 0))
-      r.fail("cell.mass", "must be > 0 with a stress-controlled component");
-    cell.servo.push_back({i, axes[i].second, p.mass});
+      r.fail(key + "control_" + axis,
+             "= \"stress\" needs L_yx = 0 (" + key +
+                 "velocity_gradient_y[0]): the edge a1 stays along x");
+    drive.servo.push_back({i, axes[i].second, mass});
   }
+  if (p.control_xy != "stress")
+  {
+    if (p.stress_xy != 0)
+      r.fail(key + "stress_xy",
+             "is given with " + key + "control_xy = \"velocity\"");
+  }
+  else if (p.velocity_gradient_x[1] != 0 || p.velocity_gradient_y[0] != 0)
+    r.fail(key + "control_xy",
+           "= \"stress\" with an imposed L_xy or L_yx != 0 (" + key +
+               "velocity_gradient_x[1], velocity_gradient_y[0]): the rate "
+               "of h_xy is the unknown, the edge a1 stays along x");
+  else
+    drive.servo.push_back({dynamics::CellServo::shear_xy, p.stress_xy, mass});
+  if (p.control_mean != "stress")
+  {
+    if (p.stress_mean != 0)
+      r.fail(key + "stress_mean",
+             "is given with " + key + "control_mean = \"velocity\"");
+  }
+  else if (!drive.servo.empty())
+    r.fail(key + "control_mean", "= \"stress\" with a stress-controlled "
+                                 "component (xx, yy or xy): control one or "
+                                 "the other");
+  else
+    drive.servo.push_back({dynamics::CellServo::mean, p.stress_mean, mass});
+  if (!drive.servo.empty() && !(mass > 0))
+    r.fail("cell.mass", "must be > 0 with a stress-controlled component");
+  return drive;
 }
 
-/// cell: a periodic cell excludes the box, the walls and stages (not
-/// yet), refused naming the keys.
+/// cell: a periodic cell excludes the box and the walls, refused naming the
+/// keys; its drive and each stage's.
 void read_cell(const Reader& r, DriverConfig& c)
 {
   const parameters::Cell& p = c.parameters.cell;
   if (!p.enabled)
   {
-    if (p.control_xx == "stress" || p.control_yy == "stress")
-      r.fail("cell.control_" +
-                 std::string(p.control_xx == "stress" ? "xx" : "yy"),
-             "= \"stress\" with cell.enabled = false: no cell degree of "
-             "freedom to control");
+    for (const std::string axis : {"xx", "yy", "xy", "mean"})
+    {
+      const std::string& control = axis == "xx"   ? p.control_xx
+                                   : axis == "yy" ? p.control_yy
+                                   : axis == "xy" ? p.control_xy
+                                                  : p.control_mean;
+      if (control == "stress")
+        r.fail("cell.control_" + axis,
+               "= \"stress\" with cell.enabled = false: no cell degree of "
+               "freedom to control");
+    }
     return;
   }
   if (c.box)
@@ -184,15 +223,23 @@ void read_cell(const Reader& r, DriverConfig& c)
     r.fail("walls", "a periodic cell (cell.enabled) has no walls: both "
                     "directions are periodic (walls." +
                         c.walls.front().name + " given)");
-  if (!c.stages.empty())
-    r.fail("stages", "a periodic cell (cell.enabled) with [[stages]] is not "
-                     "supported yet");
   c.cell = dynamics::PeriodicCell::moving(p.a1, p.a2, p.velocity_gradient_x,
                                           p.velocity_gradient_y);
   if (!(c.cell->area() > 0))
     r.fail("cell.a1", "and cell.a2 must span a positive area, a2 "
                       "counter-clockwise from a1");
-  read_cell_control(r, p, *c.cell);
+  c.cell_drive = read_cell_drive(r, p, "cell.", p.mass);
+  c.cell->servo = c.cell_drive.servo;
+  for (std::size_t k = 0; k < c.stages.size(); ++k)
+  {
+    const std::string key = "stages[" + std::to_string(k) + "].";
+    const parameters::StageStop& s = c.stages[k].stop;
+    if (s.strain > 0 || s.pressure > 0)
+      r.fail(key + "stop", "strain and pressure are measured on walls; a "
+                           "cell has none");
+    c.stage_cells.push_back(
+        read_cell_drive(r, c.stages[k].cell, key + "cell.", p.mass));
+  }
 }
 
 /// scene.model.dimension and scene.box.height (absent from the records
@@ -341,8 +388,18 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
     for (const auto& [name, drive] : stage.walls)
       moving.push_back({"", {0, 0}, {1, 0}, drive.velocity});
   c.velocity_scale = fastest_wall_speed(moving);
-  if (c.cell && c.cell->speed() > 0 && c.walls.empty())
-    c.velocity_scale = c.cell->speed();
+  if (c.cell && c.walls.empty())
+  {
+    // The fastest edges of the cell's drives, at the initial cell
+    double speed = c.cell->speed();
+    for (const dynamics::CellDrive& d : c.stage_cells)
+      speed = std::max(
+          speed, dynamics::PeriodicCell::moving(c.cell->a1, c.cell->a2,
+                                                d.gradient_x, d.gradient_y)
+                     .speed());
+    if (speed > 0)
+      c.velocity_scale = speed;
+  }
   return c;
 }
 

@@ -42,6 +42,10 @@ struct DriverConfig
   /// The periodic cell (cell.enabled; docs/periodic_cell.md), in place of
   /// a box and walls
   std::optional<dynamics::PeriodicCell> cell;
+  /// Its drive from [cell], and each stage's (cell.*; the same count as
+  /// stages, empty without a cell)
+  dynamics::CellDrive cell_drive;
+  std::vector<dynamics::CellDrive> stage_cells;
   /// The walls, in driver.json's order, normals normalised (read by the
   /// reader generated from the schema's [walls]; raw/setup.json records
   /// them as read)

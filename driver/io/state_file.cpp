@@ -374,7 +374,8 @@ StateFile read_state_file(const std::filesystem::path& path,
     s.energy.cell_work = r.get<double>();
     s.energy.rewrap = r.get<double>();
     const auto nc = r.get<std::int64_t>();
-    if (nc != 0 && nc != 4 && nc != 8)
+    // (9: a cell with the isotropic mode's V, [cell] control_mean)
+    if (nc != 0 && nc != 4 && nc != 8 && nc != 9)
       throw std::runtime_error(path.string() + ": state file has bad sizes");
     s.cell.resize(nc);
     r.get(s.cell.data(), sizeof(double) * nc);

@@ -152,7 +152,9 @@ double unbalanced_force_ratio(const dynamics::MoreauJean& scheme,
 }
 
 StageProgram::StageProgram(const io::DriverConfig& config)
-    : _stages(config.stages), _gravity(config.parameters.gravity.acceleration)
+    : _stages(config.stages), _cell_drive(config.cell_drive),
+      _stage_cells(config.stage_cells),
+      _gravity(config.parameters.gravity.acceleration)
 {
 }
 
@@ -200,6 +202,10 @@ void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
                          });
   else
     scheme.walls() = walls;
+  // A cell's drive changes at a stage that gives another one
+  if (!_stage_cells.empty() &&
+      !_stage_cells[k].same(k == 0 ? _cell_drive : _stage_cells[k - 1]))
+    scheme.change_cell_drive(_stage_cells[k]);
   std::vector<std::string> ended = std::move(_start.ended_by);
   if (!ended_by.empty())
     ended.push_back(ended_by);
@@ -210,6 +216,7 @@ void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
   _start.time = scheme.time();
   _start.wall_work = scheme.energy().wall_work;
   _start.external_work = scheme.energy().external_work;
+  _start.cell_work = scheme.energy().cell_work;
   if (!stage.stop.strain_wall.empty())
     _start.length = facing_distance(
         scheme.walls(), io::wall_index(scheme.walls(), stage.stop.strain_wall));
@@ -233,6 +240,9 @@ void StageProgram::resume(const StageStart& start, dynamics::MoreauJean& scheme)
 {
   for (int k = 0; k <= start.index; ++k)
     set_drives(_stages[k], scheme.walls());
+  // The drive's components before the state's rates (restored next)
+  if (!_stage_cells.empty())
+    scheme.change_cell_drive(_stage_cells[start.index]);
   scheme.set_default_friction(_stages[start.index].contact.friction);
   _start = start;
 }
@@ -250,8 +260,9 @@ Balance StageProgram::balance(const dynamics::MoreauJean& scheme,
                               const bodies::BodySet& bodies) const
 {
   const dynamics::EnergyBalance& e = scheme.energy();
-  const double work = std::abs(e.wall_work - _start.wall_work +
-                               e.external_work - _start.external_work);
+  const double work =
+      std::abs(e.wall_work - _start.wall_work + e.external_work -
+               _start.external_work + (e.cell_work - _start.cell_work));
   Balance b;
   b.kinetic =
       work > 0 ? e.kinetic / work
@@ -348,6 +359,7 @@ void write_stage_record(const std::filesystem::path& path, long step,
                             {"start_time", s.time},
                             {"start_wall_work", s.wall_work},
                             {"start_external_work", s.external_work},
+                            {"start_cell_work", s.cell_work},
                             {"start_length", s.length},
                             {"phi_side", s.phi_side},
                             {"pressure_side", s.pressure_side},
@@ -385,6 +397,7 @@ StageStart read_stage_record(const std::filesystem::path& path, long step,
     s.wall_work = j.at("start_wall_work").get<double>();
     // (records written before gravity existed: no external work)
     s.external_work = j.value("start_external_work", 0.0);
+    s.cell_work = j.value("start_cell_work", 0.0);
     s.length = j.at("start_length").get<double>();
     s.phi_side = j.at("phi_side").get<int>();
     s.pressure_side = j.at("pressure_side").get<int>();

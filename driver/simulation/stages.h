@@ -9,8 +9,9 @@
 #include <vector>
 
 /// Loading programs: a run as a sequence of stages (schema [stages],
-/// docs/loading.md), each changing the walls' drives between two time
-/// steps and ending at its own stop criterion.
+/// docs/loading.md), each changing the walls' drives (or a periodic cell's,
+/// docs/periodic_cell.md) between two time steps and ending at its own
+/// stop criterion.
 namespace softpack::simulation
 {
 
@@ -22,9 +23,9 @@ struct StageStart
   /// Time step and time at which it started
   long step = 0;
   double time = 0;
-  /// The energy accounts' wall_work and external_work (gravity) at its
-  /// start (after the drive change)
-  double wall_work = 0, external_work = 0;
+  /// The energy accounts' wall_work, external_work (gravity) and
+  /// cell_work at its start (after the drive change)
+  double wall_work = 0, external_work = 0, cell_work = 0;
   /// Distance between the strain wall and the wall facing it (0: none)
   double length = 0;
   /// +1 when Phi (pressure) started below the stage's target, -1 above
@@ -46,9 +47,9 @@ struct StageCheck
 /// The two ratios of the equilibrium criterion at the last step.
 struct Balance
 {
-  /// K / |W_stage|: kinetic energy of the bodies and servo walls over the
-  /// work supplied since the stage's start, by the walls and gravity (inf
-  /// when that work is 0 and K > 0)
+  /// K / |W_stage|: kinetic energy of the bodies and servo walls (and
+  /// cell) over the work supplied since the stage's start, by the walls,
+  /// gravity and the cell (inf when that work is 0 and K > 0)
   double kinetic = 0;
   /// The larger of max_p |f_p| / <|f_c|> (the largest resultant force,
   /// contacts and weight, on a particle over the mean magnitude of the nonzero
@@ -136,6 +137,9 @@ private:
   double strain(const std::vector<dynamics::Wall>& walls) const;
 
   std::vector<parameters::Stage> _stages;
+  /// A periodic cell's drive from [cell] and each stage's (empty: walls)
+  dynamics::CellDrive _cell_drive;
+  std::vector<dynamics::CellDrive> _stage_cells;
   /// [gravity] acceleration: the particles' weight enters their balance
   std::array<double, 2> _gravity;
   StageStart _start;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 /// A periodic cell: the assembly as one cell of a periodic tiling
@@ -17,13 +18,48 @@ using ImageShift = std::array<int, 2>;
 /// (docs/periodic_cell.md, "A stress-controlled cell").
 struct CellServo
 {
-  /// The component i (0: h_xx, the edge a1's x; 1: h_yy, the edge a2's y)
+  /// The isotropic mode's axis: dh/dt += V h / sqrt(det h), held by the
+  /// mean stress ([cell] control_mean)
+  static constexpr int mean = 2;
+  /// The shear component h_xy (the edge a2's x), held by the shear stress
+  /// sigma_xy ([cell] control_xy)
+  static constexpr int shear_xy = 3;
+  /// The component (0: h_xx, the edge a1's x; 1: h_yy, the edge a2's y;
+  /// CellServo::mean: the isotropic mode; CellServo::shear_xy: h_xy)
   int axis = 1;
-  /// The imposed normal stress sigma_ii (Pa), compressive positive as a
-  /// servo wall's pressure
+  /// The imposed normal stress sigma_ii, or the mean stress (Pa),
+  /// compressive positive as a servo wall's pressure
   double stress = 0;
-  /// The fictitious mass (kg/m) of the degree of freedom h_ii
+  /// The fictitious mass (kg/m) of the degree of freedom
   double mass = 1;
+  /// The isotropic mode's velocity V (m/s; a diagonal component's is its
+  /// edge's rate, PeriodicCell::axis_rate)
+  double velocity = 0;
+  /// The row i and column j of the component h_ij (not for the mode): its
+  /// rate's change gives a body at s the velocity change dV e_i s_j
+  int row() const { return axis == shear_xy ? 0 : axis; }
+  int column() const { return axis == shear_xy ? 1 : axis; }
+};
+
+/// A cell's drive ([cell] or a stage's cell table): the imposed velocity
+/// gradient's rows and the stress-controlled components.
+struct CellDrive
+{
+  std::array<double, 2> gradient_x = {0, 0}, gradient_y = {0, 0};
+  std::vector<CellServo> servo;
+  /// The same gradient and components (their velocities aside)
+  bool same(const CellDrive& o) const
+  {
+    if (gradient_x != o.gradient_x || gradient_y != o.gradient_y ||
+        servo.size() != o.servo.size())
+      return false;
+    for (std::size_t k = 0; k < servo.size(); ++k)
+      if (servo[k].axis != o.servo[k].axis ||
+          servo[k].stress != o.servo[k].stress ||
+          servo[k].mass != o.servo[k].mass)
+        return false;
+    return true;
+  }
 };
 
 /// The cell spanned by the edge vectors a1, a2 (the columns of h), whose
@@ -78,15 +114,36 @@ struct PeriodicCell
   /// One step of size dt: \f$h^+ = h^- + dt\, \dot h\f$
   void advance(double dt);
   /// The rate of the component h_ii (m/s)
-  double& axis_rate(int i) { return i == 0 ? a1_rate[0] : a2_rate[1]; }
-  double axis_rate(int i) const { return i == 0 ? a1_rate[0] : a2_rate[1]; }
+  /// (CellServo::shear_xy: h_xy's, the edge a2's x)
+  double& axis_rate(int i)
+  {
+    return i == 0 ? a1_rate[0] : i == 1 ? a2_rate[1] : a2_rate[0];
+  }
+  double axis_rate(int i) const
+  {
+    return i == 0 ? a1_rate[0] : i == 1 ? a2_rate[1] : a2_rate[0];
+  }
   /// The imposed force per unit length along z on the component h_ii, its
   /// conjugate: -stress x the cofactor of h_ii (the edge's length across
   /// the axis, h_yy for h_xx and h_xx for h_yy): negative (closing) under
   /// a compressive stress
+  /// The isotropic mode's: -2 P sqrt(det h), the work of sigma = -P I on
+  /// the change dh = h dV / sqrt(det h)
   double servo_force(const CellServo& s) const
   {
+    if (s.axis == CellServo::mean)
+      return -2 * s.stress * std::sqrt(area());
+    // h_xy's: the work of sigma_yx = stress on dh_xy, det h sigma_yx /
+    // h_yy = stress h_xx (a1 along x)
+    if (s.axis == CellServo::shear_xy)
+      return s.stress * a1[0];
     return -s.stress * (s.axis == 0 ? a2[1] : a1[0]);
+  }
+  /// The velocity of a servo unknown: its component's rate or the
+  /// isotropic mode's V
+  double servo_velocity(const CellServo& s) const
+  {
+    return s.axis == CellServo::mean ? s.velocity : axis_rate(s.axis);
   }
   /// Remap a cell leaning more than remap_lean: a2 -> a2 - n a1 (n = the
   /// nearest integer to h_xy / h_xx), the same lattice, and its rate

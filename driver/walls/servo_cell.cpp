@@ -1,5 +1,7 @@
 #include "servo_cell.h"
 
+#include <cmath>
+
 namespace softpack::dynamics
 {
 namespace
@@ -20,7 +22,16 @@ void set_antagonist_velocities(const ServoWalls& servo,
     for (const ServoStep& s : servo.cell)
     {
       const int i = cell.servo[s.index].axis;
-      w[i] -= (s.*rate - s.v_old) * servo.cell_branch[a][i];
+      if (i == CellServo::mean)
+      {
+        const std::array<double, 2> l = servo.mode_branch(a);
+        for (int d = 0; d < 2; ++d)
+          w[d] -= (s.*rate - s.v_old) * l[d];
+      }
+      else
+        w[cell.servo[s.index].row()] -=
+            (s.*rate - s.v_old) *
+            servo.cell_branch[a][cell.servo[s.index].column()];
     }
     H.set_wall_velocity(a, w);
   }
@@ -48,19 +59,28 @@ void start_servo_cell(const PeriodicCell& cell,
                                 servo.cell_coordinates[c.antagonist_body][d] -
                                 c.image[d];
   }
+  servo.cell_mode = isotropic_mode(cell);
   for (std::size_t k = 0; k < cell.servo.size(); ++k)
   {
     const CellServo& c = cell.servo[k];
     servo.cell.push_back(ServoStep::start(k, cell.servo_force(c), c.mass,
-                                          cell.axis_rate(c.axis), h));
+                                          cell.servo_velocity(c), h));
     WallCoupling coupling;
     coupling.inverse_mass = 1 / c.mass;
     for (std::size_t a = 0; a < contacts.size(); ++a)
       if (contacts[a].antagonist_body >= 0)
       {
         coupling.contacts.push_back(static_cast<std::int32_t>(a));
-        coupling.g.push_back(-servo.cell_branch[a][c.axis] *
-                             H.frame(a).row(c.axis).transpose());
+        if (c.axis == CellServo::mean)
+        {
+          // frame^T (h / sqrt(det h)) h^-1 l = frame^T l / sqrt(det h)
+          const std::array<double, 2> l = servo.mode_branch(a);
+          coupling.g.push_back(-(l[0] * H.frame(a).row(0).transpose() +
+                                 l[1] * H.frame(a).row(1).transpose()));
+        }
+        else
+          coupling.g.push_back(-servo.cell_branch[a][c.column()] *
+                               H.frame(a).row(c.row()).transpose());
       }
     servo.couplings.push_back(std::move(coupling));
   }
@@ -94,8 +114,15 @@ double cell_kinetic_energy(const PeriodicCell& cell)
 {
   double e = 0;
   for (const CellServo& s : cell.servo)
-    e += 0.5 * s.mass * cell.axis_rate(s.axis) * cell.axis_rate(s.axis);
+    e += 0.5 * s.mass * cell.servo_velocity(s) * cell.servo_velocity(s);
   return e;
+}
+
+std::array<double, 4> isotropic_mode(const PeriodicCell& cell)
+{
+  const double scale = 1 / std::sqrt(cell.area());
+  return {cell.a1[0] * scale, cell.a1[1] * scale, cell.a2[0] * scale,
+          cell.a2[1] * scale};
 }
 
 } // namespace softpack::dynamics

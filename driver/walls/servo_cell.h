@@ -9,8 +9,9 @@
 /// stress times the edge across it. Its change over the step, V+ - V-,
 /// gives every body the affine velocity change (V+ - V-) e_i s_{b,i}
 /// (s_b = h^-1 c_b, c_b its centroid), which keeps a body and its images
-/// on the same motion; a contact's relative velocity then gains
-/// (V+ - V-) frame^T e_i (h^-1 l)_i, l its branch vector: the rank-one
+/// on the same motion (the isotropic mode's, held by the mean stress:
+/// (V+ - V-) W s_b, W = h / sqrt(det h)); a contact's relative velocity then
+/// gains (V+ - V-) frame^T e_i (h^-1 l)_i, l its branch vector: the rank-one
 /// coupling of the unknown to every particle contact, g_c = -(h^-1 l)_i
 /// frame_c^T e_i.
 namespace softpack::dynamics
@@ -51,5 +52,9 @@ void account_servo_cell(const ServoWalls& servo, const PeriodicCell& cell,
 
 /// The stress-controlled components' kinetic energy, sum m V^2 / 2 (J/m)
 double cell_kinetic_energy(const PeriodicCell& cell);
+
+/// The isotropic mode's change of dh/dt per unit V, h / sqrt(det h): the
+/// columns (x, y of a1's, then of a2's)
+std::array<double, 4> isotropic_mode(const PeriodicCell& cell);
 
 } // namespace softpack::dynamics

@@ -58,7 +58,21 @@ struct ServoWalls
   /// branch vector from the antagonist's image centroid to the
   /// candidate's; zero for a wall contact)
   std::vector<std::array<double, 2>> cell_coordinates, cell_branch;
+  /// The cell's isotropic mode at the step's start, W = h / sqrt(det h)
+  /// (columns: a1's x, y, a2's x, y; isotropic_mode in servo_cell.h)
+  std::array<double, 4> cell_mode = {0, 0, 0, 0};
   bool empty() const { return steps.empty() && cell.empty(); }
+  /// W h^-1 l of contact a: its branch vector over sqrt(det h)
+  std::array<double, 2> mode_branch(std::size_t a) const
+  {
+    return mode_times(cell_branch[a]);
+  }
+  /// W s
+  std::array<double, 2> mode_times(const std::array<double, 2>& s) const
+  {
+    return {cell_mode[0] * s[0] + cell_mode[2] * s[1],
+            cell_mode[1] * s[0] + cell_mode[3] * s[1]};
+  }
   /// The coupling of the cell's k-th component
   const WallCoupling& cell_coupling(std::size_t k) const
   {

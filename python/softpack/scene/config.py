@@ -421,7 +421,7 @@ def to_toml(config) -> str:
 
     for name, section in schema.items():
         if name == "stages":
-            lines += _stage_lines(config[name])
+            lines += _stage_lines(config[name], config["cell"]["enabled"])
         elif section.is_list:
             for item in config[name]:
                 lines += ["", f"[[{name}]]"]
@@ -444,9 +444,10 @@ def to_toml(config) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _stage_lines(program) -> list:
+def _stage_lines(program, cell=False) -> list:
     """The ``[[stages]]`` tables of a resolved configuration (reloadable:
-    each wall entry has only its drive's keys)."""
+    each wall entry has only its drive's keys; with a cell, every stage's
+    cell drive)."""
     lines = []
     for stage in program:
         lines += ["", "[[stages]]", f"name = {_show(stage['name'])}"]
@@ -454,7 +455,9 @@ def _stage_lines(program) -> list:
             control = d[CONTROL]
             lines.append(f"walls.{wall} = {{ {CONTROL} = {_show(control)},"
                          f" {control} = {_show(d[control])} }}")
-        for table in ("contact", "stop"):
+        for table in ("contact", "cell", "stop"):
+            if table == "cell" and not cell:
+                continue
             keys = ", ".join(f"{k} = {_show(v)}"
                              for k, v in stage[table].items())
             lines.append(f"{table} = {{ {keys} }}")

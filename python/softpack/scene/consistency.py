@@ -177,7 +177,7 @@ def _check_fill(where, phi0, target) -> None:
 
 
 def _check_cell(sections) -> None:
-    """A periodic cell: no box, walls or stages; every particle smaller
+    """A periodic cell: no box or walls; every particle smaller
     than half the cell; its edges move less than the alert distance in a
     step; Phi0 below the target."""
     cell = sections["cell"]
@@ -190,9 +190,6 @@ def _check_cell(sections) -> None:
         raise Inconsistent(
             f"{names}: a periodic cell ([cell] enabled) has no walls, both"
             " directions are periodic")
-    if sections["stages"]:
-        raise Inconsistent("[[stages]] with [cell] enabled: not supported"
-                           " yet")
     if any(sections["gravity"]["acceleration"]):
         raise Inconsistent(
             f"[gravity] acceleration = {sections['gravity']['acceleration']!r}"

@@ -11,13 +11,20 @@ criterion. In the TOML file::
     contact = { friction = 0.0 }            # from here on; else kept
     stop = { equilibrium = 1e-3, max_time = 0.5 }
 
+or, in a periodic cell, a new drive of the cell (given whole: the keys it
+leaves out take [cell]'s defaults)::
+
+    cell = { velocity_gradient_x = [0.0, 2.0], control_yy = "stress",
+             stress_yy = 2e3 }
+
 A :class:`~softpack.scene.config.Config` holds every stage complete, as
 driver.json takes it: ``{"name", "walls": {NAME: {"control", "velocity",
-"pressure", "force"}}, "contact": {KEY: value}, "stop": {KEY: value}}``
-with every contact and stop key of the schema (``contact.KEY``,
-``stop.KEY``) set, the derived ``max_time`` and ``strain_wall`` computed.
-Walls a stage does not name keep the drive they had, and a contact key its
-value; the first stage starts from ``[walls]`` and ``[contact]``.
+"pressure", "force"}}, "contact": {KEY: value}, "cell": {KEY: value},
+"stop": {KEY: value}}`` with every contact, cell and stop key of the schema
+(``contact.KEY``, ``cell.KEY``, ``stop.KEY``) set, the derived ``max_time``
+and ``strain_wall`` computed. Walls a stage does not name keep the drive
+they had, a contact key its value and the cell its drive; the first stage
+starts from ``[walls]``, ``[contact]`` and ``[cell]``.
 
 Errors name the file, the stage (``[stages.INDEX]``) and the key, like
 the rest of the configuration's.
@@ -28,17 +35,20 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from softpack.scene.consistency import (Inconsistent, half_box_time,
-                                        largest_time_step)
+from softpack.scene import cell_control
+from softpack.scene.consistency import (Inconsistent, cell_speed,
+                                        half_box_time, largest_time_step)
 from softpack.contract.schema import load_schema
 from softpack.scene.walls import CONTROL, check_drive, drive_keys
 
 #: The keys of one stage.
-STAGE_KEYS = ("name", "bond", "walls", "contact", "stop")
+STAGE_KEYS = ("name", "bond", "walls", "contact", "cell", "stop")
 #: The prefix of the stop keys in the schema's [stages] section.
 STOP = "stop."
 #: The prefix of the contact keys in the schema's [stages] section.
 CONTACT = "contact."
+#: The prefix of the cell's drive keys in the schema's [stages] section.
+CELL = "cell."
 #: Normals whose dot product is below -1 + this face each other.
 FACING_TOLERANCE = 1e-9
 
@@ -89,6 +99,7 @@ def validate(checker, section, items, sections, given_stop) -> list:
               for name, w in sections["walls"].items()}
     contact = {key: sections["contact"][key]
                for key in _prefixed(section, CONTACT)}
+    cell = {key: sections["cell"][key] for key in _prefixed(section, CELL)}
     out = []
     for i, item in enumerate(items):
         title = f"stages.{i}"
@@ -100,6 +111,7 @@ def validate(checker, section, items, sections, given_stop) -> list:
                               sections)
         contact = _contact(checker, section, i, item.get("contact", {}),
                            contact)
+        cell = _cell(checker, section, i, item.get("cell"), cell, sections)
         stop = _stop(checker, section, i, item.get("stop", {}), drives,
                      sections)
         bond = checker.value(title, ["stages", i, "bond"],
@@ -113,7 +125,8 @@ def validate(checker, section, items, sections, given_stop) -> list:
         out.append({"name": name, "bond": bond,
                      "walls": {w: dict(d) for w, d in drives.items()
                                if w in item.get("walls", {})},
-                     "contact": dict(contact), "stop": stop})
+                     "contact": dict(contact), "cell": dict(cell),
+                     "stop": stop})
     names = [s["name"] for s in out]
     if len(set(names)) != len(names):
         raise StageError(f"[[stages]] names {names!r}: must differ")
@@ -199,6 +212,42 @@ def _contact(checker, section, index, table, before) -> dict:
             else before[key] for key, spec in specs.items()}
 
 
+def _cell(checker, section, index, table, before, sections) -> dict:
+    """A stage's cell drive: none given, the stage before's (the first
+    stage's: [cell]'s); given, its keys with [cell]'s defaults for the ones
+    it leaves out (a drive is given whole, as a wall's)."""
+    title = f"stages.{index}"
+    if table is None:
+        return before
+    specs = _prefixed(section, CELL)
+    if not isinstance(table, dict):
+        raise StageError(f"[{title}] cell must be a table (keys:"
+                         f" {', '.join(specs)})")
+    if not sections["cell"]["enabled"]:
+        raise StageError(f"[{title}] cell: the run has no periodic cell"
+                         " ([cell] enabled = false); a stage drives walls"
+                         " with walls.NAME")
+    checker.keys(f"{title}.cell", table, list(specs))
+    drive = {key: checker.value(title, ["stages", index, "cell", key],
+                                spec, table[key]) if key in table
+             else spec.default for key, spec in specs.items()}
+    try:
+        cell_control.check(drive, True, f"[{title}] cell.")
+    except cell_control.CellControlError as err:
+        raise StageError(str(err)) from None
+    speed = cell_speed({**sections["cell"], **drive})
+    step, key = largest_time_step(sections)
+    limit = min(sections["contact"]["alert_distance"],
+                sections["contact"]["max_penetration"])
+    if speed * step > limit:
+        raise StageError(
+            f"[{title}] cell.velocity_gradient_x, _y: the cell's edges move"
+            f" {speed * step:.3g} m per step of {key} (at the initial cell),"
+            " more than [contact] alert_distance or max_penetration"
+            f" ({limit:g} m)")
+    return drive
+
+
 def _stop(checker, section, index, table, drives, sections) -> dict:
     """A stage's stop keys, checked, with max_time and strain_wall derived."""
     title = f"stages.{index}"
@@ -215,10 +264,14 @@ def _stop(checker, section, index, table, drives, sections) -> dict:
         else:
             stop[key] = None if spec.derived else spec.default
     boxed = sections["box"]["enabled"]
+    celled = sections["cell"]["enabled"]
     for key in ("packing_fraction", "pressure"):
-        if stop[key] > 0 and not boxed:
+        if stop[key] > 0 and not boxed and not (celled and
+                                                key == "packing_fraction"):
             raise StageError(f"[{title}] stop.{key} = {stop[key]!r}: needs a"
-                             " box (it is measured on the box's walls)")
+                             " box (it is measured on the box's walls)"
+                             + (" or a cell" if key == "packing_fraction"
+                                else ""))
     moving = _fastest(drives)
     if stop["strain_wall"] is None:
         stop["strain_wall"] = moving if (stop["strain"] > 0 and moving) \

@@ -68,7 +68,8 @@ inline nlohmann::json driver_json(const std::filesystem::path& directory,
              "velocity_gradient_x": [0.0, 0.0],
              "velocity_gradient_y": [0.0, 0.0], "control_xx": "velocity",
              "control_yy": "velocity", "stress_xx": 0.0, "stress_yy": 0.0,
-             "mass": 1.0}
+             "control_xy": "velocity", "stress_xy": 0.0,
+             "control_mean": "velocity", "stress_mean": 0.0, "mass": 1.0}
   })");
   doc["directory"] = directory.string();
   doc["scene"]["box"]["length"] = length;
@@ -83,6 +84,16 @@ inline nlohmann::json driver_json(const std::filesystem::path& directory,
 }
 
 /// Write `doc` as `path`.
+/// A stage's cell drive (its `cell` table) at the [cell] defaults
+inline nlohmann::json stage_cell()
+{
+  return nlohmann::json::parse(R"({
+    "velocity_gradient_x": [0.0, 0.0], "velocity_gradient_y": [0.0, 0.0],
+    "control_xx": "velocity", "control_yy": "velocity",
+    "control_xy": "velocity", "control_mean": "velocity", "stress_xx": 0.0,
+    "stress_yy": 0.0, "stress_xy": 0.0, "stress_mean": 0.0})");
+}
+
 inline void write_json(const nlohmann::json& doc,
                        const std::filesystem::path& path)
 {

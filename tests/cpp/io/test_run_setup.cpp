@@ -179,6 +179,7 @@ TEST(RunSetup, SetupRecordsTheStages)
                     {"pressure", 0.0},
                     {"force", 0.0}}}}},
                 {"contact", {{"friction", 0.3}}},
+                {"cell", test::stage_cell()},
                 {"stop", stop}};
   json hold = press;
   hold["name"] = "hold";

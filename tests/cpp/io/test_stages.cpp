@@ -30,6 +30,7 @@ json two_stages()
                                {"pressure", 1e4},
                                {"force", 0.0}}}}},
                            {"contact", {{"friction", 0.0}}},
+                           {"cell", test::stage_cell()},
                            {"stop", stop}});
   json axial = stop;
   axial["strain"] = 0.1;
@@ -44,6 +45,7 @@ json two_stages()
                                {"pressure", 0.0},
                                {"force", 0.0}}}}},
                            {"contact", {{"friction", 0.3}}},
+                           {"cell", test::stage_cell()},
                            {"stop", axial}});
   return doc;
 }
