@@ -14,6 +14,9 @@ void MoreauJean::set_cell(const PeriodicCell& cell)
 {
   if (_started)
     throw std::logic_error("MoreauJean::set_cell: after the first step");
+  if (dim() != 2)
+    throw std::runtime_error("periodic cell ([cell] enabled): not yet in 3D "
+                             "(docs/contact_3d.md, \"The 3D step\")");
   if (dist().distributed())
     throw std::runtime_error(
         "periodic cell ([cell] enabled): one MPI rank only for now (run "
