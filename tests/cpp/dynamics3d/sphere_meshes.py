@@ -5,7 +5,8 @@
         ((D + G) / 2, Y / 2, 0): bodies 0 and 1
     sphere_meshes.py graded OUT.xdmf --diameter D --element-size H --pole-size P
         one sphere at the origin, element size P at the poles (0, 0, +-D/2)
-        growing linearly with the distance from the plane of each pole to H
+        growing by G (default 0.5) per unit distance from the plane of each
+        pole, up to H
 
 The file is the driver's XDMF layout (softpack.scene.mesh.write_xdmf).
 """
@@ -17,7 +18,7 @@ import numpy as np
 from softpack.scene.solids import _compact, initialize_gmsh, write_solids
 
 
-def sphere(diameter, element_size, pole_size=None):
+def sphere(diameter, element_size, pole_size=None, growth=0.5):
     """Nodes and positively oriented tetrahedra of a sphere at the origin."""
     import gmsh
 
@@ -35,7 +36,7 @@ def sphere(diameter, element_size, pole_size=None):
             field = gmsh.model.mesh.field
             f = field.add("MathEval")
             field.setString(f, "F", f"min({element_size}, {pole_size} + "
-                                    f"0.5 * ({r} - abs(z)))")
+                                    f"{growth} * ({r} - abs(z)))")
             field.setAsBackgroundMesh(f)
             options += [("Mesh.MeshSizeExtendFromBoundary", 0),
                         ("Mesh.MeshSizeFromPoints", 0)]
@@ -58,10 +59,12 @@ def main(argv=None):
     p.add_argument("--gap", type=float, default=0.0)
     p.add_argument("--offset", type=float, default=0.0)
     p.add_argument("--pole-size", type=float)
+    p.add_argument("--growth", type=float, default=0.5)
     a = p.parse_args(argv)
     a.out.parent.mkdir(parents=True, exist_ok=True)
     if a.kind == "graded":
-        points, tets = sphere(a.diameter, a.element_size, a.pole_size)
+        points, tets = sphere(a.diameter, a.element_size, a.pole_size,
+                              a.growth)
         write_solids(a.out, points, tets)
         return 0
     points, tets = sphere(a.diameter, a.element_size)
