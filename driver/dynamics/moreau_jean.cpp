@@ -55,8 +55,8 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
     check_3d();
 }
 
-MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall3D> walls,
-                       MoreauJeanOptions options)
+MoreauJean::MoreauJean(bodies::BodySet& bodies, MoreauJeanOptions options,
+                       std::vector<Wall3D> walls)
     : MoreauJean(bodies, std::vector<Wall>{}, std::move(options))
 {
   if (dim() != 3)

@@ -76,8 +76,10 @@ public:
   /// bonds, servo walls or periodic cell yet (refused).
   /// @throws std::invalid_argument if the bodies are not 3D, a wall's
   /// normal is not a unit vector, or an option asks for what 3D lacks
-  MoreauJean(bodies::BodySet& bodies, std::vector<Wall3D> walls,
-             MoreauJeanOptions options);
+  /// (The options before the walls: a 2D run's `{}` for no walls stays
+  /// unambiguous.)
+  MoreauJean(bodies::BodySet& bodies, MoreauJeanOptions options,
+             std::vector<Wall3D> walls);
 
   /// Advance one time step.
   StepReport step();

@@ -58,7 +58,7 @@ std::vector<HertzPoint> squeeze(bodies::BodySet bodies,
   std::vector<dynamics::Wall3D> walls = {
       {"bottom", {0, 0, bottom}, {0, 0, 1}, {0, 0, 0}},
       {"top", {0, 0, top}, {0, 0, -1}, {0, 0, 0}}};
-  dynamics::MoreauJean scheme(bodies, walls, o);
+  dynamics::MoreauJean scheme(bodies, o, walls);
   std::vector<HertzPoint> out;
   double closure = 0;
   for (const double e : eps)

@@ -34,7 +34,7 @@ Collision collide(const std::string& mesh, double friction, int steps)
   o.contact.alert_distance = 2e-4;
   o.time.newton_tolerance = 1e-9;
   o.contact.nlgs_tolerance = 1e-10;
-  dynamics::MoreauJean scheme(bodies, std::vector<dynamics::Wall3D>{}, o);
+  dynamics::MoreauJean scheme(bodies, o, std::vector<dynamics::Wall3D>{});
   std::vector<double> v(bodies.num_global_dofs(), 0.0);
   const std::span<const double> X = bodies.reference_coordinates();
   for (std::size_t n = 0; n < v.size() / 3; ++n)
@@ -98,4 +98,41 @@ TEST(Step3D, OffAxisFrictionalCollisionConservesMomentumAndClosesTheBalance)
   EXPECT_GT(c.friction, 0); // sliding dissipates
   EXPECT_LT(c.max_momentum_error, 1e-12);
   EXPECT_LT(c.max_balance, 1e-4);
+}
+
+TEST(Step3D, RefusesWhatThe3DStepLacksNamingIt)
+{
+  bodies::BodySet bodies = test::spheres("head_on");
+  const dynamics::MoreauJeanOptions o = test::exact_options(2e-5, 0.5);
+  auto message = [](auto&& make)
+  {
+    try
+    {
+      make();
+    }
+    catch (const std::exception& e)
+    {
+      return std::string(e.what());
+    }
+    return std::string("nothing thrown");
+  };
+  EXPECT_NE(message(
+                [&]
+                {
+                  (void)dynamics::MoreauJean(
+                      bodies, dynamics::box_walls(-1, 1, -1, 1, 0), o);
+                })
+                .find("walls: 2D walls"),
+            std::string::npos);
+  std::vector<dynamics::Wall3D> tilted = {
+      {"top", {0, 0, 0.01}, {0, 0.1, -1}, {0, 0, 0}}};
+  EXPECT_NE(message([&] { (void)dynamics::MoreauJean(bodies, o, tilted); })
+                .find("walls.top.normal"),
+            std::string::npos);
+  dynamics::MoreauJean scheme(bodies, o, std::vector<dynamics::Wall3D>{});
+  dynamics::PeriodicCell cell;
+  cell.a1 = {0.1, 0};
+  cell.a2 = {0, 0.1};
+  EXPECT_NE(message([&] { scheme.set_cell(cell); }).find("not yet in 3D"),
+            std::string::npos);
 }
