@@ -52,6 +52,12 @@ std::vector<HertzPoint> squeeze(bodies::BodySet bodies,
   o.time.theta = 1;
   o.time.newton_tolerance = 1e-8;
   o.time.newton_max_iterations = 50;
+  // The tangent kept while Newton converges fast (strains are small): the
+  // compliance columns of the contact nodes are then made once per
+  // refactorization, not per iteration
+  o.time.full_newton = false;
+  o.time.tangent_reuse_steps = 50;
+  o.time.refactor_above_iterations = 8;
   o.contact.friction = 0;
   o.contact.alert_distance = 5e-4;
   o.contact.nlgs_tolerance = 1e-10;
