@@ -55,45 +55,6 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
     check_3d();
 }
 
-MoreauJean::MoreauJean(bodies::BodySet& bodies, MoreauJeanOptions options,
-                       std::vector<Wall3D> walls)
-    : MoreauJean(bodies, std::vector<Wall>{}, std::move(options))
-{
-  if (dim() != 3)
-    throw std::invalid_argument("MoreauJean: 3D walls for bodies of "
-                                "dimension " +
-                                std::to_string(dim()));
-  for (const Wall3D& w : walls)
-  {
-    const double norm =
-        std::sqrt(w.normal[0] * w.normal[0] + w.normal[1] * w.normal[1] +
-                  w.normal[2] * w.normal[2]);
-    if (!(std::abs(norm - 1) <= 1e-12))
-      throw std::invalid_argument("walls." + w.name +
-                                  ".normal: not a unit vector");
-  }
-  _walls3 = std::move(walls);
-}
-
-void MoreauJean::check_3d() const
-{
-  auto refuse = [](const std::string& what)
-  {
-    throw std::invalid_argument(what + ": not yet in 3D (docs/contact_3d.md, "
-                                       "\"The 3D step\")");
-  };
-  if (dist().distributed())
-    refuse("parallel: several MPI ranks");
-  if (!_walls.empty())
-    refuse("walls: 2D walls (a 3D run takes Wall3D plane walls)");
-  if (!_rigid.empty())
-    refuse("rigid bodies");
-  if (_options.friction.cohesive() || _options.friction.bonded())
-    refuse("friction: a cohesive or bonded law");
-  if (_bodies.internal_stride() > 0)
-    refuse("material: a law with internal variables");
-}
-
 void MoreauJean::set_initial_velocity(std::vector<double> v)
 {
   if (_started)

@@ -9,24 +9,6 @@
 namespace softpack::dynamics
 {
 
-ContactOperator MoreauJean::detect_3d()
-{
-  if (_surfaces.empty())
-    for (int b = 0; b < _bodies.num_bodies(); ++b)
-    {
-      const bodies::Body& body = _bodies.body(b);
-      _surfaces.emplace_back(
-          std::vector<std::int32_t>(body.nodes.begin(), body.nodes.end()),
-          body.boundary_faces);
-    }
-  std::vector<PlaneWall> planes;
-  for (const Wall3D& w : _walls3)
-    planes.push_back({w.point, w.normal});
-  _contacts3 = detect_contacts_3d(_surfaces, _bodies.current_coordinates(),
-                                  planes, _detection);
-  return ContactOperator(_contacts3, _walls3);
-}
-
 MoreauJean::StepContacts
 MoreauJean::prepare_contacts(const std::vector<double>& v_old)
 {

@@ -214,21 +214,4 @@ std::vector<std::array<double, 2>> MoreauJean::wall_forces() const
   return force;
 }
 
-std::vector<std::array<double, 3>> MoreauJean::wall_forces_3d() const
-{
-  std::vector<std::array<double, 3>> force(_walls3.size(), {0, 0, 0});
-  for (std::size_t a = 0; a < _contacts3.size(); ++a)
-  {
-    const Contact3D& c = _contacts3[a];
-    if (c.wall < 0)
-      continue;
-    // The wall receives the opposite of the candidate's impulse.
-    for (int i = 0; i < 3; ++i)
-      force[c.wall][i] -= (_R[3 * a] * c.n[i] + _R[3 * a + 1] * c.t1[i] +
-                           _R[3 * a + 2] * c.t2[i]) /
-                          _h;
-  }
-  return force;
-}
-
 } // namespace softpack::dynamics
