@@ -70,10 +70,22 @@ bool same_pattern(const bodies::BodyMatrix& A, const bodies::BodyMatrix& B)
 
 BodyFactors::BodyFactors(const bodies::BodySet& bodies,
                          const std::vector<bodies::BodyMatrix>& patterns)
-    : _patterns(&patterns), _rows(bodies.num_bodies(), 0),
+    : _dim(bodies.dim()), _patterns(&patterns), _rows(bodies.num_bodies(), 0),
       _pattern_of(bodies.num_bodies(), -1), _perm(bodies.num_bodies()),
       _values(bodies.num_bodies()), _inverse_d(bodies.num_bodies())
 {
+  if (_dim != 2)
+  {
+    _general.resize(bodies.num_bodies());
+    for (int b = 0; b < bodies.num_bodies(); ++b)
+    {
+      _rows[b] = bodies.body(b).num_dofs();
+      if (bodies.is_local(b))
+        _general[b] =
+            std::make_unique<Eigen::SimplicialLDLT<bodies::BodyMatrix>>();
+    }
+    return;
+  }
   // Patterns met so far, by hash: (symbolic index, its canonical matrix)
   std::multimap<std::uint64_t, std::pair<int, bodies::BodyMatrix>> seen;
   for (int b = 0; b < bodies.num_bodies(); ++b)
@@ -177,8 +189,28 @@ void BodyFactors::analyze(Symbolic& s, const bodies::BodyMatrix& canonical)
     }
 }
 
+bool BodyFactors::factorize_general(const Former& form)
+{
+  const int n = static_cast<int>(_general.size());
+  bool ok = true;
+#pragma omp parallel for schedule(dynamic) reduction(&& : ok) if (n >= 16)
+  for (int b = 0; b < n; ++b)
+  {
+    if (!_general[b])
+      continue;
+    bodies::BodyMatrix values = (*_patterns)[b]; // the pattern
+    form(b, values);
+    _general[b]->compute(values);
+    ok = ok && _general[b]->info() == Eigen::Success &&
+         (_general[b]->vectorD().array() > 0).all();
+  }
+  return ok;
+}
+
 bool BodyFactors::factorize(const Former& form)
 {
+  if (_dim != 2)
+    return factorize_general(form);
   // Bodies in pattern order, so that a thread re-analyzes (an elimination
   // tree, no ordering) only when it moves to another pattern.
   std::vector<int> order;
@@ -224,6 +256,8 @@ bool BodyFactors::factorize(const Former& form)
 
 Eigen::VectorXd BodyFactors::solve(int b, const Eigen::VectorXd& y) const
 {
+  if (_dim != 2)
+    return _general[b]->solve(y);
   // L by 2x2 blocks: one index per four values, and a node's two unknowns
   // updated together (half the indexed loads of a scalar solve).
   const Symbolic& s = _symbolic[_pattern_of[b]];

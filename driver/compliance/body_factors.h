@@ -3,6 +3,7 @@
 #include <Eigen/SparseCholesky>
 #include <bodies/BodySet.h>
 #include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -32,6 +33,10 @@ namespace softpack::dynamics
 /// node's DOFs together anyway), one index per block instead of one per
 /// entry: the paper case's solves ran 21 % faster (its factors sit in
 /// cache), those of 1,000 disks no faster (they stream from memory).
+///
+/// 3D bodies (BodySet::dim() = 3) are factorized by Eigen's SimplicialLDLT
+/// in double precision with its AMD ordering, one per body (the compact
+/// 2x2-block storage is the plane-strain bodies' so far).
 class BodyFactors
 {
 public:
@@ -80,6 +85,14 @@ private:
     int num_nodes() const { return static_cast<int>(block_start.size()) - 1; }
   };
   void analyze(Symbolic& s, const bodies::BodyMatrix& canonical);
+  /// factorize() and solve() of the 3D bodies
+  bool factorize_general(const Former& form);
+
+  /// Components per node (BodySet::dim)
+  int _dim = 2;
+  /// 3D: each local body's factor (empty in 2D)
+  std::vector<std::unique_ptr<Eigen::SimplicialLDLT<bodies::BodyMatrix>>>
+      _general;
 
   const std::vector<bodies::BodyMatrix>* _patterns;
   std::vector<Symbolic> _symbolic;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace softpack::dynamics
 {
@@ -37,9 +38,10 @@ BodyShares body_shares(const bodies::BodySet& bodies, const ContactOperator& H,
 
 /// A rigid body's blocks: sum_ij w_i w_j P_i Mr^-1 P_j^T, in the contacts'
 /// frames
+template <int D>
 void rigid_body_blocks(int b, const std::vector<BodyShare>& shares,
                        const ContactOperator& H, const RigidBodies& rigid,
-                       std::vector<DelassusBlock>& W)
+                       std::vector<DelassusBlockD<D>>& W)
 {
   for (const BodyShare& sa : shares)
     for (const BodyShare& sb : shares)
@@ -49,24 +51,27 @@ void rigid_body_blocks(int b, const std::vector<BodyShare>& shares,
         for (std::size_t j = 0; j < sb.nodes.size(); ++j)
           block += sa.slots[i].second * sb.slots[j].second *
                    rigid.compliance(b, sa.nodes[i], sb.nodes[j]);
-      W.push_back(
-          {b, sa.contact, sb.contact,
-           H.frame(sa.contact).transpose() * block * H.frame(sb.contact)});
+      if constexpr (D == 2)
+        W.push_back(
+            {b, sa.contact, sb.contact,
+             H.frame(sa.contact).transpose() * block * H.frame(sb.contact)});
     }
 }
 
 /// A deformable body's blocks from its compliance columns, those below
 /// drop_tolerance of their diagonals' dropped
+template <int D>
 void soft_body_blocks(int b, const std::vector<BodyShare>& shares,
                       const ContactOperator& H, const EffectiveStiffness& Kbar,
-                      double drop_tolerance, std::vector<DelassusBlock>& W)
+                      double drop_tolerance, std::vector<DelassusBlockD<D>>& W)
 {
+  using Block = Eigen::Matrix<double, D, D>;
   auto body_block = [&](const BodyShare& sa, const BodyShare& sb)
   {
-    Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
+    Block block = Block::Zero();
     for (const auto& [i, wi] : sa.slots)
       for (const auto& [j, wj] : sb.slots)
-        block += wi * wj * Kbar.boundary_block(b, i, j);
+        block += wi * wj * Kbar.template boundary_block<D>(b, i, j);
     return block;
   };
   // All the body's blocks first: a pair is kept or dropped as one, so that
@@ -75,13 +80,13 @@ void soft_body_blocks(int b, const std::vector<BodyShare>& shares,
   // once and W_ba = W_ab^T, exactly (computed apart, the two differed by
   // rounding, at twice the cost).
   const std::size_t n = shares.size();
-  std::vector<Eigen::Matrix2d> blocks(n * n);
+  std::vector<Block> blocks(n * n);
   for (std::size_t ka = 0; ka < n; ++ka)
     for (std::size_t kb = ka; kb < n; ++kb)
     {
       const BodyShare &sa = shares[ka], &sb = shares[kb];
-      blocks[ka * n + kb] = H.frame(sa.contact).transpose() *
-                            body_block(sa, sb) * H.frame(sb.contact);
+      blocks[ka * n + kb] = H.frame<D>(sa.contact).transpose() *
+                            body_block(sa, sb) * H.frame<D>(sb.contact);
       if (kb != ka)
         blocks[kb * n + ka] = blocks[ka * n + kb].transpose();
     }
@@ -101,12 +106,14 @@ void soft_body_blocks(int b, const std::vector<BodyShare>& shares,
 }
 } // namespace
 
-std::vector<DelassusBlock> delassus_blocks(const bodies::BodySet& bodies,
-                                           const ContactOperator& H,
-                                           const EffectiveStiffness& Kbar,
-                                           double drop_tolerance,
-                                           const RigidBodies* rigid)
+template <int D>
+std::vector<DelassusBlockD<D>>
+delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
+                const EffectiveStiffness& Kbar, double drop_tolerance,
+                const RigidBodies* rigid)
 {
+  if (H.dim() != D)
+    throw std::logic_error("delassus_blocks: contacts of another dimension");
   auto is_rigid = [&](int b) { return rigid && rigid->rigid(b); };
   const BodyShares shares = body_shares(bodies, H, Kbar);
   // The compliance columns (one solve per new boundary DOF) body by body on
@@ -125,7 +132,7 @@ std::vector<DelassusBlock> delassus_blocks(const bodies::BodySet& bodies,
   }
   // Each body's blocks on all cores, then joined in body order: the same
   // list, in the same order, as one thread makes.
-  std::vector<std::vector<DelassusBlock>> by_body(nb);
+  std::vector<std::vector<DelassusBlockD<D>>> by_body(nb);
 #pragma omp parallel for schedule(dynamic) if (nb >= 16)
   for (int b = 0; b < nb; ++b)
   {
@@ -137,32 +144,55 @@ std::vector<DelassusBlock> delassus_blocks(const bodies::BodySet& bodies,
       soft_body_blocks(b, shares[b], H, Kbar, drop_tolerance, by_body[b]);
   }
   std::size_t total = 0;
-  for (const std::vector<DelassusBlock>& list : by_body)
+  for (const std::vector<DelassusBlockD<D>>& list : by_body)
     total += list.size();
-  std::vector<DelassusBlock> W;
+  std::vector<DelassusBlockD<D>> W;
   W.reserve(total);
-  for (const std::vector<DelassusBlock>& list : by_body)
+  for (const std::vector<DelassusBlockD<D>>& list : by_body)
     W.insert(W.end(), list.begin(), list.end());
   return W;
 }
+
+template <int D>
+contact::DelassusMatrixD<D> assemble_delassus(
+    std::size_t num_contacts, std::span<const DelassusBlockD<D>> blocks,
+    std::span<const WallCouplingD<D>> walls, std::span<const char> rows)
+{
+  auto wanted = [&](std::size_t a) { return rows.empty() || rows[a]; };
+  contact::DelassusMatrixD<D> W(num_contacts);
+  for (const DelassusBlockD<D>& k : blocks)
+    if (wanted(k.a))
+      W.add_block(k.a, k.b, k.block);
+  // Each coupling as one rank-one term, its diagonal blocks added after the
+  // bodies' (the sums of the dense assembly it replaces, bit for bit); a
+  // rank keeps whole terms, whose sums read every rank's contacts.
+  for (const WallCouplingD<D>& wall : walls)
+    W.add_rank_one(wall.contacts, wall.g, wall.inverse_mass);
+  W.finalize();
+  return W;
+}
+
+template std::vector<DelassusBlockD<2>>
+delassus_blocks<2>(const bodies::BodySet&, const ContactOperator&,
+                   const EffectiveStiffness&, double, const RigidBodies*);
+template std::vector<DelassusBlockD<3>>
+delassus_blocks<3>(const bodies::BodySet&, const ContactOperator&,
+                   const EffectiveStiffness&, double, const RigidBodies*);
+template contact::DelassusMatrixD<2>
+    assemble_delassus<2>(std::size_t, std::span<const DelassusBlockD<2>>,
+                         std::span<const WallCouplingD<2>>,
+                         std::span<const char>);
+template contact::DelassusMatrixD<3>
+    assemble_delassus<3>(std::size_t, std::span<const DelassusBlockD<3>>,
+                         std::span<const WallCouplingD<3>>,
+                         std::span<const char>);
 
 contact::DelassusMatrix assemble_delassus(std::size_t num_contacts,
                                           std::span<const DelassusBlock> blocks,
                                           std::span<const WallCoupling> walls,
                                           std::span<const char> rows)
 {
-  auto wanted = [&](std::size_t a) { return rows.empty() || rows[a]; };
-  contact::DelassusMatrix W(num_contacts);
-  for (const DelassusBlock& k : blocks)
-    if (wanted(k.a))
-      W.add_block(k.a, k.b, k.block);
-  // Each coupling as one rank-one term, its diagonal blocks added after the
-  // bodies' (the sums of the dense assembly it replaces, bit for bit); a
-  // rank keeps whole terms, whose sums read every rank's contacts.
-  for (const WallCoupling& wall : walls)
-    W.add_rank_one(wall.contacts, wall.g, wall.inverse_mass);
-  W.finalize();
-  return W;
+  return assemble_delassus<2>(num_contacts, blocks, walls, rows);
 }
 
 contact::DelassusMatrix
@@ -170,8 +200,9 @@ build_delassus(const bodies::BodySet& bodies, const ContactOperator& H,
                const EffectiveStiffness& Kbar, double drop_tolerance,
                std::span<const WallCoupling> walls, const RigidBodies* rigid)
 {
-  return assemble_delassus(
-      H.size(), delassus_blocks(bodies, H, Kbar, drop_tolerance, rigid), walls);
+  const std::vector<DelassusBlock> blocks =
+      delassus_blocks<2>(bodies, H, Kbar, drop_tolerance, rigid);
+  return assemble_delassus<2>(H.size(), blocks, walls);
 }
 
 } // namespace softpack::dynamics

@@ -14,30 +14,33 @@ namespace softpack::dynamics
 /// (c, d) of W gains inverse_mass g_c g_d^T (every pair of the wall's
 /// contacts), kept as one rank-one term (contact::DelassusMatrix::RankOne),
 /// not as blocks.
-struct WallCoupling
+template <int D> struct WallCouplingD
 {
   std::vector<std::int32_t> contacts;
-  std::vector<Eigen::Vector2d> g;
+  std::vector<Eigen::Matrix<double, D, 1>> g;
   double inverse_mass = 0;
 };
+using WallCoupling = WallCouplingD<2>;
 
 /// One body's contribution to a block of W (in the order build_delassus
 /// adds them).
-struct DelassusBlock
+template <int D> struct DelassusBlockD
 {
   std::int32_t body, a, b;
-  Eigen::Matrix2d block;
+  Eigen::Matrix<double, D, D> block;
 };
+using DelassusBlock = DelassusBlockD<2>;
 
 /// The bodies' contributions to W (build_delassus's body loop), in body
 /// order, for the local bodies (BodySet::local_bodies): what a distributed
 /// run's share computes from the compliance of its bodies. The arguments
-/// are build_delassus's.
-std::vector<DelassusBlock> delassus_blocks(const bodies::BodySet& bodies,
-                                           const ContactOperator& H,
-                                           const EffectiveStiffness& Kbar,
-                                           double drop_tolerance,
-                                           const RigidBodies* rigid);
+/// are build_delassus's. D: the contacts' dimension (H.dim(); rigid bodies
+/// are 2D only).
+template <int D = 2>
+std::vector<DelassusBlockD<D>>
+delassus_blocks(const bodies::BodySet& bodies, const ContactOperator& H,
+                const EffectiveStiffness& Kbar, double drop_tolerance,
+                const RigidBodies* rigid);
 
 /// W from the bodies' contributions (in body order: the sums are then
 /// those of the serial build, bit for bit) and the servo walls' couplings
@@ -45,6 +48,11 @@ std::vector<DelassusBlock> delassus_blocks(const bodies::BodySet& bodies,
 /// @param[in] rows 1 for the rows (contacts) wanted, the others left empty
 /// (a rank of a distributed run keeps the rows of its own contacts); empty:
 /// every row. `blocks` may hold only the wanted rows' contributions.
+template <int D>
+contact::DelassusMatrixD<D> assemble_delassus(
+    std::size_t num_contacts, std::span<const DelassusBlockD<D>> blocks,
+    std::span<const WallCouplingD<D>> walls, std::span<const char> rows = {});
+/// assemble_delassus<2>
 contact::DelassusMatrix assemble_delassus(std::size_t num_contacts,
                                           std::span<const DelassusBlock> blocks,
                                           std::span<const WallCoupling> walls,

@@ -9,7 +9,7 @@ namespace softpack::dynamics
 EffectiveStiffness::EffectiveStiffness(const bodies::BodySet& bodies,
                                        bool lumped_mass)
     : _mass(&bodies.consistent_mass()),
-      _factors(bodies, bodies.consistent_mass())
+      _factors(bodies, bodies.consistent_mass()), _dim(bodies.dim())
 {
   if (lumped_mass)
   {
@@ -57,9 +57,10 @@ void EffectiveStiffness::prepare_columns(int b,
   const std::vector<std::int32_t>& nodes = _boundary[b];
   std::vector<Column>& C = _columns[b];
   std::vector<char>& ready = _column_ready[b];
+  const int d = _dim;
   if (ready.empty())
   {
-    C.assign(2 * nodes.size(), Column());
+    C.assign(d * nodes.size(), Column());
     ready.assign(nodes.size(), 0);
   }
   Eigen::VectorXd e = Eigen::VectorXd::Zero(_factors.rows(b));
@@ -67,17 +68,17 @@ void EffectiveStiffness::prepare_columns(int b,
   {
     if (ready[slot])
       continue;
-    for (int c = 0; c < 2; ++c)
+    for (int c = 0; c < d; ++c)
     {
-      const int dof = 2 * nodes[slot] + c;
+      const int dof = d * nodes[slot] + c;
       e[dof] = 1;
       const Eigen::VectorXd x = _factors.solve(b, e);
       e[dof] = 0;
-      Column& rows = C[2 * slot + c];
-      rows.resize(2 * nodes.size());
+      Column& rows = C[d * slot + c];
+      rows.resize(d * nodes.size());
       for (std::size_t i = 0; i < nodes.size(); ++i)
-        for (int d = 0; d < 2; ++d)
-          rows[2 * i + d] = x[2 * nodes[i] + d];
+        for (int k = 0; k < d; ++k)
+          rows[d * i + k] = x[d * nodes[i] + k];
     }
     ready[slot] = 1;
   }

@@ -49,23 +49,26 @@ public:
   }
 
   /// Make the compliance columns \f$\bar K_b^{-1} e\f$ of the given
-  /// boundary slots of body b available (2 per slot, one solve each): they
+  /// boundary slots of body b available (dim per slot, one solve each): they
   /// are computed on first demand after each factorization and kept until
   /// the next one, so the cost follows the nodes that actually carry
   /// contacts. Only their rows at the body's boundary nodes are kept: the
   /// Delassus blocks read nothing else.
   void prepare_columns(int body, std::span<const int> slots) const;
 
-  /// The 2x2 block of \f$\bar K_b^{-1}\f$ between boundary slots i
-  /// (rows) and j (columns), read off the kept columns.
+  /// The D x D block of \f$\bar K_b^{-1}\f$ between boundary slots i
+  /// (rows) and j (columns), read off the kept columns (D the bodies'
+  /// dimension).
   /// @pre prepare_columns() was called with slot j since the last
   /// factorization
-  Eigen::Matrix2d boundary_block(int body, int i, int j) const
+  template <int D = 2>
+  Eigen::Matrix<double, D, D> boundary_block(int body, int i, int j) const
   {
     const std::vector<Column>& C = _columns[body];
-    Eigen::Matrix2d block;
-    block << C[2 * j][2 * i], C[2 * j + 1][2 * i], C[2 * j][2 * i + 1],
-        C[2 * j + 1][2 * i + 1];
+    Eigen::Matrix<double, D, D> block;
+    for (int c = 0; c < D; ++c)
+      for (int r = 0; r < D; ++r)
+        block(r, c) = C[D * j + c][D * i + r];
     return block;
   }
 
@@ -86,7 +89,7 @@ public:
   int factor_patterns() const { return _factors.num_patterns(); }
 
 private:
-  /// A compliance column's rows at the body's boundary nodes (2 per slot),
+  /// A compliance column's rows at the body's boundary nodes (dim per slot),
   /// in double precision: the Delassus blocks built from them must be
   /// those of the solves that update the velocity (H Kbar^-1 H^T to the
   /// last digit), or the Newton iteration of a closed contact stalls at
@@ -112,6 +115,8 @@ private:
   mutable std::vector<std::vector<Column>> _columns;
   mutable std::vector<std::vector<char>> _column_ready;
   int _count = 0;
+  /// Components per node (BodySet::dim)
+  int _dim = 2;
 };
 
 } // namespace softpack::dynamics

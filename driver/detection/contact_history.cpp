@@ -24,6 +24,39 @@ ImpulseHistory::warm_start(const std::vector<Contact>& contacts) const
   return R;
 }
 
+void ImpulseHistory::record(const std::vector<Contact3D>& contacts,
+                            std::span<const double> R)
+{
+  _last_world.clear();
+  for (std::size_t a = 0; a < contacts.size(); ++a)
+  {
+    const Contact3D& c = contacts[a];
+    std::array<double, 3> world;
+    for (int i = 0; i < 3; ++i)
+      world[i] =
+          R[3 * a] * c.n[i] + R[3 * a + 1] * c.t1[i] + R[3 * a + 2] * c.t2[i];
+    _last_world[contact_key(c)] = world;
+  }
+}
+
+std::vector<double>
+ImpulseHistory::warm_start(const std::vector<Contact3D>& contacts) const
+{
+  std::vector<double> R(3 * contacts.size(), 0.0);
+  for (std::size_t a = 0; a < contacts.size(); ++a)
+  {
+    const Contact3D& c = contacts[a];
+    const auto it = _last_world.find(contact_key(c));
+    if (it == _last_world.end())
+      continue;
+    const std::array<double, 3>& w = it->second;
+    R[3 * a] = w[0] * c.n[0] + w[1] * c.n[1] + w[2] * c.n[2];
+    R[3 * a + 1] = w[0] * c.t1[0] + w[1] * c.t1[1] + w[2] * c.t1[2];
+    R[3 * a + 2] = w[0] * c.t2[0] + w[1] * c.t2[1] + w[2] * c.t2[2];
+  }
+  return R;
+}
+
 std::vector<ImpulseHistory::Entry> ImpulseHistory::entries() const
 {
   std::vector<Entry> out;

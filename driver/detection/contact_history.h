@@ -1,6 +1,7 @@
 #pragma once
 
 #include "detection.h"
+#include "detection_3d.h"
 #include <array>
 #include <map>
 #include <span>
@@ -18,6 +19,13 @@ namespace softpack::dynamics
 using ContactKey = std::tuple<int, int, int>;
 
 inline ContactKey contact_key(const Contact& c)
+{
+  return {c.candidate_body, c.candidate_node,
+          c.antagonist_body >= 0 ? c.antagonist_body : -1 - c.wall};
+}
+
+/// The same identity of a 3D contact
+inline ContactKey contact_key(const Contact3D& c)
 {
   return {c.candidate_body, c.candidate_node,
           c.antagonist_body >= 0 ? c.antagonist_body : -1 - c.wall};
@@ -42,7 +50,18 @@ public:
   /// @return 2 per contact (n, t)
   std::vector<double> warm_start(const std::vector<Contact>& contacts) const;
 
-  /// Every remembered contact, in key order
+  /// 3D: the impulses are remembered in world coordinates (R_n n + R_t1 t1
+  /// + R_t2 t2) and given back in the new frame: a contact's tangents
+  /// turn with its normal, and the first tangent switches axis where the
+  /// normal crosses a tie of contact_frame's rule
+  /// @param[in] R 3 per contact (n, t1, t2)
+  void record(const std::vector<Contact3D>& contacts,
+              std::span<const double> R);
+  /// @return 3 per contact (n, t1, t2): the remembered world impulse of a
+  /// persisting contact in its new frame, zero for a new one
+  std::vector<double> warm_start(const std::vector<Contact3D>& contacts) const;
+
+  /// Every remembered contact, in key order (2D)
   std::vector<Entry> entries() const;
 
   /// Replace the remembered impulses by saved entries (see entries()).
@@ -50,6 +69,8 @@ public:
 
 private:
   std::map<ContactKey, std::array<double, 2>> _last;
+  /// 3D: world impulses
+  std::map<ContactKey, std::array<double, 3>> _last_world;
 };
 
 /// A contact's force averaged over an interval of time steps.

@@ -1,4 +1,5 @@
 #include "friction_table.h"
+#include "detection_3d.h"
 #include <map>
 #include <tuple>
 
@@ -60,12 +61,22 @@ void FrictionTable::set(int a, int b, double coefficient, Cohesion cohesion,
   _cohesion[b * _num_parties + a] = cohesion;
 }
 
+int FrictionTable::pair(int candidate_body, int antagonist_body, int wall) const
+{
+  const int a = _body_species[candidate_body];
+  const int b = wall >= 0 ? wall_party(wall) : _body_species[antagonist_body];
+  return a * _num_parties + b;
+}
+
 int FrictionTable::pair(const Contact& c) const
 {
-  const int a = _body_species[c.candidate_body];
-  const int b =
-      c.wall >= 0 ? wall_party(c.wall) : _body_species[c.antagonist_body];
-  return a * _num_parties + b;
+  return pair(c.candidate_body, c.antagonist_body, c.wall);
+}
+
+double FrictionTable::coefficient(int pair, double default_coefficient) const
+{
+  const double set = _coefficient[pair];
+  return set == unset ? default_coefficient : set;
 }
 
 double FrictionTable::operator()(const Contact& c,
@@ -73,8 +84,16 @@ double FrictionTable::operator()(const Contact& c,
 {
   if (_body_species.empty())
     return default_coefficient;
-  const double set = _coefficient[pair(c)];
-  return set == unset ? default_coefficient : set;
+  return coefficient(pair(c), default_coefficient);
+}
+
+double FrictionTable::operator()(const Contact3D& c,
+                                 double default_coefficient) const
+{
+  if (_body_species.empty())
+    return default_coefficient;
+  return coefficient(pair(c.candidate_body, c.antagonist_body, c.wall),
+                     default_coefficient);
 }
 
 Cohesion FrictionTable::cohesion(const Contact& c) const

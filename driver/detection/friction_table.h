@@ -14,6 +14,7 @@ class BodySet;
 namespace softpack::dynamics
 {
 struct Contact;
+struct Contact3D;
 
 /// The cohesive law of a pair of parties (docs/contact_laws.md)
 struct Cohesion
@@ -71,6 +72,8 @@ public:
   /// species against its antagonist's (body's species or wall), else
   /// `default_coefficient`.
   double operator()(const Contact& c, double default_coefficient) const;
+  /// The same for a 3D contact (its wall: an index among the 3D walls)
+  double operator()(const Contact3D& c, double default_coefficient) const;
 
   /// true when a pair has a cohesion (else every contact's is 0)
   bool cohesive() const { return !_cohesion.empty(); }
@@ -87,6 +90,10 @@ public:
 private:
   /// The index of a contact's pair in the tables
   int pair(const Contact& c) const;
+  /// The index of the pair (candidate body, antagonist body or wall)
+  int pair(int candidate_body, int antagonist_body, int wall) const;
+  /// The coefficient of a pair index, or the default
+  double coefficient(int pair, double default_coefficient) const;
   std::vector<int> _body_species;
   int _num_species = 0, _num_parties = 0;
   /// Per pair of parties: the coefficient set, or < 0 (not set)

@@ -43,6 +43,8 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
   _energy.strain0 =
       std::accumulate(_body_strain.begin(), _body_strain.end(), 0.0);
   link_walls(_walls);
+  if (dim() == 3)
+    check_3d();
 }
 
 void MoreauJean::set_initial_velocity(std::vector<double> v)
@@ -79,9 +81,10 @@ MoreauJean::Vectors MoreauJean::gather(std::span<const double> global) const
   {
     const bodies::Body& body = _bodies.body(b);
     out[b].resize(body.num_dofs());
+    const int d = dim();
     for (std::size_t k = 0; k < body.nodes.size(); ++k)
-      for (int c = 0; c < 2; ++c)
-        out[b][2 * k + c] = global[2 * body.nodes[k] + c];
+      for (int c = 0; c < d; ++c)
+        out[b][d * k + c] = global[d * body.nodes[k] + c];
   }
   return out;
 }
@@ -94,9 +97,10 @@ void MoreauJean::scatter(const Vectors& per_body,
     const bodies::Body& body = _bodies.body(b);
     if (per_body[b].size() == 0) // not a local body
       continue;
+    const int d = dim();
     for (std::size_t k = 0; k < body.nodes.size(); ++k)
-      for (int c = 0; c < 2; ++c)
-        global[2 * body.nodes[k] + c] = per_body[b][2 * k + c];
+      for (int c = 0; c < d; ++c)
+        global[d * body.nodes[k] + c] = per_body[b][d * k + c];
   }
 }
 
@@ -131,12 +135,20 @@ void MoreauJean::factorize_tangent(StepReport* report)
     report->seconds.factorization += seconds_since(t0);
 }
 
-void MoreauJean::set_delassus(const StepContacts& sc,
-                              contact::FrictionContactProblem2D& problem,
+void MoreauJean::set_delassus(const StepContacts& sc, StepProblem& problem,
                               StepReport& report)
 {
   const auto t0 = clock::now();
-  problem.W = _exchange.delassus(
+  if (dim() == 3) // (one process, no servo wall: check_3d)
+  {
+    const std::vector<DelassusBlockD<3>> blocks =
+        delassus_blocks<3>(_bodies, sc.H, _kbar,
+                           _options.contact.delassus_drop_tolerance, nullptr);
+    problem.three.W = assemble_delassus<3>(sc.size(), blocks, {});
+    report.seconds.delassus += seconds_since(t0);
+    return;
+  }
+  problem.two.W = _exchange.delassus(
       _contacts,
       delassus_blocks(_bodies, sc.H, _kbar,
                       _options.contact.delassus_drop_tolerance, &_rigid),
@@ -145,8 +157,7 @@ void MoreauJean::set_delassus(const StepContacts& sc,
   report.seconds.delassus += seconds_since(t0);
 }
 
-void MoreauJean::refactorize(const StepContacts& sc,
-                             contact::FrictionContactProblem2D& problem,
+void MoreauJean::refactorize(const StepContacts& sc, StepProblem& problem,
                              StepReport& report)
 {
   factorize_tangent(&report);
@@ -272,7 +283,7 @@ MoreauJean::Attempt MoreauJean::attempt()
   StepContacts sc = prepare_contacts(_v);
   report.contacts = static_cast<int>(sc.size());
   report.seconds.detection = seconds_since(t0);
-  contact::FrictionContactProblem2D problem = prepare_problem(sc, report);
+  StepProblem problem = prepare_problem(sc, report);
 
   t0 = clock::now();
   // The step's start after prepare_problem: a rebalance there gives the
@@ -312,7 +323,7 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
   EnergyBalance stiffness;
   add_stiffness_dissipation(stiffness, _options.time.theta, start.u_old,
                             _bodies.displacement(), f_int_before, _f_int,
-                            _bodies.local_nodes());
+                            _bodies.local_nodes(), dim());
   if (_bodies.internal_stride() > 0)
   {
     // The internal variables relax at the converged configuration, once
@@ -333,6 +344,9 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
     if (!wall.servo())
       for (int d = 0; d < 2; ++d)
         wall.point[d] += h * wall.velocity[d];
+  for (Wall3D& wall : _walls3)
+    for (int d = 0; d < 3; ++d)
+      wall.point[d] += h * wall.velocity[d];
   finish_servo_walls(sc.servo, _walls, _R, h, _options.time.theta);
   finish_servo_cell(sc.servo, _R, _options.time.theta);
   t0 = clock::now();
@@ -381,18 +395,26 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
   if (_cell)
     account_servo_cell(sc.servo, *_cell, _contacts, sc.H, _R, _energy, h, th);
   const std::vector<double> U_mid = sc.H.relative_velocity(_bodies, v_mid);
-  add_contact_terms(_energy, sc.H, _contacts, _walls, _R, U_mid, sc.cohesion,
-                    sc.bonds.contacts);
+  const int d = dim();
+  if (d == 2)
+    add_contact_terms(_energy, sc.H, _contacts, _walls, _R, U_mid, sc.cohesion,
+                      sc.bonds.contacts);
+  else
+    add_contact_terms(_energy, sc.H, _contacts3, _R, U_mid);
   for (std::size_t a = 0; a < sc.size(); ++a)
   {
-    const double gap = _contacts[a].gap + h * U_mid[2 * a];
+    const double gap =
+        (d == 2 ? _contacts[a].gap : _contacts3[a].gap) + h * U_mid[d * a];
     report.max_penetration = std::max(report.max_penetration, -gap);
     // (closed: the reaction in its cone's variable, r + c, is positive)
     const double c = sc.cohesion.empty() ? 0.0 : sc.cohesion[a];
-    if (_R[2 * a] + c > 0)
+    if (_R[d * a] + c > 0)
       ++report.active_contacts;
   }
-  _history.record(_contacts, _R);
+  if (d == 2)
+    _history.record(_contacts, _R);
+  else
+    _history.record(_contacts3, _R);
   if (_options.friction.bonded())
     break_bonds(sc, report);
   _energy_stale = true;

@@ -15,6 +15,7 @@
 #include <detection/bond_history.h>
 #include <detection/contact_history.h>
 #include <detection/detection.h>
+#include <detection/detection_3d.h>
 #include <detection/friction_table.h>
 #include <energy/energy_balance.h>
 #include <functional>
@@ -69,6 +70,18 @@ public:
              MoreauJeanOptions options,
              parallel::Distribution distribution = {});
 
+  /// A 3D run (BodySet::dim() = 3; docs/contact_3d.md, "The 3D step"):
+  /// the same step over 3 components per node, node-to-face contacts
+  /// (detect_contacts_3d) in the frame (n, t1, t2) and plane walls moved
+  /// at their imposed velocities. One process; no rigid bodies, cohesion,
+  /// bonds, servo walls or periodic cell yet (refused).
+  /// @throws std::invalid_argument if the bodies are not 3D, a wall's
+  /// normal is not a unit vector, or an option asks for what 3D lacks
+  /// (The options before the walls: a 2D run's `{}` for no walls stays
+  /// unambiguous.)
+  MoreauJean(bodies::BodySet& bodies, MoreauJeanOptions options,
+             std::vector<Wall3D> walls);
+
   /// Advance one time step.
   StepReport step();
 
@@ -105,11 +118,18 @@ public:
   /// node; default zero)
   void set_external_force(std::vector<double> f);
 
-  /// Contacts of the last step and their impulses (2 per contact, (n, t))
+  /// Contacts of the last step and their impulses (dim per contact, (n,
+  /// t) or (n, t1, t2)); 3D runs' contacts are contacts_3d()
   const std::vector<Contact>& contacts() const { return _contacts; }
+  const std::vector<Contact3D>& contacts_3d() const { return _contacts3; }
   const std::vector<double>& impulses() const { return _R; }
   /// Force each wall received during the last step (impulse / h)
   std::vector<std::array<double, 2>> wall_forces() const;
+  /// The same for the walls of a 3D run
+  std::vector<std::array<double, 3>> wall_forces_3d() const;
+  /// The plane walls of a 3D run (writable: a wall's velocity may be
+  /// changed between steps)
+  std::vector<Wall3D>& walls_3d() { return _walls3; }
   /// Energy balance since the start (the strain energy is evaluated on
   /// demand: a state function, not needed to step; the kinetic energy is
   /// summed over the ranks where every rank passes, at a step's end, a
@@ -209,6 +229,14 @@ private:
   struct StepContacts;
   /// What the step knows before its Newton iterations
   struct StepStart;
+  /// The step's contact problem, of the bodies' dimension
+  struct StepProblem;
+  /// The bodies' dimension, 2 or 3
+  int dim() const { return _bodies.dim(); }
+  /// Refuse what 3D runs lack (the constructors' checks)
+  void check_3d() const;
+  /// The step's 3D contacts and their operator (prepare_contacts)
+  ContactOperator detect_3d();
   const parallel::Distribution& dist() const
   {
     return _exchange.distribution();
@@ -221,13 +249,11 @@ private:
   /// step) and their data fixed during the step
   StepContacts prepare_contacts(const std::vector<double>& v_old);
   /// The contact problem of the step (W, and mu; q is set by each solve)
-  contact::FrictionContactProblem2D prepare_problem(const StepContacts& sc,
-                                                    StepReport& report);
+  StepProblem prepare_problem(const StepContacts& sc, StepReport& report);
   bool needs_refactorization() const;
   /// W into `problem` from the local bodies' compliances (and the plan of
   /// the contact solves, parallel::ContactExchange::delassus)
-  void set_delassus(const StepContacts& sc,
-                    contact::FrictionContactProblem2D& problem,
+  void set_delassus(const StepContacts& sc, StepProblem& problem,
                     StepReport& report);
   /// add_body_terms over the local bodies and their part of the stiffness
   /// dissipation, summed over the processes, and the bodies' kinetic
@@ -237,8 +263,7 @@ private:
   /// form A (the arithmetic of every refactorization, and of a restore);
   /// adds its times to `report` when given
   void factorize_tangent(StepReport* report);
-  void refactorize(const StepContacts& sc,
-                   contact::FrictionContactProblem2D& problem,
+  void refactorize(const StepContacts& sc, StepProblem& problem,
                    StepReport& report);
   /// The known part b = M v- + h (1 - th) (F_ext - F_int(q-) - C v-) of the
   /// momentum balance, and the start-of-step vectors the accounts need
@@ -319,6 +344,10 @@ private:
   /// iterations
   std::optional<contact::SweepPlan> _sweep_plan;
   std::vector<Wall> _walls;
+  /// The plane walls of a 3D run
+  std::vector<Wall3D> _walls3;
+  /// A 3D run's bodies' boundary surfaces (built once)
+  std::vector<BoundarySurface> _surfaces;
   /// The periodic cell (none: walls only)
   std::optional<PeriodicCell> _cell;
   MoreauJeanOptions _options;
@@ -346,6 +375,7 @@ private:
   /// Free velocity at contact nodes only (work array)
   std::vector<double> _v_contact;
   std::vector<Contact> _contacts;
+  std::vector<Contact3D> _contacts3;
   std::vector<double> _R;
   /// The previous step's impulses: the warm start
   ImpulseHistory _history;

@@ -15,6 +15,9 @@ void MoreauJean::set_cell(const PeriodicCell& cell)
 {
   if (_started)
     throw std::logic_error("MoreauJean::set_cell: after the first step");
+  if (dim() != 2)
+    throw std::runtime_error("periodic cell ([cell] enabled): not yet in 3D "
+                             "(docs/contact_3d.md, \"The 3D step\")");
   if (!_rigid.empty())
     throw std::runtime_error("periodic cell ([cell] enabled): rigid "
                              "materials are not supported in a cell yet");

@@ -13,17 +13,22 @@ MoreauJean::StepContacts
 MoreauJean::prepare_contacts(const std::vector<double>& v_old)
 {
   const double h = _h, th = _options.time.theta;
+  const int d = dim();
   const PeriodicCell* cell = _cell ? &*_cell : nullptr;
-  _contacts = _exchange.detect(_bodies, _bodies.current_coordinates(), _walls,
-                               _detection, cell);
-  StepContacts sc{ContactOperator(_contacts, _walls, cell), {}};
+  if (d == 2)
+    _contacts = _exchange.detect(_bodies, _bodies.current_coordinates(), _walls,
+                                 _detection, cell);
+  StepContacts sc{
+      d == 2 ? ContactOperator(_contacts, _walls, cell) : detect_3d(), {}};
   const std::vector<double> U_old = sc.H.relative_velocity(_bodies, v_old);
   // Signorini on the predicted gap g~ = g + h((1-th) U_n- + th U_n+):
   // the solver's normal velocity is g~ / (h th).
-  sc.shift.assign(2 * sc.size(), 0.0);
+  sc.shift.assign(d * sc.size(), 0.0);
   for (std::size_t a = 0; a < sc.size(); ++a)
-    sc.shift[2 * a] =
-        (_contacts[a].gap + h * (1 - th) * U_old[2 * a]) / (h * th);
+  {
+    const double gap = d == 2 ? _contacts[a].gap : _contacts3[a].gap;
+    sc.shift[d * a] = (gap + h * (1 - th) * U_old[d * a]) / (h * th);
+  }
   if (_options.friction.cohesive())
     sc.cohesion = cohesion_impulses(_options.friction, _bodies, _contacts, h);
   if (_options.friction.bonded())
@@ -36,6 +41,11 @@ MoreauJean::prepare_contacts(const std::vector<double>& v_old)
   {
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  }
+  if (d == 3) // (no servo wall or cell: check_3d)
+  {
+    _R = _history.warm_start(_contacts3);
+    return sc;
   }
   // After the shift: U_n- is at the walls' start velocity.
   sc.servo = start_servo_walls(_walls, _contacts, sc.H, h);
@@ -78,17 +88,29 @@ void MoreauJean::break_bonds(const StepContacts& sc, StepReport& report)
   _bonds.keep_intact(_contacts, sc.bonds, broken);
 }
 
-contact::FrictionContactProblem2D
-MoreauJean::prepare_problem(const StepContacts& sc, StepReport& report)
+MoreauJean::StepProblem MoreauJean::prepare_problem(const StepContacts& sc,
+                                                    StepReport& report)
 {
-  contact::FrictionContactProblem2D problem;
-  problem.friction.resize(sc.size());
-  for (std::size_t a = 0; a < sc.size(); ++a)
-    problem.friction[a] =
-        _options.friction(_contacts[a], _options.contact.friction);
-  problem.cohesion = sc.cohesion;
-  contact::set_bonds(problem, sc.bonds.contacts, sc.bond_strength);
-  problem.q.resize(2 * sc.size());
+  StepProblem problem;
+  const int d = dim();
+  if (d == 2)
+  {
+    contact::FrictionContactProblem2D& p = problem.two;
+    p.friction.resize(sc.size());
+    for (std::size_t a = 0; a < sc.size(); ++a)
+      p.friction[a] =
+          _options.friction(_contacts[a], _options.contact.friction);
+    p.cohesion = sc.cohesion;
+    contact::set_bonds(p, sc.bonds.contacts, sc.bond_strength);
+  }
+  else
+  {
+    problem.three.friction.resize(sc.size());
+    for (std::size_t a = 0; a < sc.size(); ++a)
+      problem.three.friction[a] =
+          _options.friction(_contacts3[a], _options.contact.friction);
+  }
+  problem.q(d).resize(d * sc.size());
   if (needs_refactorization())
   {
     rebalance(); // every body is refactorized now: a free time to move

@@ -45,6 +45,15 @@ struct MoreauJean::StepStart
   Vectors v_old_b, f_ext_b, Mv_old, Cv_old, known;
 };
 
+struct MoreauJean::StepProblem
+{
+  /// The problem of a 2D run, or of a 3D one
+  contact::FrictionContactProblem2D two;
+  contact::FrictionContactProblem3D three;
+  /// Its free velocity (D per contact)
+  std::vector<double>& q(int dim) { return dim == 2 ? two.q : three.q; }
+};
+
 struct MoreauJean::Attempt
 {
   StepReport report;

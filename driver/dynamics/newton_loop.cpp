@@ -81,13 +81,18 @@ NewtonLoop::Vectors NewtonLoop::free_velocity(const Vectors& vk,
     if (!rigid)
       free[b] = vk[b] - _s._kbar.solve(b, r[b]);
     const bodies::Body& body = _s._bodies.body(b);
+    const int d = _s.dim();
     for (const std::int32_t node : _sc.contact_nodes[b])
     {
-      const Eigen::Vector2d v_free =
-          rigid ? _s._rigid.free_velocity(b, node)
-                : Eigen::Vector2d(free[b].segment<2>(2 * node));
-      for (int c = 0; c < 2; ++c)
-        v_contact[2 * body.nodes[node] + c] = v_free[c];
+      if (rigid) // (2D)
+      {
+        const Eigen::Vector2d v_free = _s._rigid.free_velocity(b, node);
+        for (int c = 0; c < 2; ++c)
+          v_contact[2 * body.nodes[node] + c] = v_free[c];
+      }
+      else
+        for (int c = 0; c < d; ++c)
+          v_contact[d * body.nodes[node] + c] = free[b][d * node + c];
     }
   }
   _s._exchange.share_contact_nodes(_s._bodies, _sc.contact_nodes, v_contact);
@@ -97,26 +102,42 @@ NewtonLoop::Vectors NewtonLoop::free_velocity(const Vectors& vk,
 
 void NewtonLoop::solve_problem(const std::vector<double>& U_free)
 {
+  const int d = _s.dim();
+  std::vector<double>& q = _problem.q(d);
   for (std::size_t i = 0; i < U_free.size(); ++i)
-    _problem.q[i] = U_free[i] + _sc.shift[i];
+    q[i] = U_free[i] + _sc.shift[i];
   std::vector<double> U(U_free.size()), start = _s._R;
+  if (d == 3) // (one process: check_3d)
+  {
+    report_nlgs(contact::solve_nlgs(_problem.three, _s._R, U, _s._nlgs),
+                std::move(start));
+    return;
+  }
   const contact::SweepDomain* domain = _s._exchange.domain();
   std::optional<contact::SweepPlan>& plan = _s._sweep_plan;
-  if (!domain && !plan && contact::renumbers(_problem, _s._nlgs))
-    plan.emplace(_problem, _s._nlgs);
+  if (!domain && !plan && contact::renumbers(_problem.two, _s._nlgs))
+    plan.emplace(_problem.two, _s._nlgs);
   const contact::NlgsResult nlgs = contact::solve_nlgs(
-      _problem, _s._R, U, _s._nlgs, domain, plan ? &*plan : nullptr);
+      _problem.two, _s._R, U, _s._nlgs, domain, plan ? &*plan : nullptr);
   _s._exchange.count_sweeps(nlgs.iterations);
+  report_nlgs(nlgs, std::move(start));
+}
+
+void NewtonLoop::report_nlgs(const contact::NlgsResult& nlgs,
+                             std::vector<double> start)
+{
   _report.nlgs_iterations += nlgs.iterations;
   _report.nlgs_error = nlgs.error;
   _report.nlgs_converged = nlgs.converged;
   if (!nlgs.converged)
   {
-    // Kept for replay; the solver itself writes nothing.
     ++_report.unsolved_contact_solves;
+    if (_s.dim() != 2) // (the replay files are 2D)
+      return;
+    // Kept for replay; the solver itself writes nothing.
     _report.unsolved_problem =
         std::make_shared<const contact::FrictionContactProblem2D>(
-            _s._exchange.whole_problem(_problem));
+            _s._exchange.whole_problem(_problem.two));
     _report.unsolved_start = std::move(start);
   }
 }

@@ -19,7 +19,7 @@ class NewtonLoop
 public:
   NewtonLoop(MoreauJean& scheme, const MoreauJean::StepContacts& sc,
              const MoreauJean::StepStart& start,
-             contact::FrictionContactProblem2D& problem, StepReport& report)
+             MoreauJean::StepProblem& problem, StepReport& report)
       : _s(scheme), _sc(sc), _start(start), _problem(problem), _report(report)
   {
   }
@@ -46,6 +46,8 @@ private:
   /// NLGS on the problem at the free relative velocity; the reactions go
   /// to the scheme's impulses, an unsolved problem to the report
   void solve_problem(const std::vector<double>& U_free);
+  /// The NLGS's outcome into the report (an unsolved 2D problem kept)
+  void report_nlgs(const contact::NlgsResult& nlgs, std::vector<double> start);
   /// v = v_free + Kbar^-1 H R on the bodies that carry a contact (every
   /// rigid body moved with its impulse)
   void add_impulse_response(const Vectors& free, Vectors& v_new);
@@ -53,7 +55,7 @@ private:
   MoreauJean& _s;
   const MoreauJean::StepContacts& _sc;
   const MoreauJean::StepStart& _start;
-  contact::FrictionContactProblem2D& _problem;
+  MoreauJean::StepProblem& _problem;
   StepReport& _report;
 };
 

@@ -17,13 +17,13 @@ void add_stiffness_dissipation(EnergyBalance& energy, double theta,
                                std::span<const double> u_new,
                                std::span<const double> f_old,
                                std::span<const double> f_new,
-                               std::span<const char> local_nodes)
+                               std::span<const char> local_nodes, int dim)
 {
   if (theta == 0.5)
     return;
   double excess = 0;
   for (std::size_t i = 0; i < u_new.size(); ++i)
-    if (local_nodes.empty() || local_nodes[i / 2])
+    if (local_nodes.empty() || local_nodes[i / dim])
       excess += (u_new[i] - u_old[i]) * (f_new[i] - f_old[i]);
   energy.numerical += (theta - 0.5) * excess;
 }
@@ -91,6 +91,24 @@ void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
       energy.cohesion += c * U_mid[2 * a];
     }
     add_wall_work(energy, H, contacts, walls, R, a);
+  }
+}
+
+void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
+                       const std::vector<Contact3D>& contacts,
+                       std::span<const double> R, std::span<const double> U_mid)
+{
+  for (std::size_t a = 0; a < contacts.size(); ++a)
+  {
+    const double* r = &R[3 * a];
+    const double* u = &U_mid[3 * a];
+    energy.friction -= r[1] * u[1] + r[2] * u[2];
+    energy.contact_normal -= r[0] * u[0];
+    if (contacts[a].wall >= 0)
+    {
+      const Eigen::Vector3d w = H.wall_velocity<3>(a);
+      energy.wall_work += r[0] * w[0] + r[1] * w[1] + r[2] * w[2];
+    }
   }
 }
 

@@ -90,7 +90,8 @@ void add_stiffness_dissipation(EnergyBalance& energy, double theta,
                                std::span<const double> u_new,
                                std::span<const double> f_old,
                                std::span<const double> f_new,
-                               std::span<const char> local_nodes = {});
+                               std::span<const char> local_nodes = {},
+                               int dim = 2);
 
 /// Per-body vectors of one step, at its start (-) and end (+).
 struct BodyStep
@@ -141,5 +142,13 @@ void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
                        std::span<const double> R, std::span<const double> U_mid,
                        std::span<const double> cohesion = {},
                        std::span<const std::int32_t> bonds = {});
+
+/// The contact terms of a 3D step (no cohesion or bond; every wall
+/// velocity-controlled): friction -R_t . U_t (both tangents), normal
+/// -R_n U_n, and the walls' work R . U_wall (ContactOperator::wall_velocity)
+void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
+                       const std::vector<Contact3D>& contacts,
+                       std::span<const double> R,
+                       std::span<const double> U_mid);
 
 } // namespace softpack::dynamics

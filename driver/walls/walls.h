@@ -85,6 +85,23 @@ struct Wall : WallDrive
   }
 };
 
+/// A plane wall of a 3D run: the half-space \f$(x - p) \cdot n \ge 0\f$
+/// is free. It translates at its imposed velocity (the time stepper
+/// advances `point` by h * velocity at each step); servo control is 2D only
+/// so far. Its friction is its party's in the FrictionTable
+/// (FrictionTable::wall_party, the wall's index among the 3D walls).
+struct Wall3D
+{
+  /// Name used in outputs
+  std::string name;
+  /// A point of the wall plane (current position)
+  std::array<double, 3> point = {0, 0, 0};
+  /// Unit normal pointing into the free side (towards the bodies)
+  std::array<double, 3> normal = {0, 0, 1};
+  /// Imposed velocity
+  std::array<double, 3> velocity = {0, 0, 0};
+};
+
 /// The value key of `drive` that another control than its own sets
 /// ("velocity", "pressure" or "force"), or nullptr: a wall is driven by one
 /// of velocity, pressure or force, only the value of its control nonzero.

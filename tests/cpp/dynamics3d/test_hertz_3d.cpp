@@ -1,0 +1,151 @@
+// A sphere (D 20 mm, neo-Hookean, mu 0.15 MPa, 3D lambda = 2 mu) squeezed
+// between two frictionless plane walls through the 3D step, against Hertz's
+// law for a sphere on a rigid flat (K. L. Johnson, Contact Mechanics, 1985,
+// eq. 4.22-4.23): F = (4/3) E* sqrt(R) delta^(3/2) at each plate, delta the
+// approach at each plate (half the plates' closure), E* = E / (1 - nu^2),
+// E = mu (3 lambda + 2 mu) / (lambda + mu), nu = lambda / (2 (lambda + mu)).
+// The plates move in small increments and hold; theta = 1 and steps of
+// 1 ms (the inertia M / h^2 is a few per cent of the stiffness: each hold is
+// a static solve to the Newton tolerance).
+#include "../dynamics/scheme_options.h"
+#include "sphere_scenes.h"
+#include <cmath>
+#include <cstdlib>
+#include <gtest/gtest.h>
+#include <sstream>
+
+using namespace softpack;
+
+namespace
+{
+struct HertzPoint
+{
+  double eps, force, hertz;
+  double error() const { return force / hertz - 1; }
+};
+
+double hertz_force(double delta)
+{
+  const double mu = test::sphere_mu, lambda = test::sphere_lambda;
+  const double E = mu * (3 * lambda + 2 * mu) / (lambda + mu);
+  const double nu = lambda / (2 * (lambda + mu));
+  const double E_star = E / (1 - nu * nu);
+  return 4.0 / 3.0 * E_star * std::sqrt(test::sphere_radius) *
+         std::pow(delta, 1.5);
+}
+
+/// The plates' force at the strains `eps` (closure / D), each reached in
+/// `increments` steps and held for `hold` steps
+std::vector<HertzPoint> squeeze(bodies::BodySet bodies,
+                                const std::vector<double>& eps,
+                                int increments = 5, int hold = 4)
+{
+  const std::span<const double> X = bodies.reference_coordinates();
+  double top = -1, bottom = 1;
+  for (std::size_t n = 0; n < X.size() / 3; ++n)
+  {
+    top = std::max(top, X[3 * n + 2]);
+    bottom = std::min(bottom, X[3 * n + 2]);
+  }
+  const double h = 1e-3, D = top - bottom;
+  dynamics::MoreauJeanOptions o = test::exact_options(h, 1e-3);
+  o.time.theta = 1;
+  o.time.newton_tolerance = 1e-8;
+  o.time.newton_max_iterations = 50;
+  // The tangent kept while Newton converges fast (strains are small): the
+  // compliance columns of the contact nodes are then made once per
+  // refactorization, not per iteration
+  o.time.full_newton = false;
+  o.time.tangent_reuse_steps = 50;
+  o.time.refactor_above_iterations = 8;
+  o.contact.friction = 0;
+  o.contact.alert_distance = 5e-4;
+  o.contact.nlgs_tolerance = 1e-10;
+  std::vector<dynamics::Wall3D> walls = {
+      {"bottom", {0, 0, bottom}, {0, 0, 1}, {0, 0, 0}},
+      {"top", {0, 0, top}, {0, 0, -1}, {0, 0, 0}}};
+  dynamics::MoreauJean scheme(bodies, o, walls);
+  std::vector<HertzPoint> out;
+  double closure = 0;
+  for (const double e : eps)
+  {
+    const double speed = (e * D - closure) / 2 / (increments * h);
+    scheme.walls_3d()[0].velocity[2] = speed;
+    scheme.walls_3d()[1].velocity[2] = -speed;
+    for (int s = 0; s < increments; ++s)
+      EXPECT_TRUE(scheme.step().newton_converged);
+    scheme.walls_3d()[0].velocity[2] = 0;
+    scheme.walls_3d()[1].velocity[2] = 0;
+    double force[2] = {0, 0};
+    for (int s = 0; s < hold; ++s)
+    {
+      EXPECT_TRUE(scheme.step().newton_converged);
+      force[0] = force[1];
+      force[1] =
+          0.5 * (scheme.wall_forces_3d()[0][2] - scheme.wall_forces_3d()[1][2]);
+    }
+    // At rest: the last two holds agree, the plates' forces balance
+    EXPECT_NEAR(force[1], force[0], 1e-3 * std::abs(force[1]));
+    closure = scheme.walls_3d()[0].point[2] - bottom +
+              (top - scheme.walls_3d()[1].point[2]);
+    out.push_back({closure / D, -force[1], hertz_force(closure / 2)});
+  }
+  return out;
+}
+
+std::string table(const std::string& mesh, const bodies::BodySet& bodies,
+                  const std::vector<HertzPoint>& points)
+{
+  std::ostringstream s;
+  s << mesh << " (" << bodies.num_global_dofs() / 3 << " nodes):";
+  for (const HertzPoint& p : points)
+    s << " eps " << p.eps << ": F " << p.force << " N, Hertz " << p.hertz
+      << " N, error " << 100 * p.error() << " %;";
+  return s.str();
+}
+} // namespace
+
+TEST(Hertz3D, CoarseSphereBetweenFrictionlessPlatesFollowsHertz)
+{
+  // The CI mesh (476 nodes, 0.8 mm at the poles, 4 mm inside): linear
+  // tetrahedra this coarse make the sphere 36-41 % stiffer than Hertz
+  // (measured; the error falls with the mesh: docs/contact_3d.md, "The 3D
+  // step"), which bounds the amplitude here; the exponent 3/2 holds on
+  // this mesh already between eps = 0.01 and 0.02.
+  const std::vector<HertzPoint> p =
+      squeeze(test::spheres("hertz"), {0.005, 0.01, 0.02});
+  std::cout << table("hertz", test::spheres("hertz"), p) << "\n";
+  for (const HertzPoint& q : p)
+  {
+    EXPECT_GT(q.error(), 0) << "eps " << q.eps; // P1: stiffer, never softer
+    EXPECT_LT(q.error(), 0.45) << "eps " << q.eps;
+  }
+  const double exponent =
+      std::log(p[2].force / p[1].force) / std::log(p[2].eps / p[1].eps);
+  EXPECT_NEAR(exponent, 1.5, 0.02);
+}
+
+// The mesh study of docs/contact_3d.md: the meshes of SOFTPACK_HERTZ_MESHES
+// (a directory) named in SOFTPACK_HERTZ_NAMES (comma separated).
+TEST(Hertz3D, DISABLED_MeshStudy)
+{
+  const char* dir = std::getenv("SOFTPACK_HERTZ_MESHES");
+  const char* names = std::getenv("SOFTPACK_HERTZ_NAMES");
+  ASSERT_TRUE(dir && names) << "set SOFTPACK_HERTZ_MESHES and _NAMES";
+  std::stringstream list(names);
+  for (std::string name; std::getline(list, name, ',');)
+  {
+    const std::map<std::string, double> param = {
+        {"shear_modulus", test::sphere_mu},
+        {"lame_lambda", test::sphere_lambda}};
+    auto make = [&]
+    {
+      return bodies::BodySet(
+          bodies::read_body_mesh(MPI_COMM_SELF,
+                                 std::filesystem::path(dir) / (name + ".xdmf")),
+          forms::find_material("neo_hookean"), param, test::sphere_rho);
+    };
+    std::cout << table(name, make(), squeeze(make(), {0.005, 0.01, 0.02}))
+              << std::endl;
+  }
+}
