@@ -1,9 +1,12 @@
 #pragma once
 
 // What the periodic-cell tests share: their disks, the six-disk assembly
-// and the 3 x 3 lattice (test_periodic_cell.cpp, test_servo_cell.cpp).
+// and the 3 x 3 lattice (test_periodic_cell.cpp, test_servo_cell.cpp,
+// test_cell_stress_control.cpp).
 #include <array>
 #include <bodies/BodySet.h>
+#include <bodies/stress_average.h>
+#include <walls/periodic_cell.h>
 #include <bodies/material_parameters.h>
 #include <material_registry.h>
 #include <mesh_fixtures.h>
@@ -53,6 +56,18 @@ inline std::vector<std::array<double, 2>> lattice(double gap)
     for (int j = 0; j < 3; ++j)
       centres.push_back({(i + 0.5) * c / 3, (j + 0.5) * c / 3});
   return centres;
+}
+
+/// The bodies' own mean stress over the cell, (1/det h) sum_b int sigma da:
+/// xx, yy, xy, yx, tension positive
+inline std::array<double, 4> fe_stress(const bodies::BodySet& bodies,
+                                       const dynamics::PeriodicCell& cell)
+{
+  std::array<double, 4> s = {0, 0, 0, 0};
+  for (const bodies::CauchyIntegral& c : bodies::cauchy_integrals(bodies))
+    for (int i = 0; i < 4; ++i)
+      s[i] += c[i] / cell.area();
+  return s;
 }
 
 } // namespace softpack::test::cell

@@ -19,22 +19,11 @@ using namespace softpack;
 namespace
 {
 using test::cell::disks;
+using test::cell::fe_stress;
 using test::cell::R;
 using test::cell::rho;
 
 constexpr double P = 5e3;
-
-/// The bodies' own mean stress over the cell, xx, yy, xy, yx, tension
-/// positive
-std::array<double, 4> fe_stress(const bodies::BodySet& bodies,
-                                const dynamics::PeriodicCell& cell)
-{
-  std::array<double, 4> s = {0, 0, 0, 0};
-  for (const bodies::CauchyIntegral& c : bodies::cauchy_integrals(bodies))
-    for (int i = 0; i < 4; ++i)
-      s[i] += c[i] / cell.area();
-  return s;
-}
 
 /// The bodies' own mean stress over the cell: (sigma_xx + sigma_yy) / 2,
 /// tension positive

@@ -17,21 +17,10 @@ using namespace softpack;
 namespace
 {
 using test::cell::disks;
+using test::cell::fe_stress;
 using test::cell::R;
 using test::cell::rho;
 using test::cell::six;
-
-/// The bodies' own mean stress over the cell, (1/det h) sum_b int sigma da:
-/// xx, yy, xy, yx, tension positive
-std::array<double, 4> fe_stress(const bodies::BodySet& bodies,
-                                const dynamics::PeriodicCell& cell)
-{
-  std::array<double, 4> s = {0, 0, 0, 0};
-  for (const bodies::CauchyIntegral& c : bodies::cauchy_integrals(bodies))
-    for (int i = 0; i < 4; ++i)
-      s[i] += c[i] / cell.area();
-  return s;
-}
 
 /// The accounts that do not depend on which image represents a body, the
 /// cell's height and (stress-controlled) rate after each step
