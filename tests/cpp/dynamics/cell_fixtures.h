@@ -5,12 +5,12 @@
 // test_cell_stress_control.cpp).
 #include <array>
 #include <bodies/BodySet.h>
-#include <bodies/stress_average.h>
-#include <walls/periodic_cell.h>
 #include <bodies/material_parameters.h>
+#include <bodies/stress_average.h>
 #include <material_registry.h>
 #include <mesh_fixtures.h>
 #include <vector>
+#include <walls/periodic_cell.h>
 
 namespace softpack::test::cell
 {
