@@ -222,12 +222,13 @@ def _clearances_3d(x, radii, cell=None):
 def test_spheres_placed_in_a_box_and_a_periodic_cell(periodic, phi):
     """The same placement in 3D (issue 40): 100 spheres of the paper's two
     diameters, clear of each other (and of the walls) by the gap."""
-    from softpack.scene.placement import _fraction, place
+    from softpack.scene.ball_fraction import ball_fraction
+    from softpack.scene.placement import place
 
     radii = np.repeat([0.01, 0.015], (70, 30))
     edge = (4 / 3 * np.pi * np.sum(radii**3) / phi) ** (1 / 3)
     extent = (edge, edge, edge)
-    assert _fraction(radii, extent) == pytest.approx(phi, rel=1e-12)
+    assert ball_fraction(radii, extent) == pytest.approx(phi, rel=1e-12)
     x = place(radii, extent, 2e-4, np.random.default_rng(0),
               periodic=periodic)
     assert x.shape == (100, 3)

@@ -26,8 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
+from softpack.scene.ball_fraction import ball_fraction
 from softpack.scene.placement import (HEXAGONAL_FRACTION, PackingError,
-                                      _fraction, _padded, place)
+                                      _padded, place)
 from softpack.contract.schema import load_schema
 
 
@@ -289,7 +290,7 @@ def scene_packing(config, radii, areas=None) -> Packing:
             f" fit in the {length} x {width} m box {keys}")
     _check_requested_fraction(config, radii if areas is None else None,
                               areas)
-    phi = _fraction(radii, (length, width))
+    phi = ball_fraction(radii, (length, width))
     if phi >= HEXAGONAL_FRACTION:
         raise PackingError(
             f"the particles' bounding circles would fill {phi:.3f} of the box,"
@@ -313,7 +314,7 @@ def _cell_packing(config, radii, areas) -> Packing:
     gap, seed = config["packing"]["gap"], config["packing"]["seed"]
     keys = ("([[species]] count, diameter and shape, [cell] a1 and a2,"
             " [packing] gap)")
-    phi = _fraction(radii, (length, width))
+    phi = ball_fraction(radii, (length, width))
     if phi >= HEXAGONAL_FRACTION:
         raise PackingError(
             f"the particles' bounding circles would fill {phi:.3f} of the"
@@ -397,7 +398,7 @@ def _check_arguments(seed, counts, diameters, length, width, gap, trials,
         raise ValueError(f"a disk of diameter {diameters.max()} m does not fit"
                          f" in a {length} x {width} m box")
     radii = np.repeat(diameters / 2, counts.astype(int))
-    phi = _fraction(radii, (length, width))
+    phi = ball_fraction(radii, (length, width))
     if phi >= HEXAGONAL_FRACTION:
         raise ValueError(
             f"packing fraction {phi:.3f} exceeds"

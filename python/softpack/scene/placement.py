@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from softpack.scene.ball_fraction import ball_fraction
 from softpack.scene.preparation import Jammed, grow
 
 #: Relaxation sweeps over which the largest overlap must shrink by 10 %.
@@ -54,8 +55,6 @@ ATTEMPTS = 10
 NEIGHBOURS = 24
 #: Densest packing fraction of disks in the plane (hexagonal).
 HEXAGONAL_FRACTION = np.pi / (2 * np.sqrt(3))
-#: Volume of the unit ball, per dimension.
-UNIT_BALL = {2: np.pi, 3: 4.0 * np.pi / 3.0}
 #: The d-th root (the shrink factor of a fraction).
 ROOT = {2: np.sqrt, 3: np.cbrt}
 
@@ -100,7 +99,7 @@ def place(radii, extent, gap, rng, *, relax=True, trials=200,
     radii = np.asarray(radii, dtype=float)
     extent = tuple(float(e) for e in extent)
     order = np.argsort(-radii, kind="stable")  # largest first
-    phi = _fraction(radii, extent)
+    phi = ball_fraction(radii, extent)
     # with relaxation: RSA of shrunken circles, then inflated step by step
     start = (min(1.0, ROOT[len(extent)](RSA_FRACTION[len(extent)] / phi))
              if relax else 1.0)
@@ -165,7 +164,7 @@ def _sequential(radii, extent, gap, rng, trials, relax, periodic=False):
         if not len(free) and not relax:
             raise PackingError(
                 f"random sequential addition placed {k} of {len(radii)}"
-                f" particles (phi = {_fraction(radii, extent):.3f} of"
+                f" particles (phi = {ball_fraction(radii, extent):.3f} of"
                 f" bounding circles); no free spot for a circle of diameter"
                 f" {2 * r:g} m in {trials} trials")
         pick = int(free[0]) if len(free) else int(np.argmax(clearance))
@@ -177,13 +176,6 @@ def _sequential(radii, extent, gap, rng, trials, relax, periodic=False):
 def _padded(gap) -> float:
     """Clearance aimed at so that ``gap`` holds despite rounding."""
     return 1.05 * gap + 1e-9
-
-
-def _fraction(radii, extent) -> float:
-    """Packing fraction of disks (spheres) of the given radii in the box
-    of edges ``extent``."""
-    d = len(extent)
-    return float(UNIT_BALL[d] * np.sum(radii**d) / np.prod(extent))
 
 
 def _norm(diff) -> np.ndarray:
@@ -277,7 +269,7 @@ def _relax_overlaps(centres, radii, extent, gap, rng, max_sweeps,
         moved = np.abs(_nearest_image(x - listed, cell)).max() * np.sqrt(d)
     raise PackingError(
         f"could not remove the overlaps of {n} circles (phi ="
-        f" {_fraction(radii, extent):.3f} in a"
+        f" {ball_fraction(radii, extent):.3f} in a"
         f" {' x '.join(f'{e:g}' for e in extent)} m box) in {sweep + 1}"
         " relaxation sweeps; the box is too full")
 

@@ -32,6 +32,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from softpack.scene.ball_fraction import ball_fraction
+
 #: Monte Carlo sweeps at most.
 MAX_SWEEPS = 200000
 #: Stall test: the scale must grow by this (relative) over STALL_SWEEPS.
@@ -96,13 +98,9 @@ def grow(centres, radii, length, width, padded_gap, start, rng):
             checkpoint = scale
     raise Jammed(
         f"growth jammed at {scale:.5f} of the particles' size (packing"
-        f" fraction {scale**2 * _fraction(radii, length, width):.4f} of"
-        f" {_fraction(radii, length, width):.4f}) after {sweep + 1} Monte"
+        f" fraction {scale**2 * ball_fraction(radii, (length, width)):.4f} of"
+        f" {ball_fraction(radii, (length, width)):.4f}) after {sweep + 1} Monte"
         " Carlo sweeps; the box is too full")
-
-
-def _fraction(radii, length, width) -> float:
-    return float(np.pi * np.sum(radii**2) / (length * width))
 
 
 def _pairs(x, reach):

@@ -33,7 +33,8 @@ import numpy as np
 from softpack.scene import mesh as mesh_files
 from softpack.scene import solids
 from softpack.scene.packing import PackingError, scene_packing
-from softpack.scene.placement import _fraction, _padded, place
+from softpack.scene.ball_fraction import ball_fraction
+from softpack.scene.placement import _padded, place
 from softpack.scene.shapes import ShapeError, user_file
 from softpack.scene.species import orientations, particle_table
 from softpack.scene.triangulation import MeshingError
@@ -166,7 +167,7 @@ def place_solids(config, bodies, diameters, index) -> np.ndarray:
             f"[species.{k}] (species {species[k]['name']!r}): a body of"
             f" bounding diameter {2 * radii.max():g} m does not fit in the"
             f" {' x '.join(f'{e:g}' for e in extent)} m box {keys}")
-    phi = _fraction(radii, extent)
+    phi = ball_fraction(radii, extent)
     if phi >= SPHERE_FILL_LIMIT:
         raise PackingError(
             f"the bodies' bounding spheres would fill {phi:.3f} of the box,"
