@@ -176,7 +176,10 @@ std::vector<double> cohesion_impulses(const FrictionTable& table,
     if (table.cohesion(k).traction > 0)
       gaps[place_of(k, k.candidate_node)] = k.gap;
   const std::span<const double> X = bodies.reference_coordinates();
-  const std::vector<double> x = bodies.current_coordinates();
+  const std::span<const double> u = bodies.displacement();
+  // a node's current coordinate, as current_coordinates() gives it, without
+  // copying every node's at each step
+  auto x = [&](std::int32_t i) { return X[i] + u[i]; };
   for (std::size_t a = 0; a < contacts.size(); ++a)
   {
     const Contact& k = contacts[a];
@@ -198,8 +201,8 @@ std::vector<double> cohesion_impulses(const FrictionTable& table,
       const std::int32_t gi = body.nodes[i], gj = body.nodes[j];
       const double gap_j = found != gaps.end()
                                ? found->second
-                               : k.gap + (x[2 * gj] - x[2 * gi]) * k.n[0] +
-                                     (x[2 * gj + 1] - x[2 * gi + 1]) * k.n[1];
+                               : k.gap + (x(2 * gj) - x(2 * gi)) * k.n[0] +
+                                     (x(2 * gj + 1) - x(2 * gi + 1)) * k.n[1];
       const std::int32_t gp = body.nodes[p], gq = body.nodes[q];
       share += within(k.gap, gap_j, law.distance) *
                std::hypot(X[2 * gq] - X[2 * gp], X[2 * gq + 1] - X[2 * gp + 1]);
