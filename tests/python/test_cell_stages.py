@@ -9,7 +9,8 @@ cell table without a cell, a stage criterion measured on walls, a stage
 without its time bound) is refused before anything runs, naming the key.
 End to end, examples/compress_shear_small.toml shortened (compacted by a
 mean stress for 0.03 s, then sheared at constant sigma_yy for 0.02 s): the
-stage column switches, the shear starts at the stage change, the balance
+stage column switches, the shear starts at the stage change (and
+stress.csv's gamma with it), the balance
 closes with the cell's work, and the run cut inside either stage and
 continued from its state gives the uninterrupted run's raw/steps.csv to the
 bit (every column but the seconds).
@@ -145,6 +146,20 @@ def test_the_shear_starts_at_the_stage_change(whole):
     assert np.all(a1x[~compact] == a1x[compact][-1])
     # compacted by the mean stress from Phi0 0.695
     assert steps["phi"][-1] > steps["phi"][0] + 0.05
+
+
+def test_gamma_is_the_shear_from_the_shear_stages_start(whole):
+    """stress.csv's gamma: 0 through the compaction, then L_xy (t - t_s)
+    with t_s the shear stage's start (the driver's dh/dt = L h0, h0 the
+    cell at the stage's start), not the shear over the initial height."""
+    steps = read_table(whole / "raw" / "steps.csv")
+    st = read_table(whole / "stress.csv")
+    stage = np.asarray(steps["stage"])
+    t = np.asarray(st["time"])
+    t_s = t[stage == 0][-1]
+    assert np.all(np.asarray(st["gamma"])[stage == 0] == 0.0)
+    assert np.asarray(st["gamma"])[stage == 1] == pytest.approx(
+        2.0 * (t[stage == 1] - t_s), rel=1e-9, abs=1e-12)
 
 
 def test_the_balance_closes_with_the_cells_work(whole):

@@ -11,7 +11,8 @@ centroids of ``raw/particles.csv`` (written at each output step, after the
 bodies were re-wrapped, as the images are). ``stress.csv`` of a cell has the
 contact and finite-element estimates, the wall estimate NaN (no walls), and
 the strains of the cell's diagonal, eps_xx = -ln(h_xx / h_xx0); then the
-bulk columns gamma, mu_star, inertial_number and phi (the packing fraction,
+bulk columns gamma (:func:`shear_strain`: the imposed shear, from each
+stage's start), mu_star, inertial_number and phi (the packing fraction,
 whose change under a constant normal stress is the dilatancy).
 """
 
@@ -100,8 +101,7 @@ def cell_stress_table(run_dir, setup, steps: dict, particles: dict) -> dict:
 def bulk_columns(steps: dict, table: dict, setup) -> dict:
     """:data:`BULK_COLUMNS` from the cell's edges and the contact stress
     (see the module doc)."""
-    a2x = sheared_edge(steps)
-    gamma = (a2x - a2x[0]) / float(steps["cell_a2y"][0])
+    gamma = shear_strain(steps)
     time = np.asarray(steps["time"], float)
     rate = np.gradient(gamma, time) if len(time) > 1 else np.zeros(1)
     shear = 0.5 * (np.asarray(table["contact_xy"], float)
@@ -116,6 +116,27 @@ def bulk_columns(steps: dict, table: dict, setup) -> dict:
                                       / pressure), np.nan)
     return {"gamma": gamma, "mu_star": mu_star, "inertial_number": inertial,
             "phi": np.asarray(steps["phi"], float)}
+
+
+def shear_strain(steps: dict) -> np.ndarray:
+    """gamma of every output row: the integral of the imposed L_xy, i.e. the
+    shear of h_xy over the height h_yy each stage started from. The driver
+    moves the edges at dh/dt = L h0, h0 the cell at the start of the stage
+    whose drive L is (a stage's drive replaces the previous one at its
+    start), so within a stage gamma grows by (h_xy - h_xy0) / h_yy0; a
+    stage starts from the last row of the stage before it (row 0 for the
+    first). A run without stages is one stage from t = 0."""
+    a2x = sheared_edge(steps)
+    a2y = np.asarray(steps["cell_a2y"], float)
+    stage = (np.asarray(steps["stage"], int) if "stage" in steps
+             else np.zeros(len(a2x), int))
+    gamma = np.zeros(len(a2x))
+    start, base = 0, 0.0
+    for k in range(1, len(a2x)):
+        if stage[k] != stage[k - 1]:
+            start, base = k - 1, gamma[k - 1]
+        gamma[k] = base + (a2x[k] - a2x[start]) / a2y[start]
+    return gamma
 
 
 def sheared_edge(steps: dict) -> np.ndarray:
