@@ -22,7 +22,8 @@ import re
 from pathlib import Path
 
 __all__ = ["load_config", "run", "resume", "read_run", "plot_runs",
-           "plot_loading", "plot_single_disk", "RunError", "RunFlagged"]
+           "plot_loading", "plot_shear", "plot_single_disk", "RunError",
+           "RunFlagged"]
 
 from softpack.contract.run_directory import (EXIT_FLAGGED,  # noqa: E402
                                              RunDirectory, RunError,
@@ -297,6 +298,39 @@ def plot_loading(directory, out=None, estimate=None, rest=None,
                        " directory)")
     out = Path(out) if out is not None else run.path / "figures" / "loading"
     return loading.write_figures(run.path, out, estimate, rest, stage)
+
+
+def plot_shear(directories, out=None, window=0.5) -> dict:
+    """The steady state of shear runs in a periodic cell (``./softpack
+    plot-shear``): mu*, Phi and I against gamma, and per run each
+    quantity's mean, fluctuation, standard error and stationarity over the
+    last ``window`` of its shear; mu* compared between every pair of runs.
+
+    Parameters
+    ----------
+    directories : list of path-like
+        Finished runs whose last stage is a shear.
+    out : path-like, optional
+        Output directory (default: ``figures/shear`` of the first run).
+    window : float, optional
+        The steady window's fraction of the last stage's shear (0, 1].
+
+    Returns
+    -------
+    dict
+        The summary also written to ``steady.json`` (``steady.md``: its
+        table).
+    """
+    from softpack.plots import shear
+
+    directories = [Path(d) for d in directories]
+    if not directories:
+        raise RunError("plot_shear: no run directory given")
+    if not 0 < window <= 1:
+        raise ValueError(f"window must be in (0, 1], not {window}")
+    out = Path(out) if out is not None else \
+        directories[0] / "figures" / "shear"
+    return shear.write_outputs(directories, out, window)
 
 
 def plot_runs(directories, out=None) -> list[Path]:

@@ -23,6 +23,7 @@ COMMANDS = {
     "plot-single-disk": "softpack.plots.single_disk",
     "plot": "softpack.plots.paper",
     "plot-loading": "softpack.plots.loading",
+    "plot-shear": "softpack.plots.shear",
     "bench": "softpack.bench",
     "reference3d": "softpack.references.cylinder3d",
     "reference2d": "softpack.references.disk_mixed",
