@@ -50,7 +50,8 @@ MoreauJean::prepare_contacts(const std::vector<double>& v_old)
   // After the shift: U_n- is at the walls' start velocity.
   sc.servo = start_servo_walls(_walls, _contacts, sc.H, h);
   if (_cell && !_cell->servo.empty())
-    start_servo_cell(*_cell, _contacts, body_centroids(), sc.H, h, sc.servo);
+    start_servo_cell(*_cell, _contacts, body_centroids(), sc.H, h,
+                     _options.time.theta, sc.servo);
   _R = _history.warm_start(_contacts);
   return sc;
 }

@@ -135,7 +135,8 @@ void read_stages(const Reader& r, const json& stages, DriverConfig& c)
 /// "stages[k].cell.".
 template <typename Drive>
 dynamics::CellDrive read_cell_drive(const Reader& r, const Drive& p,
-                                    const std::string& key, double mass)
+                                    const std::string& key, double mass,
+                                    double damping)
 {
   dynamics::CellDrive drive{p.velocity_gradient_x, p.velocity_gradient_y, {}};
   const std::array<std::pair<const std::string*, double>, 2> axes = {
@@ -192,6 +193,8 @@ dynamics::CellDrive read_cell_drive(const Reader& r, const Drive& p,
     drive.servo.push_back({dynamics::CellServo::mean, p.stress_mean, mass});
   if (!drive.servo.empty() && !(mass > 0))
     r.fail("cell.mass", "must be > 0 with a stress-controlled component");
+  for (dynamics::CellServo& s : drive.servo)
+    s.damping = damping;
   return drive;
 }
 
@@ -228,7 +231,9 @@ void read_cell(const Reader& r, DriverConfig& c)
   if (!(c.cell->area() > 0))
     r.fail("cell.a1", "and cell.a2 must span a positive area, a2 "
                       "counter-clockwise from a1");
-  c.cell_drive = read_cell_drive(r, p, "cell.", p.mass);
+  // c = m / tau: the cell's velocity relaxes over tau under its damping
+  const double damping = p.damping_time > 0 ? p.mass / p.damping_time : 0.0;
+  c.cell_drive = read_cell_drive(r, p, "cell.", p.mass, damping);
   c.cell->servo = c.cell_drive.servo;
   for (std::size_t k = 0; k < c.stages.size(); ++k)
   {
@@ -238,7 +243,7 @@ void read_cell(const Reader& r, DriverConfig& c)
       r.fail(key + "stop", "strain and pressure are measured on walls; a "
                            "cell has none");
     c.stage_cells.push_back(
-        read_cell_drive(r, c.stages[k].cell, key + "cell.", p.mass));
+        read_cell_drive(r, c.stages[k].cell, key + "cell.", p.mass, damping));
   }
 }
 

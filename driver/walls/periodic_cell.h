@@ -32,6 +32,9 @@ struct CellServo
   double stress = 0;
   /// The fictitious mass (kg/m) of the degree of freedom
   double mass = 1;
+  /// Its viscous damping c (N s/m^2 per unit length along z: the force
+  /// -c V), mass / [cell] damping_time; 0: undamped
+  double damping = 0;
   /// The isotropic mode's velocity V (m/s; a diagonal component's is its
   /// edge's rate, PeriodicCell::axis_rate)
   double velocity = 0;
@@ -56,7 +59,8 @@ struct CellDrive
     for (std::size_t k = 0; k < servo.size(); ++k)
       if (servo[k].axis != o.servo[k].axis ||
           servo[k].stress != o.servo[k].stress ||
-          servo[k].mass != o.servo[k].mass)
+          servo[k].mass != o.servo[k].mass ||
+          servo[k].damping != o.servo[k].damping)
         return false;
     return true;
   }

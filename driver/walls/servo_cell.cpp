@@ -41,7 +41,8 @@ void set_antagonist_velocities(const ServoWalls& servo,
 void start_servo_cell(const PeriodicCell& cell,
                       const std::vector<Contact>& contacts,
                       const std::vector<std::array<double, 2>>& centroids,
-                      ContactOperator& H, double h, ServoWalls& servo)
+                      ContactOperator& H, double h, double theta,
+                      ServoWalls& servo)
 {
   if (cell.servo.empty())
     return;
@@ -63,10 +64,11 @@ void start_servo_cell(const PeriodicCell& cell,
   for (std::size_t k = 0; k < cell.servo.size(); ++k)
   {
     const CellServo& c = cell.servo[k];
-    servo.cell.push_back(ServoStep::start(k, cell.servo_force(c), c.mass,
-                                          cell.servo_velocity(c), h));
+    servo.cell.push_back(
+        ServoStep::start_damped(k, cell.servo_force(c), c.mass, c.damping,
+                                cell.servo_velocity(c), h, theta));
     WallCoupling coupling;
-    coupling.inverse_mass = 1 / c.mass;
+    coupling.inverse_mass = 1 / servo.cell.back().inertia;
     for (std::size_t a = 0; a < contacts.size(); ++a)
       if (contacts[a].antagonist_body >= 0)
       {

@@ -28,11 +28,13 @@ namespace softpack::dynamics
 /// @param[in] centroids Each body's centroid at the start of the step
 /// @param[in,out] H The step's contact operator
 /// @param[in] h Time step
+/// @param[in] theta The scheme's theta (a damped component's V_mid)
 /// @param[in,out] servo The step's servo unknowns
 void start_servo_cell(const PeriodicCell& cell,
                       const std::vector<Contact>& contacts,
                       const std::vector<std::array<double, 2>>& centroids,
-                      ContactOperator& H, double h, ServoWalls& servo);
+                      ContactOperator& H, double h, double theta,
+                      ServoWalls& servo);
 
 /// End a step: every component's V+ and V_mid from the impulses (the cell
 /// itself is advanced, and the bodies given the affine change, by

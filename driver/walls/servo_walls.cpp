@@ -18,6 +18,17 @@ ServoStep ServoStep::start(std::size_t index, double force, double mass,
   return s;
 }
 
+ServoStep ServoStep::start_damped(std::size_t index, double force, double mass,
+                                  double damping, double v_old, double h,
+                                  double theta)
+{
+  ServoStep s{index, force, mass, v_old};
+  s.damping = damping;
+  s.inertia = mass + theta * h * damping;
+  s.v_free = s.v_old + h * (force - damping * v_old) / s.inertia;
+  return s;
+}
+
 void ServoStep::finish(const WallCoupling& c, std::span<const double> R,
                        double theta)
 {
@@ -44,6 +55,7 @@ double ServoStep::account(EnergyBalance& energy, double h, double theta) const
 {
   const double dv = v_new - v_old;
   energy.numerical += (theta - 0.5) * mass * dv * dv;
+  energy.damping += h * damping * v_mid * v_mid;
   return h * force * v_mid;
 }
 

@@ -29,10 +29,19 @@ struct ServoStep
   double mass;
   /// Velocity: start, free (h F / m added), end, theta-mid
   double v_old, v_free = 0, v_new = 0, v_mid = 0;
+  /// Viscous damping c (the force -c V_mid) and the inertia the impulses
+  /// meet, m + theta h c (m without damping)
+  double damping = 0, inertia = mass;
 
   /// Start: V_free = V- + h F / m
   static ServoStep start(std::size_t index, double force, double mass,
                          double v_old, double h);
+  /// Start of a damped unknown, m (V+ - V-) = h (F - c V_mid) + impulses
+  /// with V_mid = theta V+ + (1 - theta) V-: V+ = V_free + impulses / m',
+  /// m' = m + theta h c, V_free = V- + h (F - c V-) / m'
+  static ServoStep start_damped(std::size_t index, double force, double mass,
+                                double damping, double v_old, double h,
+                                double theta);
   /// From the converged impulses: V+ = V_free - (1/m) sum_c g_c . R_c and
   /// V_mid
   void finish(const WallCoupling& coupling, std::span<const double> R,
@@ -41,8 +50,9 @@ struct ServoStep
   /// V_mid sum_c g_c . R_c (their R . U_wall)
   double transmitted(const WallCoupling& coupling,
                      std::span<const double> R) const;
-  /// Its energy terms: the work of the imposed force h F V_mid (returned)
-  /// and (th - 1/2) m (V+ - V-)^2 added to the numerical dissipation
+  /// Its energy terms: the work of the imposed force h F V_mid (returned),
+  /// (th - 1/2) m (V+ - V-)^2 added to the numerical dissipation and the
+  /// damping's h c V_mid^2 to the damping
   double account(EnergyBalance& energy, double h, double theta) const;
 };
 

@@ -69,7 +69,8 @@ inline nlohmann::json driver_json(const std::filesystem::path& directory,
              "velocity_gradient_y": [0.0, 0.0], "control_xx": "velocity",
              "control_yy": "velocity", "stress_xx": 0.0, "stress_yy": 0.0,
              "control_xy": "velocity", "stress_xy": 0.0,
-             "control_mean": "velocity", "stress_mean": 0.0, "mass": 1.0}
+             "control_mean": "velocity", "stress_mean": 0.0, "mass": 1.0,
+             "damping_time": 0.0}
   })");
   doc["directory"] = directory.string();
   doc["scene"]["box"]["length"] = length;
