@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from driver_required import require_driver
-from softpack.contract.run_directory import EXIT_DONE
+from softpack.contract.run_directory import EXIT_DONE, EXIT_FLAGGED
 from softpack.scene import config as cfg
 from softpack.simulation.run import run
 
@@ -27,16 +27,21 @@ meshio = pytest.importorskip("meshio")
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
-#: The variant run: the example's piston at 4 m/s so that it reaches the
-#: nearest spheres within STEPS steps (the example's 0.5 m/s would need
-#: about 200 steps for that).
+#: The variant run: the example's piston at 2 m/s (the fastest its time
+#: step allows: [contact] alert_distance / speed >= time_step), pushing the
+#: sphere that touches it from the start and reaching more within STEPS
+#: steps.
 STEPS = 60
 OVERRIDES = {"stop.steps": STEPS, "output.every_steps": 6,
              "output.fields_every": 5,
-             "walls.right.velocity": [-4.0, 0.0]}
+             "walls.right.velocity": [-2.0, 0.0]}
 
-#: Bound on |energy residual| over the walls' work (measured: see
-#: docs/bodies_3d.md, "The 3D time loop").
+#: Bound on the largest |energy residual| over the walls' work at the end.
+#: Measured 1.3e-4 (2.6e-5 J of 0.209 J, 2026-12-04): the Newton iterations
+#: stop at time.newton_tolerance = 1e-4 of the velocities, and what they
+#: leave unconverged is what the balance does not account for; 1e-3 leaves
+#: a margin of 8 and still fails a missing term (the numerical dissipation
+#: of theta = 0.55 alone is larger).
 RESIDUAL_BOUND = 1e-3
 
 
@@ -72,8 +77,8 @@ def test_phi_rises_as_the_piston_moves_in(spheres):
     out, _ = spheres
     s = read_csv(out / "raw" / "steps.csv")
     assert len(s["step"]) == STEPS // 6 + 1
-    # the piston at 4 m/s, the other walls still
-    assert np.allclose(s["right_x"], s["right_x"][0] - 4.0 * s["time"],
+    # the piston at 2 m/s, the other walls still
+    assert np.allclose(s["right_x"], s["right_x"][0] - 2.0 * s["time"],
                        rtol=0, atol=1e-12)
     assert np.all(s["left_x"] == s["left_x"][0])
     assert np.all(s["lid_z"] == 0.060) and np.all(s["base_z"] == 0.0)
@@ -119,3 +124,29 @@ def test_the_3d_outputs_are_readable(spheres):
     # every 5th output and the last: rows 0, 5 and 10 of 11
     assert times == pytest.approx([s["time"][0], s["time"][5], s["time"][10]])
     assert np.abs(point_data["displacement"]).max() > 0
+
+
+def test_standing_cylinders_slide_on_a_frictionless_base(tmp_path):
+    """examples/cylinders3d_small.toml names the base in [[friction]] with
+    coefficient 0 (the experiment's lubricated glass): the driver's
+    friction table gives the base its own party, so the base's contacts
+    carry no tangential force while the bodies' contacts keep the default
+    friction."""
+    require_driver()
+    config = cfg.load_config(EXAMPLES / "cylinders3d_small.toml",
+                             {"stop.steps": 12, "output.every_steps": 12,
+                              "output.fields": False})
+    # flagged by one contact solve stopping at 1.09e-6 (> nlgs_tolerance
+    # 1e-6) in step 6: counted, a near miss (test_examples_small.py)
+    assert run(config, tmp_path, verbose=False) in (EXIT_DONE, EXIT_FLAGGED)
+    done = json.loads((tmp_path / "raw" / "done.json").read_text())
+    assert done["newton_unconverged_steps"] == 0
+    assert done["nlgs_unconverged_steps"] <= 1 and done["overlap_steps"] == 0
+    setup = json.loads((tmp_path / "raw" / "setup.json").read_text())
+    assert setup["scene"]["box"]["height"] == 0.020
+    c = read_csv(tmp_path / "raw" / "contacts" / "step_00000012.csv")
+    base = c["wall"] == 4  # left, right, bottom, top, base, lid
+    assert base.sum() > 0
+    assert np.all(c["ft1"][base] == 0) and np.all(c["ft2"][base] == 0)
+    s = read_csv(tmp_path / "raw" / "steps.csv")
+    assert s["base_fx"][-1] == 0 and s["base_fy"][-1] == 0

@@ -278,8 +278,7 @@ def run(config, out: Path, force=False, initial_state: Path | None = None,
         MPI ranks of the driver (:func:`driver.check_ranks`).
     initial_only : bool
         The driver writes the initial state and stops before the first
-        step (``--initial-only``); no observables. A 3D scene's driver
-        refuses to step (3D time stepping: not yet built) without it.
+        step (``--initial-only``); no observables.
 
     Raises
     ------
