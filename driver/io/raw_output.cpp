@@ -16,6 +16,20 @@ namespace
 const char* const axes = "xyz";
 const std::vector<std::string> cauchy_names = {"xx", "yy", "xy", "yx", "zz",
                                                "xz", "zx", "yz", "zy"};
+/// Each body's integral of its Cauchy stress (stress_average.h), summed
+/// over the bodies: the finite elements' estimate of the mean stress times
+/// the box area (3D: volume), for analysis/stress.py.
+void write_cauchy_totals(std::ofstream& out, std::span<const double> cauchy,
+                         int size)
+{
+  for (int k = 0; k < size; ++k)
+  {
+    double total = 0;
+    for (std::size_t b = 0; b < cauchy.size() / size; ++b)
+      total += cauchy[size * b + k];
+    out << ',' << total;
+  }
+}
 } // namespace
 
 RawOutput::RawOutput(const std::filesystem::path& directory,
@@ -99,17 +113,7 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
          << interval.newton_unconverged_steps << ','
          << interval.nlgs_unconverged_steps << ',' << interval.retried_steps
          << ',' << overlap_depth;
-  // Each body's integral of its Cauchy stress (stress_average.h), summed
-  // over the bodies: the finite elements' estimate of the mean stress times
-  // the box area (3D: volume), for analysis/stress.py.
-  const int size = cauchy_size();
-  for (int k = 0; k < size; ++k)
-  {
-    double total = 0;
-    for (std::size_t b = 0; b < cauchy.size() / size; ++b)
-      total += cauchy[size * b + k];
-    _steps << ',' << total;
-  }
+  write_cauchy_totals(_steps, cauchy, cauchy_size());
   _steps << '\n';
   _steps.flush();
   if (_dim == 2)
