@@ -150,3 +150,12 @@ def test_standing_cylinders_slide_on_a_frictionless_base(tmp_path):
     assert np.all(c["ft1"][base] == 0) and np.all(c["ft2"][base] == 0)
     s = read_csv(tmp_path / "raw" / "steps.csv")
     assert s["base_fx"][-1] == 0 and s["base_fy"][-1] == 0
+
+
+def test_a_3d_run_is_not_resumed(tmp_path):
+    """No raw/state.bin is written in 3D yet: --resume says so by name."""
+    from softpack.simulation.resume import prepare_resume
+
+    config = cfg.load_config(EXAMPLES / "spheres3d_small.toml")
+    with pytest.raises(RuntimeError, match="a 3D run writes no raw/state.bin"):
+        prepare_resume(tmp_path, config, RuntimeError)

@@ -214,6 +214,8 @@ def _observables_only(args) -> int:
                 tmp = run_dir.path / ".config.toml.tmp"
                 tmp.write_text(to_toml(config))
                 tmp.replace(run_dir.config_toml)
+            if load_config(run_dir.config_toml)["model"]["dimension"] == 3:
+                return _postprocess_3d(out, None)
             return _postprocess(out, None)
     except ConfigError as err:
         return refuse(str(err))
@@ -474,6 +476,9 @@ def _postprocess_3d(out: Path, say) -> int:
 
     run = RunDirectory(out)
     finish = run.done()
+    if say is None:
+        def say(text):
+            echo(f"softpack run: {text}")
     steps = read_table(run.raw.steps_csv)
     phi, residual = steps["phi"], steps["energy_residual"]
     supplied = max(abs(float(w)) for w in steps["wall_work"])
