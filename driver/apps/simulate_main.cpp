@@ -75,8 +75,7 @@ int main(int argc, char** argv)
   app.add_flag("--initial-only", initial_only,
                "read and check driver.json and the bodies, write the initial "
                "state (raw/setup.json, the first output row and state, the "
-               "fields at the start) and stop before the first step; a 3D "
-               "scene's only run until the 3D time step is built");
+               "fields at the start) and stop before the first step");
   int threads = 0;
   app.add_option("--threads", threads,
                  "OpenMP threads (default 0: one per core this process may "

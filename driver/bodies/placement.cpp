@@ -1,5 +1,7 @@
 #include "placement.h"
 
+#include <stdexcept>
+
 #include <array>
 #include <cmath>
 
@@ -52,6 +54,38 @@ std::vector<Placement> placements(const BodySet& bodies)
       cross += ax * by - ay * bx;
     }
     out[b] = {c[0], c[1], std::atan2(cross, dot)};
+  }
+  return out;
+}
+
+std::vector<std::array<double, 3>> centroids_3d(const BodySet& bodies)
+{
+  if (bodies.dim() != 3)
+    throw std::invalid_argument("centroids_3d: 3D bodies only");
+  const std::vector<double> x = bodies.current_coordinates();
+  std::vector<std::array<double, 3>> out(bodies.num_bodies());
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+  {
+    const Body& body = bodies.body(b);
+    // Each face and the origin span a tetrahedron of signed volume
+    // a . (b x c) / 6 and centroid (a + b + c) / 4.
+    double volume = 0;
+    std::array<double, 3> moment = {0, 0, 0};
+    for (const auto& face : body.boundary_faces)
+    {
+      const double* p[3];
+      for (int k = 0; k < 3; ++k)
+        p[k] = &x[3 * body.nodes[face[k]]];
+      const double v = (p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) -
+                        p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
+                        p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0])) /
+                       6;
+      volume += v;
+      for (int i = 0; i < 3; ++i)
+        moment[i] += v * (p[0][i] + p[1][i] + p[2][i]) / 4;
+    }
+    for (int i = 0; i < 3; ++i)
+      out[b][i] = moment[i] / volume;
   }
   return out;
 }

@@ -24,4 +24,10 @@ struct Placement
 /// Each body's placement at the current displacement.
 std::vector<Placement> placements(const BodySet& bodies);
 
+/// Each 3D body's volume centroid at the current displacement, from its
+/// closed boundary surface (the divergence theorem over its outward
+/// boundary faces).
+/// @throws std::invalid_argument if the bodies are not 3D
+std::vector<std::array<double, 3>> centroids_3d(const BodySet& bodies);
+
 } // namespace softpack::bodies

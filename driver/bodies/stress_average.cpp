@@ -31,6 +31,28 @@ std::vector<CauchyIntegral> cauchy_integrals(const BodySet& bodies)
   return out;
 }
 
+std::vector<CauchyIntegral3D> cauchy_integrals_3d(const BodySet& bodies)
+{
+  if (bodies.dim() != 3)
+    throw std::invalid_argument("cauchy_integrals_3d: 3D bodies only");
+  // (i, j) of each component: sum_n f_i x_j
+  constexpr int ij[9][2] = {{0, 0}, {1, 1}, {0, 1}, {1, 0}, {2, 2},
+                            {0, 2}, {2, 0}, {1, 2}, {2, 1}};
+  std::vector<double> f(bodies.num_dofs());
+  bodies.internal_force(f);
+  const std::span<const double> X = bodies.reference_coordinates();
+  const std::span<const double> u = bodies.displacement();
+  std::vector<CauchyIntegral3D> out(bodies.num_bodies()); // zeros
+  for (const int b : bodies.local_bodies())
+    for (std::int32_t n : bodies.body(b).nodes)
+      for (int k = 0; k < 9; ++k)
+      {
+        const int i = ij[k][0], j = ij[k][1];
+        out[b][k] += f[3 * n + i] * (X[3 * n + j] + u[3 * n + j]);
+      }
+  return out;
+}
+
 CauchyIntegralForm::CauchyIntegralForm(
     const BodySet& bodies, const forms::MaterialForms& law,
     const std::map<std::string, double>& parameters)

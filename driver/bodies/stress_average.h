@@ -32,6 +32,16 @@ using CauchyIntegral = std::array<double, 4>;
 /// assembly's stress is then only in the wall and Love-Weber estimates.
 std::vector<CauchyIntegral> cauchy_integrals(const BodySet& bodies);
 
+/// \f$\int \sigma\,dv = \int P F^T dX\f$ over one deformed 3D body (N m),
+/// components xx, yy, xy, yx (cauchy_integrals' four), then zz, xz, zx,
+/// yz, zy, tension positive.
+using CauchyIntegral3D = std::array<double, 9>;
+
+/// cauchy_integrals for 3D bodies (the same nodal sum over three
+/// components).
+/// @throws std::invalid_argument if the bodies are not 3D
+std::vector<CauchyIntegral3D> cauchy_integrals_3d(const BodySet& bodies);
+
 /// Each body's Cauchy integral from its law's compiled `cauchy_integral`
 /// form (forms/cauchy_integral.py: P F^T from the derivative of the law's
 /// energy), evaluated cell by cell and summed by body. An independent

@@ -126,8 +126,15 @@ dynamics::FrictionTable read_friction_table(const json& doc,
 {
   const json& species = c.scene.at("species");
   const int ns = static_cast<int>(species.size());
+  // Wall parties: driver.json's walls, then a 3D box's base and lid (in
+  // the order of simulation::box_walls_3d)
+  std::vector<std::string> walls;
+  for (const dynamics::Wall& w : c.walls)
+    walls.push_back(w.name);
+  if (c.dimension == 3 && c.box)
+    walls.insert(walls.end(), {"base", "lid"});
   dynamics::FrictionTable table(c.body_species, ns,
-                                static_cast<int>(c.walls.size()));
+                                static_cast<int>(walls.size()));
   std::vector<parameters::FrictionPair> pairs;
   parameters::read(doc.at("friction"), pairs, c.file.string());
   // Party names: the species', then the walls'; "walls" is every wall.
@@ -138,8 +145,8 @@ dynamics::FrictionTable read_friction_table(const json& doc,
     for (int s = 0; s < ns; ++s)
       if (species[s].value("name", "") == name)
         out.push_back(table.species_party(s));
-    for (std::size_t w = 0; walls_allowed && w < c.walls.size(); ++w)
-      if (c.walls[w].name == name || name == "walls")
+    for (std::size_t w = 0; walls_allowed && w < walls.size(); ++w)
+      if (walls[w] == name || name == "walls")
         out.push_back(table.wall_party(static_cast<int>(w)));
     if (out.empty())
       fail(c, key,

@@ -9,9 +9,32 @@
 namespace softpack::io
 {
 
+namespace
+{
+/// The components of a point or force column, and of the Cauchy integrals
+/// (bodies/stress_average.h's order)
+const char* const axes = "xyz";
+const std::vector<std::string> cauchy_names = {"xx", "yy", "xy", "yx", "zz",
+                                               "xz", "zx", "yz", "zy"};
+/// Each body's integral of its Cauchy stress (stress_average.h), summed
+/// over the bodies: the finite elements' estimate of the mean stress times
+/// the box area (3D: volume), for analysis/stress.py.
+void write_cauchy_totals(std::ofstream& out, std::span<const double> cauchy,
+                         int size)
+{
+  for (int k = 0; k < size; ++k)
+  {
+    double total = 0;
+    for (std::size_t b = 0; b < cauchy.size() / size; ++b)
+      total += cauchy[size * b + k];
+    out << ',' << total;
+  }
+}
+} // namespace
+
 RawOutput::RawOutput(const std::filesystem::path& directory,
-                     const std::vector<dynamics::Wall>& walls, bool cell)
-    : _raw(directory / "raw"), _cell(cell)
+                     const std::vector<std::string>& walls, int dim, bool cell)
+    : _raw(directory / "raw"), _cell(cell), _dim(dim)
 {
   std::filesystem::create_directories(_raw / "contacts");
   std::filesystem::remove(_raw / "done.json");
@@ -25,9 +48,13 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
       << "step,time,time_step,stage,newton_iterations,nlgs_iterations,nlgs_"
          "error,"
          "nlgs_converged,contacts,active_contacts,intact_bonds,max_penetration";
-  for (const dynamics::Wall& w : walls)
-    _steps << ',' << w.name << "_x," << w.name << "_y," << w.name << "_fx,"
-           << w.name << "_fy";
+  for (const std::string& name : walls)
+  {
+    for (int i = 0; i < _dim; ++i)
+      _steps << ',' << name << '_' << axes[i];
+    for (int i = 0; i < _dim; ++i)
+      _steps << ',' << name << "_f" << axes[i];
+  }
   if (_cell)
     _steps << ",cell_a1x,cell_a1y,cell_a2x,cell_a2y";
   _steps << ",phi,strain_energy,kinetic_energy,wall_work,external_work,"
@@ -37,16 +64,21 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
             "seconds,seconds_detection,seconds_assembly,seconds_factorization,"
             "seconds_delassus,seconds_nlgs,seconds_solves,refactorized,"
             "newton_unconverged_steps,nlgs_unconverged_steps,retried_steps,"
-            "max_overlap_depth,cauchy_xx,cauchy_yy,cauchy_xy,cauchy_yx\n";
-  _particles << "step,particle,area,strain_energy,reference_area,cauchy_xx,"
-                "cauchy_yy,cauchy_xy,cauchy_yx,centroid_x,centroid_y,"
-                "rotation\n";
+            "max_overlap_depth";
+  std::string cauchy;
+  for (int k = 0; k < cauchy_size(); ++k)
+    cauchy += ",cauchy_" + cauchy_names[k];
+  _steps << cauchy << '\n';
+  _particles << "step,particle,area,strain_energy,reference_area" << cauchy
+             << (_dim == 2 ? ",centroid_x,centroid_y,rotation\n"
+                           : ",centroid_x,centroid_y,centroid_z\n");
 }
 
 void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
                       const dynamics::StepReport& r, std::optional<double> phi,
                       double seconds, const bodies::BodySet& bodies,
-                      std::span<const bodies::CauchyIntegral> cauchy,
+                      const std::vector<WallRow>& walls,
+                      std::span<const double> cauchy,
                       const dynamics::StepTimings& spent,
                       const dynamics::ContactForceAverage& average,
                       const ConvergenceCounts& interval, double overlap_depth)
@@ -56,12 +88,13 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
          << r.nlgs_error << ',' << (r.nlgs_converged ? 1 : 0) << ','
          << r.contacts << ',' << r.active_contacts << ','
          << scheme.intact_bonds() << ',' << r.max_penetration;
-  std::vector<std::array<double, 2>> forces = average.wall_forces();
-  forces.resize(scheme.walls().size(), {0, 0});
-  for (std::size_t w = 0; w < forces.size(); ++w)
-    _steps << ',' << scheme.walls()[w].point[0] << ','
-           << scheme.walls()[w].point[1] << ',' << forces[w][0] << ','
-           << forces[w][1];
+  for (const WallRow& w : walls)
+  {
+    for (int i = 0; i < _dim; ++i)
+      _steps << ',' << w.point[i];
+    for (int i = 0; i < _dim; ++i)
+      _steps << ',' << w.force[i];
+  }
   if (const auto& cell = scheme.cell())
     _steps << ',' << cell->a1[0] << ',' << cell->a1[1] << ',' << cell->a2[0]
            << ',' << cell->a2[1];
@@ -80,34 +113,33 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
          << interval.newton_unconverged_steps << ','
          << interval.nlgs_unconverged_steps << ',' << interval.retried_steps
          << ',' << overlap_depth;
-  // Each body's integral of its Cauchy stress (stress_average.h), summed
-  // over the bodies: the finite elements' estimate of the mean stress times
-  // the box area, for analysis/stress.py.
-  for (int k = 0; k < 4; ++k)
-  {
-    double total = 0;
-    for (const bodies::CauchyIntegral& c : cauchy)
-      total += c[k];
-    _steps << ',' << total;
-  }
+  write_cauchy_totals(_steps, cauchy, cauchy_size());
   _steps << '\n';
   _steps.flush();
-  write_particles(step, bodies, scheme.body_strain_energy(), cauchy);
-  write_contacts(step, average);
+  if (_dim == 2)
+  {
+    write_particles(step, bodies, scheme.body_strain_energy(), cauchy);
+    write_contacts(step, average);
+  }
+  else
+  {
+    write_particles_3d(step, bodies, scheme.body_strain_energy(), cauchy);
+    write_contacts_3d(step, scheme);
+  }
 }
 
 void RawOutput::write_particles(long step, const bodies::BodySet& bodies,
                                 std::span<const double> energy,
-                                std::span<const bodies::CauchyIntegral> cauchy)
+                                std::span<const double> cauchy)
 {
   const std::vector<double> area = bodies.body_current_area();
   const std::vector<bodies::Placement> where = bodies::placements(bodies);
   for (int b = 0; b < bodies.num_bodies(); ++b)
     _particles << step << ',' << b << ',' << area[b] << ',' << energy[b] << ','
-               << bodies.body(b).reference_area << ',' << cauchy[b][0] << ','
-               << cauchy[b][1] << ',' << cauchy[b][2] << ',' << cauchy[b][3]
-               << ',' << where[b].x << ',' << where[b].y << ','
-               << where[b].rotation << '\n';
+               << bodies.body(b).reference_area << ',' << cauchy[4 * b] << ','
+               << cauchy[4 * b + 1] << ',' << cauchy[4 * b + 2] << ','
+               << cauchy[4 * b + 3] << ',' << where[b].x << ',' << where[b].y
+               << ',' << where[b].rotation << '\n';
   _particles.flush();
 }
 
@@ -137,6 +169,54 @@ void RawOutput::write_contacts(long step,
           << ft << ',' << m.force[0] << ',' << m.force[1] << ',' << m.steps;
       if (_cell)
         out << ',' << c.image[0] << ',' << c.image[1];
+      out << '\n';
+    }
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+void RawOutput::write_particles_3d(long step, const bodies::BodySet& bodies,
+                                   std::span<const double> energy,
+                                   std::span<const double> cauchy)
+{
+  const std::vector<double> volume = bodies.body_current_area();
+  const std::vector<std::array<double, 3>> c = bodies::centroids_3d(bodies);
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+  {
+    _particles << step << ',' << b << ',' << volume[b] << ',' << energy[b]
+               << ',' << bodies.body(b).reference_area;
+    for (int k = 0; k < 9; ++k)
+      _particles << ',' << cauchy[9 * b + k];
+    _particles << ',' << c[b][0] << ',' << c[b][1] << ',' << c[b][2] << '\n';
+  }
+  _particles.flush();
+}
+
+void RawOutput::write_contacts_3d(long step, const dynamics::MoreauJean& scheme)
+{
+  char name[40];
+  std::snprintf(name, sizeof(name), "step_%08ld.csv", step);
+  const std::filesystem::path path = _raw / "contacts" / name;
+  const std::filesystem::path tmp = _raw / "contacts" / ".tmp.csv";
+  const std::vector<dynamics::Contact3D>& contacts = scheme.contacts_3d();
+  const std::vector<double>& R = scheme.impulses();
+  const double h = scheme.time_step();
+  {
+    std::ofstream out(tmp);
+    out << std::setprecision(10);
+    out << "candidate,node,antagonist,wall,triangle0,triangle1,triangle2,"
+           "gap,fn,ft1,ft2,fx,fy,fz\n";
+    for (std::size_t a = 0; a < contacts.size(); ++a)
+    {
+      const dynamics::Contact3D& c = contacts[a];
+      const double fn = R[3 * a] / h, ft1 = R[3 * a + 1] / h,
+                   ft2 = R[3 * a + 2] / h;
+      out << c.candidate_body << ',' << c.candidate_node << ','
+          << c.antagonist_body << ',' << c.wall << ',' << c.triangle[0] << ','
+          << c.triangle[1] << ',' << c.triangle[2] << ',' << c.gap << ',' << fn
+          << ',' << ft1 << ',' << ft2;
+      for (int i = 0; i < 3; ++i)
+        out << ',' << fn * c.n[i] + ft1 * c.t1[i] + ft2 * c.t2[i];
       out << '\n';
     }
   }

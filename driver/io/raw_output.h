@@ -55,10 +55,20 @@ struct RunChecks
   long newton_iterations = 0, nlgs_sweeps = 0;
 };
 
+/// One wall's columns of raw/steps.csv: its current point and the force it
+/// received, averaged since the previous output (2 components in 2D, 3 in
+/// 3D; the third is unused in 2D).
+struct WallRow
+{
+  std::array<double, 3> point = {0, 0, 0}, force = {0, 0, 0};
+};
+
 /// Writer of a run's raw output (docs/driver_io.md, "Raw output"): the
 /// per-step series, per-particle values and per-contact forces, flushed at
 /// each output so that a crash loses nothing already computed, and
-/// `raw/done.json` written last to mark the run complete.
+/// `raw/done.json` written last to mark the run complete. The bodies'
+/// dimension sets the columns of points, forces and stresses (2 or 3
+/// components; docs/driver_io.md, "3D runs").
 class RawOutput
 {
 public:
@@ -66,8 +76,10 @@ public:
   /// headers; with a periodic cell, steps.csv has its edge vectors
   /// (cell_a1x, cell_a1y, cell_a2x, cell_a2y) and each contact its image
   /// (image1, image2).
+  /// @param[in] walls The walls' names, in the order of write's rows
+  /// @param[in] dim The bodies' dimension, 2 or 3
   RawOutput(const std::filesystem::path& directory,
-            const std::vector<dynamics::Wall>& walls, bool cell = false);
+            const std::vector<std::string>& walls, int dim, bool cell = false);
 
   /// Append one output step.
   /// @param[in] step Step number
@@ -77,17 +89,20 @@ public:
   /// @param[in] seconds Wall time since the start
   /// @param[in] bodies The bodies (areas; their strain energies are the
   /// scheme's, MoreauJean::body_strain_energy)
-  /// @param[in] cauchy Each body's Cauchy integral (bodies/stress_average.h),
-  /// every body's (on a distributed run, from its owner)
+  /// @param[in] walls Each wall's point and force, in the constructor's
+  /// order
+  /// @param[in] cauchy Each body's Cauchy integral (bodies/stress_average.h:
+  /// 4 components per body in 2D, 9 in 3D), every body's (on a
+  /// distributed run, from its owner)
   /// @param[in] spent Wall time per part of the step, summed since the start
-  /// @param[in] forces Contact and wall forces averaged since the previous
-  /// output step (the forces written)
+  /// @param[in] forces Contact forces averaged since the previous output
+  /// step (the 2D contacts written; a 3D run writes its last step's)
   /// @param[in] interval Unconverged steps since the previous output step
   /// @param[in] overlap_depth Largest overlap depth now (overlap_check.h)
   void write(long step, const dynamics::MoreauJean& scheme,
              const dynamics::StepReport& report, std::optional<double> phi,
              double seconds, const bodies::BodySet& bodies,
-             std::span<const bodies::CauchyIntegral> cauchy,
+             const std::vector<WallRow>& walls, std::span<const double> cauchy,
              const dynamics::StepTimings& spent,
              const dynamics::ContactForceAverage& forces,
              const ConvergenceCounts& interval, double overlap_depth);
@@ -105,12 +120,21 @@ public:
 private:
   void write_particles(long step, const bodies::BodySet& bodies,
                        std::span<const double> strain_energy,
-                       std::span<const bodies::CauchyIntegral> cauchy);
+                       std::span<const double> cauchy);
+  void write_particles_3d(long step, const bodies::BodySet& bodies,
+                          std::span<const double> strain_energy,
+                          std::span<const double> cauchy);
   void write_contacts(long step, const dynamics::ContactForceAverage& forces);
+  /// The last step's 3D contacts and their forces (impulse / h)
+  void write_contacts_3d(long step, const dynamics::MoreauJean& scheme);
+  /// Components per Cauchy integral: 4 in 2D, 9 in 3D
+  int cauchy_size() const { return _dim == 2 ? 4 : 9; }
 
   std::filesystem::path _raw;
   /// A periodic cell's run (its columns written)
   bool _cell = false;
+  /// The bodies' dimension
+  int _dim = 2;
   std::ofstream _steps, _particles;
   int _stage = 0;
 };

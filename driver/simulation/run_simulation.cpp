@@ -6,7 +6,6 @@
 #include <bodies/body_geometry.h>
 #include <bodies/stress_average.h>
 #include <chrono>
-#include <contact/fclib_io.h>
 #include <cstdio>
 #include <cstdlib>
 #include <io/field_output.h>
@@ -17,9 +16,10 @@
 #include <material_registry.h>
 #include <numeric>
 #include <parallel/geometry_broadcast.h>
-#include <simulation/initial_3d.h>
+#include <simulation/box_3d.h>
 #include <simulation/overlap_check.h>
 #include <simulation/rank_report.h>
+#include <simulation/run_support.h>
 #include <simulation/stages.h>
 #include <sys/resource.h>
 
@@ -37,75 +37,6 @@ double box_area(const std::vector<dynamics::Wall>& walls)
   const std::vector<std::string>& names = io::box_wall_names; // l, r, b, t
   return gap(names[0], names[1]) * gap(names[2], names[3]);
 }
-
-namespace
-{
-/// The bodies' current area over the box's or the periodic cell's.
-double packing_fraction(const bodies::BodySet& bodies, double area_of_space)
-{
-  const std::vector<double> area = bodies.body_current_area();
-  return std::accumulate(area.begin(), area.end(), 0.0) / area_of_space;
-}
-
-void print_progress(double fraction, long step, const dynamics::MoreauJean& s,
-                    std::optional<double> phi, const dynamics::StepReport& r,
-                    double seconds)
-{
-  const double eta = fraction > 1e-6 ? seconds * (1 - fraction) / fraction : 0;
-  std::printf("[%5.1f%%] step %ld t=%.5f s", 100 * fraction, step, s.time());
-  if (phi)
-    std::printf(" Phi=%.4f", *phi);
-  std::printf(" contacts %d newton %d nlgs %d (err %.1e) elapsed %.0f s "
-              "ETA %.0f s\n",
-              r.active_contacts, r.newton_iterations, r.nlgs_iterations,
-              r.nlgs_error, seconds, eta);
-  std::fflush(stdout);
-}
-
-void add_timings(dynamics::StepTimings& sum, const dynamics::StepTimings& t)
-{
-  sum.detection += t.detection;
-  sum.assembly += t.assembly;
-  sum.factorization += t.factorization;
-  sum.delassus += t.delassus;
-  sum.nlgs += t.nlgs;
-  sum.solves += t.solves;
-}
-
-/// Unsolved contact problems dumped at most (each can be megabytes): the
-/// first ones show the failure; the rest are only counted (done.json).
-constexpr long max_problem_dumps = 20;
-
-/// A warning on stderr for the first unconverged step and every 100th
-/// after it: a run that never converges must not flood the log.
-bool warn_now(long count)
-{
-  return count == 1 || count % 100 == 0;
-}
-
-/// raw/failed_contact_problems/step_NNNNNNNN.hdf5 (FCLIB layout, replay
-/// with ./softpack fclib) when the step left a contact problem unsolved.
-void write_unsolved_problem(const std::filesystem::path& raw, long step,
-                            const dynamics::StepReport& r)
-{
-  const std::filesystem::path dir = raw / "failed_contact_problems";
-  std::filesystem::create_directories(dir);
-  char name[40];
-  std::snprintf(name, sizeof(name), "step_%08ld.hdf5", step);
-  contact::dump_problem(*r.unsolved_problem, dir / name,
-                        "softpack step " + std::to_string(step) +
-                            ": NLGS did not converge",
-                        r.unsolved_start);
-}
-
-int rank_of(MPI_Comm comm)
-{
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  return rank;
-}
-
-} // namespace
 
 bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
 {
@@ -133,20 +64,40 @@ bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
 
 namespace
 {
-/// The stop criterion met after `step` (counted from `first`), or "".
-std::string stop_reason(const io::DriverConfig& config,
-                        const dynamics::MoreauJean& scheme, long first,
-                        long step, std::optional<double> phi)
+/// The time stepper of the bodies' dimension: 2D with driver.json's walls
+/// over the processes, 3D with the box's six planes (box_3d.h)
+dynamics::MoreauJean make_scheme(MPI_Comm comm, bodies::BodySet& bodies,
+                                 const io::DriverConfig& config)
 {
-  const parameters::Stop& stop = config.parameters.stop;
-  if (phi && stop.packing_fraction > 0 && *phi >= stop.packing_fraction)
-    return "packing_fraction";
-  if (scheme.time() >= stop.max_time * (1 - 1e-12))
-    return "max_time";
-  if (stop.steps > 0 && step - first >= stop.steps)
-    return "steps";
-  return "";
+  const parameters::Parameters& p = config.parameters;
+  dynamics::MoreauJeanOptions options{p.time,          p.contact,
+                                      p.damping,       config.velocity_scale,
+                                      config.friction, p.parallel};
+  if (bodies.dim() == 3)
+    try // what the 3D step refuses (rigid bodies, cohesion, ...)
+    {
+      return dynamics::MoreauJean(bodies, std::move(options),
+                                  box_walls_3d(config));
+    }
+    catch (const std::invalid_argument& e)
+    {
+      throw std::runtime_error(config.file.string() + ": " + e.what());
+    }
+  return dynamics::MoreauJean(bodies, config.walls, std::move(options),
+                              parallel::Distribution(comm, bodies));
 }
+
+/// The walls' names as steps.csv's columns give them
+std::vector<std::string> wall_names(const io::DriverConfig& config)
+{
+  std::vector<std::string> names;
+  for (const dynamics::Wall& w : config.walls)
+    names.push_back(w.name);
+  if (config.dimension == 3)
+    names.insert(names.end(), box_planes_3d.begin(), box_planes_3d.end());
+  return names;
+}
+
 /// One run: its objects, and the bookkeeping between output steps.
 class Run
 {
@@ -167,13 +118,10 @@ public:
                           config.directory, _bodies,
                           config.initial_state.has_value())
                     : nullptr),
-        _scheme(_bodies, config.walls,
-                {_p.time, _p.contact, _p.damping, config.velocity_scale,
-                 config.friction, _p.parallel},
-                parallel::Distribution(comm, _bodies)),
-        _raw(_root ? std::make_unique<io::RawOutput>(config.directory,
-                                                     config.walls,
-                                                     config.cell.has_value())
+        _scheme(make_scheme(comm, _bodies, config)),
+        _raw(_root ? std::make_unique<io::RawOutput>(
+                         config.directory, wall_names(config), _bodies.dim(),
+                         config.cell.has_value())
                    : nullptr),
         _program(config)
   {
@@ -221,8 +169,7 @@ public:
     {
       const dynamics::StepReport r = _scheme.step();
       check_convergence(step, r);
-      _average.add_step(_scheme.contacts(), _scheme.impulses(),
-                        _scheme.walls().size(), _scheme.time_step());
+      add_forces();
       add_timings(_spent, r.seconds);
       const std::optional<double> now = phi();
       const bool output_step = step % _p.output.every_steps == 0;
@@ -261,6 +208,8 @@ private:
     nlohmann::json done = extra.is_object() ? extra : nlohmann::json::object();
     done["mpi_ranks"] = _scheme.distribution().comm().size();
     done["factor_patterns"] = _scheme.factor_patterns();
+    if (_bodies.dim() == 3) // no raw/state.bin yet (box_3d.h)
+      done["dimension"] = 3;
     if (_scheme.distribution().distributed())
       done["mpi"] =
           rank_report(_scheme.distribution(), _scheme.contact_traffic());
@@ -366,8 +315,11 @@ private:
   double check_overlap(long step)
   {
     const double depth =
-        max_overlap_depth(deformed_boundaries(_bodies), _scheme.walls(),
-                          _scheme.cell() ? &*_scheme.cell() : nullptr);
+        _bodies.dim() == 3
+            ? max_overlap_depth_3d(_bodies, _scheme.walls_3d(),
+                                   dynamics::detection_options(_p.contact))
+            : max_overlap_depth(deformed_boundaries(_bodies), _scheme.walls(),
+                                _scheme.cell() ? &*_scheme.cell() : nullptr);
     _checks.max_overlap_depth = std::max(_checks.max_overlap_depth, depth);
     // A continued run's first row is the state's step, counted already.
     const bool counted = _config.initial_state && step == _first;
@@ -385,17 +337,30 @@ private:
     return depth;
   }
 
+  /// Accumulate the step's contact and wall forces for the next output
+  void add_forces()
+  {
+    if (_bodies.dim() == 3)
+      _wall_average_3d.add_step(_scheme);
+    else
+      _average.add_step(_scheme.contacts(), _scheme.impulses(),
+                        _scheme.walls().size(), _scheme.time_step());
+  }
+
   double elapsed() const
   {
     return std::chrono::duration<double>(clock::now() - _start).count();
   }
 
-  std::optional<double> phi() const
+  /// (not const: MoreauJean::walls_3d is writable only)
+  std::optional<double> phi()
   {
     if (const auto& cell = _scheme.cell())
       return packing_fraction(_bodies, cell->area());
     if (!_config.box)
       return std::nullopt;
+    if (_bodies.dim() == 3)
+      return packing_fraction(_bodies, box_volume(_scheme.walls_3d()));
     return packing_fraction(_bodies, box_area(_scheme.walls()));
   }
 
@@ -422,19 +387,17 @@ private:
     // the vectors (fields, the state).
     _scheme.prepare_output();
     io::OutputGather gathered(_scheme, _bodies);
-    static_assert(sizeof(bodies::CauchyIntegral) == 4 * sizeof(double));
-    std::vector<bodies::CauchyIntegral> cauchy =
-        bodies::cauchy_integrals(_bodies);
-    _scheme.distribution().scatterer().share_by_body(
-        std::span<double>(cauchy.front().data(), 4 * cauchy.size()), 4);
+    const std::vector<double> cauchy = body_cauchy(_scheme, _bodies);
     const double depth = check_overlap(step);
     if (_raw)
     {
       _raw->set_stage(stage);
-      _raw->write(step, _scheme, r, now, elapsed(), _bodies, cauchy, _spent,
-                  _average, _interval, depth);
+      _raw->write(step, _scheme, r, now, elapsed(), _bodies,
+                  wall_rows(_scheme, _average, _wall_average_3d), cauchy,
+                  _spent, _average, _interval, depth);
     }
     _average.reset();
+    _wall_average_3d.reset();
     _interval = {};
     if (_p.output.fields && (last || _outputs % _p.output.fields_every == 0))
     {
@@ -445,7 +408,7 @@ private:
       if (_fields)
         _fields->write(gathered.displacement(), psi, _scheme.time());
     }
-    if (_root && _p.output.state)
+    if (_root && _p.output.state && _bodies.dim() == 2) // 3D: not yet
     {
       io::write_state(_raw_dir / "state.bin", gathered.take_state(), _identity,
                       _checks);
@@ -476,6 +439,8 @@ private:
   StageProgram _program;
   dynamics::StepTimings _spent;
   dynamics::ContactForceAverage _average;
+  /// A 3D run's wall forces since the last output (_average's in 2D)
+  WallForceAverage3D _wall_average_3d;
   io::ConvergenceCounts _interval;
   io::RunChecks _checks;
   long _outputs = 0;
@@ -488,7 +453,7 @@ RunSummary run_simulation(MPI_Comm comm, const io::DriverConfig& config,
                           bool quiet, bool initial_only)
 {
   if (config.dimension == 3)
-    return run_initial_3d(comm, config, quiet, initial_only);
+    check_3d_run(comm, config);
   return Run(comm, config, quiet, initial_only).run();
 }
 

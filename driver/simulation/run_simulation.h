@@ -22,7 +22,9 @@ struct RunSummary
 /// Run the time loop described by a driver config until a stop criterion
 /// holds, writing raw/setup.json before the first step and the outputs
 /// docs/driver_io.md describes, with a progress line per output step on
-/// stdout. A 3D scene goes to run_initial_3d (initial_3d.h).
+/// stdout. A 3D scene (scene.model.dimension = 3) runs the same loop on
+/// its box of six planes (box_3d.h), once check_3d_run has refused what
+/// 3D lacks.
 /// @param[in] comm The communicator of the run's mesh and files
 /// @param[in] initial_only Write the initial state (raw/setup.json, the
 /// first output row, the state and the fields at the start) and stop

@@ -1,5 +1,6 @@
 """Every small example (examples/small.toml and examples/*_small.toml) runs
-to its end with today's defaults, serially, through the Python API.
+to its end with today's defaults, serially, through the Python API (the 3D
+examples: their first STEPS_3D steps).
 
 Each takes a few seconds. A run must exit with status 0 (``run`` returns 0,
 raises RunError otherwise), write raw/done.json, count no step whose Newton
@@ -44,28 +45,28 @@ SMALL = sorted([EXAMPLES / "small.toml", *EXAMPLES.glob("*_small.toml")])
 # mixture_small with seed 0 launched its rigid disks: 6-80 J.
 MAX_KINETIC_ENERGY = 2.0
 
-# Examples expected to fail (xfail, strict): the 3D scenes, whose driver
-# writes the initial state and refuses to step until the 3D time step is
-# built (docs/bodies_3d.md); strict, so that they become checks then.
-NOT_YET = "3D time stepping: not yet built"
-KNOWN_FAILURES: dict[str, str] = {"cylinders3d_small.toml": NOT_YET,
-                                  "spheres3d_small.toml": NOT_YET}
+# The 3D examples run their first steps only (a run to their stop criteria
+# takes minutes: docs/bodies_3d.md, "The 3D time loop"): enough for the
+# piston to move and Phi to rise.
+STEPS_3D: dict[str, int] = {"cylinders3d_small.toml": 12,
+                            "spheres3d_small.toml": 12}
 
 # Examples that finish flagged (exit status 3, run_flags), and the one flag
 # expected of each. mixture_small: one contact solve of its 379 steps
 # (step 162 on one rank, 146 on three) misses nlgs_tolerance 1e-8, and
 # stalls there with 20,000 sweeps too (measured 2026-12-03); it is written
 # to raw/failed_contact_problems/ for replay (./softpack fclib).
-KNOWN_FLAGGED: dict[str, str] = {"mixture_small.toml": "not converged"}
+# cylinders3d_small: one contact solve of its first 12 steps (step 6) stops
+# at error 1.09e-6 against nlgs_tolerance 1e-6 (35 of its 452 steps to
+# Phi = 0.60, errors up to 2.8e-6; measured 2026-12-04, docs/bodies_3d.md):
+# the frictionless base's hundreds of touching contacts.
+KNOWN_FLAGGED: dict[str, str] = {"mixture_small.toml": "not converged",
+                                 "cylinders3d_small.toml": "not converged"}
 
 
 def params():
     for path in SMALL:
-        marks = ()
-        if path.name in KNOWN_FAILURES:
-            marks = pytest.mark.xfail(reason=KNOWN_FAILURES[path.name],
-                                      strict=True)
-        yield pytest.param(path, id=path.stem, marks=marks)
+        yield pytest.param(path, id=path.stem)
 
 
 def test_every_small_example_is_listed():
@@ -77,7 +78,11 @@ def test_every_small_example_is_listed():
 @pytest.mark.parametrize("example", params())
 def test_small_example_runs_to_its_end(example, tmp_path):
     require_driver()
-    config = cfg.load_config(example, {"output.fields": False})
+    overrides = {"output.fields": False}
+    if example.name in STEPS_3D:
+        overrides.update({"stop.steps": STEPS_3D[example.name],
+                          "output.every_steps": 4})
+    config = cfg.load_config(example, overrides)
     out = tmp_path / example.stem
     try:
         status = run(config, out, verbose=False)

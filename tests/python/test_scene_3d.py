@@ -287,3 +287,17 @@ def test_a_solid_in_a_2d_scene_is_refused(tmp_path):
     for word in ("[species.0]", "cube.msh", "a 3D solid (tetrahedra) in a 2D"
                  " scene"):
         assert word in str(err.value)
+
+
+def test_friction_may_name_the_base_and_lid_of_a_3d_box_only():
+    """A 3D box's base and lid are walls of [[friction]] (the experiment's
+    lubricated base); a 2D scene has no such walls."""
+    pair = [{"species": "small", "against": "base", "coefficient": 0.0},
+            {"species": "large", "against": "lid", "coefficient": 0.0}]
+    config = validate(cylinders(friction=pair), "scene3d.toml")
+    assert [p["against"] for p in config["friction"]] == ["base", "lid"]
+    flat = cylinders(friction=pair[:1])
+    flat["model"] = {"dimension": 2}
+    flat["species"] = [{"name": "small", "diameter": 0.02, "count": 10}]
+    del flat["box"]["height"]
+    refused(flat, "against = 'base'", "not a species")

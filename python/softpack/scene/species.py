@@ -128,6 +128,10 @@ class SpeciesError(ValueError):
     not exist; the config stage prefixes the file name."""
 
 
+#: The planes a 3D box adds to its four walls (the driver's wall names,
+#: driver/simulation/box_3d.h), which [[friction]] may name.
+BOX_PLANES_3D = ["base", "lid"]
+
 #: The word of [[friction]] ``against`` that means every wall.
 EVERY_WALL = "walls"
 
@@ -236,6 +240,8 @@ def validate_friction(checker, section, items, sections) -> list:
         raise SpeciesError(f"[[{section.name}]] must be a list of tables")
     species = [s["name"] for s in sections["species"]]
     walls = list(sections["walls"])
+    if sections.get("model", {}).get("dimension", 2) == 3:
+        walls += BOX_PLANES_3D  # the base and lid of a 3D box are walls
     both = sorted(set(species) & set(walls + [EVERY_WALL]))
     out, seen = [], {}
     for i, item in enumerate(items):

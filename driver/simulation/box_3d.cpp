@@ -1,0 +1,131 @@
+#include "box_3d.h"
+
+#include <algorithm>
+#include <detection/detection_3d.h>
+#include <stdexcept>
+
+namespace softpack::simulation
+{
+
+std::vector<dynamics::Wall3D> box_walls_3d(const io::DriverConfig& config)
+{
+  std::vector<dynamics::Wall3D> walls;
+  for (const dynamics::Wall& w : config.walls)
+    walls.push_back({w.name,
+                     {w.point[0], w.point[1], 0},
+                     {w.normal[0], w.normal[1], 0},
+                     {w.velocity[0], w.velocity[1], 0}});
+  walls.push_back({box_planes_3d[0], {0, 0, 0}, {0, 0, 1}, {0, 0, 0}});
+  walls.push_back(
+      {box_planes_3d[1], {0, 0, config.box_height}, {0, 0, -1}, {0, 0, 0}});
+  return walls;
+}
+
+double box_volume(const std::vector<dynamics::Wall3D>& walls)
+{
+  auto find = [&](const std::string& name) -> const dynamics::Wall3D&
+  {
+    for (const dynamics::Wall3D& w : walls)
+      if (w.name == name)
+        return w;
+    throw std::runtime_error("box_volume: no wall named '" + name + "'");
+  };
+  auto gap = [&](const std::string& a, const std::string& b)
+  {
+    const dynamics::Wall3D& wa = find(a);
+    const dynamics::Wall3D& wb = find(b);
+    double d = 0;
+    for (int i = 0; i < 3; ++i)
+      d += (wb.point[i] - wa.point[i]) * wa.normal[i];
+    return d;
+  };
+  const std::vector<std::string>& names = io::box_wall_names; // l, r, b, t
+  return gap(names[0], names[1]) * gap(names[2], names[3]) *
+         gap(box_planes_3d[0], box_planes_3d[1]);
+}
+
+void check_3d_run(MPI_Comm comm, const io::DriverConfig& config)
+{
+  const std::string file = config.file.string() + ": ";
+  const std::string tail = " with scene.model.dimension = 3: not yet in 3D "
+                           "(docs/bodies_3d.md)";
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  if (ranks != 1)
+    throw std::runtime_error(file +
+                             "scene.model.dimension = 3: one MPI "
+                             "rank only for now (" +
+                             std::to_string(ranks) + " given)");
+  if (config.cell)
+    throw std::runtime_error(file + "cell.enabled" + tail);
+  if (!config.box)
+    throw std::runtime_error(file + "scene.box.enabled = false" + tail);
+  if (!config.stages.empty())
+    throw std::runtime_error(file + "stages" + tail);
+  for (const dynamics::Wall& w : config.walls)
+    if (w.servo())
+      throw std::runtime_error(file + "walls." + w.name +
+                               ".control: a servo (pressure or force) wall" +
+                               tail);
+  const auto& g = config.parameters.gravity.acceleration;
+  if (g[0] != 0 || g[1] != 0)
+    throw std::runtime_error(file + "gravity.acceleration" + tail);
+  if (config.initial_state)
+    throw std::runtime_error(
+        file + "initial_state: a 3D run starts from its scene only; the "
+               "state file has no 3D walls or warm start yet, and 3D runs "
+               "write no raw/state.bin (docs/bodies_3d.md)");
+}
+
+void WallForceAverage3D::add_step(const dynamics::MoreauJean& scheme)
+{
+  const std::vector<std::array<double, 3>> f = scheme.wall_forces_3d();
+  _impulse.resize(std::max(_impulse.size(), f.size()), {0, 0, 0});
+  const double h = scheme.time_step();
+  for (std::size_t w = 0; w < f.size(); ++w)
+    for (int i = 0; i < 3; ++i)
+      _impulse[w][i] += f[w][i] * h;
+  _duration += h;
+}
+
+std::vector<std::array<double, 3>>
+WallForceAverage3D::forces(std::size_t num_walls) const
+{
+  std::vector<std::array<double, 3>> out(num_walls, {0, 0, 0});
+  if (_duration <= 0)
+    return out;
+  for (std::size_t w = 0; w < std::min(num_walls, _impulse.size()); ++w)
+    for (int i = 0; i < 3; ++i)
+      out[w][i] = _impulse[w][i] / _duration;
+  return out;
+}
+
+void WallForceAverage3D::reset()
+{
+  _impulse.clear();
+  _duration = 0;
+}
+
+double max_overlap_depth_3d(const bodies::BodySet& bodies,
+                            const std::vector<dynamics::Wall3D>& walls,
+                            const dynamics::DetectionOptions& options)
+{
+  std::vector<dynamics::BoundarySurface> surfaces;
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+  {
+    const bodies::Body& body = bodies.body(b);
+    surfaces.emplace_back(
+        std::vector<std::int32_t>(body.nodes.begin(), body.nodes.end()),
+        body.boundary_faces);
+  }
+  std::vector<dynamics::PlaneWall> planes;
+  for (const dynamics::Wall3D& w : walls)
+    planes.push_back({w.point, w.normal});
+  double depth = 0;
+  for (const dynamics::Contact3D& c : dynamics::detect_contacts_3d(
+           surfaces, bodies.current_coordinates(), planes, options))
+    depth = std::max(depth, -c.gap);
+  return depth;
+}
+
+} // namespace softpack::simulation

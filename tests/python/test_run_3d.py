@@ -1,0 +1,161 @@
+"""A 3D scene stepped through the time loop (issue 40): the spheres of
+examples/spheres3d_small.toml compacted by the right wall for a few dozen
+steps, through the Python API as ``./softpack run`` runs it.
+
+What is checked is physics, not only that files exist: the volume fraction
+Phi rises as the piston moves in and is the bodies' volume over the box's
+(particles.csv against the walls' columns of steps.csv); the piston pushes
+spheres (contacts, a force on the right wall along -x, strain energy); the
+energy balance closes (its residual, a small fraction of the work the
+walls supplied); no Newton iteration or contact solve is left unconverged;
+the raw files and the tetrahedral fields are readable (csv, meshio).
+"""
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from driver_required import require_driver
+from softpack.contract.run_directory import EXIT_DONE, EXIT_FLAGGED
+from softpack.scene import config as cfg
+from softpack.simulation.run import run
+
+meshio = pytest.importorskip("meshio")
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+#: The variant run: the example's piston at 2 m/s (the fastest its time
+#: step allows: [contact] alert_distance / speed >= time_step), pushing the
+#: sphere that touches it from the start and reaching more within STEPS
+#: steps.
+STEPS = 60
+OVERRIDES = {"stop.steps": STEPS, "output.every_steps": 6,
+             "output.fields_every": 5,
+             "walls.right.velocity": [-2.0, 0.0]}
+
+#: Bound on the largest |energy residual| over the walls' work at the end.
+#: Measured 1.3e-4 (2.6e-5 J of 0.209 J, 2026-12-04): the Newton iterations
+#: stop at time.newton_tolerance = 1e-4 of the velocities, and what they
+#: leave unconverged is what the balance does not account for; 1e-3 leaves
+#: a margin of 8 and still fails a missing term (the numerical dissipation
+#: of theta = 0.55 alone is larger).
+RESIDUAL_BOUND = 1e-3
+
+
+def read_csv(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return {key: np.array([float(r[key]) if r[key] != "" else np.nan
+                           for r in rows]) for key in rows[0]}
+
+
+@pytest.fixture(scope="module")
+def spheres(tmp_path_factory):
+    require_driver()
+    config = cfg.load_config(EXAMPLES / "spheres3d_small.toml", OVERRIDES)
+    out = tmp_path_factory.mktemp("spheres3d")
+    status = run(config, out, verbose=False)
+    return out, status
+
+
+def test_the_run_ends_converged_after_its_steps(spheres):
+    out, status = spheres
+    assert status == EXIT_DONE
+    done = json.loads((out / "raw" / "done.json").read_text())
+    assert done["reason"] == "steps" and done["steps"] == STEPS
+    assert done["dimension"] == 3
+    assert done["converged"] is True
+    assert done["newton_unconverged_steps"] == 0
+    assert done["nlgs_unconverged_steps"] == 0
+    assert done["overlap_steps"] == 0
+
+
+def test_phi_rises_as_the_piston_moves_in(spheres):
+    out, _ = spheres
+    s = read_csv(out / "raw" / "steps.csv")
+    assert len(s["step"]) == STEPS // 6 + 1
+    # the piston at 2 m/s, the other walls still
+    assert np.allclose(s["right_x"], s["right_x"][0] - 2.0 * s["time"],
+                       rtol=0, atol=1e-12)
+    assert np.all(s["left_x"] == s["left_x"][0])
+    assert np.all(s["lid_z"] == 0.060) and np.all(s["base_z"] == 0.0)
+    assert np.all(np.diff(s["phi"]) > 0)
+    # Phi is the bodies' volume over the box's (its walls' positions)
+    p = read_csv(out / "raw" / "particles.csv")
+    for k, step in enumerate(s["step"]):
+        volume = p["area"][p["step"] == step].sum()
+        box = ((s["right_x"][k] - s["left_x"][k])
+               * (s["top_y"][k] - s["bottom_y"][k])
+               * (s["lid_z"][k] - s["base_z"][k]))
+        assert s["phi"][k] == pytest.approx(volume / box, rel=1e-9)
+
+
+def test_the_piston_pushes_the_spheres_and_the_balance_closes(spheres):
+    out, _ = spheres
+    s = read_csv(out / "raw" / "steps.csv")
+    assert s["active_contacts"][-1] > 0
+    assert s["right_fx"][-1] > 0  # the spheres push the piston back, out
+    assert s["strain_energy"][-1] > 0
+    assert s["wall_work"][-1] > 0
+    residual = np.abs(s["energy_residual"]).max()
+    assert residual <= RESIDUAL_BOUND * s["wall_work"][-1], (
+        residual, s["wall_work"][-1])
+
+
+def test_the_3d_outputs_are_readable(spheres):
+    out, _ = spheres
+    s = read_csv(out / "raw" / "steps.csv")
+    for name in ("left", "right", "bottom", "top", "base", "lid"):
+        for c in ("x", "y", "z", "fx", "fy", "fz"):
+            assert f"{name}_{c}" in s
+    assert "cauchy_zz" in s
+    last = int(s["step"][-1])
+    contacts = read_csv(out / "raw" / "contacts" / f"step_{last:08d}.csv")
+    assert {"triangle0", "fn", "ft1", "ft2", "fz"} <= set(contacts)
+    assert np.all(contacts["fn"] >= 0)  # Signorini: no tension
+    with meshio.xdmf.TimeSeriesReader(out / "fields.xdmf") as reader:
+        points, cells = reader.read_points_cells()
+        times = [reader.read_data(k)[0] for k in range(reader.num_steps)]
+        _, point_data, _ = reader.read_data(reader.num_steps - 1)
+    assert [c.type for c in cells] == ["tetra"] and points.shape[1] == 3
+    # every 5th output and the last: rows 0, 5 and 10 of 11
+    assert times == pytest.approx([s["time"][0], s["time"][5], s["time"][10]])
+    assert np.abs(point_data["displacement"]).max() > 0
+
+
+def test_standing_cylinders_slide_on_a_frictionless_base(tmp_path):
+    """examples/cylinders3d_small.toml names the base in [[friction]] with
+    coefficient 0 (the experiment's lubricated glass): the driver's
+    friction table gives the base its own party, so the base's contacts
+    carry no tangential force while the bodies' contacts keep the default
+    friction."""
+    require_driver()
+    config = cfg.load_config(EXAMPLES / "cylinders3d_small.toml",
+                             {"stop.steps": 12, "output.every_steps": 12,
+                              "output.fields": False})
+    # flagged by one contact solve stopping at 1.09e-6 (> nlgs_tolerance
+    # 1e-6) in step 6: counted, a near miss (test_examples_small.py)
+    assert run(config, tmp_path, verbose=False) in (EXIT_DONE, EXIT_FLAGGED)
+    done = json.loads((tmp_path / "raw" / "done.json").read_text())
+    assert done["newton_unconverged_steps"] == 0
+    assert done["nlgs_unconverged_steps"] <= 1 and done["overlap_steps"] == 0
+    setup = json.loads((tmp_path / "raw" / "setup.json").read_text())
+    assert setup["scene"]["box"]["height"] == 0.020
+    c = read_csv(tmp_path / "raw" / "contacts" / "step_00000012.csv")
+    base = c["wall"] == 4  # left, right, bottom, top, base, lid
+    assert base.sum() > 0
+    assert np.all(c["ft1"][base] == 0) and np.all(c["ft2"][base] == 0)
+    s = read_csv(tmp_path / "raw" / "steps.csv")
+    assert s["base_fx"][-1] == 0 and s["base_fy"][-1] == 0
+
+
+def test_a_3d_run_is_not_resumed(tmp_path):
+    """No raw/state.bin is written in 3D yet: --resume says so by name."""
+    from softpack.simulation.resume import prepare_resume
+
+    config = cfg.load_config(EXAMPLES / "spheres3d_small.toml")
+    with pytest.raises(RuntimeError, match="a 3D run writes no raw/state.bin"):
+        prepare_resume(tmp_path, config, RuntimeError)
