@@ -107,13 +107,19 @@ def statistic(gamma: np.ndarray, values: np.ndarray) -> Statistic:
                                   and separation < 3 * combined))
 
 
+def last_stage(steps: dict) -> np.ndarray:
+    """Whether each output row belongs to the run's last stage (every row
+    of a run without stages)."""
+    stage = np.asarray(steps["stage"], int) if "stage" in steps \
+        else np.zeros(len(steps["step"]), int)
+    return stage == stage[-1]
+
+
 def shear_rows(stress: dict, steps: dict, window: float) -> np.ndarray:
     """Indices of the rows of the last stage whose gamma lies in the last
     ``window`` of its shear."""
-    stage = np.asarray(steps["stage"], int) if "stage" in steps \
-        else np.zeros(len(stress["gamma"]), int)
     gamma = np.asarray(stress["gamma"], float)
-    last = stage == stage[-1]
+    last = last_stage(steps)
     start = gamma[last][0]
     end = gamma[last][-1]
     if not end > start:

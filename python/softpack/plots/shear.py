@@ -4,7 +4,7 @@
 run's analysis (done first when missing) and writes:
 
 - ``shear.png`` (and ``.pdf``): mu*, Phi and the inertial number I against
-  gamma of every run, the steady window shaded;
+  gamma over every run's last stage (the shear), the steady window shaded;
 - ``steady.md`` and ``steady.json``: per run the window, the shear rate,
   each quantity's mean, fluctuation (std of the rows), standard error
   (batch means), drift and whether it is stationary
@@ -56,6 +56,9 @@ def figure(runs, states, out: Path) -> Path:
                                  sharex=True)
         for run, state in zip(runs, states):
             st = read_table(RunDirectory(run).stress_csv)
+            rows = steady_shear.last_stage(
+                read_table(RunDirectory(run).raw.steps_csv))
+            st = {k: np.asarray(v)[rows] for k, v in st.items()}
             gamma = np.asarray(st["gamma"], float)
             label = f"{Path(run).name}: I = " \
                 f"{state.stats['inertial_number'].mean:.2g}"
