@@ -490,6 +490,12 @@ def _postprocess_3d(out: Path, say) -> int:
     for line in check_lines(finish):
         say(line)
     say(f"3D run: raw output only ({run.raw.steps_csv}); no series.csv yet")
+    return _exit_status(finish, say)
+
+
+def _exit_status(finish: dict, say) -> int:
+    """EXIT_FLAGGED, saying why, if raw/done.json's run is flagged; else
+    EXIT_DONE."""
     flags = run_flags(finish)
     if flags:
         say("finished flagged (exit status 3): " + "; ".join(flags))
@@ -521,9 +527,5 @@ def _postprocess(out: Path, say) -> int:
     for line in check_lines(finish):
         say(line)
     say(f"wrote {series_csv} and {particles_csv}")
-    flags = run_flags(finish)
-    if flags:
-        say("finished flagged (exit status 3): " + "; ".join(flags))
-        return EXIT_FLAGGED
-    return EXIT_DONE
+    return _exit_status(finish, say)
 
