@@ -53,6 +53,26 @@ std::vector<dynamics::Wall3D> squeeze_walls(bool octant, double bottom,
           {"top", {0, 0, top}, {0, 0, -1}, {0, 0, 0}}};
 }
 
+/// The squeeze's step: theta = 1, steps of h, frictionless, tight tolerances
+dynamics::MoreauJeanOptions squeeze_options(double h)
+{
+  dynamics::MoreauJeanOptions o = test::exact_options(h, 1e-3);
+  o.time.theta = 1;
+  o.time.newton_tolerance = 1e-8;
+  o.time.newton_max_iterations = 50;
+  // The tangent kept while Newton converges fast (strains are small): the
+  // compliance columns of the contact nodes are then made once per
+  // refactorization, not per iteration
+  o.time.full_newton = false;
+  o.time.tangent_reuse_steps = 50;
+  o.time.refactor_above_iterations = 8;
+  o.contact.friction = 0;
+  // (the plates move by 2e-5 m per step at most)
+  o.contact.alert_distance = 1e-4;
+  o.contact.nlgs_tolerance = 1e-10;
+  return o;
+}
+
 /// The plates' force at the strains `eps` (closure / D), each reached in
 /// `increments` steps and held for `hold` steps. `octant`: the body is the
 /// octant x, y, z >= 0 of the sphere (sphere_meshes.py octant), its plate
@@ -70,21 +90,8 @@ std::vector<HertzPoint> squeeze(bodies::BodySet bodies,
     bottom = std::min(bottom, X[3 * n + 2]);
   }
   const double h = 1e-3, D = octant ? 2 * top : top - bottom;
-  dynamics::MoreauJeanOptions o = test::exact_options(h, 1e-3);
-  o.time.theta = 1;
-  o.time.newton_tolerance = 1e-8;
-  o.time.newton_max_iterations = 50;
-  // The tangent kept while Newton converges fast (strains are small): the
-  // compliance columns of the contact nodes are then made once per
-  // refactorization, not per iteration
-  o.time.full_newton = false;
-  o.time.tangent_reuse_steps = 50;
-  o.time.refactor_above_iterations = 8;
-  o.contact.friction = 0;
-  // (the plates move by 2e-5 m per step at most)
-  o.contact.alert_distance = 1e-4;
-  o.contact.nlgs_tolerance = 1e-10;
-  dynamics::MoreauJean scheme(bodies, o, squeeze_walls(octant, bottom, top));
+  dynamics::MoreauJean scheme(bodies, squeeze_options(h),
+                              squeeze_walls(octant, bottom, top));
   const std::size_t plate = octant ? 3 : 1;
   std::vector<HertzPoint> out;
   double closure = 0;
