@@ -237,6 +237,9 @@ private:
   void check_3d() const;
   /// The step's 3D contacts and their operator (prepare_contacts)
   ContactOperator detect_3d();
+  /// The cohesion impulse of each 3D contact: h x its wall's
+  /// tensile_strength when closed, else 0; empty when no wall has one
+  std::vector<double> wall_cohesion_3d() const;
   const parallel::Distribution& dist() const
   {
     return _exchange.distribution();

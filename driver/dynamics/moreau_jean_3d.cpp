@@ -4,6 +4,7 @@
 // dimensions).
 #include "moreau_jean_step.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -26,6 +27,9 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, MoreauJeanOptions options,
     if (!(std::abs(norm - 1) <= 1e-12))
       throw std::invalid_argument("walls." + w.name +
                                   ".normal: not a unit vector");
+    if (!(w.tensile_strength >= 0 && std::isfinite(w.tensile_strength)))
+      throw std::invalid_argument("walls." + w.name +
+                                  ".tensile_strength: not >= 0");
   }
   _walls3 = std::move(walls);
 }
@@ -65,6 +69,21 @@ ContactOperator MoreauJean::detect_3d()
   _contacts3 = detect_contacts_3d(_surfaces, _bodies.current_coordinates(),
                                   planes, _detection);
   return ContactOperator(_contacts3, _walls3);
+}
+
+std::vector<double> MoreauJean::wall_cohesion_3d() const
+{
+  if (std::none_of(_walls3.begin(), _walls3.end(),
+                   [](const Wall3D& w) { return w.tensile_strength > 0; }))
+    return {};
+  std::vector<double> c(_contacts3.size(), 0.0);
+  for (std::size_t a = 0; a < _contacts3.size(); ++a)
+  {
+    const Contact3D& contact = _contacts3[a];
+    if (contact.wall >= 0 && std::abs(contact.gap) <= wall3d_closed_gap)
+      c[a] = _h * _walls3[contact.wall].tensile_strength;
+  }
+  return c;
 }
 
 std::vector<std::array<double, 3>> MoreauJean::wall_forces_3d() const

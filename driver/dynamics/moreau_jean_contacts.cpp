@@ -44,6 +44,7 @@ MoreauJean::prepare_contacts(const std::vector<double>& v_old)
   }
   if (d == 3) // (no servo wall or cell: check_3d)
   {
+    sc.cohesion = wall_cohesion_3d();
     _R = _history.warm_start(_contacts3);
     return sc;
   }
@@ -110,6 +111,7 @@ MoreauJean::StepProblem MoreauJean::prepare_problem(const StepContacts& sc,
     for (std::size_t a = 0; a < sc.size(); ++a)
       problem.three.friction[a] =
           _options.friction(_contacts3[a], _options.contact.friction);
+    problem.three.cohesion = sc.cohesion;
   }
   problem.q(d).resize(d * sc.size());
   if (needs_refactorization())

@@ -100,7 +100,16 @@ struct Wall3D
   std::array<double, 3> normal = {0, 0, 1};
   /// Imposed velocity
   std::array<double, 3> velocity = {0, 0, 0};
+  /// The largest tension (N) each contact with this wall holds while it is
+  /// closed (|gap| <= wall3d_closed_gap): 0, the default, is the plain
+  /// unilateral wall; a large value, on a frictionless wall, a symmetry
+  /// plane (the nodes lying on it stay on it and slide freely)
+  double tensile_strength = 0;
 };
+
+/// The gap (m) within which a contact with a Wall3D is closed: held by the
+/// wall's tensile_strength
+inline constexpr double wall3d_closed_gap = 1e-12;
 
 /// The value key of `drive` that another control than its own sets
 /// ("velocity", "pressure" or "force"), or nullptr: a wall is driven by one

@@ -27,6 +27,7 @@ COMMANDS = {
     "bench": "softpack.bench",
     "reference3d": "softpack.references.cylinder3d",
     "reference2d": "softpack.references.disk_mixed",
+    "reference-sphere": "softpack.references.sphere_axisym",
 }
 
 

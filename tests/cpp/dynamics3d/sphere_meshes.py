@@ -18,15 +18,19 @@ import numpy as np
 from softpack.scene.solids import _compact, initialize_gmsh, write_solids
 
 
-def sphere(diameter, element_size, pole_size=None, growth=0.5):
-    """Nodes and positively oriented tetrahedra of a sphere at the origin."""
+def sphere(diameter, element_size, pole_size=None, growth=0.5, octant=False):
+    """Nodes and positively oriented tetrahedra of a sphere at the origin
+    (or of its octant x, y, z >= 0)."""
     import gmsh
 
     initialize_gmsh(gmsh)
     try:
         gmsh.model.add("sphere")
         r = diameter / 2
-        gmsh.model.occ.addSphere(0, 0, 0, r)
+        ball = gmsh.model.occ.addSphere(0, 0, 0, r)
+        if octant:
+            box = gmsh.model.occ.addBox(0, 0, 0, 2 * r, 2 * r, 2 * r)
+            gmsh.model.occ.intersect([(3, ball)], [(3, box)])
         gmsh.model.occ.synchronize()
         options = [("Mesh.MeshSizeFromCurvature", 0), ("Mesh.Algorithm", 1),
                    ("Mesh.ElementOrder", 1), ("Mesh.MeshSizeMax", element_size)]
@@ -50,9 +54,25 @@ def sphere(diameter, element_size, pole_size=None, growth=0.5):
     return _compact(tags, coords.reshape(-1, 3), nodes[0])
 
 
+def mirrored(points, tets):
+    """The octant's eight mirror images, the nodes of the planes shared."""
+    parts, cells, offset = [], [], 0
+    for signs in np.ndindex(2, 2, 2):
+        factor = np.where(np.array(signs) == 1, -1.0, 1.0)
+        parts.append(points * factor)
+        t = tets + offset
+        cells.append(t[:, [0, 1, 3, 2]] if np.prod(factor) < 0 else t)
+        offset += len(points)
+    allpts = np.vstack(parts)
+    key = np.round(allpts / (1e-9 * np.abs(points).max())).astype(np.int64)
+    _, first, inverse = np.unique(key, axis=0, return_index=True,
+                                  return_inverse=True)
+    return allpts[first], inverse.reshape(-1)[np.vstack(cells)]
+
+
 def main(argv=None):
     p = argparse.ArgumentParser()
-    p.add_argument("kind", choices=("pair", "graded"))
+    p.add_argument("kind", choices=("pair", "graded", "octant", "mirrored"))
     p.add_argument("out", type=Path)
     p.add_argument("--diameter", type=float, required=True)
     p.add_argument("--element-size", type=float, required=True)
@@ -62,9 +82,11 @@ def main(argv=None):
     p.add_argument("--growth", type=float, default=0.5)
     a = p.parse_args(argv)
     a.out.parent.mkdir(parents=True, exist_ok=True)
-    if a.kind == "graded":
+    if a.kind in ("graded", "octant", "mirrored"):
         points, tets = sphere(a.diameter, a.element_size, a.pole_size,
-                              a.growth)
+                              a.growth, a.kind != "graded")
+        if a.kind == "mirrored":
+            points, tets = mirrored(points, tets)
         write_solids(a.out, points, tets)
         return 0
     points, tets = sphere(a.diameter, a.element_size)
