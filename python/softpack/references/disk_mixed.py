@@ -49,7 +49,8 @@ import numpy as np
 
 from softpack.analysis import strain
 from softpack.contract.tables import write_table
-from softpack.references.plate_newton import PlateSolver, advance
+from softpack.references.plate_newton import (PlateSolver,
+                                              QuarterUnderPlate, advance)
 
 log = logging.getLogger("softpack.references.disk_mixed")
 
@@ -133,7 +134,7 @@ def _size_field(gmsh, h):
         gmsh.option.setNumber("Mesh." + opt, 0)
 
 
-class _QuarterDisk:
+class _QuarterDisk(QuarterUnderPlate):
     """The scaled static problem (lengths by R, stresses by mu): the
     interface :mod:`softpack.references.plate_newton` solves."""
 
@@ -155,7 +156,7 @@ class _QuarterDisk:
         self.w = fem.Function(self.W)
         self.plate = fem.Constant(mesh, PETSc.ScalarType(1.0))
         self._define_forms(facets, lame_lambda(1.0, nu), mixed, penalty)
-        self._locate_dofs(facets)
+        self._locate_dofs(facets, (TAG_X0, TAG_Y0))
 
     def _define_forms(self, facets, lam, mixed, penalty):
         import ufl
@@ -184,36 +185,6 @@ class _QuarterDisk:
         self.residual_form = fem.form(residual)
         self.tangent_form = fem.form(
             ufl.derivative(residual, self.w, ufl.TrialFunction(self.W)))
-
-    def _locate_dofs(self, facets):
-        from dolfinx import fem
-        from petsc4py import PETSc
-
-        self.bcs = []
-        for comp, tag in ((0, TAG_X0), (1, TAG_Y0)):
-            dofs = fem.locate_dofs_topological(self.U.sub(comp), 1,
-                                               facets.find(tag))
-            self.bcs.append(fem.dirichletbc(PETSc.ScalarType(0.0), dofs,
-                                            self.U.sub(comp)))
-        self.comp_dofs, self.comp_coords = [], []
-        for comp in range(2):
-            Vc, dofs = self.U.sub(comp).collapse()
-            self.comp_dofs.append(np.asarray(dofs, dtype=np.int32))
-            self.comp_coords.append(Vc.tabulate_dof_coordinates())
-        y = self.comp_coords[1]
-        self.sym_y_dofs = self.comp_dofs[1][np.abs(y[:, 1]) < 1e-10]
-        on_arc = np.abs(np.hypot(y[:, 0], y[:, 1]) - 1.0) < 1e-8
-        self.arc_y = (self.comp_dofs[1][on_arc], y[on_arc, 1])
-
-    @property
-    def num_cells(self) -> int:
-        return self.mesh.topology.index_map(2).size_local
-
-    def max_overlap(self) -> float:
-        """Largest penetration of an arc node into the plate (scaled)."""
-        dofs, Y = self.arc_y
-        return max(0.0, float(np.max(Y + self.w.x.array[dofs]
-                                     - self.plate.value)))
 
 
 def compress_disk(diameter=0.02, mu=0.15e6, nu=0.499, element_size=5e-4,

@@ -126,3 +126,43 @@ def advance(prob, solver, dhat_old, dhat_new, max_halvings):
         prob.w.x.array[:] = backup
         prob.w.x.scatter_forward()
     raise RuntimeError(f"no equilibrium at delta/R = {dhat_new:.5f}")
+
+
+class QuarterUnderPlate:
+    """What a quarter of a disk or of a sphere's meridian under a plate
+    shares (:class:`softpack.references.disk_mixed._QuarterDisk`,
+    :class:`softpack.references.sphere_axisym._MeridianQuarter`): the
+    displacement space ``U`` (a subspace of ``W`` when mixed), the unknown
+    ``w``, the plate's y ``plate``, the unit arc x^2 + y^2 = 1 in scaled
+    coordinates, and u_x = 0 on the facets tagged ``tags[0]``, u_y = 0 on
+    ``tags[1]``."""
+
+    def _locate_dofs(self, facets, tags):
+        from dolfinx import fem
+        from petsc4py import PETSc
+
+        self.bcs = []
+        for comp, tag in zip((0, 1), tags):
+            dofs = fem.locate_dofs_topological(self.U.sub(comp), 1,
+                                               facets.find(tag))
+            self.bcs.append(fem.dirichletbc(PETSc.ScalarType(0.0), dofs,
+                                            self.U.sub(comp)))
+        self.comp_dofs, self.comp_coords = [], []
+        for comp in range(2):
+            Vc, dofs = self.U.sub(comp).collapse()
+            self.comp_dofs.append(np.asarray(dofs, dtype=np.int32))
+            self.comp_coords.append(Vc.tabulate_dof_coordinates())
+        y = self.comp_coords[1]
+        self.sym_y_dofs = self.comp_dofs[1][np.abs(y[:, 1]) < 1e-10]
+        on_arc = np.abs(np.hypot(y[:, 0], y[:, 1]) - 1.0) < 1e-8
+        self.arc_y = (self.comp_dofs[1][on_arc], y[on_arc, 1])
+
+    @property
+    def num_cells(self) -> int:
+        return self.mesh.topology.index_map(2).size_local
+
+    def max_overlap(self) -> float:
+        """Largest penetration of an arc node into the plate (scaled)."""
+        dofs, Y = self.arc_y
+        return max(0.0, float(np.max(Y + self.w.x.array[dofs]
+                                     - self.plate.value)))

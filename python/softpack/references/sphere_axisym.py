@@ -40,7 +40,8 @@ from pathlib import Path
 import numpy as np
 
 from softpack.contract.tables import write_table
-from softpack.references.plate_newton import PlateSolver, advance
+from softpack.references.plate_newton import (PlateSolver,
+                                              QuarterUnderPlate, advance)
 
 log = logging.getLogger("softpack.references.sphere_axisym")
 
@@ -106,7 +107,7 @@ def build_mesh(element_size, fine_radius, comm=None):
     return mesh, facets
 
 
-class _MeridianQuarter:
+class _MeridianQuarter(QuarterUnderPlate):
     """The scaled problem (lengths by R, stresses by mu) in the interface of
     :mod:`softpack.references.plate_newton` (y is the loading axis)."""
 
@@ -122,7 +123,7 @@ class _MeridianQuarter:
         self.w = fem.Function(self.W)
         self.plate = fem.Constant(mesh, PETSc.ScalarType(1.0))
         self._define_forms(facets, lam, penalty)
-        self._locate_dofs(facets)
+        self._locate_dofs(facets, (TAG_AXIS, TAG_EQUATOR))
 
     def _define_forms(self, facets, lam, penalty):
         import ufl
@@ -151,36 +152,6 @@ class _MeridianQuarter:
         self.residual_form = fem.form(residual)
         self.tangent_form = fem.form(
             ufl.derivative(residual, self.w, ufl.TrialFunction(self.W)))
-
-    def _locate_dofs(self, facets):
-        from dolfinx import fem
-        from petsc4py import PETSc
-
-        self.bcs = []
-        for comp, tag in ((0, TAG_AXIS), (1, TAG_EQUATOR)):
-            dofs = fem.locate_dofs_topological(self.W.sub(comp), 1,
-                                               facets.find(tag))
-            self.bcs.append(fem.dirichletbc(PETSc.ScalarType(0.0), dofs,
-                                            self.W.sub(comp)))
-        self.comp_dofs, self.comp_coords = [], []
-        for comp in range(2):
-            Vc, dofs = self.W.sub(comp).collapse()
-            self.comp_dofs.append(np.asarray(dofs, dtype=np.int32))
-            self.comp_coords.append(Vc.tabulate_dof_coordinates())
-        y = self.comp_coords[1]
-        self.sym_y_dofs = self.comp_dofs[1][np.abs(y[:, 1]) < 1e-10]
-        on_arc = np.abs(np.hypot(y[:, 0], y[:, 1]) - 1.0) < 1e-8
-        self.arc_y = (self.comp_dofs[1][on_arc], y[on_arc, 1])
-
-    @property
-    def num_cells(self) -> int:
-        return self.mesh.topology.index_map(2).size_local
-
-    def max_overlap(self) -> float:
-        """Largest penetration of an arc node into the plate (scaled)."""
-        dofs, Y = self.arc_y
-        return max(0.0, float(np.max(Y + self.w.x.array[dofs]
-                                     - self.plate.value)))
 
     def contact_radius(self) -> float:
         """The radius of the pressed disk (scaled): from its reference area
