@@ -66,13 +66,13 @@ from softpack.simulation.driver import DRIVER, DriverFailed
 from softpack.simulation.interrupt import (Stopped, echo, reclaim_signals,
                                            silence_stdout, stop_on_signals,
                                            why)
+from softpack.simulation.postprocess import postprocess, postprocess_3d
 from softpack.simulation.progress import Progress, duration as _duration
 from softpack.contract.run_directory import (EXIT_DONE, EXIT_FAILED,
-                                             EXIT_FLAGGED, EXIT_USAGE,
-                                             RunDirectory, RunError,
-                                             RunLock, UsageError,
+                                             EXIT_USAGE, RunDirectory,
+                                             RunError, RunLock, UsageError,
                                              is_run_directory,
-                                             prepare_directory, run_flags)
+                                             prepare_directory)
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -215,8 +215,8 @@ def _observables_only(args) -> int:
                 tmp.write_text(to_toml(config))
                 tmp.replace(run_dir.config_toml)
             if load_config(run_dir.config_toml)["model"]["dimension"] == 3:
-                return _postprocess_3d(out, None)
-            return _postprocess(out, None)
+                return postprocess_3d(out, None)
+            return postprocess(out, None)
     except ConfigError as err:
         return refuse(str(err))
     except RunError as err:
@@ -354,7 +354,7 @@ def _resume_locked(config, out, verbose, ranks) -> int:
             say(f"resuming {out} from its state at step {step}")
             _drive(config, out, log, say)
             finish_resume(out)
-            return _postprocess(out, say)
+            return postprocess(out, say)
         except (KeyboardInterrupt, Stopped) as err:
             log.write(f"[softpack run {time.strftime('%H:%M:%S')}] stopped"
                       f" ({why(err)}): the driver was stopped; no"
@@ -452,8 +452,8 @@ def _run_logged(config, out, initial_state, log, say, known=None,
             " fields.xdmf); --initial-only: no step, no series.csv")
         return EXIT_DONE
     if config["model"]["dimension"] == 3:
-        return _postprocess_3d(out, say)
-    return _postprocess(out, say)
+        return postprocess_3d(out, say)
+    return postprocess(out, say)
 
 
 def _reporter(log, verbose=True):
@@ -465,67 +465,3 @@ def _reporter(log, verbose=True):
         log.flush()
     say.verbose = verbose
     return say
-
-
-def _postprocess_3d(out: Path, say) -> int:
-    """A 3D run: check the driver finished and summarise its raw output
-    (the 2D observables, series.csv and particles.csv of the run directory,
-    are not computed for 3D runs yet: docs/bodies_3d.md)."""
-    from softpack.analysis.summary import check_lines
-    from softpack.contract.tables import read_table
-
-    run = RunDirectory(out)
-    finish = run.done()
-    if say is None:
-        def say(text):
-            echo(f"softpack run: {text}")
-    steps = read_table(run.raw.steps_csv)
-    phi, residual = steps["phi"], steps["energy_residual"]
-    supplied = max(abs(float(w)) for w in steps["wall_work"])
-    say(f"stopped by {finish.get('reason', '?')} after"
-        f" {finish.get('steps', '?')} steps, t = {steps['time'][-1]:.4g} s;"
-        f" Phi (volume fraction) {phi[0]:.4f} -> {phi[-1]:.4f};"
-        f" energy balance residual {residual[-1]:.3g} J of"
-        f" {supplied:.3g} J supplied by the walls")
-    for line in check_lines(finish):
-        say(line)
-    say(f"3D run: raw output only ({run.raw.steps_csv}); no series.csv yet")
-    return _exit_status(finish, say)
-
-
-def _exit_status(finish: dict, say) -> int:
-    """EXIT_FLAGGED, saying why, if raw/done.json's run is flagged; else
-    EXIT_DONE."""
-    flags = run_flags(finish)
-    if flags:
-        say("finished flagged (exit status 3): " + "; ".join(flags))
-        return EXIT_FLAGGED
-    return EXIT_DONE
-
-
-def _postprocess(out: Path, say) -> int:
-    """Check the driver finished, write the observables, print a summary."""
-    from softpack.analysis.observables import (process_run, retained_report,
-                                               z_report)
-    from softpack.analysis.summary import check_lines, summary_lines
-    from softpack.contract.tables import read_table
-
-    finish = RunDirectory(out).done()
-    if say is None:
-        def say(text):
-            echo(f"softpack run: {text}")
-    try:
-        series_csv, particles_csv = process_run(out)
-    except (OSError, ValueError, KeyError, ConfigError) as err:
-        raise RunError(f"post-processing {out}: {err}") from None
-    s = read_table(series_csv)
-    for line in summary_lines(out):
-        say(line)
-    for report in (z_report(s), retained_report(s)):  # Z says what it is
-        if report:
-            say(report)
-    for line in check_lines(finish):
-        say(line)
-    say(f"wrote {series_csv} and {particles_csv}")
-    return _exit_status(finish, say)
-
