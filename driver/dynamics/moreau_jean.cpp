@@ -180,14 +180,21 @@ MoreauJean::StepStart MoreauJean::start_step(std::vector<double> u_old,
   s.Mv_old = _Mv;
   s.Cv_old.resize(nb);
   s.known.resize(nb);
+  s.affine_drag = affine_drag();
   for (const int b : _bodies.local_bodies())
   {
     // No damping acts on a rigid body.
     s.Cv_old[b] = _rigid.rigid(b)
                       ? Eigen::VectorXd(Eigen::VectorXd::Zero(_Mv[b].size()))
                       : _damping.force(_Mv[b], _Kv[b]);
+    if (!s.affine_drag.empty())
+      s.Cv_old[b] -= s.affine_drag[b];
     s.known[b] =
         _Mv[b] + h * (1 - th) * (s.f_ext_b[b] - f_int_old[b] - s.Cv_old[b]);
+    // The pull is the same at both ends of the step: its theta part
+    // joins the known one (the residual's (M + h th C) v has the rest)
+    if (!s.affine_drag.empty())
+      s.known[b] += h * th * s.affine_drag[b];
   }
   return s;
 }
@@ -382,6 +389,9 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
     Cv_new[b] = _rigid.rigid(b)
                     ? Eigen::VectorXd(Eigen::VectorXd::Zero(_Mv[b].size()))
                     : _damping.force(_Mv[b], _Kv[b]);
+  if (!start.affine_drag.empty())
+    for (const int b : _bodies.local_bodies())
+      Cv_new[b] -= start.affine_drag[b];
   add_local_body_terms({.v_old = start.v_old_b,
                         .v_new = v_new_b,
                         .v_mid = v_mid_b,

@@ -320,6 +320,9 @@ private:
   bool rewrap();
   /// The bodies' centroids (the mean of their nodes), now
   std::vector<std::array<double, 2>> body_centroids() const;
+  /// In a cell with [damping] alpha: alpha M v_affine of each local body,
+  /// v_affine = (dh/dt) h^-1 x at its nodes now; empty otherwise
+  Vectors affine_drag() const;
   /// The step's energy terms, contact report and impulse history
   void account_step(StepContacts& sc, const StepStart& start,
                     StepReport& report, double stiffness_numerical);

@@ -21,12 +21,6 @@ void MoreauJean::set_cell(const PeriodicCell& cell)
   if (!_rigid.empty())
     throw std::runtime_error("periodic cell ([cell] enabled): rigid "
                              "materials are not supported in a cell yet");
-  if (_damping.alpha != 0)
-    throw std::runtime_error(
-        "periodic cell ([cell] enabled): [damping] alpha must be 0: a "
-        "mass-proportional damping acts on the bodies' velocities, which "
-        "differ by the cell's rate between a body and its images (beta is "
-        "kept)");
   if (!(cell.area() > 0))
     throw std::runtime_error(
         "periodic cell: [cell] a1, a2 must span a positive area, a2 "
@@ -96,6 +90,33 @@ std::vector<std::array<double, 2>> MoreauJean::body_centroids() const
     dist().comm().sum(
         std::span<double>(centroids.front().data(), 2 * centroids.size()));
   return centroids;
+}
+
+MoreauJean::Vectors MoreauJean::affine_drag() const
+{
+  if (!_cell || _damping.alpha == 0)
+    return {};
+  // A body and its images differ in velocity by (dh/dt) k, and so do
+  // their affine velocities: the damping acts on the motion relative to
+  // the cell's deformation, whichever image represents the body
+  const PeriodicCell& cell = *_cell;
+  const std::vector<double> x = _bodies.current_coordinates();
+  Vectors drag(_bodies.num_bodies());
+  for (const int b : _bodies.local_bodies())
+  {
+    const std::vector<std::int32_t>& nodes = _bodies.body(b).nodes;
+    Eigen::VectorXd v_affine(2 * nodes.size());
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+    {
+      const std::array<double, 2> s =
+          cell.fractional({x[2 * nodes[i]], x[2 * nodes[i] + 1]});
+      for (int d = 0; d < 2; ++d)
+        v_affine[2 * i + d] = cell.a1_rate[d] * s[0] + cell.a2_rate[d] * s[1];
+    }
+    drag[b] =
+        _damping.alpha * bodies::symmetric_product(_kbar.mass(b), v_affine);
+  }
+  return drag;
 }
 
 void MoreauJean::finish_cell_step(double h, const ServoWalls& servo)

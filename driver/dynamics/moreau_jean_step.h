@@ -43,6 +43,10 @@ struct MoreauJean::StepStart
   std::vector<double> u_old, v_old;
   /// Per body: v-, F_ext, M v-, C v- and the known part b
   Vectors v_old_b, f_ext_b, Mv_old, Cv_old, known;
+  /// Per body, in a cell with a mass-proportional damping: alpha M
+  /// v_affine, the damping's pull toward the cell's affine field, held
+  /// over the step (MoreauJean::affine_drag; empty otherwise)
+  Vectors affine_drag;
 };
 
 struct MoreauJean::StepProblem

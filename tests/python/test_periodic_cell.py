@@ -48,7 +48,6 @@ def with_(**sections):
     (with_(species=[{"diameter": 0.05, "count": 2}]),
      ["[species.0]", "diameter", "half the cell", "0.05"]),
     (with_(cell={**CELL, "a1": [0.1, 0.01]}), ["[cell] a1", "rectangular"]),
-    (with_(damping={"alpha": 30.0}), ["[damping] alpha"]),
     (with_(time={"time_step": 1e-2}), ["[time] time_step", "alert_distance"]),
     (with_(contact={"alert_distance": 1e-3, "max_penetration": 1e-5}),
      ["[contact] max_penetration", "images"]),

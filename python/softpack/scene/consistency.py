@@ -195,12 +195,6 @@ def _check_cell(sections) -> None:
             f"[gravity] acceleration = {sections['gravity']['acceleration']!r}"
             " with [cell] enabled: in a periodic cell nothing holds the"
             " weight (the whole assembly would fall); set it to [0.0, 0.0]")
-    if sections["damping"]["alpha"] != 0:
-        raise Inconsistent(
-            f"[damping] alpha = {sections['damping']['alpha']!r}: must be 0"
-            " with [cell] enabled (a mass-proportional damping acts on the"
-            " bodies' velocities, which differ by the cell's rate between a"
-            " body and its images; beta is kept)")
     try:
         length, width = cell_sides(cell)
     except PackingError as err:
