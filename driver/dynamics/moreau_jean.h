@@ -191,7 +191,7 @@ public:
   /// kinetic energy booked in rewrap), a servo unknown's m V^2 / 2 that
   /// leaves or enters the accounts in cell_work. Before the first step (or
   /// a restore) only the drive is set.
-  void change_cell_drive(const CellDrive& drive);
+  void change_cell_drive(const CellDrive& drive, double start_time);
   /// The periodic cell as it is now (none: a run with walls)
   const std::optional<PeriodicCell>& cell() const { return _cell; }
   /// Steps done so far (including those before a restore)

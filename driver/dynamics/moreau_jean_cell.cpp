@@ -29,7 +29,7 @@ void MoreauJean::set_cell(const PeriodicCell& cell)
   _cell = cell;
 }
 
-void MoreauJean::change_cell_drive(const CellDrive& drive)
+void MoreauJean::change_cell_drive(const CellDrive& drive, double start_time)
 {
   PeriodicCell& cell = *_cell;
   const PeriodicCell old = cell;
@@ -38,6 +38,8 @@ void MoreauJean::change_cell_drive(const CellDrive& drive)
   cell.a1_rate = now.a1_rate;
   cell.a2_rate = now.a2_rate;
   cell.servo = drive.servo;
+  for (CellServo& s : cell.servo)
+    s.ramp_start = start_time;
   // A component under stress keeps its rate; the isotropic mode
   // starts at rest (its V = 0: the rates are L h)
   for (CellServo& s : cell.servo)

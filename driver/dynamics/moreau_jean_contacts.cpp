@@ -52,7 +52,7 @@ MoreauJean::prepare_contacts(const std::vector<double>& v_old)
   sc.servo = start_servo_walls(_walls, _contacts, sc.H, h);
   if (_cell && !_cell->servo.empty())
     start_servo_cell(*_cell, _contacts, body_centroids(), sc.H, h,
-                     _options.time.theta, sc.servo);
+                     _options.time.theta, _time, sc.servo);
   _R = _history.warm_start(_contacts);
   return sc;
 }

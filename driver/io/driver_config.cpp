@@ -193,8 +193,15 @@ dynamics::CellDrive read_cell_drive(const Reader& r, const Drive& p,
     drive.servo.push_back({dynamics::CellServo::mean, p.stress_mean, mass});
   if (!drive.servo.empty() && !(mass > 0))
     r.fail("cell.mass", "must be > 0 with a stress-controlled component");
+  if (p.stress_rate != 0 && drive.servo.empty())
+    r.fail(key + "stress_rate",
+           "is given without a stress-controlled component (" + key +
+               "control_xx, control_yy, control_xy or control_mean)");
   for (dynamics::CellServo& s : drive.servo)
+  {
     s.damping = damping;
+    s.stress_rate = p.stress_rate;
+  }
   return drive;
 }
 

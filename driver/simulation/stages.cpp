@@ -205,7 +205,7 @@ void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
   // A cell's drive changes at a stage that gives another one
   if (!_stage_cells.empty() &&
       !_stage_cells[k].same(k == 0 ? _cell_drive : _stage_cells[k - 1]))
-    scheme.change_cell_drive(_stage_cells[k]);
+    scheme.change_cell_drive(_stage_cells[k], scheme.time());
   std::vector<std::string> ended = std::move(_start.ended_by);
   if (!ended_by.empty())
     ended.push_back(ended_by);
@@ -242,7 +242,7 @@ void StageProgram::resume(const StageStart& start, dynamics::MoreauJean& scheme)
     set_drives(_stages[k], scheme.walls());
   // The drive's components before the state's rates (restored next)
   if (!_stage_cells.empty())
-    scheme.change_cell_drive(_stage_cells[start.index]);
+    scheme.change_cell_drive(_stage_cells[start.index], start.time);
   scheme.set_default_friction(_stages[start.index].contact.friction);
   _start = start;
 }

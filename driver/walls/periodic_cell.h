@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -28,7 +29,7 @@ struct CellServo
   /// CellServo::mean: the isotropic mode; CellServo::shear_xy: h_xy)
   int axis = 1;
   /// The imposed normal stress sigma_ii, or the mean stress (Pa),
-  /// compressive positive as a servo wall's pressure
+  /// compressive positive as a servo wall's pressure, at ramp_start
   double stress = 0;
   /// The fictitious mass (kg/m) of the degree of freedom
   double mass = 1;
@@ -38,10 +39,22 @@ struct CellServo
   /// The isotropic mode's velocity V (m/s; a diagonal component's is its
   /// edge's rate, PeriodicCell::axis_rate)
   double velocity = 0;
+  /// The stress's rate of change (Pa/s; [cell] stress_rate): a ramp from
+  /// ramp_start (last: the brace initializers give the fields above)
+  double stress_rate = 0;
+  /// The time the drive started (s): the ramp's origin
+  double ramp_start = 0;
   /// The row i and column j of the component h_ij (not for the mode): its
   /// rate's change gives a body at s the velocity change dV e_i s_j
   int row() const { return axis == shear_xy ? 0 : axis; }
   int column() const { return axis == shear_xy ? 1 : axis; }
+  /// The imposed stress at time t: the ramp, a compressive one stopping
+  /// at zero (the shear stress has either sign)
+  double stress_at(double t) const
+  {
+    const double s = stress + stress_rate * (t - ramp_start);
+    return axis == shear_xy ? s : std::max(s, 0.0);
+  }
 };
 
 /// A cell's drive ([cell] or a stage's cell table): the imposed velocity
@@ -59,6 +72,7 @@ struct CellDrive
     for (std::size_t k = 0; k < servo.size(); ++k)
       if (servo[k].axis != o.servo[k].axis ||
           servo[k].stress != o.servo[k].stress ||
+          servo[k].stress_rate != o.servo[k].stress_rate ||
           servo[k].mass != o.servo[k].mass ||
           servo[k].damping != o.servo[k].damping)
         return false;
@@ -133,15 +147,17 @@ struct PeriodicCell
   /// a compressive stress
   /// The isotropic mode's: -2 P sqrt(det h), the work of sigma = -P I on
   /// the change dh = h dV / sqrt(det h)
-  double servo_force(const CellServo& s) const
+  /// (the stress at time t, CellServo::stress_at)
+  double servo_force(const CellServo& s, double t) const
   {
+    const double stress = s.stress_at(t);
     if (s.axis == CellServo::mean)
-      return -2 * s.stress * std::sqrt(area());
+      return -2 * stress * std::sqrt(area());
     // h_xy's: the work of sigma_yx = stress on dh_xy, det h sigma_yx /
     // h_yy = stress h_xx (a1 along x)
     if (s.axis == CellServo::shear_xy)
-      return s.stress * a1[0];
-    return -s.stress * (s.axis == 0 ? a2[1] : a1[0]);
+      return stress * a1[0];
+    return -stress * (s.axis == 0 ? a2[1] : a1[0]);
   }
   /// The velocity of a servo unknown: its component's rate or the
   /// isotropic mode's V

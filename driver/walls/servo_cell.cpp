@@ -41,7 +41,7 @@ void set_antagonist_velocities(const ServoWalls& servo,
 void start_servo_cell(const PeriodicCell& cell,
                       const std::vector<Contact>& contacts,
                       const std::vector<std::array<double, 2>>& centroids,
-                      ContactOperator& H, double h, double theta,
+                      ContactOperator& H, double h, double theta, double time,
                       ServoWalls& servo)
 {
   if (cell.servo.empty())
@@ -65,8 +65,8 @@ void start_servo_cell(const PeriodicCell& cell,
   {
     const CellServo& c = cell.servo[k];
     servo.cell.push_back(
-        ServoStep::start_damped(k, cell.servo_force(c), c.mass, c.damping,
-                                cell.servo_velocity(c), h, theta));
+        ServoStep::start_damped(k, cell.servo_force(c, time + h / 2), c.mass,
+                                c.damping, cell.servo_velocity(c), h, theta));
     WallCoupling coupling;
     coupling.inverse_mass = 1 / servo.cell.back().inertia;
     for (std::size_t a = 0; a < contacts.size(); ++a)

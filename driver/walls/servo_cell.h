@@ -29,11 +29,13 @@ namespace softpack::dynamics
 /// @param[in,out] H The step's contact operator
 /// @param[in] h Time step
 /// @param[in] theta The scheme's theta (a damped component's V_mid)
+/// @param[in] time The step's start time (the imposed stresses' ramps are
+/// read at mid-step)
 /// @param[in,out] servo The step's servo unknowns
 void start_servo_cell(const PeriodicCell& cell,
                       const std::vector<Contact>& contacts,
                       const std::vector<std::array<double, 2>>& centroids,
-                      ContactOperator& H, double h, double theta,
+                      ContactOperator& H, double h, double theta, double time,
                       ServoWalls& servo);
 
 /// End a step: every component's V+ and V_mid from the impulses (the cell

@@ -55,7 +55,7 @@ def test_the_example_is_three_stages_under_the_mean_stress():
     assert [s["contact"]["friction"] for s in data["stages"]] == [0.0, 0.0,
                                                                   0.3]
     assert [s["cell"]["stress_mean"] for s in data["stages"]] == [
-        20e3, 2e3, 2e3]
+        10e3, 2e3, 2e3]
 
 
 def test_friction_acts_only_once_switched_on(prepared):

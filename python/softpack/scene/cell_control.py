@@ -1,6 +1,6 @@
 """A periodic cell's stress-controlled components ([cell] control_xx,
 control_yy, control_xy, control_mean, stress_xx, stress_yy, stress_xy,
-stress_mean, mass; docs/periodic_cell.md, "A stress-controlled cell",
+stress_mean, stress_rate, mass; docs/periodic_cell.md, "A stress-controlled cell",
 "Shear stress" and "Mean stress").
 
 A component h_ii under ``control_ii = "stress"`` is an unknown of each step
@@ -26,7 +26,7 @@ AXES = (("xx", "velocity_gradient_x", 0), ("yy", "velocity_gradient_y", 1),
 #: The keys of the cell's drive (a stage's ``cell`` table has these)
 DRIVE_KEYS = ("velocity_gradient_x", "velocity_gradient_y", "control_xx",
               "control_yy", "control_xy", "control_mean", "stress_xx",
-              "stress_yy", "stress_xy", "stress_mean")
+              "stress_yy", "stress_xy", "stress_mean", "stress_rate")
 
 
 class CellControlError(ValueError):
@@ -79,6 +79,12 @@ def check(cell, enabled=None, where="[cell]") -> None:
                 f" {_key(where, row)}; set control_{axis} = \"stress\" to"
                 f" impose the stress, or remove stress_{axis}")
     _check_mean(cell, enabled, where)
+    if cell["stress_rate"] != 0 and not controlled(cell):
+        raise CellControlError(
+            f"{_key(where, 'stress_rate')} = {cell['stress_rate']!r} without"
+            " a stress-controlled component: the ramp changes the imposed"
+            " stresses; set control_xx, control_yy, control_xy or"
+            " control_mean = \"stress\"")
 
 
 def _key(where, key) -> str:

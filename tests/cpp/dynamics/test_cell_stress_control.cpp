@@ -103,7 +103,8 @@ TEST(CellMeanStress, PureShearAtConstantMeanStress)
   const double e = 1.0, h = 5e-5;
   const dynamics::PeriodicCell before = *l.scheme.cell();
   l.scheme.change_cell_drive(
-      {{e, 0}, {0, -e}, {{dynamics::CellServo::mean, P, l.mass}}});
+      {{e, 0}, {0, -e}, {{dynamics::CellServo::mean, P, l.mass}}},
+      l.scheme.time());
   // The deviatoric strain ln(h_xx / h_yy) follows the imposed rate: its
   // rate is e (h_xx0 / h_xx + h_yy0 / h_yy), V dropping out (the mode
   // changes both edges at V / sqrt(det h)); integrated here step by step

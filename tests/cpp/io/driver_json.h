@@ -69,7 +69,7 @@ inline nlohmann::json driver_json(const std::filesystem::path& directory,
              "velocity_gradient_y": [0.0, 0.0], "control_xx": "velocity",
              "control_yy": "velocity", "stress_xx": 0.0, "stress_yy": 0.0,
              "control_xy": "velocity", "stress_xy": 0.0,
-             "control_mean": "velocity", "stress_mean": 0.0, "mass": 1.0,
+             "control_mean": "velocity", "stress_mean": 0.0, "stress_rate": 0.0, "mass": 1.0,
              "damping_time": 0.0}
   })");
   doc["directory"] = directory.string();
@@ -92,7 +92,8 @@ inline nlohmann::json stage_cell()
     "velocity_gradient_x": [0.0, 0.0], "velocity_gradient_y": [0.0, 0.0],
     "control_xx": "velocity", "control_yy": "velocity",
     "control_xy": "velocity", "control_mean": "velocity", "stress_xx": 0.0,
-    "stress_yy": 0.0, "stress_xy": 0.0, "stress_mean": 0.0})");
+    "stress_yy": 0.0, "stress_xy": 0.0, "stress_mean": 0.0,
+    "stress_rate": 0.0})");
 }
 
 inline void write_json(const nlohmann::json& doc,

@@ -37,7 +37,7 @@ json paper_sections()
              "velocity_gradient_y": [0.0, 0.0], "control_xx": "velocity",
              "control_yy": "velocity", "stress_xx": 0.0, "stress_yy": 0.0,
              "control_xy": "velocity", "stress_xy": 0.0,
-             "control_mean": "velocity", "stress_mean": 0.0, "mass": 1.0,
+             "control_mean": "velocity", "stress_mean": 0.0, "stress_rate": 0.0, "mass": 1.0,
              "damping_time": 0.0},
     "material": {"law": "neo_hookean", "density": 1180.0, "rigid": false,
                  "parameters": {"shear_modulus": 150000.0,
