@@ -13,7 +13,7 @@ a (the contact radius) -- Boussinesq's point-load displacement
 (K. L. Johnson, *Contact Mechanics*, 1985, section 3.2)::
 
     delta(F) = (3 F / (4 E* sqrt(R)))^(2/3)
-               - F (1 + nu) / (2 pi E) [2 (1 - nu) / s^(1/2) + 4 R^2 / s^(3/2)],
+             - F (1 + nu) / (2 pi E) [2 (1 - nu) / s^(1/2) + 4 R^2 / s^(3/2)],
     s = a^2 + 4 R^2,  a = (3 F R / (4 E*))^(1/3),  E* = E / (1 - nu^2),
 
 and the plates' closure is 2 delta (one such contact at each pole). At
