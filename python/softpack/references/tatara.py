@@ -6,11 +6,13 @@ The law (Y. Tatara, "Extensive theory of force-approach relations of
 elastic spheres in compression and in impact", J. Eng. Mater. Technol. 111
 (1989) 163-168), in the form restated by a public FEA script labelled
 "Tatara theory" (``tatara_disp`` in the code index; its repository is not
-named there): the approach of one plate to the sphere's centre is Hertz's
-half-space approach minus the displacement, under the same contact force,
-of the half-space point at depth 2 R (the opposite pole) and radial offset
-a (the contact radius) -- Boussinesq's point-load displacement
-(K. L. Johnson, *Contact Mechanics*, 1985, section 3.2)::
+named there; it names no paper: the 1989 one is attributed here from the
+1991 abstract's "Hertz theory ... with an extensive term"): the approach
+of one plate to the sphere's centre is Hertz's half-space approach minus
+the displacement, under the same contact force, of the half-space point at
+depth 2 R (the opposite pole) and radial offset a (the contact radius) --
+Boussinesq's point-load displacement (K. L. Johnson, *Contact Mechanics*,
+1985, section 3.2)::
 
     delta(F) = (3 F / (4 E* sqrt(R)))^(2/3)
              - F (1 + nu) / (2 pi E) [2 (1 - nu) / s^(1/2) + 4 R^2 / s^(3/2)],
