@@ -159,3 +159,35 @@ def test_a_3d_run_is_not_resumed(tmp_path):
     config = cfg.load_config(EXAMPLES / "spheres3d_small.toml")
     with pytest.raises(RuntimeError, match="a 3D run writes no raw/state.bin"):
         prepare_resume(tmp_path, config, RuntimeError)
+
+
+def test_phi_base_is_the_bottom_faces_projected_on_the_base(tmp_path):
+    """steps.csv's phi_base (the driver's, box_3d.cpp) equals the bottom
+    faces of the reference mesh projected on the base in the current
+    configuration over the box's plan, recomputed here from fields.h5's
+    tetrahedra (softpack.analysis.solids.phi_base) at every written time;
+    at t = 0 it is the scene's base area fraction, and it rises as the
+    piston squeezes the cylinders (their bottom faces widen along y)."""
+    from softpack.analysis import solids
+
+    require_driver()
+    config = cfg.load_config(EXAMPLES / "cylinders3d_small.toml",
+                             {"stop.steps": 40, "output.every_steps": 20,
+                              "output.fields_every": 1,
+                              "walls.right.velocity": [-2.0, 0.0],
+                              "contact.alert_distance": 1.5e-3,
+                              "contact.max_penetration": 2e-3})
+    run(config, tmp_path, verbose=False)
+    s = read_csv(tmp_path / "raw" / "steps.csv")
+    assert len(s["phi_base"]) == 3
+    for k, t in enumerate(s["time"]):
+        extent = (s["right_x"][k] - s["left_x"][k],
+                  s["top_y"][k] - s["bottom_y"][k], 0.020)
+        f = solids.fractions_at(tmp_path / "fields.h5", t, extent)
+        assert f["time"] == pytest.approx(t, abs=1e-12)
+        assert s["phi_base"][k] == pytest.approx(f["phi_base"], rel=1e-9)
+        if k == 0:
+            assert f["phi_base"] == pytest.approx(f["base_area_fraction"],
+                                                  rel=1e-12)
+    assert s["phi_base"][0] == pytest.approx(0.6826, abs=1e-4)
+    assert s["phi_base"][-1] > s["phi_base"][0]
