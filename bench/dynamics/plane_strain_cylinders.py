@@ -33,9 +33,9 @@ def series(run, height):
     of a run's output rows; a 3D run is told by its phi_base column."""
     s = read_steps(run)
     if "phi_base" in s:
-        return s["phi_base"], -s["right_fx"] / height, \
+        return s["phi_base"], s["right_fx"] / height, \
             s["strain_energy"] / height
-    return s["phi"], -s["right_fx"], s["strain_energy"]
+    return s["phi"], s["right_fx"], s["strain_energy"]
 
 
 def at(phi, values, target):
