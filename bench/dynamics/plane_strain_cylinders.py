@@ -6,12 +6,15 @@ fractions Phi (2D: ``phi``, the disks' area over the box's; 3D:
 ``phi_base``, the bottom faces' area over the box's plan), the piston's
 force and the strain energy per unit height: 2D as written (N/m, J/m), 3D
 divided by the cylinders' height H (N / H, J / H). Values between two
-output rows are interpolated linearly in Phi (rows every 12 steps, ~0.0025
-in Phi). docs/bodies_3d.md, "Plane strain against the standing cylinders".
+output rows are interpolated linearly in Phi (rows every 10 steps in 2D,
+12 in 3D: ~0.003 in Phi). docs/bodies_3d.md, "Plane strain against the
+standing cylinders".
 
     /usr/bin/python3 bench/dynamics/plane_strain_cylinders.py \\
-        --height 0.015 --phi 0.72 0.75 0.78 0.80 0.82 0.84 \\
-        2D=runs/ps2d 3D_nu0.49=runs/cyl3d ...
+        2D=runs/ps2d "3D nu 0.49=runs/cyl3d_nu49" ... \\
+        --height 0.015 --phi 0.76 0.78 0.80 0.82 0.84 0.86
+
+(the runs before --phi, whose values take every number after it)
 """
 
 import argparse
