@@ -392,6 +392,10 @@ DriverConfig read_driver_config(const std::filesystem::path& path)
   read_stages(r, doc.at("stages"), c);
   c.stage_program = doc.at("stages");
   read_cell(r, c);
+  if (c.parameters.stop.base_area_fraction > 0 && c.dimension != 3)
+    r.fail("stop.base_area_fraction",
+           "> 0 needs scene.model.dimension = 3 (the bottom faces of "
+           "standing cylinders on the base)");
   if (!c.stages.empty() && c.parameters.stop.packing_fraction > 0)
     r.fail("stop.packing_fraction",
            "must be 0 with stages (each stage has its own)");

@@ -57,7 +57,8 @@ RawOutput::RawOutput(const std::filesystem::path& directory,
   }
   if (_cell)
     _steps << ",cell_a1x,cell_a1y,cell_a2x,cell_a2y";
-  _steps << ",phi,strain_energy,kinetic_energy,wall_work,external_work,"
+  _steps << (_dim == 3 ? ",phi,phi_base" : ",phi");
+  _steps << ",strain_energy,kinetic_energy,wall_work,external_work,"
             "cell_work,rewrap,damping,friction,contact_normal,cohesion,bond,"
             "viscous,numerical,energy_"
             "residual,"
@@ -102,6 +103,12 @@ void RawOutput::write(long step, const dynamics::MoreauJean& scheme,
   _steps << ',';
   if (phi)
     _steps << *phi;
+  if (_dim == 3)
+  {
+    _steps << ',';
+    if (_phi_base)
+      _steps << *_phi_base;
+  }
   _steps << ',' << e.strain << ',' << e.kinetic << ',' << e.wall_work << ','
          << e.external_work << ',' << e.cell_work << ',' << e.rewrap << ','
          << e.damping << ',' << e.friction << ',' << e.contact_normal << ','

@@ -110,6 +110,9 @@ public:
   /// The loading stage the next rows belong to (the `stage` column; 0
   /// without stages).
   void set_stage(int stage) { _stage = stage; }
+  /// The base area fraction of the next rows (3D runs' phi_base column,
+  /// simulation::base_area_fraction; empty when none)
+  void set_phi_base(std::optional<double> phi_base) { _phi_base = phi_base; }
 
   /// Mark the run complete; `extra` (an object) adds its keys to done.json
   /// (a run with stages: its last stage and whether it ended complete).
@@ -137,6 +140,7 @@ private:
   int _dim = 2;
   std::ofstream _steps, _particles;
   int _stage = 0;
+  std::optional<double> _phi_base;
 };
 
 } // namespace softpack::io

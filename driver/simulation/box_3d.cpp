@@ -1,7 +1,9 @@
 #include "box_3d.h"
 
 #include <algorithm>
+#include <cmath>
 #include <detection/detection_3d.h>
+#include <span>
 #include <stdexcept>
 
 namespace softpack::simulation
@@ -21,27 +23,69 @@ std::vector<dynamics::Wall3D> box_walls_3d(const io::DriverConfig& config)
   return walls;
 }
 
-double box_volume(const std::vector<dynamics::Wall3D>& walls)
+namespace
+{
+/// The distance between two walls of the box, along the first's normal
+double wall_gap(const std::vector<dynamics::Wall3D>& walls,
+                const std::string& a, const std::string& b)
 {
   auto find = [&](const std::string& name) -> const dynamics::Wall3D&
   {
     for (const dynamics::Wall3D& w : walls)
       if (w.name == name)
         return w;
-    throw std::runtime_error("box_volume: no wall named '" + name + "'");
+    throw std::runtime_error("box_3d: no wall named '" + name + "'");
   };
-  auto gap = [&](const std::string& a, const std::string& b)
-  {
-    const dynamics::Wall3D& wa = find(a);
-    const dynamics::Wall3D& wb = find(b);
-    double d = 0;
-    for (int i = 0; i < 3; ++i)
-      d += (wb.point[i] - wa.point[i]) * wa.normal[i];
-    return d;
-  };
+  const dynamics::Wall3D& wa = find(a);
+  const dynamics::Wall3D& wb = find(b);
+  double d = 0;
+  for (int i = 0; i < 3; ++i)
+    d += (wb.point[i] - wa.point[i]) * wa.normal[i];
+  return d;
+}
+
+/// (x_right - x_left) (y_top - y_bottom)
+double box_plan_area(const std::vector<dynamics::Wall3D>& walls)
+{
   const std::vector<std::string>& names = io::box_wall_names; // l, r, b, t
-  return gap(names[0], names[1]) * gap(names[2], names[3]) *
-         gap(box_planes_3d[0], box_planes_3d[1]);
+  return wall_gap(walls, names[0], names[1]) *
+         wall_gap(walls, names[2], names[3]);
+}
+} // namespace
+
+double box_volume(const std::vector<dynamics::Wall3D>& walls)
+{
+  return box_plan_area(walls) *
+         wall_gap(walls, box_planes_3d[0], box_planes_3d[1]);
+}
+
+double base_area_fraction(const bodies::BodySet& bodies,
+                          const std::vector<dynamics::Wall3D>& walls)
+{
+  const std::span<const double> X = bodies.reference_coordinates();
+  const std::span<const double> u = bodies.displacement();
+  double area = 0;
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+  {
+    const bodies::Body& body = bodies.body(b);
+    for (const std::array<std::int32_t, 3>& f : body.boundary_faces)
+    {
+      std::array<std::array<double, 2>, 3> x;
+      bool on_base = true;
+      for (int k = 0; k < 3; ++k)
+      {
+        const std::size_t i = 3 * std::size_t(body.nodes[f[k]]);
+        on_base = on_base && std::abs(X[i + 2]) <= base_tolerance;
+        x[k] = {X[i] + u[i], X[i + 1] + u[i + 1]};
+      }
+      if (!on_base)
+        continue;
+      // Outward normal -z: the projected area is -(b - a) x (c - a) . e_z / 2
+      area -= 0.5 * ((x[1][0] - x[0][0]) * (x[2][1] - x[0][1]) -
+                     (x[1][1] - x[0][1]) * (x[2][0] - x[0][0]));
+    }
+  }
+  return area / box_plan_area(walls);
 }
 
 void check_3d_run(MPI_Comm comm, const io::DriverConfig& config)

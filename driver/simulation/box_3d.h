@@ -30,6 +30,23 @@ std::vector<dynamics::Wall3D> box_walls_3d(const io::DriverConfig& config);
 /// @throws std::runtime_error if a wall of box_walls_3d is missing
 double box_volume(const std::vector<dynamics::Wall3D>& walls);
 
+/// A bottom face lies on the base when its three nodes are within this of
+/// z = 0 in the reference configuration (m): the scene stands its
+/// cylinders on z = 0 exactly, up to rounding (as
+/// softpack.analysis.solids.BASE_TOLERANCE)
+inline constexpr double base_tolerance = 1e-9;
+
+/// The base area fraction phi_base of a 3D run (docs/bodies_3d.md): the
+/// bodies' boundary faces on the base in the reference configuration
+/// (every node within base_tolerance of z = 0: the bottom faces of
+/// standing cylinders), projected on the base plane in the current
+/// configuration, over the box's plan (x_right - x_left) (y_top -
+/// y_bottom) from its walls' current positions. What the experiment's
+/// scanner saw through the glass: the area the bottom faces cover, whether
+/// or not a face has lifted off the base.
+double base_area_fraction(const bodies::BodySet& bodies,
+                          const std::vector<dynamics::Wall3D>& walls);
+
 /// Refuse what the 3D time loop lacks, naming driver.json and the key:
 /// several MPI ranks (parallel), a periodic cell (cell.enabled), stages,
 /// a servo wall (walls.NAME.control), gravity (gravity.acceleration), a

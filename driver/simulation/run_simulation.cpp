@@ -151,6 +151,7 @@ public:
     }
     _first = _scheme.steps();
     _phi0 = phi();
+    _phi_base0 = phi_base();
     if (!_root)
       return;
     io::write_setup(_raw_dir, io::setup_json(config, _bodies));
@@ -181,7 +182,7 @@ public:
         continue;
       }
       const std::string reason =
-          stop_reason(_config, _scheme, _first, step, now);
+          stop_reason(_config, _scheme, _first, step, now, phi_base());
       if (!reason.empty() || output_step)
         output(step, r, now, 0, !reason.empty());
       if (!reason.empty())
@@ -364,13 +365,25 @@ private:
     return packing_fraction(_bodies, box_area(_scheme.walls()));
   }
 
-  /// Fraction of the run done: the furthest of the stop criteria
-  double progress(long step, std::optional<double> phi_now) const
+  /// A 3D run's base area fraction (box_3d.h); none in 2D
+  std::optional<double> phi_base()
+  {
+    if (_bodies.dim() != 3 || !_config.box)
+      return std::nullopt;
+    return base_area_fraction(_bodies, _scheme.walls_3d());
+  }
+
+  /// Fraction of the run done: the furthest of the stop criteria (not
+  /// const: phi_base reads MoreauJean::walls_3d)
+  double progress(long step, std::optional<double> phi_now)
   {
     const parameters::Stop& stop = _p.stop;
     double f = _scheme.time() / stop.max_time;
     if (phi_now && stop.packing_fraction > 0)
       f = std::max(f, (*phi_now - *_phi0) / (stop.packing_fraction - *_phi0));
+    if (_phi_base0 && stop.base_area_fraction > 0)
+      f = std::max(f, (*phi_base() - *_phi_base0) /
+                          (stop.base_area_fraction - *_phi_base0));
     if (stop.steps > 0)
       f = std::max(f, double(step - _first) / stop.steps);
     return std::clamp(f, 0.0, 1.0);
@@ -392,6 +405,7 @@ private:
     if (_raw)
     {
       _raw->set_stage(stage);
+      _raw->set_phi_base(phi_base());
       _raw->write(step, _scheme, r, now, elapsed(), _bodies,
                   wall_rows(_scheme, _average, _wall_average_3d), cauchy,
                   _spent, _average, _interval, depth);
@@ -446,6 +460,7 @@ private:
   long _outputs = 0;
   long _first = 0;
   std::optional<double> _phi0;
+  std::optional<double> _phi_base0;
 };
 } // namespace
 

@@ -65,11 +65,15 @@ int rank_of(MPI_Comm comm)
 
 std::string stop_reason(const io::DriverConfig& config,
                         const dynamics::MoreauJean& scheme, long first,
-                        long step, std::optional<double> phi)
+                        long step, std::optional<double> phi,
+                        std::optional<double> phi_base)
 {
   const parameters::Stop& stop = config.parameters.stop;
   if (phi && stop.packing_fraction > 0 && *phi >= stop.packing_fraction)
     return "packing_fraction";
+  if (phi_base && stop.base_area_fraction > 0 &&
+      *phi_base >= stop.base_area_fraction)
+    return "base_area_fraction";
   if (scheme.time() >= stop.max_time * (1 - 1e-12))
     return "max_time";
   if (stop.steps > 0 && step - first >= stop.steps)

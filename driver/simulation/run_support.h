@@ -46,10 +46,12 @@ void write_unsolved_problem(const std::filesystem::path& raw, long step,
 int rank_of(MPI_Comm comm);
 
 /// The stop criterion met after `step` (counted from `first`), or "":
-/// stop.packing_fraction on `phi`, stop.max_time, stop.steps.
+/// stop.packing_fraction on `phi`, stop.base_area_fraction on
+/// `phi_base` (3D runs), stop.max_time, stop.steps.
 std::string stop_reason(const io::DriverConfig& config,
                         const dynamics::MoreauJean& scheme, long first,
-                        long step, std::optional<double> phi);
+                        long step, std::optional<double> phi,
+                        std::optional<double> phi_base = std::nullopt);
 
 /// Each body's Cauchy integral (bodies/stress_average.h), every body's
 /// from its owner (a collective on a distributed run): 4 components per

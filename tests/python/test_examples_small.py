@@ -56,12 +56,7 @@ STEPS_3D: dict[str, int] = {"cylinders3d_small.toml": 12,
 # (step 162 on one rank, 146 on three) misses nlgs_tolerance 1e-8, and
 # stalls there with 20,000 sweeps too (measured 2026-12-03); it is written
 # to raw/failed_contact_problems/ for replay (./softpack fclib).
-# cylinders3d_small: one contact solve of its first 12 steps (step 6) stops
-# at error 1.09e-6 against nlgs_tolerance 1e-6 (35 of its 452 steps to
-# Phi = 0.60, errors up to 2.8e-6; measured 2026-12-04, docs/bodies_3d.md):
-# the frictionless base's hundreds of touching contacts.
-KNOWN_FLAGGED: dict[str, str] = {"mixture_small.toml": "not converged",
-                                 "cylinders3d_small.toml": "not converged"}
+KNOWN_FLAGGED: dict[str, str] = {"mixture_small.toml": "not converged"}
 
 
 def params():

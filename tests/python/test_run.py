@@ -145,6 +145,18 @@ def test_observables_only_applies_the_observables_settings(
     assert config != (out / "config.toml").read_text()
 
 
+def test_progress_counts_a_3d_runs_base_area_fraction(tmp_path):
+    """[stop] base_area_fraction: the fraction done is phi_base's way from
+    its first row's value to the target (examples/cylinders3d_small.toml:
+    0.80), not the time's."""
+    from softpack.scene.config import load_config
+    config = load_config(paths.ROOT / "examples" / "cylinders3d_small.toml")
+    progress = run.Progress(config, tmp_path / "steps.csv")
+    rows = [{"step": 0, "time": 0.0, "phi": 0.512, "phi_base": 0.70},
+            {"step": 12, "time": 0.001, "phi": 0.52, "phi_base": 0.75}]
+    assert " 50.0 %" in progress.line(rows)
+
+
 def test_default_out_dir_and_progress_line(tmp_path):
     from softpack.scene.config import load_config
     config = load_config(SMALL, {"packing.seed": 4,

@@ -301,3 +301,17 @@ def test_friction_may_name_the_base_and_lid_of_a_3d_box_only():
     flat["species"] = [{"name": "small", "diameter": 0.02, "count": 10}]
     del flat["box"]["height"]
     refused(flat, "against = 'base'", "not a species")
+
+
+def test_a_base_area_fraction_stop_needs_standing_cylinders():
+    """[stop] base_area_fraction (phi_base, the bottom faces' area
+    fraction) is refused in 2D and for solids that stand on no face."""
+    data = cylinders(**{"model.dimension": 2, "box.height": 0.0,
+                        "stop.base_area_fraction": 0.8})
+    data["species"] = [{"shape": "disk", "diameter": 0.02, "count": 3}]
+    refused(data, "[stop] base_area_fraction", "3D measure")
+    data = cylinders(**{"stop.base_area_fraction": 0.8})
+    data["species"] = [{"shape": "sphere", "diameter": 0.015, "count": 2}]
+    refused(data, "[stop] base_area_fraction", "standing cylinders only")
+    validate(cylinders(**{"stop.base_area_fraction": 0.8,
+                          "stop.packing_fraction": 0.0}), "scene3d.toml")

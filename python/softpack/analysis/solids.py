@@ -81,6 +81,27 @@ def base_areas(points, tets, body, tolerance=BASE_TOLERANCE) -> np.ndarray:
                        minlength=n)
 
 
+def phi_base(reference, current, tets, body, extent) -> float:
+    """The base area fraction of a deformed state, as a 3D run's
+    ``phi_base`` column (``driver/simulation/box_3d.h``,
+    ``base_area_fraction``): the boundary faces on the base in the
+    ``reference`` configuration (three nodes within BASE_TOLERANCE of z =
+    0: the bottom faces), projected on the base plane in the ``current``
+    one, over the box's plan L W (``extent``'s first two edges, the walls'
+    current distances). A face lifted off the base still counts: what the
+    experiment's scanner saw of the bottom faces through the glass."""
+    reference = np.asarray(reference, dtype=float)
+    current = np.asarray(current, dtype=float)
+    faces, _ = boundary_faces(tets, body)
+    on_base = np.all(np.abs(reference[faces][:, :, 2]) <= BASE_TOLERANCE,
+                     axis=1)
+    p = current[faces[on_base]]
+    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    # outward normal -z: the projected area is -(e1 x e2)_z / 2
+    area = -0.5 * (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]).sum()
+    return float(area / (float(extent[0]) * float(extent[1])))
+
+
 def volume_fraction(points, tets, body, extent) -> float:
     """Phi = (sum of the bodies' volumes) / (L W H_box), ``extent`` the
     box's three edges (m)."""
@@ -131,9 +152,12 @@ def scene_summary(xdmf, extent, seed) -> str:
 
 
 def fractions_at(fields_h5, time, extent, tolerance=BASE_TOLERANCE) -> dict:
-    """The ``volume_fraction`` and ``base_area_fraction`` of a 3D run's
-    fields (``DIR/fields.h5``) at the stored time nearest ``time``, on the
-    current coordinates X + u (the box's ``extent`` at that time)."""
+    """The ``volume_fraction``, ``base_area_fraction`` (the faces on the
+    base now, within ``tolerance``) and ``phi_base`` (the bottom faces of
+    the reference configuration projected on the base, the run's column)
+    of a 3D run's fields (``DIR/fields.h5``) at the stored time nearest
+    ``time``, on the current coordinates X + u (the box's ``extent`` at
+    that time)."""
     from softpack.analysis.fields import read_snapshot
 
     snap = read_snapshot(fields_h5, time)
@@ -141,6 +165,8 @@ def fractions_at(fields_h5, time, extent, tolerance=BASE_TOLERANCE) -> dict:
         raise ValueError(f"{fields_h5}: not a mesh of tetrahedra")
     x = snap.current
     return {"time": snap.time,
+            "phi_base": phi_base(snap.points, x, snap.cells, snap.body,
+                                 extent),
             "volume_fraction": volume_fraction(x, snap.cells, snap.body,
                                                extent),
             "base_area_fraction": base_area_fraction(

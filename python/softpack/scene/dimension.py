@@ -40,6 +40,11 @@ def check(sections, registry=None) -> None:
             raise DimensionError(
                 f"[box] height = {height!r}: a box of three edges is 3D; set"
                 " [model] dimension = 3, or leave height at 0 in 2D")
+        if sections["stop"].get("base_area_fraction", 0) > 0:
+            raise DimensionError(
+                "[stop] base_area_fraction: the bottom faces of standing"
+                " cylinders, a 3D measure; in 2D [stop] packing_fraction is"
+                " the disks' area fraction")
         return
     _check_features(sections)
     _check_laws(sections, registry)
@@ -160,6 +165,12 @@ def _check_box(sections) -> None:
             f" the {box['length']:g} x {box['width']:g} x {box['height']:g} m"
             f" box, not less than {limit:.3f} ([stop] packing_fraction, a"
             " volume fraction in 3D, or the densest packing of spheres)")
+    if sections["stop"].get("base_area_fraction", 0) > 0 and any(
+            s["shape"] != "cylinder" for s in sections["species"]
+            if int(s["count"]) > 0):
+        raise DimensionError(
+            "[stop] base_area_fraction: for standing cylinders only (the"
+            " area fraction of their bottom faces on the base)")
     if sections["packing"]["initial_packing_fraction"] > 0 and any(
             s["shape"] != "cylinder" for s in sections["species"]
             if int(s["count"]) > 0):

@@ -37,6 +37,9 @@ def postprocess_3d(out: Path, say) -> int:
         f" Phi (volume fraction) {phi[0]:.4f} -> {phi[-1]:.4f};"
         f" energy balance residual {residual[-1]:.3g} J of"
         f" {supplied:.3g} J supplied by the walls")
+    if "phi_base" in steps and steps["phi_base"][0] > 0:
+        say(f"phi_base (the bottom faces' area fraction of the base)"
+            f" {steps['phi_base'][0]:.4f} -> {steps['phi_base'][-1]:.4f}")
     for line in check_lines(finish):
         say(line)
     say(f"3D run: raw output only ({run.raw.steps_csv}); no series.csv yet")

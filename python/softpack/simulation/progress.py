@@ -50,6 +50,8 @@ class Progress:
         self.target = config["stop"]["packing_fraction"]
         self.max_time = config["stop"]["max_time"]
         self.max_steps = config["stop"]["steps"]
+        #: [stop] base_area_fraction (3D), against the first row's phi_base
+        self.base_target = config["stop"].get("base_area_fraction", 0.0)
         self.started = time.time()
         self.echo = echo
         self.tty = echo is not None and sys.stdout.isatty()
@@ -78,18 +80,24 @@ class Progress:
     def mark(self, rows) -> int:
         """The 5 % mark reached (per stage with stages)."""
         if not self.stages:
-            return int(20 * self.fraction(rows[-1], rows[0]["step"]))
+            return int(20 * self.fraction(rows[-1], rows[0]["step"],
+                                          rows[0]))
         k, stage_rows = current_stage(rows)
         stage = self.stages[min(k, len(self.stages) - 1)]
         done = stage_status(stage["stop"], stage_rows[0], stage_rows[-1])[0]
         return 21 * k + int(20 * done)
 
-    def fraction(self, row, first_step) -> float:
-        """Fraction of the run done at ``row``, in [0, 1]."""
+    def fraction(self, row, first_step, first=None) -> float:
+        """Fraction of the run done at ``row``, in [0, 1] (``first``: the
+        first row, for a 3D run's phi_base)."""
         phi, t = row.get("phi", float("nan")), row["time"]
         done = t / self.max_time
         if self.target > 0 and phi == phi:
             done = max(done, (phi - self.phi0) / (self.target - self.phi0))
+        base = row.get("phi_base", float("nan"))
+        if self.base_target > 0 and first is not None and base == base:
+            base0 = first["phi_base"]
+            done = max(done, (base - base0) / (self.base_target - base0))
         if self.max_steps > 0:
             done = max(done, (row["step"] - first_step) / self.max_steps)
         return min(max(done, 0.0), 1.0)
@@ -100,7 +108,7 @@ class Progress:
             return self.stage_line(rows)
         row = rows[-1]
         first = rows[0]["step"]
-        fractions = [self.fraction(r, first) for r in rows]
+        fractions = [self.fraction(r, first, rows[0]) for r in rows]
         seconds = [r.get("seconds", float("nan")) for r in rows]
         done = fractions[-1]
         elapsed = time.time() - self.started
