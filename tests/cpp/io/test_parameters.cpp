@@ -17,7 +17,8 @@ namespace
 json paper_sections()
 {
   return json::parse(R"({
-    "stop": {"packing_fraction": 0.88, "max_time": 1.43, "steps": 0},
+    "stop": {"packing_fraction": 0.88, "max_time": 1.43, "steps": 0,
+             "base_area_fraction": 0.0},
     "contact": {"friction": 0.3, "alert_distance": 2e-4, "max_penetration": 5e-4,
                 "nlgs_tolerance": 1e-6, "nlgs_max_sweeps": 2000,
                 "nlgs_relaxation": 1.7, "nlgs_order": "alternate",
