@@ -48,7 +48,8 @@ def test_every_key_is_explicit_and_named_as_in_the_schema(paper_document):
                                               "lame_lambda": 0.3e6}}
     assert doc["contact"]["delassus_drop_tolerance"] == pytest.approx(1e-9)
     assert doc["stop"] == {"packing_fraction": 0.88,
-                           "max_time": pytest.approx(1.43), "steps": 0}
+                           "max_time": pytest.approx(1.43), "steps": 0,
+                           "base_area_fraction": 0.0}
     assert doc["time"]["tangent_reuse_steps"] == 50
     assert doc["output"] == {"every_steps": 12, "fields": True,
                              "fields_every": 10, "state": True}
