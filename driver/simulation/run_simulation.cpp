@@ -181,8 +181,10 @@ public:
           return *end;
         continue;
       }
-      const std::string reason =
-          stop_reason(_config, _scheme, _first, step, now, phi_base());
+      // (the base's faces summed only when a criterion reads them)
+      const std::string reason = stop_reason(
+          _config, _scheme, _first, step, now,
+          _p.stop.base_area_fraction > 0 ? phi_base() : std::nullopt);
       if (!reason.empty() || output_step)
         output(step, r, now, 0, !reason.empty());
       if (!reason.empty())
