@@ -150,6 +150,7 @@ public:
       _program.begin(0, _scheme, phi());
     }
     _first = _scheme.steps();
+    _time0 = _scheme.time();
     _phi0 = phi();
     _phi_base0 = phi_base();
     if (!_root)
@@ -375,12 +376,16 @@ private:
     return base_area_fraction(_bodies, _scheme.walls_3d());
   }
 
-  /// Fraction of the run done: the furthest of the stop criteria (not
-  /// const: phi_base reads MoreauJean::walls_3d)
+  /// Fraction done of what this process runs (a run continued from a state:
+  /// of the rest, every criterion from the state on, as the ETA counts the
+  /// seconds): the furthest of the stop criteria (not const: phi_base reads
+  /// MoreauJean::walls_3d)
   double progress(long step, std::optional<double> phi_now)
   {
     const parameters::Stop& stop = _p.stop;
-    double f = _scheme.time() / stop.max_time;
+    double f = stop.max_time > _time0
+                   ? (_scheme.time() - _time0) / (stop.max_time - _time0)
+                   : 1.0;
     if (phi_now && stop.packing_fraction > 0)
       f = std::max(f, (*phi_now - *_phi0) / (stop.packing_fraction - *_phi0));
     if (_phi_base0 && stop.base_area_fraction > 0)
@@ -461,6 +466,7 @@ private:
   io::RunChecks _checks;
   long _outputs = 0;
   long _first = 0;
+  double _time0 = 0; ///< the time of step _first
   std::optional<double> _phi0;
   std::optional<double> _phi_base0;
 };

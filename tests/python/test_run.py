@@ -203,6 +203,39 @@ def test_a_staged_run_shows_its_stage_and_criterion(tmp_path):
     assert progress.mark(rows[:3]) > progress.mark(first)
 
 
+def test_a_resumed_runs_progress_counts_the_killed_part(tmp_path):
+    """A resumed driver's steps.csv starts at the state's step with its
+    seconds at zero: the killed part's rows (raw.part) lead them, so the
+    stage starts where it did and the pace is the whole run's (the ETA was
+    the stage's full length after a resume)."""
+    import io
+    from softpack.scene.config import load_config
+    config = load_config(paths.ROOT / "examples" / "biaxial_small.toml")
+    part, steps = tmp_path / "part.csv", tmp_path / "steps.csv"
+    header = "step,time,stage,phi,left_x,right_x,bottom_y,top_y,seconds\n"
+
+    def row(step, stage, right_x, seconds):
+        return (f"{step},{1e-4 * step},{stage},0.7,0.0,{right_x},0.0,0.07,"
+                f"{seconds}\n")
+    part.write_text(header + row(0, 0, 0.11, 0) + row(300, 0, 0.10, 300)
+                    + row(400, 1, 0.095, 400) + row(500, 1, 0.09, 500))
+    # the resumed driver from the state at step 400: seconds from zero
+    steps.write_text(header + row(400, 1, 0.095, 0.0)
+                     + row(450, 1, 0.0925, 50))
+    said = []
+    progress = run.Progress(config, steps,
+                            lambda text, end="\n": said.append(text), part)
+    rows = progress.rows()
+    assert [int(r["step"]) for r in rows] == [0, 300, 400, 450]
+    assert [r["seconds"] for r in rows] == [0, 300, 400, 450]
+    line = progress.line(rows)  # strain (0.10 - 0.0925) / 0.10 of 10 %
+    assert line.startswith("stage 2/2 'axial': strain 0.0750 of 0.1")
+    # 150 s for the stage's 75 %
+    assert "(75 %)" in line and "stage ETA 0m50s" in line
+    progress.update(io.StringIO())
+    assert said and "(75 %)" in said[-1]
+
+
 def test_set_overrides_are_parsed_as_toml_values():
     from softpack.scene.config import ConfigError
     from softpack.simulation.run import _parse_settings

@@ -42,10 +42,15 @@ class Progress:
         ``raw/steps.csv``, read again at each :meth:`update`.
     echo : callable
         Prints a line on the terminal (``end`` keyword as print's).
+    before : Path, optional
+        A resumed run's killed part (``raw.part/steps.csv``): its rows lead
+        the driver's, so that the fractions, the stage's start and the cost
+        history are the whole run's.
     """
 
-    def __init__(self, config, steps_csv: Path, echo=None):
+    def __init__(self, config, steps_csv: Path, echo=None, before=None):
         self.steps_csv = steps_csv
+        self.before = before
         self.phi0 = initial_packing_fraction(config)
         self.target = config["stop"]["packing_fraction"]
         self.max_time = config["stop"]["max_time"]
@@ -118,9 +123,19 @@ class Progress:
                 f" {row['time']:.4g} s  Phi = {phi:.4f}  elapsed"
                 f" {duration(elapsed)}  ETA {duration(eta)}")
 
+    def rows(self) -> list[dict]:
+        """The run's rows so far (a resumed run's killed part first)."""
+        rows = read_rows(self.steps_csv)
+        if self.before is None or not rows:
+            return rows
+        from softpack.simulation.resume import splice_rows
+
+        return splice_rows(read_rows(self.before), rows, int(rows[0]["step"]),
+                           "step", "seconds")
+
     def update(self, log, final=False) -> None:
         """Show the latest row: a live line on a terminal, 5 % marks else."""
-        rows = read_rows(self.steps_csv)
+        rows = self.rows()
         if not rows:
             return
         text = self.line(rows)

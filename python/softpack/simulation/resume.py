@@ -151,35 +151,44 @@ def merge_raw(old: Path, new: Path, into_new=False) -> None:
 
 
 def _merge_table(old: Path, new: Path, target: Path, first, shift):
-    """Rows of ``old`` up to ``first`` (included), then ``new``'s after it.
-
-    ``shift``: a column of ``new`` to offset by ``old``'s value at
-    ``first`` (the driver's seconds restart at zero).
-    """
+    """Rows of ``old`` up to ``first`` (included), then ``new``'s after it
+    (:func:`splice_rows`)."""
     header, old_rows = _rows(old)
     new_header, new_rows = _rows(new)
     if new_rows and new_header != header:
         raise ValueError(f"{new}: columns differ from {old}: not the same"
                          " run")
     step = header.index("step")
-    keep = [r for r in old_rows
-            if first is None or int(r[step]) <= first]
-    offset = 0.0
-    if shift in header and keep:
-        column = header.index(shift)
-        at_first = [r for r in keep if int(r[step]) == first]
-        offset = float((at_first or keep)[-1][column])
-    later = [list(r) for r in new_rows if int(r[step]) > (first or -1)]
-    if shift in header and offset:
-        column = header.index(shift)
-        for r in later:
-            r[column] = repr(float(r[column]) + offset)
+    column = header.index(shift) if shift in header else None
+    rows = splice_rows(old_rows, new_rows, first, step, column)
     tmp = target.with_name(target.name + ".tmp")
     with open(tmp, "w") as f:
         f.write(",".join(header) + "\n")
-        for r in keep + later:
+        for r in rows:
             f.write(",".join(r) + "\n")
     tmp.replace(target)
+
+
+def splice_rows(old_rows, new_rows, first, step, shift=None) -> list:
+    """The killed part's rows up to step ``first`` (included), then the
+    resumed driver's after it: one run's rows.
+
+    Rows are lists of strings (a CSV's) or dicts of floats (the progress's);
+    ``step`` and ``shift`` index them. ``shift``: a column of the new rows
+    offset by the old rows' value at ``first`` (the driver's seconds restart
+    at zero); None for none.
+    """
+    keep = [r for r in old_rows if first is None or int(r[step]) <= first]
+    offset = 0.0
+    if shift is not None and keep:
+        at_first = [r for r in keep if int(r[step]) == first]
+        offset = float((at_first or keep)[-1][shift])
+    later = [r.copy() for r in new_rows if int(r[step]) > (first or -1)]
+    if shift is not None and offset:
+        for r in later:
+            value = float(r[shift]) + offset
+            r[shift] = repr(value) if isinstance(r[shift], str) else value
+    return keep + later
 
 
 def _merge_step_files(old: Path, new: Path, target: Path, first) -> None:

@@ -352,7 +352,7 @@ def _resume_locked(config, out, verbose, ranks) -> int:
         try:
             say.ranks = ranks
             say(f"resuming {out} from its state at step {step}")
-            _drive(config, out, log, say)
+            _drive(config, out, log, say, resumed=True)
             finish_resume(out)
             return postprocess(out, say)
         except (KeyboardInterrupt, Stopped) as err:
@@ -394,17 +394,18 @@ def _check_ranks(ranks, config) -> None:
 
 
 def _drive(config, out, log, say, scene=None, initial_state=None,
-           initial_only=False) -> None:
+           initial_only=False, resumed=False) -> None:
     """Run the driver on ``out/driver.json`` (written first from ``scene``
-    if given), its output to the log, progress shown; RunError if it
-    fails."""
+    if given), its output to the log, progress shown (``resumed``: from the
+    killed part's rows on); RunError if it fails."""
     run = RunDirectory(out)
     ranks = getattr(say, "ranks", 1)
     say(f"{DRIVER} {run.driver_json}"
         + (f" on {ranks} MPI ranks" if ranks > 1 else ""))
     started = time.time()
     progress = Progress(config, run.raw.steps_csv,
-                        echo if say.verbose else None)
+                        echo if say.verbose else None,
+                        run.raw_part.steps_csv if resumed else None)
     try:
         driver.launch(run, config if scene is not None else None, scene,
                       initial_state=initial_state, log=log, ranks=ranks,
