@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from softpack.scene.placement import place
 from softpack.scene.packing import (DEFAULT_GAP, Packing, PackingError,
                               random_packing)
 
@@ -250,3 +251,22 @@ def test_spheres_too_dense_for_the_box_are_refused_naming_the_limit(
     with pytest.raises(PackingError, match="growth protocol .* 2D box only"):
         placement.place(radii, (edge, edge, edge), 2e-4,
                         np.random.default_rng(0))
+
+
+@pytest.mark.parametrize("extent", [(0.04, 0.020002), (0.04, 0.020002, 0.03)])
+def test_a_circle_alone_is_clear_of_the_walls(extent):
+    """One body in a box just wider than it (the plate checks): shrunk for
+    the placement, then grown with no pair to relax, it was left where it
+    fell, through a wall (0.26 mm for a 20 mm cylinder)."""
+    for seed in range(5):
+        x = place(np.array([0.01]), extent, 0.0, np.random.default_rng(seed))
+        assert np.all(x >= 0.01) and np.all(x <= np.array(extent) - 0.01)
+
+
+def test_a_dilute_box_is_clear_of_the_walls():
+    radii = np.full(6, 0.005)
+    gap = 1e-4
+    for seed in range(20):
+        x = place(radii, (0.1, 0.1), gap, np.random.default_rng(seed))
+        assert np.all(x - radii[:, None] >= gap)
+        assert np.all(0.1 - x - radii[:, None] >= gap)

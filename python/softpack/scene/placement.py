@@ -117,6 +117,9 @@ def place(radii, extent, gap, rng, *, relax=True, trials=200,
                        f" circles = {phi:.3f}), stuck at {scale:.3f} of their"
                        f" size in {attempt + 1} attempts: {err}")
             continue  # jammed: a new random start
+        if not periodic:
+            placed = _clear_of_walls(placed, radii[order], extent, gap, rng,
+                                     max_sweeps)
         centres = np.empty_like(placed)
         centres[order] = placed
         return centres
@@ -272,6 +275,19 @@ def _relax_overlaps(centres, radii, extent, gap, rng, max_sweeps,
         f" {ball_fraction(radii, extent):.3f} in a"
         f" {' x '.join(f'{e:g}' for e in extent)} m box) in {sweep + 1}"
         " relaxation sweeps; the box is too full")
+
+
+def _clear_of_walls(x, radii, extent, gap, rng, max_sweeps):
+    """The centres, each at least its radius plus the clearance from the
+    walls: the relaxation puts into the box only when it moves circles, so
+    circles grown in place with no pair left overlapping (a single one, a
+    dilute box) can end too close to a wall, or through it."""
+    lo = radii + _padded(gap)
+    hi = np.stack([e - lo for e in extent], axis=1)
+    if np.all(x >= lo[:, None]) and np.all(x <= hi):
+        return x
+    return _relax_overlaps(np.clip(x, lo[:, None], hi), radii, extent, gap,
+                           rng, max_sweeps)
 
 
 def _nearest_image(diff, cell):
