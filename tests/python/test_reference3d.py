@@ -5,6 +5,8 @@ to eps = 0.15 in 15 steps, once per model; about 30 s on one core with a warm
 FFCx cache (the first run also compiles the forms, ~20 s more).
 """
 
+import json
+
 import numpy as np
 import pytest
 
@@ -152,3 +154,29 @@ def test_cli_writes_the_csv_files(tmp_path):
     for name in ("profile_3d_incompressible.csv", "profile_3d_incompressible_endface.csv",
                  "energy_3d_incompressible.csv", "run_3d_incompressible.json"):
         assert (tmp_path / name).stat().st_size > 0
+
+
+def test_a_standing_cylinder_between_plates_through_the_3d_driver(tmp_path):
+    """./softpack single-disk --shape cylinder, 3 mm tetrahedra to eps =
+    0.03: the free-ended cylinder and the plane-strain slab (its faces on
+    frictionless planes) load the two plates alike, the slab stiffer by
+    less than plane strain over plane stress at nu = 1/3 (E* 3 mu against
+    8/3 mu: 1.125), the free cylinder lying between the two."""
+    from softpack.references import cylinder_plates
+
+    curves = {}
+    for slab in (False, True):
+        out = tmp_path / ("slab" if slab else "free")
+        argv = ["--out", str(out), "--max-strain", "0.03",
+                "--element-size", "3e-3"] + (["--slab"] if slab else [])
+        assert cylinder_plates.main(argv) == 0
+        curve = read_table(out / "force_3d_driver.csv")
+        record = json.loads((out / "run_3d_driver.json").read_text())
+        assert record["max_plate_mismatch_over_f"] < 0.02
+        assert curve["eps"][-1] >= 0.03
+        assert np.all(np.diff(curve["f_norm"][curve["eps"] > 0.002]) > 0)
+        curves[slab] = curve
+    ratio = (np.interp(0.025, curves[True]["eps"], curves[True]["f_norm"])
+             / np.interp(0.025, curves[False]["eps"],
+                         curves[False]["f_norm"]))
+    assert 1.0 < ratio < 1.125

@@ -316,12 +316,15 @@ def _parser():
                    " default the configuration's, neo_hookean), e.g."
                    " neo_hookean_nodal for a nearly incompressible disk"
                    " (docs/incompressible.md)")
-    p.add_argument("--shape", choices=("disk", "square", "pentagon"),
+    p.add_argument("--shape", choices=("disk", "square", "pentagon",
+                                       "cylinder"),
                    default="disk",
                    help="disk (default, this check); square or pentagon:"
                    " a rounded polygon against a static dolfinx solve of"
                    " the same mesh (softpack.references.plates; see"
-                   " --shape square --help)")
+                   " --shape square --help); cylinder: a standing cylinder"
+                   " through the 3D driver (softpack.references."
+                   "cylinder_plates; see --shape cylinder --help)")
     return p
 
 
@@ -329,9 +332,13 @@ def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     shape = argparse.ArgumentParser(add_help=False)
     shape.add_argument("--shape")
-    if shape.parse_known_args(argv)[0].shape in ("square", "pentagon"):
+    chosen = shape.parse_known_args(argv)[0].shape
+    if chosen in ("square", "pentagon"):
         from softpack.references import plates
         return plates.main(argv)
+    if chosen == "cylinder":
+        from softpack.references import cylinder_plates
+        return cylinder_plates.main(argv)
     args = _parser().parse_args(argv)
     params = Params(diameter=args.diameter, element_size=args.element_size,
                     max_strain=args.max_strain, speed=args.speed,
