@@ -167,12 +167,8 @@ def _parser():
 
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
-    params = CylinderParams(
-        diameter=args.diameter, element_size=args.element_size,
-        max_strain=args.max_strain, speed=args.speed,
-        time_step=args.time_step, alpha=args.alpha, friction=args.friction,
-        every=args.every, lame_lambda=args.lame_lambda, height=args.height,
-        slab=args.slab)
+    params = CylinderParams(**{k: v for k, v in vars(args).items()
+                               if k not in ("out", "shape")})
     prog = "softpack single-disk --shape cylinder"
     if between_plates.refused(params, cylinder_config, args.out, prog):
         return 2
