@@ -1,5 +1,5 @@
 // A 3D run continued from a state file is the uninterrupted run, bit for
-// bit: two spheres colliding off-axis with friction (the warm start of
+// bit: two spheres colliding head-on with friction (the warm start of
 // their contacts in world components is in the state) under a moving lid
 // (its point is), with modified Newton (the kept iteration matrix is).
 #include "../dynamics/scheme_options.h"
@@ -16,6 +16,9 @@ dynamics::MoreauJeanOptions options()
 {
   dynamics::MoreauJeanOptions o = test::exact_options(2e-5, 0.5);
   o.contact.alert_distance = 2e-4;
+  // Solves stopped where the start shows: a run without the warm start
+  // of the cut's contacts does not continue the same
+  o.contact.nlgs_tolerance = 1e-4;
   o.time.full_newton = false; // the kept matrix crosses the cut
   o.time.tangent_reuse_steps = 8;
   return o;
@@ -27,7 +30,7 @@ std::vector<dynamics::Wall3D> lid()
   return {{"lid", {0, 0, 0.05}, {0, 0, -1}, {0, 0, -0.1}}};
 }
 
-/// The off-axis pair approaching along x at +-0.5 m/s
+/// The head-on pair approaching along x at +-0.5 m/s
 void approach(dynamics::MoreauJean& scheme, const bodies::BodySet& bodies)
 {
   std::vector<double> v(bodies.num_global_dofs(), 0.0);
@@ -46,8 +49,8 @@ void advance(dynamics::MoreauJean& scheme, int steps)
 
 TEST(ContinuedRun3D, EqualsUninterruptedRun)
 {
-  const int first = 120, second = 30; // in contact from about step 105
-  bodies::BodySet bodies_a = test::spheres("off_axis");
+  const int first = 100, second = 30; // 2 active contacts at the cut
+  bodies::BodySet bodies_a = test::spheres("head_on");
   dynamics::MoreauJean a(bodies_a, options(), lid());
   approach(a, bodies_a);
   advance(a, first + second);
@@ -55,18 +58,23 @@ TEST(ContinuedRun3D, EqualsUninterruptedRun)
   const test::TempDir dir;
   const std::filesystem::path path = dir.path() / "state.bin";
   {
-    bodies::BodySet bodies_b = test::spheres("off_axis");
+    bodies::BodySet bodies_b = test::spheres("head_on");
     dynamics::MoreauJean b(bodies_b, options(), lid());
     approach(b, bodies_b);
     advance(b, first);
     const dynamics::SchemeState saved = b.state();
     EXPECT_EQ(saved.dim, 3);
-    EXPECT_GT(saved.reactions_3d.size(), 0u); // contacts at the cut
+    // Contacts carrying impulses at the cut (without their warm start the
+    // continued run differs: 2e-14 m in u 60 steps on, measured)
+    ASSERT_GT(saved.reactions_3d.size(), 0u);
+    EXPECT_GT(std::abs(saved.reactions_3d[0].second[0]) +
+                  std::abs(saved.reactions_3d.back().second[0]),
+              0.0);
     EXPECT_GE(saved.matrix_age, 0);
     ASSERT_EQ(saved.wall_points_3d.size(), 1u);
     io::write_state(path, saved);
   }
-  bodies::BodySet bodies_c = test::spheres("off_axis");
+  bodies::BodySet bodies_c = test::spheres("head_on");
   dynamics::MoreauJean c(bodies_c, options(), lid());
   c.restore(io::read_state(path));
   EXPECT_EQ(c.steps(), first);
@@ -94,7 +102,7 @@ TEST(ContinuedRun3D, EqualsUninterruptedRun)
 
 TEST(ContinuedRun3D, AStateOfAnotherDimensionOrBoxIsRefused)
 {
-  bodies::BodySet bodies = test::spheres("off_axis");
+  bodies::BodySet bodies = test::spheres("head_on");
   dynamics::MoreauJean scheme(bodies, options(), lid());
   dynamics::SchemeState s = scheme.state();
   s.dim = 2;
