@@ -36,15 +36,18 @@ int world_size()
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   return size;
 }
-/// `--state-info FILE`: {"step": ..., "time": ..., "dofs": ...} on stdout.
+/// `--state-info FILE`: {"step": ..., "time": ..., "dofs": ..., "walls":
+/// ..., "dimension": ...} on stdout.
 int print_state_info(const std::string& path)
 {
   try
   {
     const softpack::dynamics::SchemeState s = softpack::io::read_state(path);
     std::printf("{\"step\": %ld, \"time\": %.17g, \"dofs\": %zu, "
-                "\"walls\": %zu}\n",
-                s.steps, s.time, s.u.size(), s.wall_points.size());
+                "\"walls\": %zu, \"dimension\": %d}\n",
+                s.steps, s.time, s.u.size(),
+                s.dim == 3 ? s.wall_points_3d.size() : s.wall_points.size(),
+                s.dim);
     return 0;
   }
   catch (const std::exception& e)

@@ -73,6 +73,22 @@ void ImpulseHistory::restore(const std::vector<Entry>& entries)
     _last[{key[0], key[1], key[2]}] = R;
 }
 
+std::vector<ImpulseHistory::Entry3D> ImpulseHistory::entries_3d() const
+{
+  std::vector<Entry3D> out;
+  out.reserve(_last_world.size());
+  for (const auto& [key, R] : _last_world)
+    out.push_back({{std::get<0>(key), std::get<1>(key), std::get<2>(key)}, R});
+  return out;
+}
+
+void ImpulseHistory::restore(const std::vector<Entry3D>& entries)
+{
+  _last_world.clear();
+  for (const auto& [key, R] : entries)
+    _last_world[{key[0], key[1], key[2]}] = R;
+}
+
 void ContactForceAverage::add_step(const std::vector<Contact>& contacts,
                                    std::span<const double> R,
                                    std::size_t num_walls, double h)

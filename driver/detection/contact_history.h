@@ -39,6 +39,8 @@ public:
   /// One entry as stored in a state file: (candidate body, node, antagonist
   /// key) and the impulses (n, t)
   using Entry = std::pair<std::array<int, 3>, std::array<double, 2>>;
+  /// A 3D entry: the key and the impulse in world components (x, y, z)
+  using Entry3D = std::pair<std::array<int, 3>, std::array<double, 3>>;
 
   /// Replace the remembered impulses by those of a step.
   /// @param[in] contacts The step's contacts
@@ -64,8 +66,13 @@ public:
   /// Every remembered contact, in key order (2D)
   std::vector<Entry> entries() const;
 
+  /// Every remembered 3D contact (world impulses), in key order
+  std::vector<Entry3D> entries_3d() const;
+
   /// Replace the remembered impulses by saved entries (see entries()).
   void restore(const std::vector<Entry>& entries);
+  /// Replace the remembered 3D impulses by saved entries (entries_3d())
+  void restore(const std::vector<Entry3D>& entries);
 
 private:
   std::map<ContactKey, std::array<double, 2>> _last;

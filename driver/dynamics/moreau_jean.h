@@ -163,8 +163,11 @@ public:
   /// The state's time, steps, walls, reactions, energies and step, without
   /// its vectors (the energies must be current, as for energy())
   SchemeState scalar_state() const;
-  /// Continue from a state saved by state() on the same bodies and walls.
-  /// @throws std::invalid_argument if the sizes do not match
+  /// Continue from a state saved by state() on the same bodies and walls
+  /// (2D walls, or a 3D run's plane walls: their points; an imposed
+  /// velocity stays the run's).
+  /// @throws std::invalid_argument if the dimension or the sizes do not
+  /// match
   void restore(const SchemeState& state);
   /// New drives within a run (a stage's start), taken as a run continued
   /// from its state file would take them: the walls become `walls` (their
@@ -225,6 +228,9 @@ private:
   /// Refuse a state whose internal variables are not the bodies' (missing:
   /// naming the key internal_variables)
   void check_internal(const SchemeState& s) const;
+  /// Refuse a state of another dimension, or whose sizes (DOFs, walls,
+  /// kept tangent, internal variables) are not the run's
+  void check_state(const SchemeState& s) const;
   /// The contacts of a step and their data fixed during the step
   struct StepContacts;
   /// What the step knows before its Newton iterations

@@ -72,6 +72,13 @@ SchemeState MoreauJean::scalar_state() const
     s.wall_velocities.push_back(w.velocity);
   }
   s.reactions = _history.entries();
+  s.dim = dim();
+  for (const Wall3D& w : _walls3)
+  {
+    s.wall_points_3d.push_back(w.point);
+    s.wall_velocities_3d.push_back(w.velocity);
+  }
+  s.reactions_3d = _history.entries_3d();
   s.bonds = _bonds.entries();
   s.bonds_formed = _bonds.formed();
   s.energy = energy();
@@ -147,9 +154,13 @@ void MoreauJean::restore_cell(const std::vector<double>& c)
       s.velocity = c[k++];
 }
 
-void MoreauJean::restore(const SchemeState& s)
+void MoreauJean::check_state(const SchemeState& s) const
 {
   const std::size_t n = _bodies.num_global_dofs();
+  if (s.dim != dim())
+    throw std::invalid_argument("state: of a " + std::to_string(s.dim) +
+                                "D run, the bodies are " +
+                                std::to_string(dim()) + "D");
   if (s.u.size() != n || s.v.size() != n)
     throw std::invalid_argument("state: " + std::to_string(s.u.size()) +
                                 " DOFs, the bodies have " + std::to_string(n));
@@ -157,11 +168,20 @@ void MoreauJean::restore(const SchemeState& s)
     throw std::invalid_argument(
         "state: " + std::to_string(s.wall_points.size()) +
         " walls, the run has " + std::to_string(_walls.size()));
+  if (s.wall_points_3d.size() != _walls3.size())
+    throw std::invalid_argument(
+        "state: " + std::to_string(s.wall_points_3d.size()) +
+        " plane walls, the run has " + std::to_string(_walls3.size()));
   if (s.matrix_age >= 0 && s.u_tangent.size() != n)
     throw std::invalid_argument("state: a kept tangent of " +
                                 std::to_string(s.u_tangent.size()) +
                                 " DOFs, the bodies have " + std::to_string(n));
   check_internal(s);
+}
+
+void MoreauJean::restore(const SchemeState& s)
+{
+  check_state(s);
   // (4 values: a state written before the rates were kept; the rates are
   // then the run's own)
   restore_cell(s.cell);
@@ -190,7 +210,12 @@ void MoreauJean::restore(const SchemeState& s)
     if (w < s.wall_velocities.size() && _walls[w].servo())
       _walls[w].velocity = s.wall_velocities[w];
   }
+  // 3D: the planes' points; their velocities are imposed (no servo plane
+  // yet: check_3d), the run's own as for a 2D velocity wall
+  for (std::size_t w = 0; w < _walls3.size(); ++w)
+    _walls3[w].point = s.wall_points_3d[w];
   _history.restore(s.reactions);
+  _history.restore(s.reactions_3d);
   // (a run without a bonded pair keeps none of the state's bonds)
   _bonds.restore(_options.friction.bonded() ? s.bonds
                                             : std::vector<BondHistory::Entry>{},

@@ -53,6 +53,14 @@ struct SchemeState
   /// no law has any), and those the kept tangent was assembled with (empty
   /// unless both the tangent and the internal variables are)
   std::vector<double> internal, internal_tangent;
+  /// The bodies' dimension. A 3D state has no 2D walls or reactions
+  /// (wall_points, wall_velocities and reactions empty): its plane walls
+  /// (Wall3D) and its warm start are the three below.
+  int dim = 2;
+  /// 3D: each plane wall's current point and velocity
+  std::vector<std::array<double, 3>> wall_points_3d, wall_velocities_3d;
+  /// 3D: the last impulses (warm start) in world components, by key
+  std::vector<ImpulseHistory::Entry3D> reactions_3d;
 };
 
 } // namespace softpack::dynamics

@@ -84,6 +84,29 @@ struct Reader
   }
 };
 
+/// The 3D section (a 3D state only; a 2D state ends before it): the
+/// dimension, the counts of plane walls, of their velocities (0 or the
+/// walls) and of reactions (int64), the walls' points and velocities (3
+/// doubles each) and the reactions (3 int32 keys and the world impulse, 3
+/// doubles, each)
+void put_3d(std::string& out, const dynamics::SchemeState& s)
+{
+  const bool velocities =
+      s.wall_velocities_3d.size() == s.wall_points_3d.size();
+  put(out, static_cast<std::int64_t>(3));
+  put(out, static_cast<std::int64_t>(s.wall_points_3d.size()));
+  put(out, static_cast<std::int64_t>(velocities ? s.wall_points_3d.size() : 0));
+  put(out, static_cast<std::int64_t>(s.reactions_3d.size()));
+  put(out, s.wall_points_3d);
+  if (velocities)
+    put(out, s.wall_velocities_3d);
+  for (const auto& [key, R] : s.reactions_3d)
+  {
+    put(out, key);
+    put(out, R);
+  }
+}
+
 std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
                     const RunChecks& c)
 {
@@ -93,7 +116,9 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
   out.reserve(4096 +
               sizeof(double) * (s.u.size() + s.v.size() + s.u_tangent.size() +
                                 4 * s.wall_points.size()) +
-              s.reactions.size() * sizeof(dynamics::ImpulseHistory::Entry));
+              s.reactions.size() * sizeof(dynamics::ImpulseHistory::Entry) +
+              s.reactions_3d.size() *
+                  sizeof(dynamics::ImpulseHistory::Entry3D));
   put(out, id.mesh);
   put(out, id.walls);
   const bool velocities = s.wall_velocities.size() == s.wall_points.size();
@@ -160,6 +185,8 @@ std::string payload(const dynamics::SchemeState& s, const StateIdentity& id,
   put(out, s.internal);
   put(out, static_cast<std::int64_t>(s.internal_tangent.size()));
   put(out, s.internal_tangent);
+  if (s.dim == 3)
+    put_3d(out, s);
   return out;
 }
 
@@ -215,8 +242,13 @@ void check_identity(const std::filesystem::path& path,
 }
 } // namespace
 
-StateIdentity state_identity(const bodies::BodySet& bodies,
-                             const std::vector<dynamics::Wall>& walls)
+namespace
+{
+/// The identity's hashes: of the mesh and packing, and of the walls'
+/// points and normals (2 or 3 components each)
+template <typename W>
+StateIdentity identity_of(const bodies::BodySet& bodies,
+                          const std::vector<W>& walls)
 {
   StateIdentity id;
   Fnv1a mesh;
@@ -226,13 +258,26 @@ StateIdentity state_identity(const bodies::BodySet& bodies,
   mesh.add(tags.data(), tags.size() * sizeof(int));
   id.mesh = mesh.h;
   Fnv1a lines;
-  for (const dynamics::Wall& w : walls)
+  for (const W& w : walls)
   {
     lines.add(w.point.data(), sizeof(w.point));
     lines.add(w.normal.data(), sizeof(w.normal));
   }
   id.walls = lines.h;
   return id;
+}
+} // namespace
+
+StateIdentity state_identity(const bodies::BodySet& bodies,
+                             const std::vector<dynamics::Wall>& walls)
+{
+  return identity_of(bodies, walls);
+}
+
+StateIdentity state_identity(const bodies::BodySet& bodies,
+                             const std::vector<dynamics::Wall3D>& walls)
+{
+  return identity_of(bodies, walls);
 }
 
 void write_state(const std::filesystem::path& path,
@@ -304,6 +349,27 @@ void read_internal(Reader& r, dynamics::SchemeState& s, std::size_t bytes)
       throw std::runtime_error(r.path.string() + ": state file has bad sizes");
     v->resize(n);
     r.get(v->data(), sizeof(double) * n);
+  }
+}
+/// The 3D section of layout 9 (put_3d)
+void read_3d(Reader& r, dynamics::SchemeState& s, std::size_t bytes)
+{
+  const auto dim = r.get<std::int64_t>(), nw = r.get<std::int64_t>(),
+             nv = r.get<std::int64_t>(), nr = r.get<std::int64_t>();
+  if (dim != 3 || nw < 0 || (nv != 0 && nv != nw) || nr < 0 ||
+      nw > std::int64_t(bytes) || nr > std::int64_t(bytes) ||
+      !s.wall_points.empty() || !s.reactions.empty())
+    throw std::runtime_error(r.path.string() + ": state file has bad sizes");
+  s.dim = 3;
+  s.wall_points_3d.resize(nw);
+  s.wall_velocities_3d.resize(nv);
+  s.reactions_3d.resize(nr);
+  r.get(s.wall_points_3d.data(), sizeof(double) * 3 * nw);
+  r.get(s.wall_velocities_3d.data(), sizeof(double) * 3 * nv);
+  for (auto& [key, R] : s.reactions_3d)
+  {
+    r.get(key.data(), sizeof(key));
+    r.get(R.data(), sizeof(R));
   }
 }
 } // namespace
@@ -384,6 +450,9 @@ StateFile read_state_file(const std::filesystem::path& path,
     read_bonds(r, s, bytes.size());
   if (head == magic)
     read_internal(r, s, bytes.size());
+  // (a 2D state ends here; a 3D one has its section: put_3d)
+  if (head == magic && r.at + sizeof(std::uint64_t) < bytes.size())
+    read_3d(r, s, bytes.size());
   if (r.at + sizeof(std::uint64_t) != bytes.size())
     throw std::runtime_error(path.string() + ": state file has bad sizes");
   if (expected)

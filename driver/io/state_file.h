@@ -26,6 +26,11 @@ struct StateIdentity
 StateIdentity state_identity(const bodies::BodySet& bodies,
                              const std::vector<dynamics::Wall>& walls);
 
+/// The identity of a 3D run: its bodies and its plane walls' initial
+/// points and normals (simulation::box_walls_3d: the box with its lid)
+StateIdentity state_identity(const bodies::BodySet& bodies,
+                             const std::vector<dynamics::Wall3D>& walls);
+
 /// A state file's content.
 struct StateFile
 {
@@ -57,9 +62,18 @@ struct StateFile
 /// (a double), the periodic cell (layout 7), the bonds (layout 8), the
 /// viscous account (a double), each cell's internal variables and those of
 /// the kept tangent (each an int64 count, 0 for a law without, then the
-/// doubles; layout 9), and last the FNV-1a 64 hash of every byte before it. Layout
-/// 5 (without the window's start and the cohesion) and layout 3 (without
-/// the adaptive step) are still read.
+/// doubles; layout 9), for a 3D state its section, and last the FNV-1a 64
+/// hash of every byte before it. Layouts 8, 7, 6, 5 (without the window's
+/// start and the cohesion) and 3 (without the adaptive step) are still
+/// read.
+///
+/// One layout for both dimensions: a 2D state ends after the internal
+/// variables (its bytes those of a 2D state before 3D states were written);
+/// a 3D state has no 2D walls or reactions (their counts 0) and adds its
+/// section there: the dimension 3, the counts (int64) of its plane walls,
+/// of their velocities (0 or the walls) and of its reactions, each wall's
+/// point and velocity (3 doubles each), and each reaction's key (3 int32)
+/// and world impulse (3 doubles: ImpulseHistory::Entry3D).
 void write_state(const std::filesystem::path& path,
                  const dynamics::SchemeState& state,
                  const StateIdentity& identity = {},

@@ -114,11 +114,6 @@ void check_3d_run(MPI_Comm comm, const io::DriverConfig& config)
   const auto& g = config.parameters.gravity.acceleration;
   if (g[0] != 0 || g[1] != 0)
     throw std::runtime_error(file + "gravity.acceleration" + tail);
-  if (config.initial_state)
-    throw std::runtime_error(
-        file + "initial_state: a 3D run starts from its scene only; the "
-               "state file has no 3D walls or warm start yet, and 3D runs "
-               "write no raw/state.bin (docs/bodies_3d.md)");
 }
 
 void WallForceAverage3D::add_step(const dynamics::MoreauJean& scheme)

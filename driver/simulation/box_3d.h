@@ -49,9 +49,8 @@ double base_area_fraction(const bodies::BodySet& bodies,
 
 /// Refuse what the 3D time loop lacks, naming driver.json and the key:
 /// several MPI ranks (parallel), a periodic cell (cell.enabled), stages,
-/// a servo wall (walls.NAME.control), gravity (gravity.acceleration), a
-/// start from a state (initial_state: the state file has no 3D walls or
-/// warm start yet), no box (scene.box.enabled).
+/// a servo wall (walls.NAME.control), gravity (gravity.acceleration), no
+/// box (scene.box.enabled).
 /// @throws std::runtime_error
 void check_3d_run(MPI_Comm comm, const io::DriverConfig& config);
 

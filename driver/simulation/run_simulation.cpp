@@ -112,7 +112,9 @@ public:
         _quiet(quiet || !_root), _bodies(make_bodies(comm, config)),
         // The state's identity and fields.h5's mesh from every node, before
         // a rank keeps its own bodies' interiors only
-        _identity(io::state_identity(_bodies, config.walls)),
+        _identity(_bodies.dim() == 3
+                      ? io::state_identity(_bodies, box_walls_3d(config))
+                      : io::state_identity(_bodies, config.walls)),
         _fields(_root && _p.output.fields
                     ? std::make_unique<io::FieldOutput>(
                           config.directory, _bodies,
@@ -212,7 +214,7 @@ private:
     nlohmann::json done = extra.is_object() ? extra : nlohmann::json::object();
     done["mpi_ranks"] = _scheme.distribution().comm().size();
     done["factor_patterns"] = _scheme.factor_patterns();
-    if (_bodies.dim() == 3) // no raw/state.bin yet (box_3d.h)
+    if (_bodies.dim() == 3)
       done["dimension"] = 3;
     if (_scheme.distribution().distributed())
       done["mpi"] =
@@ -429,7 +431,7 @@ private:
       if (_fields)
         _fields->write(gathered.displacement(), psi, _scheme.time());
     }
-    if (_root && _p.output.state && _bodies.dim() == 2) // 3D: not yet
+    if (_root && _p.output.state)
     {
       io::write_state(_raw_dir / "state.bin", gathered.take_state(), _identity,
                       _checks);

@@ -111,13 +111,12 @@ def _servo_right(document):
 
 
 @pytest.mark.parametrize("edit, key", [
-    (lambda d: d.update(initial_state="state.bin"), "initial_state"),
     (_servo_right, "walls.right.control")])
 def test_what_3d_runs_lack_is_refused_naming_the_key(scene_3d, tmp_path,
                                                       edit, key):
     """The 3D time loop refuses what it does not have yet (docs/
-    bodies_3d.md): a start from a state (no 3D state entries), a servo
-    wall; before anything is written."""
+    bodies_3d.md): a servo wall; before anything is written. (A start
+    from a state is no longer refused: test_run_3d.py resumes one.)"""
     out, _ = scene_3d
     document = json.loads((out / "driver.json").read_text())
     document["directory"] = str(tmp_path)

@@ -8,11 +8,15 @@ Phi rises as the piston moves in and is the bodies' volume over the box's
 spheres (contacts, a force on the right wall along -x, strain energy); the
 energy balance closes (its residual, a small fraction of the work the
 walls supplied); no Newton iteration or contact solve is left unconverged;
-the raw files and the tetrahedral fields are readable (csv, meshio).
+the raw files and the tetrahedral fields are readable (csv, meshio); the
+run stopped halfway and resumed, or started from its state, is the
+uninterrupted run bit for bit.
 """
 
 import csv
 import json
+import re
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -150,13 +154,104 @@ def test_standing_cylinders_slide_on_a_frictionless_base(tmp_path):
     assert s["base_fx"][-1] == 0 and s["base_fy"][-1] == 0
 
 
-def test_a_3d_run_is_not_resumed(tmp_path):
-    """No raw/state.bin is written in 3D yet: --resume says so by name."""
-    from softpack.simulation.resume import prepare_resume
+#: The output step at which the run of ``killed`` stops (its state's)
+CUT = 30
 
-    config = cfg.load_config(EXAMPLES / "spheres3d_small.toml")
-    with pytest.raises(RuntimeError, match="a 3D run writes no raw/state.bin"):
-        prepare_resume(tmp_path, config, RuntimeError)
+
+@pytest.fixture(scope="module")
+def killed(tmp_path_factory):
+    """The run of ``spheres`` stopped at its output step CUT, what a kill
+    there leaves (raw/ up to step CUT with its state, no done.json), with
+    config.toml's [stop] steps the whole run's again; and a copy of its
+    state, raw/state.bin at step CUT."""
+    require_driver()
+    config = cfg.load_config(EXAMPLES / "spheres3d_small.toml",
+                             {**OVERRIDES, "stop.steps": CUT})
+    out = tmp_path_factory.mktemp("killed")
+    assert run(config, out, verbose=False) == EXIT_DONE
+    state = tmp_path_factory.mktemp("state") / "state.bin"
+    shutil.copyfile(out / "raw" / "state.bin", state)
+    (out / "raw" / "done.json").unlink()
+    toml = out / "config.toml"
+    text, n = re.subn(rf"^steps = {CUT}\b", f"steps = {STEPS}",
+                      toml.read_text(), flags=re.M)
+    assert n == 1
+    toml.write_text(text)
+    return out, state
+
+
+def assert_same_rows(a, b, first=None):
+    """Every column but the wall-clock seconds* equal, bit for bit, over
+    the rows of ``a`` after step ``first`` (all rows if None)."""
+    assert a.keys() == b.keys()
+    rows = a["step"] > first if first is not None else slice(None)
+    for column in a:
+        if not column.startswith("seconds"):
+            np.testing.assert_array_equal(a[column][rows], b[column],
+                                          err_msg=column)
+
+
+def test_a_killed_3d_run_resumed_is_the_uninterrupted_run(spheres, killed):
+    """./softpack run --resume of a 3D run: the state carries the six
+    planes' points and the warm start in world components (and the kept
+    iteration matrix, as in 2D), so the resumed run is the uninterrupted
+    one, bit for bit: steps.csv in every column but seconds*,
+    particles.csv and the contact files byte for byte."""
+    from softpack.simulation.run import main
+
+    whole, _ = spheres
+    part, _ = killed
+    assert main(["--resume", str(part)]) == EXIT_DONE
+    a = read_csv(whole / "raw" / "steps.csv")
+    b = read_csv(part / "raw" / "steps.csv")
+    assert len(b["step"]) == STEPS // 6 + 1
+    assert b["active_contacts"][-1] > 0  # the warm start did matter
+    assert_same_rows(a, b)
+    for name in ("particles.csv", "done.json"):
+        if name == "done.json":
+            x, y = (json.loads((d / "raw" / name).read_text())
+                    for d in (whole, part))
+            assert (x["steps"], x["reason"]) == (y["steps"], y["reason"])
+            continue
+        assert ((whole / "raw" / name).read_bytes()
+                == (part / "raw" / name).read_bytes())
+    files = sorted(p.name for p in (whole / "raw" / "contacts").iterdir())
+    assert files == sorted(p.name for p in
+                           (part / "raw" / "contacts").iterdir())
+    for name in files:
+        assert ((whole / "raw" / "contacts" / name).read_bytes()
+                == (part / "raw" / "contacts" / name).read_bytes()), name
+    assert not (part / "raw.part").exists()
+
+
+def test_a_3d_run_from_a_state_continues_the_run(spheres, killed,
+                                                 tmp_path):
+    """--from-state with a 3D state (raw/state.bin of the run stopped at
+    step CUT): the new run's rows after the state's step are the
+    uninterrupted run's, bit for bit (the state's row has no forces
+    averaged over an interval before it)."""
+    whole, _ = spheres
+    _, state = killed
+    config = cfg.load_config(EXAMPLES / "spheres3d_small.toml",
+                             {**OVERRIDES, "stop.steps": STEPS - CUT})
+    out = tmp_path / "from"
+    assert run(config, out, verbose=False, initial_state=state) == EXIT_DONE
+    b = read_csv(out / "raw" / "steps.csv")
+    assert b["step"][0] == CUT and b["step"][-1] == STEPS
+    assert_same_rows(read_csv(whole / "raw" / "steps.csv"),
+                     {k: v[1:] for k, v in b.items()}, first=CUT)
+
+
+def test_a_3d_state_of_another_packing_is_refused(killed, tmp_path):
+    """As in 2D, a state continues only the run it came from: the spheres
+    placed with another seed (another mesh) refuse it, naming why."""
+    _, state = killed
+    config = cfg.load_config(EXAMPLES / "spheres3d_small.toml",
+                             {**OVERRIDES, "packing.seed": 1,
+                              "stop.steps": 6})
+    with pytest.raises(Exception) as err:
+        run(config, tmp_path / "other", verbose=False, initial_state=state)
+    assert "the state belongs to another mesh or packing" in str(err.value)
 
 
 def test_phi_base_is_the_bottom_faces_projected_on_the_base(tmp_path):

@@ -58,10 +58,6 @@ def prepare_resume(out: Path, config, run_error) -> int:
         raise run_error(f"--resume {out}: the simulation finished (raw/"
                         "done.json); recompute its observables with"
                         f" ./softpack run --observables-only --out {out}")
-    if config["model"]["dimension"] == 3:
-        raise run_error(f"--resume {out}: a 3D run writes no raw/state.bin"
-                        " yet (the state file has no 3D walls or warm start:"
-                        " docs/bodies_3d.md); start it again")
     if part.path.is_dir() and raw.path.is_dir():  # killed again resuming
         if raw.steps_csv.is_file() and _rows(raw.steps_csv)[1]:
             merge_raw(part.path, raw.path)

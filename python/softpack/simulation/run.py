@@ -354,6 +354,8 @@ def _resume_locked(config, out, verbose, ranks) -> int:
             say(f"resuming {out} from its state at step {step}")
             _drive(config, out, log, say, resumed=True)
             finish_resume(out)
+            if config["model"]["dimension"] == 3:
+                return postprocess_3d(out, say)
             return postprocess(out, say)
         except (KeyboardInterrupt, Stopped) as err:
             log.write(f"[softpack run {time.strftime('%H:%M:%S')}] stopped"
