@@ -81,8 +81,10 @@ from softpack.analysis.connectivity import (Z_UNDEFINED, contact_network,
 from softpack.analysis.setup import (PISTON, RunSetup, read_rules,
                                      read_setup)
 from softpack.analysis.network import (FABRIC_COLUMNS, fabric,
-                                       network_table, write_network)
+                                       fabric_columns, network_table,
+                                       write_network)
 from softpack.analysis.strain import cumulative_strain
+from softpack.analysis.tensors import axes
 from softpack.analysis.stress import write_stress
 from softpack.analysis.cell import write_cell_stress
 from softpack.contract.run_directory import RunDirectory
@@ -118,8 +120,33 @@ PARTICLE_COLUMNS = (
 #: The columns of ``raw/particles.csv`` read per particle (NaN when an older
 #: driver did not write them).
 RAW_PARTICLE_COLUMNS = ("reference_area", "area", "strain_energy",
-                        "cauchy_xx", "cauchy_yy", "centroid_x", "centroid_y",
-                        "rotation")
+                        "cauchy_xx", "cauchy_yy", "cauchy_zz", "centroid_x",
+                        "centroid_y", "centroid_z", "rotation")
+
+
+def series_columns(dimension: int) -> tuple:
+    """The columns of ``series.csv``: :data:`SERIES_COLUMNS` in 2D; in 3D
+    with ``phi_base`` after ``phi`` and the 3D fabric columns."""
+    if dimension != 3:
+        return SERIES_COLUMNS
+    head = SERIES_COLUMNS[:SERIES_COLUMNS.index("phi") + 1]
+    rest = SERIES_COLUMNS[len(head):-len(FABRIC_COLUMNS)]
+    return (*head, "phi_base", *rest, *fabric_columns(3))
+
+
+def particle_columns(dimension: int) -> tuple:
+    """The columns of ``particles.csv``: :data:`PARTICLE_COLUMNS` in 2D; in
+    3D ``centroid_z`` in place of ``rotation`` (the driver writes none)."""
+    if dimension != 3:
+        return PARTICLE_COLUMNS
+    return tuple("centroid_z" if c == "rotation" else c
+                 for c in PARTICLE_COLUMNS)
+
+
+def force_scale(setup: RunSetup) -> float:
+    """What turns the driver's forces and energies into N and J: the 2D
+    model's thickness H (they are per unit length), 1 in 3D."""
+    return setup.thickness if setup.dimension == 2 else 1.0
 DRIVER_COLUMNS = ("newton_iterations", "nlgs_iterations", "nlgs_error",
                   "nlgs_converged", "contacts", "active_contacts",
                   "max_penetration", "seconds")
@@ -159,12 +186,16 @@ def box_dimensions(steps: dict, setup: RunSetup):
 
 
 def piston_force(steps: dict, setup: RunSetup):
-    """Force on the piston, ``-(f . n)`` per unit length (N/m); NaN if none."""
+    """Force on the piston, ``-(f . n)`` per unit length (N/m; N in 3D);
+    NaN if none."""
     if PISTON not in setup.walls:
         return np.full(len(steps["step"]), np.nan)
     normal = setup.walls[PISTON].normal
-    return -(steps[f"{PISTON}_fx"] * normal[0]
-             + steps[f"{PISTON}_fy"] * normal[1])
+    force = -(steps[f"{PISTON}_fx"] * normal[0]
+              + steps[f"{PISTON}_fy"] * normal[1])
+    if setup.dimension == 3:
+        force = force - steps[f"{PISTON}_fz"] * normal[2]
+    return force
 
 
 def series_from_steps(steps: dict, setup: RunSetup) -> dict:
@@ -173,19 +204,25 @@ def series_from_steps(steps: dict, setup: RunSetup) -> dict:
     The contact-based columns (Z, rattlers, unbalanced, c_v) are NaN;
     ``phi`` is NaN where the driver left it empty.
     """
-    h = setup.thickness
+    h = force_scale(setup)
     length, _ = box_dimensions(steps, setup)
     delta = setup.length - length
-    series = {name: np.full(len(length), np.nan) for name in SERIES_COLUMNS}
+    series = {name: np.full(len(length), np.nan)
+              for name in series_columns(setup.dimension)}
+    # 3D: the strain energy (J) per unit height H, the model's thickness
+    # (the standing cylinders' height), as the 2D model's per unit length
+    energy = (steps["strain_energy"] if setup.dimension == 2
+              else steps["strain_energy"] / setup.thickness)
     series.update(step=steps["step"], time=steps["time"],
                   piston_displacement=delta,
                   eps=cumulative_strain(delta, setup.length),
                   E_over_WHLmu=normalised_energy(
-                      steps["strain_energy"], setup.width, setup.length,
+                      energy, setup.width, setup.length,
                       setup.shear_modulus),
                   piston_force=h * piston_force(steps, setup))
-    if "phi" in steps:
-        series["phi"] = np.array(steps["phi"], dtype=float)
+    for name in ("phi", "phi_base"):
+        if name in steps and name in series:
+            series[name] = np.array(steps[name], dtype=float)
     for name in ENERGY_COLUMNS:
         # (a run written before the cohesion, bond or viscous account had
         # none: 0)
@@ -256,7 +293,7 @@ def series_and_particles(steps: dict, particles: dict, contacts_of,
         rows.append(_particle_rows(step, steps["time"][k], series["phi"][k],
                                    setup, raw, psi, net))
     table = {name: np.concatenate([r[name] for r in rows]) if rows
-             else np.zeros(0) for name in PARTICLE_COLUMNS}
+             else np.zeros(0) for name in particle_columns(setup.dimension)}
     return series, table
 
 
@@ -316,14 +353,18 @@ def _per_particle(particles, step, n) -> dict:
 
 def _particle_rows(step, time, phi, setup, raw, psi, net) -> dict:
     """Columns of ``particles.csv`` for one output step."""
-    n, h = setup.count, setup.thickness
+    n = setup.count
     missing = np.full(n, np.nan)
     rigid = (np.zeros(n, bool) if setup.body_rigid is None
              else np.asarray(setup.body_rigid, bool))
     # The body's mean Cauchy stress from its integral (tension positive) as
     # a pressure; a rigid body's finite elements carry none.
-    pressure = -0.5 * (raw["cauchy_xx"] + raw["cauchy_yy"]) / raw["area"]
+    # p = -tr(sigma) / d
+    d = setup.dimension
+    trace = sum(raw[f"cauchy_{a}{a}"] for a in axes(d))
+    pressure = -trace / (d * raw["area"])
     pressure[rigid] = np.nan
+    h = force_scale(setup)
     return {
         "step": np.full(n, step), "time": np.full(n, time),
         "phi": np.full(n, phi), "particle": np.arange(n),
@@ -337,7 +378,8 @@ def _particle_rows(step, time, phi, setup, raw, psi, net) -> dict:
         "rattler": missing if net is None else net.rattler,
         "species": setup.body_species, "rigid": rigid.astype(float),
         "centroid_x": raw["centroid_x"], "centroid_y": raw["centroid_y"],
-        "rotation": raw["rotation"], "pressure": pressure}
+        "rotation": raw["rotation"], "centroid_z": raw["centroid_z"],
+        "pressure": pressure}
 
 
 def process_run(run_dir, setup: RunSetup | None = None,
@@ -375,7 +417,7 @@ def process_run(run_dir, setup: RunSetup | None = None,
     series, table = series_and_particles(steps, particles, contacts_of,
                                          setup, rules)
     particles_csv = write_table(run.particles_csv, table,
-                                PARTICLE_COLUMNS)
+                                particle_columns(setup.dimension))
     network = network_table(run_dir, setup, steps, particles)
     write_network(run_dir, network)
     series.update(fabric(network, series["step"]))
@@ -385,5 +427,6 @@ def process_run(run_dir, setup: RunSetup | None = None,
         write_stress(run_dir)
     elif setup.cell:
         write_cell_stress(run_dir, setup)
-    series_csv = write_table(run.series_csv, series, SERIES_COLUMNS)
+    series_csv = write_table(run.series_csv, series,
+                             series_columns(setup.dimension))
     return series_csv, particles_csv
