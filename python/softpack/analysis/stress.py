@@ -281,12 +281,13 @@ def stored_geometries(run_dir, count: int):
     path = RunDirectory(run_dir).fields_h5
     if not path.is_file():
         return None
-    stored = fields_h5.read_displacements(path)
-    if not stored:
+    times = fields_h5.stored_times(path)
+    if not len(times):
         return None
-    first = fields_h5.read_snapshot(path, stored[0][0])
+    first = fields_h5.read_snapshot(path, times[0])
     if first.body is None:
         return None
+    stored = fields_h5.read_displacements(path, first.points.shape[1])
     nodes = particle_nodes(first.cells, first.body, count)
     out = []
     for _, u in stored:
