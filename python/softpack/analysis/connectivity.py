@@ -3,7 +3,15 @@
 Reads ``raw/contacts/step_NNNNNNNN.csv`` (one row per nodal contact:
 ``candidate`` particle, its boundary ``node``, ``antagonist`` particle or -1,
 ``wall`` index or -1, forces ``fn``, ``ft``, ``fx``, ``fy`` per unit length)
-and applies the rules of :class:`softpack.analysis.setup.Rules`.
+and applies the rules of :class:`softpack.analysis.setup.Rules`. A 3D run's
+files have node-to-face contacts (``candidate`` body and its boundary
+``node``, the ``antagonist`` body's boundary triangle or a ``wall`` of the
+box's six planes; ``fn, ft1, ft2, fx, fy, fz``, N): the same rules apply to
+them unchanged, a node being a node and the antagonist's face in place of
+its segment (``loaded_nodes`` counts the distinct active candidate nodes of
+the pair, from either body, so a pair of bodies is in contact when at least
+two of their nodes carry force between them; a face touched by one node
+does not count its three nodes), and the resultants have three components.
 
 force-bearing contact (two-node rule)
     A nodal contact is active when its normal force ``fn`` exceeds

@@ -28,6 +28,11 @@ fn, ft
 branch_x, branch_y
     The branch vector ``l`` (m): from ``a``'s centroid to ``b``'s, or to
     the point of the wall nearest ``a``'s centroid (its projection).
+
+A 3D run's (``NETWORK_COLUMNS_3D``) adds ``fz`` and ``branch_z`` (forces
+in N, no thickness factor; the volume centroids of ``raw/particles.csv``;
+``b = -1 - w`` for the six planes left, right, bottom, top, base, lid) and
+its ``ft`` is the magnitude of the force across the branch vector (>= 0).
 """
 
 from __future__ import annotations

@@ -63,10 +63,24 @@ centroid_x, centroid_y, rotation (particles.csv)
     (-pi, pi]: the least-squares rotation of its boundary nodes about
     their centroid), from the driver (``driver/bodies/placement.h``).
 pressure (particles.csv)
-    The particle's mean pressure ``-(sigma_xx + sigma_yy) / 2`` averaged
-    over its current area (Pa, compression positive), from the integral of
-    its Cauchy stress (``raw/particles.csv``); NaN for a rigid particle,
+    The particle's mean pressure ``-tr(sigma) / d`` averaged over its
+    current area (3D: volume; Pa, compression positive), from the integral
+    of its Cauchy stress (``raw/particles.csv``); NaN for a rigid particle,
     whose finite elements carry no stress.
+
+3D runs (``scene.model.dimension = 3``; docs/bodies_3d.md, "Observables of
+3D runs") have the same files from the same functions, d = 3: forces and
+energies are the driver's N and J (no thickness factor); ``phi`` is the
+volume fraction and ``phi_base`` (after it) the bottom faces' area fraction
+of the base, both from ``raw/steps.csv``; ``E_over_WHLmu`` is ``E / (W H L
+mu)`` with H the model's thickness (``[model] thickness``: the standing
+cylinders' height), so that it compares with the 2D model's; Z counts the
+node-to-face contacts by the same rule (a body pair is in contact when at
+least two distinct nodes carry force between them, a body touches one of
+the six planes when two of its nodes do); the fabric is 3 x 3
+(:data:`softpack.analysis.network.FABRIC_COLUMNS_3D`); particles.csv has
+``centroid_z`` in place of ``rotation``; network.csv ``fz`` and
+``branch_z``; stress.csv the 3 x 3 estimates (:mod:`softpack.analysis.stress`).
 """
 
 from __future__ import annotations
