@@ -70,6 +70,11 @@ def test_series_has_the_3d_columns_and_the_raw_fractions(cylinders):
                                                    * mu), rtol=1e-10)
     assert s["strain_energy"][-1] == raw["strain_energy"][-1] > 0
     assert s["piston_force"][-1] == pytest.approx(raw["right_fx"][-1])
+    from softpack.api import read_run  # the Python API reads them too
+
+    for table in ("series", "particles", "network", "stress"):
+        assert len(read_run(cylinders, table)["step"]) > 0
+    assert "centroid_z" in read_run(cylinders, "particles")
 
 
 def z_by_loops(contacts, count, threshold, unbalanced_threshold):
