@@ -155,10 +155,9 @@ def test_stress_csv_has_the_three_3d_estimates(cylinders):
         np.testing.assert_allclose(t[f"fe_{c}"], -raw[f"cauchy_{c}"] / volume,
                                    rtol=1e-10)
     # the piston's normal stress: its force over its current area
-    np.testing.assert_allclose(
-        t["right_stress"], raw["right_fx"] / ((raw["top_y"] - raw["bottom_y"])
-                                              * (raw["lid_z"] - raw["base_z"])),
-        rtol=1e-10)
+    area = (raw["top_y"] - raw["bottom_y"]) * (raw["lid_z"] - raw["base_z"])
+    np.testing.assert_allclose(t["right_stress"], raw["right_fx"] / area,
+                               rtol=1e-10)
     assert np.all(np.isfinite(t["contact_xx"][1:]))
     fe_p = -(raw["cauchy_xx"] + raw["cauchy_yy"] + raw["cauchy_zz"]) / (
         3 * volume)

@@ -205,11 +205,8 @@ def piston_force(steps: dict, setup: RunSetup):
     if PISTON not in setup.walls:
         return np.full(len(steps["step"]), np.nan)
     normal = setup.walls[PISTON].normal
-    force = -(steps[f"{PISTON}_fx"] * normal[0]
-              + steps[f"{PISTON}_fy"] * normal[1])
-    if setup.dimension == 3:
-        force = force - steps[f"{PISTON}_fz"] * normal[2]
-    return force
+    return -sum(steps[f"{PISTON}_f{a}"] * normal[i]
+                for i, a in enumerate(axes(setup.dimension)))
 
 
 def series_from_steps(steps: dict, setup: RunSetup) -> dict:
