@@ -11,7 +11,8 @@ J over the run's H, ``scene.model.thickness`` of raw/setup.json, the
 cylinders' height in 3D and the 2D model's thickness; the same division in
 both dimensions) and Z with the particles it counts (the same exclusion
 rule in both, docs/paper/exclusion_rule.md; NaN when every particle is
-excluded). Force and energy between two output rows are interpolated
+excluded; 3D: ``z_without_base``, the base and lid being out of the 2D
+model's plane). Force and energy between two output rows are interpolated
 linearly in Phi (rows every 10 steps in 2D, 12 in 3D: ~0.003 in Phi); Z is
 the first row's at or above Phi. docs/bodies_3d.md, "Plane strain against
 the standing cylinders".
@@ -48,10 +49,13 @@ def series(run):
                          f" --observables-only --out {run}") from None
     with open(f"{run}/raw/setup.json") as f:
         height = json.load(f)["scene"]["model"]["thickness"]
-    phi = s["phi_base"] if "phi_base" in s else s["phi"]
-    return {"phi": phi, "force": s["piston_force"] / height,
-            "energy": s["strain_energy"] / height, "z": s["z"],
-            "retained": s["retained"]}
+    planar = "z_without_base" in s  # 3D: the base is out of the plane
+    return {"phi": s["phi_base"] if planar else s["phi"],
+            "force": s["piston_force"] / height,
+            "energy": s["strain_energy"] / height,
+            "z": s["z_without_base"] if planar else s["z"],
+            "retained": s["retained_without_base"] if planar
+            else s["retained"]}
 
 
 def at(phi, values, target):

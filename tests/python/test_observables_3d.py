@@ -86,6 +86,14 @@ def test_z_of_three_bodies_counted_by_hand():
     # the resultants have three components: body 0 receives 3 along x
     assert net.resultant[0] == pytest.approx(3.0)
     assert net.resultant[2] == pytest.approx(np.sqrt(1 + 4))
+    # the base (wall 4) uncounted, as series.csv's z_without_base: body 2
+    # touches nothing else and is a rattler; Z = (1 + 1) / 2
+    planar = contact_network(contacts, 3, 0.0, rules, np.zeros((3, 3)),
+                             uncounted_walls=[4, 5])
+    assert planar.walls.tolist() == [] and planar.rattler.tolist() == [
+        False, False, True]
+    assert planar.z == pytest.approx(1.0) and planar.retained.sum() == 2
+    assert planar.resultant[2] == net.resultant[2]
 
 
 def squeezed_cube(F, G, K, half=0.5):

@@ -119,6 +119,11 @@ def test_z_is_recounted_by_hand(cylinders):
             assert z == pytest.approx(s["z"][-1], nan_ok=True)
     # with no particle unbalanced: every touching cylinder counts
     assert retained > 0 and z > 0
+    # every standing cylinder touches the base: Z without the base and
+    # the lid is below Z where both count the same particles
+    same = s["retained_without_base"] == s["retained"]
+    assert np.all(s["z_without_base"][same & (s["retained"] > 0)]
+                  < s["z"][same & (s["retained"] > 0)])
 
 
 def test_contact_nodes_and_centroids_agree_with_the_fields(cylinders):

@@ -219,7 +219,8 @@ class ContactNetwork:
 
 
 def contact_network(contacts: dict, n_particles: int, piston_force: float,
-                    rules: Rules, body_forces=None) -> ContactNetwork:
+                    rules: Rules, body_forces=None,
+                    uncounted_walls=()) -> ContactNetwork:
     """Connectivity, rattlers and unbalanced particles of one output step.
 
     Parameters
@@ -237,6 +238,10 @@ def contact_network(contacts: dict, n_particles: int, piston_force: float,
         Forces on the particles besides the contacts (their weight under
         [gravity]), added to each resultant: a particle resting on others
         is balanced.
+    uncounted_walls : sequence of int, optional
+        Walls whose contacts are no contacts for Z (a 3D box's base and
+        lid for standing cylinders: out of the 2D model's plane); their
+        forces still enter the resultants and the reference force.
 
     Returns
     -------
@@ -248,6 +253,8 @@ def contact_network(contacts: dict, n_particles: int, piston_force: float,
                                 contacts["antagonist"], active, rules.rule)
     walls = force_bearing_walls(contacts["candidate"], contacts["node"],
                                 contacts["wall"], active)
+    if len(uncounted_walls):
+        walls = walls[~np.isin(walls[:, 1], uncounted_walls)]
     resultant = resultant_forces(contacts["candidate"],
                                  contacts["antagonist"], contacts["fx"],
                                  contacts["fy"], n_particles,

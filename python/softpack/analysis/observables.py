@@ -143,9 +143,11 @@ def series_columns(dimension: int) -> tuple:
     with ``phi_base`` after ``phi`` and the 3D fabric columns."""
     if dimension != 3:
         return SERIES_COLUMNS
-    head = SERIES_COLUMNS[:SERIES_COLUMNS.index("phi") + 1]
-    rest = SERIES_COLUMNS[len(head):-len(FABRIC_COLUMNS)]
-    return (*head, "phi_base", *rest, *fabric_columns(3))
+    out = list(SERIES_COLUMNS[:-len(FABRIC_COLUMNS)])
+    out.insert(out.index("phi") + 1, "phi_base")
+    k = out.index("z_without_walls") + 1
+    out[k:k] = PLANAR_Z_COLUMNS
+    return (*out, *fabric_columns(3))
 
 
 def particle_columns(dimension: int) -> tuple:
@@ -161,6 +163,10 @@ def force_scale(setup: RunSetup) -> float:
     """What turns the driver's forces and energies into N and J: the 2D
     model's thickness H (they are per unit length), 1 in 3D."""
     return setup.thickness if setup.dimension == 2 else 1.0
+#: A 3D run's Z without the base and the lid (:func:`planar_z`).
+PLANAR_Z_COLUMNS = ("z_without_base", "retained_without_base")
+#: The planes that are out of the 2D model's plane.
+OUT_OF_PLANE = ("base", "lid")
 DRIVER_COLUMNS = ("newton_iterations", "nlgs_iterations", "nlgs_error",
                   "nlgs_converged", "contacts", "active_contacts",
                   "max_penetration", "seconds")
@@ -301,11 +307,28 @@ def series_and_particles(steps: dict, particles: dict, contacts_of,
             series["unbalanced"][k] = net.unbalanced.sum()
             series["cv_psi_retained"][k] = coefficient_of_variation(
                 psi[net.retained])
+        if net is not None and setup.dimension == 3:
+            planar_z(series, k, contacts, force[k], setup, rules)
         rows.append(_particle_rows(step, steps["time"][k], series["phi"][k],
                                    setup, raw, psi, net))
     table = {name: np.concatenate([r[name] for r in rows]) if rows
              else np.zeros(0) for name in particle_columns(setup.dimension)}
     return series, table
+
+
+def planar_z(series: dict, k: int, contacts: dict, piston: float,
+             setup: RunSetup, rules) -> None:
+    """Row k of :data:`PLANAR_Z_COLUMNS` of a 3D run: Z and the particles
+    it counts when the contacts with the base and the lid are no contacts
+    (their forces still in the resultants): the 2D model's Z of standing
+    cylinders, whose every body touches the base, out of its plane; a
+    cylinder touching the base only is then a rattler."""
+    names = list(setup.walls)
+    net = contact_network(contacts, setup.count, piston, rules,
+                          setup.body_weight,
+                          [names.index(w) for w in OUT_OF_PLANE])
+    series["z_without_base"][k] = net.z
+    series["retained_without_base"][k] = net.retained.sum()
 
 
 def z_report(series: dict) -> str:
