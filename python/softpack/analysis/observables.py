@@ -77,7 +77,9 @@ mu)`` with H the model's thickness (``[model] thickness``: the standing
 cylinders' height), so that it compares with the 2D model's; Z counts the
 node-to-face contacts by the same rule (a body pair is in contact when at
 least two distinct nodes carry force between them, a body touches one of
-the six planes when two of its nodes do); the fabric is 3 x 3
+the six planes when two of its nodes do; ``z_without_base`` and
+``retained_without_base``, 3D only: the same with the base and the lid
+counted as no contacts, :func:`planar_z`); the fabric is 3 x 3
 (:data:`softpack.analysis.network.FABRIC_COLUMNS_3D`); particles.csv has
 ``centroid_z`` in place of ``rotation``; network.csv ``fz`` and
 ``branch_z``; stress.csv the 3 x 3 estimates (:mod:`softpack.analysis.stress`).
@@ -136,11 +138,19 @@ PARTICLE_COLUMNS = (
 RAW_PARTICLE_COLUMNS = ("reference_area", "area", "strain_energy",
                         "cauchy_xx", "cauchy_yy", "cauchy_zz", "centroid_x",
                         "centroid_y", "centroid_z", "rotation")
+DRIVER_COLUMNS = ("newton_iterations", "nlgs_iterations", "nlgs_error",
+                  "nlgs_converged", "contacts", "active_contacts",
+                  "max_penetration", "seconds")
+#: A 3D run's Z without the base and the lid (:func:`planar_z`).
+PLANAR_Z_COLUMNS = ("z_without_base", "retained_without_base")
+#: The planes that are out of the 2D model's plane.
+OUT_OF_PLANE = ("base", "lid")
 
 
 def series_columns(dimension: int) -> tuple:
     """The columns of ``series.csv``: :data:`SERIES_COLUMNS` in 2D; in 3D
-    with ``phi_base`` after ``phi`` and the 3D fabric columns."""
+    with ``phi_base`` after ``phi``, :data:`PLANAR_Z_COLUMNS` after
+    ``z_without_walls`` and the 3D fabric columns."""
     if dimension != 3:
         return SERIES_COLUMNS
     out = list(SERIES_COLUMNS[:-len(FABRIC_COLUMNS)])
@@ -163,13 +173,6 @@ def force_scale(setup: RunSetup) -> float:
     """What turns the driver's forces and energies into N and J: the 2D
     model's thickness H (they are per unit length), 1 in 3D."""
     return setup.thickness if setup.dimension == 2 else 1.0
-#: A 3D run's Z without the base and the lid (:func:`planar_z`).
-PLANAR_Z_COLUMNS = ("z_without_base", "retained_without_base")
-#: The planes that are out of the 2D model's plane.
-OUT_OF_PLANE = ("base", "lid")
-DRIVER_COLUMNS = ("newton_iterations", "nlgs_iterations", "nlgs_error",
-                  "nlgs_converged", "contacts", "active_contacts",
-                  "max_penetration", "seconds")
 
 
 # -- pure functions on arrays ------------------------------------------------
