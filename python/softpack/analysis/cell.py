@@ -92,7 +92,7 @@ def cell_stress_table(run_dir, setup, steps: dict, particles: dict) -> dict:
     eps_yy = -np.log(np.asarray(steps["cell_a2y"], float)
                      / steps["cell_a2y"][0])
     table = stress_columns(steps, wall, contact, fe_stress(steps, area),
-                           eps_xx, eps_yy,
+                           {"xx": eps_xx, "yy": eps_yy},
                            {f"{w}_stress": np.full(rows, np.nan) for w in BOX})
     table.update(bulk_columns(steps, table, setup))
     return table

@@ -3,7 +3,15 @@
 Reads ``raw/contacts/step_NNNNNNNN.csv`` (one row per nodal contact:
 ``candidate`` particle, its boundary ``node``, ``antagonist`` particle or -1,
 ``wall`` index or -1, forces ``fn``, ``ft``, ``fx``, ``fy`` per unit length)
-and applies the rules of :class:`softpack.analysis.setup.Rules`.
+and applies the rules of :class:`softpack.analysis.setup.Rules`. A 3D run's
+files have node-to-face contacts (``candidate`` body and its boundary
+``node``, the ``antagonist`` body's boundary triangle or a ``wall`` of the
+box's six planes; ``fn, ft1, ft2, fx, fy, fz``, N): the same rules apply to
+them unchanged, a node being a node and the antagonist's face in place of
+its segment (``loaded_nodes`` counts the distinct active candidate nodes of
+the pair, from either body, so a pair of bodies is in contact when at least
+two of their nodes carry force between them; a face touched by one node
+does not count its three nodes), and the resultants have three components.
 
 force-bearing contact (two-node rule)
     A nodal contact is active when its normal force ``fn`` exceeds
@@ -77,6 +85,11 @@ Z_UNDEFINED = {
     4: "every particle is unbalanced or a rattler"}
 CONTACT_COLUMNS = ("candidate", "node", "antagonist", "wall", "fn", "ft",
                    "fx", "fy")
+#: The columns of a 3D run's contact files read here (docs/driver_io.md,
+#: "3D runs": node-to-face contacts, the force in the frame (n, t1, t2)
+#: and in world components).
+CONTACT_COLUMNS_3D = ("candidate", "node", "antagonist", "wall", "fn",
+                      "ft1", "ft2", "fx", "fy", "fz")
 
 
 def active_mask(fn, threshold, tensile="ignored") -> np.ndarray:
@@ -148,15 +161,26 @@ def force_bearing_walls(candidate, node, wall, active) -> np.ndarray:
     return walls[counts >= 2]
 
 
-def resultant_forces(candidate, antagonist, fx, fy, n_particles):
-    """Sum of the contact forces on each particle, shape ``(n, 2)``.
+def contact_forces(contacts: dict) -> np.ndarray:
+    """The force on each contact's candidate, shape ``(contacts, d)``: the
+    columns ``fx, fy`` (and ``fz`` in a 3D run's files)."""
+    names = ("fx", "fy", "fz") if "fz" in contacts else ("fx", "fy")
+    return np.stack([np.asarray(contacts[k], float) for k in names],
+                    axis=1)
 
-    The candidate receives ``(fx, fy)``; a particle antagonist the opposite.
+
+def resultant_forces(candidate, antagonist, fx, fy, n_particles, fz=None):
+    """Sum of the contact forces on each particle, shape ``(n, d)``, d = 2,
+    or 3 with ``fz``.
+
+    The candidate receives ``(fx, fy[, fz])``; a particle antagonist the
+    opposite.
     """
     c = np.asarray(candidate, dtype=np.int64)
     a = np.asarray(antagonist, dtype=np.int64)
-    f = np.stack([np.asarray(fx, float), np.asarray(fy, float)], axis=1)
-    total = np.zeros((n_particles, 2))
+    f = contact_forces({"fx": fx, "fy": fy} if fz is None
+                       else {"fx": fx, "fy": fy, "fz": fz})
+    total = np.zeros((n_particles, f.shape[1]))
     np.add.at(total, c, f)
     np.add.at(total, a[a >= 0], -f[a >= 0])
     return total
@@ -195,7 +219,8 @@ class ContactNetwork:
 
 
 def contact_network(contacts: dict, n_particles: int, piston_force: float,
-                    rules: Rules, body_forces=None) -> ContactNetwork:
+                    rules: Rules, body_forces=None,
+                    uncounted_walls=()) -> ContactNetwork:
     """Connectivity, rattlers and unbalanced particles of one output step.
 
     Parameters
@@ -209,10 +234,14 @@ def contact_network(contacts: dict, n_particles: int, piston_force: float,
         Relative thresholds of :func:`active_mask` and of f_p*, the
         two-node rule, the reading of f and of the excluded particles'
         contacts (see the module doc).
-    body_forces : array_like, shape (n_particles, 2), optional
+    body_forces : array_like, shape (n_particles, d), optional
         Forces on the particles besides the contacts (their weight under
         [gravity]), added to each resultant: a particle resting on others
         is balanced.
+    uncounted_walls : sequence of int, optional
+        Walls whose contacts are no contacts for Z (a 3D box's base and
+        lid for standing cylinders: out of the 2D model's plane); their
+        forces still enter the resultants and the reference force.
 
     Returns
     -------
@@ -224,9 +253,12 @@ def contact_network(contacts: dict, n_particles: int, piston_force: float,
                                 contacts["antagonist"], active, rules.rule)
     walls = force_bearing_walls(contacts["candidate"], contacts["node"],
                                 contacts["wall"], active)
+    if len(uncounted_walls):
+        walls = walls[~np.isin(walls[:, 1], uncounted_walls)]
     resultant = resultant_forces(contacts["candidate"],
                                  contacts["antagonist"], contacts["fx"],
-                                 contacts["fy"], n_particles)
+                                 contacts["fy"], n_particles,
+                                 contacts.get("fz"))
     if body_forces is not None:
         resultant = resultant + np.asarray(body_forces, float)
     resultant = np.linalg.norm(resultant, axis=1)
@@ -331,7 +363,8 @@ def _count(indices, n) -> np.ndarray:
 def read_contacts(path) -> dict:
     """One ``raw/contacts`` file as arrays (ints for the index columns)."""
     table = read_table(path)
-    missing = set(CONTACT_COLUMNS) - table.keys()
+    required = CONTACT_COLUMNS_3D if "fz" in table else CONTACT_COLUMNS
+    missing = set(required) - table.keys()
     if missing:
         raise ValueError(f"{path}: missing columns {sorted(missing)}")
     for name in ("candidate", "node", "antagonist", "wall"):

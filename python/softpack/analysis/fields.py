@@ -228,13 +228,14 @@ def read_snapshot(path, time) -> Snapshot:
         body=None if body is None else np.rint(body).astype(np.int64))
 
 
-def read_displacements(path):
-    """Every stored displacement, by time.
+def read_displacements(path, dim=2):
+    """Every stored displacement, by time (``dim`` = 3: a tetrahedral
+    mesh's three components).
 
     Returns
     -------
     list of (float, ndarray)
-        ``(time, u (n, 2))`` in ascending time.
+        ``(time, u (n, dim))`` in ascending time.
     """
-    return [(t, _read(file, DISPLACEMENT, key))
+    return [(t, _read(file, DISPLACEMENT, key, dim))
             for t, (file, key) in sorted(_index(path, DISPLACEMENT).items())]

@@ -63,10 +63,26 @@ centroid_x, centroid_y, rotation (particles.csv)
     (-pi, pi]: the least-squares rotation of its boundary nodes about
     their centroid), from the driver (``driver/bodies/placement.h``).
 pressure (particles.csv)
-    The particle's mean pressure ``-(sigma_xx + sigma_yy) / 2`` averaged
-    over its current area (Pa, compression positive), from the integral of
-    its Cauchy stress (``raw/particles.csv``); NaN for a rigid particle,
+    The particle's mean pressure ``-tr(sigma) / d`` averaged over its
+    current area (3D: volume; Pa, compression positive), from the integral
+    of its Cauchy stress (``raw/particles.csv``); NaN for a rigid particle,
     whose finite elements carry no stress.
+
+3D runs (``scene.model.dimension = 3``; docs/bodies_3d.md, "Observables of
+3D runs") have the same files from the same functions, d = 3: forces and
+energies are the driver's N and J (no thickness factor); ``phi`` is the
+volume fraction and ``phi_base`` (after it) the bottom faces' area fraction
+of the base, both from ``raw/steps.csv``; ``E_over_WHLmu`` is ``E / (W H L
+mu)`` with H the model's thickness (``[model] thickness``: the standing
+cylinders' height), so that it compares with the 2D model's; Z counts the
+node-to-face contacts by the same rule (a body pair is in contact when at
+least two distinct nodes carry force between them, a body touches one of
+the six planes when two of its nodes do; ``z_without_base`` and
+``retained_without_base``, 3D only: the same with the base and the lid
+counted as no contacts, :func:`planar_z`); the fabric is 3 x 3
+(:data:`softpack.analysis.network.FABRIC_COLUMNS_3D`); particles.csv has
+``centroid_z`` in place of ``rotation``; network.csv ``fz`` and
+``branch_z``; stress.csv the 3 x 3 estimates (:mod:`softpack.analysis.stress`).
 """
 
 from __future__ import annotations
@@ -81,8 +97,10 @@ from softpack.analysis.connectivity import (Z_UNDEFINED, contact_network,
 from softpack.analysis.setup import (PISTON, RunSetup, read_rules,
                                      read_setup)
 from softpack.analysis.network import (FABRIC_COLUMNS, fabric,
-                                       network_table, write_network)
+                                       fabric_columns, network_table,
+                                       write_network)
 from softpack.analysis.strain import cumulative_strain
+from softpack.analysis.tensors import axes
 from softpack.analysis.stress import write_stress
 from softpack.analysis.cell import write_cell_stress
 from softpack.contract.run_directory import RunDirectory
@@ -118,11 +136,43 @@ PARTICLE_COLUMNS = (
 #: The columns of ``raw/particles.csv`` read per particle (NaN when an older
 #: driver did not write them).
 RAW_PARTICLE_COLUMNS = ("reference_area", "area", "strain_energy",
-                        "cauchy_xx", "cauchy_yy", "centroid_x", "centroid_y",
-                        "rotation")
+                        "cauchy_xx", "cauchy_yy", "cauchy_zz", "centroid_x",
+                        "centroid_y", "centroid_z", "rotation")
 DRIVER_COLUMNS = ("newton_iterations", "nlgs_iterations", "nlgs_error",
                   "nlgs_converged", "contacts", "active_contacts",
                   "max_penetration", "seconds")
+#: A 3D run's Z without the base and the lid (:func:`planar_z`).
+PLANAR_Z_COLUMNS = ("z_without_base", "retained_without_base")
+#: The planes that are out of the 2D model's plane.
+OUT_OF_PLANE = ("base", "lid")
+
+
+def series_columns(dimension: int) -> tuple:
+    """The columns of ``series.csv``: :data:`SERIES_COLUMNS` in 2D; in 3D
+    with ``phi_base`` after ``phi``, :data:`PLANAR_Z_COLUMNS` after
+    ``z_without_walls`` and the 3D fabric columns."""
+    if dimension != 3:
+        return SERIES_COLUMNS
+    out = list(SERIES_COLUMNS[:-len(FABRIC_COLUMNS)])
+    out.insert(out.index("phi") + 1, "phi_base")
+    k = out.index("z_without_walls") + 1
+    out[k:k] = PLANAR_Z_COLUMNS
+    return (*out, *fabric_columns(3))
+
+
+def particle_columns(dimension: int) -> tuple:
+    """The columns of ``particles.csv``: :data:`PARTICLE_COLUMNS` in 2D; in
+    3D ``centroid_z`` in place of ``rotation`` (the driver writes none)."""
+    if dimension != 3:
+        return PARTICLE_COLUMNS
+    return tuple("centroid_z" if c == "rotation" else c
+                 for c in PARTICLE_COLUMNS)
+
+
+def force_scale(setup: RunSetup) -> float:
+    """What turns the driver's forces and energies into N and J: the 2D
+    model's thickness H (they are per unit length), 1 in 3D."""
+    return setup.thickness if setup.dimension == 2 else 1.0
 
 
 # -- pure functions on arrays ------------------------------------------------
@@ -159,12 +209,13 @@ def box_dimensions(steps: dict, setup: RunSetup):
 
 
 def piston_force(steps: dict, setup: RunSetup):
-    """Force on the piston, ``-(f . n)`` per unit length (N/m); NaN if none."""
+    """Force on the piston, ``-(f . n)`` per unit length (N/m; N in 3D);
+    NaN if none."""
     if PISTON not in setup.walls:
         return np.full(len(steps["step"]), np.nan)
     normal = setup.walls[PISTON].normal
-    return -(steps[f"{PISTON}_fx"] * normal[0]
-             + steps[f"{PISTON}_fy"] * normal[1])
+    return -sum(steps[f"{PISTON}_f{a}"] * normal[i]
+                for i, a in enumerate(axes(setup.dimension)))
 
 
 def series_from_steps(steps: dict, setup: RunSetup) -> dict:
@@ -173,19 +224,25 @@ def series_from_steps(steps: dict, setup: RunSetup) -> dict:
     The contact-based columns (Z, rattlers, unbalanced, c_v) are NaN;
     ``phi`` is NaN where the driver left it empty.
     """
-    h = setup.thickness
+    h = force_scale(setup)
     length, _ = box_dimensions(steps, setup)
     delta = setup.length - length
-    series = {name: np.full(len(length), np.nan) for name in SERIES_COLUMNS}
+    series = {name: np.full(len(length), np.nan)
+              for name in series_columns(setup.dimension)}
+    # 3D: the strain energy (J) per unit height H, the model's thickness
+    # (the standing cylinders' height), as the 2D model's per unit length
+    energy = (steps["strain_energy"] if setup.dimension == 2
+              else steps["strain_energy"] / setup.thickness)
     series.update(step=steps["step"], time=steps["time"],
                   piston_displacement=delta,
                   eps=cumulative_strain(delta, setup.length),
                   E_over_WHLmu=normalised_energy(
-                      steps["strain_energy"], setup.width, setup.length,
+                      energy, setup.width, setup.length,
                       setup.shear_modulus),
                   piston_force=h * piston_force(steps, setup))
-    if "phi" in steps:
-        series["phi"] = np.array(steps["phi"], dtype=float)
+    for name in ("phi", "phi_base"):
+        if name in steps and name in series:
+            series[name] = np.array(steps[name], dtype=float)
     for name in ENERGY_COLUMNS:
         # (a run written before the cohesion, bond or viscous account had
         # none: 0)
@@ -253,11 +310,28 @@ def series_and_particles(steps: dict, particles: dict, contacts_of,
             series["unbalanced"][k] = net.unbalanced.sum()
             series["cv_psi_retained"][k] = coefficient_of_variation(
                 psi[net.retained])
+        if net is not None and setup.dimension == 3:
+            planar_z(series, k, contacts, force[k], setup, rules)
         rows.append(_particle_rows(step, steps["time"][k], series["phi"][k],
                                    setup, raw, psi, net))
     table = {name: np.concatenate([r[name] for r in rows]) if rows
-             else np.zeros(0) for name in PARTICLE_COLUMNS}
+             else np.zeros(0) for name in particle_columns(setup.dimension)}
     return series, table
+
+
+def planar_z(series: dict, k: int, contacts: dict, piston: float,
+             setup: RunSetup, rules) -> None:
+    """Row k of :data:`PLANAR_Z_COLUMNS` of a 3D run: Z and the particles
+    it counts when the contacts with the base and the lid are no contacts
+    (their forces still in the resultants): the 2D model's Z of standing
+    cylinders, whose every body touches the base, out of its plane; a
+    cylinder touching the base only is then a rattler."""
+    names = list(setup.walls)
+    net = contact_network(contacts, setup.count, piston, rules,
+                          setup.body_weight,
+                          [names.index(w) for w in OUT_OF_PLANE])
+    series["z_without_base"][k] = net.z
+    series["retained_without_base"][k] = net.retained.sum()
 
 
 def z_report(series: dict) -> str:
@@ -316,14 +390,18 @@ def _per_particle(particles, step, n) -> dict:
 
 def _particle_rows(step, time, phi, setup, raw, psi, net) -> dict:
     """Columns of ``particles.csv`` for one output step."""
-    n, h = setup.count, setup.thickness
+    n = setup.count
     missing = np.full(n, np.nan)
     rigid = (np.zeros(n, bool) if setup.body_rigid is None
              else np.asarray(setup.body_rigid, bool))
     # The body's mean Cauchy stress from its integral (tension positive) as
     # a pressure; a rigid body's finite elements carry none.
-    pressure = -0.5 * (raw["cauchy_xx"] + raw["cauchy_yy"]) / raw["area"]
+    # p = -tr(sigma) / d
+    d = setup.dimension
+    trace = sum(raw[f"cauchy_{a}{a}"] for a in axes(d))
+    pressure = -trace / (d * raw["area"])
     pressure[rigid] = np.nan
+    h = force_scale(setup)
     return {
         "step": np.full(n, step), "time": np.full(n, time),
         "phi": np.full(n, phi), "particle": np.arange(n),
@@ -337,7 +415,8 @@ def _particle_rows(step, time, phi, setup, raw, psi, net) -> dict:
         "rattler": missing if net is None else net.rattler,
         "species": setup.body_species, "rigid": rigid.astype(float),
         "centroid_x": raw["centroid_x"], "centroid_y": raw["centroid_y"],
-        "rotation": raw["rotation"], "pressure": pressure}
+        "rotation": raw["rotation"], "centroid_z": raw["centroid_z"],
+        "pressure": pressure}
 
 
 def process_run(run_dir, setup: RunSetup | None = None,
@@ -375,7 +454,7 @@ def process_run(run_dir, setup: RunSetup | None = None,
     series, table = series_and_particles(steps, particles, contacts_of,
                                          setup, rules)
     particles_csv = write_table(run.particles_csv, table,
-                                PARTICLE_COLUMNS)
+                                particle_columns(setup.dimension))
     network = network_table(run_dir, setup, steps, particles)
     write_network(run_dir, network)
     series.update(fabric(network, series["step"]))
@@ -385,5 +464,6 @@ def process_run(run_dir, setup: RunSetup | None = None,
         write_stress(run_dir)
     elif setup.cell:
         write_cell_stress(run_dir, setup)
-    series_csv = write_table(run.series_csv, series, SERIES_COLUMNS)
+    series_csv = write_table(run.series_csv, series,
+                             series_columns(setup.dimension))
     return series_csv, particles_csv

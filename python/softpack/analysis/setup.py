@@ -89,6 +89,12 @@ class RunSetup:
         A periodic cell's run (``parameters.cell.enabled``;
         docs/periodic_cell.md): its edges are columns of ``raw/steps.csv``
         and each contact has its antagonist's image.
+    dimension : int
+        ``scene.model.dimension``: 2, or 3 for tetrahedral bodies in a box
+        of six planes, whose ``walls`` are then the four of ``setup.json``
+        with 3D points and normals (z = 0) and the ``base`` (z = 0, normal
+        +z) and ``lid`` (z = ``scene.box.height``, normal -z), in the
+        driver's order (docs/driver_io.md, "3D runs").
     notes : tuple of str
         What could not be read and why.
     """
@@ -115,6 +121,7 @@ class RunSetup:
     gravity: np.ndarray = field(default_factory=lambda: np.zeros(2))
     notes: tuple = field(default=())
     cell: bool = False
+    dimension: int = 2
 
     @property
     def has_box(self) -> bool:
@@ -123,10 +130,12 @@ class RunSetup:
 
     @property
     def body_weight(self) -> np.ndarray:
-        """Each body's weight under [gravity], shape (n, 2) (N/m: density
-        x reference area x g; zeros without gravity)."""
-        return np.outer(self.body_density * self.reference_area,
-                        self.gravity)
+        """Each body's weight under [gravity], shape (n, dimension) (N/m:
+        density x reference area x g; zeros without gravity, as in 3D,
+        where the driver refuses gravity)."""
+        g = np.zeros(self.dimension)
+        g[:len(self.gravity)] = self.gravity
+        return np.outer(self.body_density * self.reference_area, g)
 
     @property
     def radii(self) -> np.ndarray:
@@ -212,6 +221,9 @@ def _from_document(path, doc) -> RunSetup:
                                           for k in ("point", "normal",
                                                     "velocity")))
              for w in doc["walls"]}
+    dimension = int(scene["model"].get("dimension", 2))
+    if dimension == 3:
+        walls = _box_3d(walls, float(scene["box"]["height"]))
     notes = []
     cell = bool(doc["parameters"].get("cell", {}).get("enabled", False))
     if all(name in walls for name in BOX_WALLS):
@@ -268,7 +280,23 @@ def _from_document(path, doc) -> RunSetup:
         stage_phis=tuple(float(s["stop"].get("packing_fraction", 0.0))
                          for s in stages),
         body_density=species_density[species_of], gravity=gravity,
-        notes=tuple(notes), cell=cell)
+        notes=tuple(notes), cell=cell, dimension=dimension)
+
+
+def _box_3d(walls: dict, height: float) -> dict:
+    """A 3D box's six planes (``driver/simulation/box_3d.h``): the four
+    vertical walls with z = 0 appended to their vectors, then the base and
+    the lid, both fixed."""
+    def padded(v):
+        return np.append(v, 0.0)
+
+    out = {name: Wall(name, padded(w.point), padded(w.normal),
+                      padded(w.velocity)) for name, w in walls.items()}
+    zero = np.zeros(3)
+    out["base"] = Wall("base", zero, np.array([0.0, 0.0, 1.0]), zero)
+    out["lid"] = Wall("lid", np.array([0.0, 0.0, height]),
+                      np.array([0.0, 0.0, -1.0]), zero)
+    return out
 
 
 def read_rules(run_dir) -> Rules:

@@ -1,8 +1,9 @@
 """After the driver: a run directory's observables and its summary.
 
-:func:`postprocess` (2D: ``series.csv``, ``particles.csv``, ``stress.csv``
-and the summary lines) and :func:`postprocess_3d` (3D: the raw output's
-summary only, docs/bodies_3d.md); both return the run's exit status,
+:func:`postprocess` (``series.csv``, ``particles.csv``, ``network.csv``,
+``stress.csv`` and the summary lines, in either dimension) and
+:func:`postprocess_3d` (3D: two lines on the raw output first,
+docs/bodies_3d.md); both return the run's exit status,
 EXIT_FLAGGED with the reason when ``raw/done.json`` flags the run.
 """
 
@@ -18,10 +19,9 @@ from softpack.simulation.interrupt import echo
 
 
 def postprocess_3d(out: Path, say) -> int:
-    """A 3D run: check the driver finished and summarise its raw output
-    (the 2D observables, series.csv and particles.csv of the run directory,
-    are not computed for 3D runs yet: docs/bodies_3d.md)."""
-    from softpack.analysis.summary import check_lines
+    """A 3D run: its raw output's Phi, phi_base and energy balance in two
+    lines, then :func:`postprocess` (the observables of both dimensions:
+    series.csv, particles.csv, network.csv, stress.csv; docs/bodies_3d.md)."""
     from softpack.contract.tables import read_table
 
     run = RunDirectory(out)
@@ -40,10 +40,7 @@ def postprocess_3d(out: Path, say) -> int:
     if "phi_base" in steps and steps["phi_base"][0] > 0:
         say(f"phi_base (the bottom faces' area fraction of the base)"
             f" {steps['phi_base'][0]:.4f} -> {steps['phi_base'][-1]:.4f}")
-    for line in check_lines(finish):
-        say(line)
-    say(f"3D run: raw output only ({run.raw.steps_csv}); no series.csv yet")
-    return exit_status(finish, say)
+    return postprocess(out, say)
 
 
 def exit_status(finish: dict, say) -> int:
