@@ -171,7 +171,10 @@ def killed(tmp_path_factory):
     assert run(config, out, verbose=False) == EXIT_DONE
     state = tmp_path_factory.mktemp("state") / "state.bin"
     shutil.copyfile(out / "raw" / "state.bin", state)
-    (out / "raw" / "done.json").unlink()
+    # what a kill leaves: raw/ up to the cut, none of a complete run's files
+    for name in ("raw/done.json", "series.csv", "particles.csv",
+                 "network.csv", "stress.csv"):
+        (out / name).unlink(missing_ok=True)
     toml = out / "config.toml"
     text, n = re.subn(rf"^steps = {CUT}\b", f"steps = {STEPS}",
                       toml.read_text(), flags=re.M)
