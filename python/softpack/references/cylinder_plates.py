@@ -16,7 +16,7 @@ free ends (default)
     geometry of ``./softpack reference3d`` (an independent dolfinx solve,
     P2 tetrahedra, :mod:`softpack.references.cylinder3d`);
 ``--slab``
-    the lid on the top face (1 um above it) and the base under the bottom
+    the lid on the top face (1 nm above it) and the base under the bottom
     one, both frictionless: the faces slide but cannot move along z, which
     is plane strain; a slab of the disk's section, compared with the 2D
     disk of ``./softpack single-disk`` (the same law: the 2D energy is the
@@ -53,6 +53,9 @@ from softpack.scene.config import validate
 
 #: Clearance between the plates and the body at the start, each side (m).
 CLEARANCE = 1e-6
+#: The lid above a slab's top face (m): in touch (with 1 um the faces,
+#: growing along z, strike the lid: 2 contact solves stalled at 2 mm).
+SLAB_CLEARANCE = 1e-9
 #: The lid above the top faces of free-ended cylinders (m).
 HEADROOM = 5e-3
 #: The plates' forces are compared from this strain on.
@@ -85,7 +88,7 @@ def cylinder_config(params: CylinderParams, y_bottom=None, y_top=None):
     data = {
         "model": {"dimension": 3, "thickness": H},
         "box": {"length": 2 * D, "width": D + 2 * CLEARANCE,
-                "height": H + (CLEARANCE if params.slab else HEADROOM)},
+                "height": H + (SLAB_CLEARANCE if params.slab else HEADROOM)},
         "packing": {"gap": 0.0},
         "species": [{"name": "cylinder", "shape": "cylinder",
                      "diameter": D, "count": 1}],
@@ -93,7 +96,9 @@ def cylinder_config(params: CylinderParams, y_bottom=None, y_top=None):
         "walls": {"bottom": {"velocity": [0.0, v]},
                   "top": {"velocity": [0.0, -v]}},
         "stop": {"packing_fraction": 0.0, "max_time": max_time},
-        "contact": {"friction": params.friction},
+        # every face node of a slab on the base and the lid: solves near the
+        # default 2,000 sweeps (one stopped at the limit at 2 mm)
+        "contact": {"friction": params.friction, "nlgs_max_sweeps": 20000},
         "friction": frictionless,
         "time": {"time_step": params.time_step, "theta": params.theta,
                  "max_step_factor": 1.0},
