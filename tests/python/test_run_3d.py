@@ -13,7 +13,6 @@ run stopped halfway and resumed, or started from its state, is the
 uninterrupted run bit for bit.
 """
 
-import csv
 import json
 import re
 import shutil
@@ -24,6 +23,7 @@ import pytest
 
 from driver_required import require_driver
 from softpack.contract.run_directory import EXIT_DONE
+from softpack.contract.tables import read_table
 from softpack.scene import config as cfg
 from softpack.simulation.run import run
 
@@ -49,13 +49,6 @@ OVERRIDES = {"stop.steps": STEPS, "output.every_steps": 6,
 RESIDUAL_BOUND = 1e-3
 
 
-def read_csv(path):
-    with open(path) as f:
-        rows = list(csv.DictReader(f))
-    return {key: np.array([float(r[key]) if r[key] != "" else np.nan
-                           for r in rows]) for key in rows[0]}
-
-
 @pytest.fixture(scope="module")
 def spheres(tmp_path_factory):
     require_driver()
@@ -79,7 +72,7 @@ def test_the_run_ends_converged_after_its_steps(spheres):
 
 def test_phi_rises_as_the_piston_moves_in(spheres):
     out, _ = spheres
-    s = read_csv(out / "raw" / "steps.csv")
+    s = read_table(out / "raw" / "steps.csv")
     assert len(s["step"]) == STEPS // 6 + 1
     # the piston at 2 m/s, the other walls still
     assert np.allclose(s["right_x"], s["right_x"][0] - 2.0 * s["time"],
@@ -88,7 +81,7 @@ def test_phi_rises_as_the_piston_moves_in(spheres):
     assert np.all(s["lid_z"] == 0.060) and np.all(s["base_z"] == 0.0)
     assert np.all(np.diff(s["phi"]) > 0)
     # Phi is the bodies' volume over the box's (its walls' positions)
-    p = read_csv(out / "raw" / "particles.csv")
+    p = read_table(out / "raw" / "particles.csv")
     for k, step in enumerate(s["step"]):
         volume = p["area"][p["step"] == step].sum()
         box = ((s["right_x"][k] - s["left_x"][k])
@@ -99,7 +92,7 @@ def test_phi_rises_as_the_piston_moves_in(spheres):
 
 def test_the_piston_pushes_the_spheres_and_the_balance_closes(spheres):
     out, _ = spheres
-    s = read_csv(out / "raw" / "steps.csv")
+    s = read_table(out / "raw" / "steps.csv")
     assert s["active_contacts"][-1] > 0
     assert s["right_fx"][-1] > 0  # the spheres push the piston back, out
     assert s["strain_energy"][-1] > 0
@@ -111,13 +104,13 @@ def test_the_piston_pushes_the_spheres_and_the_balance_closes(spheres):
 
 def test_the_3d_outputs_are_readable(spheres):
     out, _ = spheres
-    s = read_csv(out / "raw" / "steps.csv")
+    s = read_table(out / "raw" / "steps.csv")
     for name in ("left", "right", "bottom", "top", "base", "lid"):
         for c in ("x", "y", "z", "fx", "fy", "fz"):
             assert f"{name}_{c}" in s
     assert "cauchy_zz" in s
     last = int(s["step"][-1])
-    contacts = read_csv(out / "raw" / "contacts" / f"step_{last:08d}.csv")
+    contacts = read_table(out / "raw" / "contacts" / f"step_{last:08d}.csv")
     assert {"triangle0", "fn", "ft1", "ft2", "fz"} <= set(contacts)
     assert np.all(contacts["fn"] >= 0)  # Signorini: no tension
     with meshio.xdmf.TimeSeriesReader(out / "fields.xdmf") as reader:
@@ -146,11 +139,11 @@ def test_standing_cylinders_slide_on_a_frictionless_base(tmp_path):
     assert done["nlgs_unconverged_steps"] == 0 and done["overlap_steps"] == 0
     setup = json.loads((tmp_path / "raw" / "setup.json").read_text())
     assert setup["scene"]["box"]["height"] == 0.020
-    c = read_csv(tmp_path / "raw" / "contacts" / "step_00000012.csv")
+    c = read_table(tmp_path / "raw" / "contacts" / "step_00000012.csv")
     base = c["wall"] == 4  # left, right, bottom, top, base, lid
     assert base.sum() > 0
     assert np.all(c["ft1"][base] == 0) and np.all(c["ft2"][base] == 0)
-    s = read_csv(tmp_path / "raw" / "steps.csv")
+    s = read_table(tmp_path / "raw" / "steps.csv")
     assert s["base_fx"][-1] == 0 and s["base_fy"][-1] == 0
 
 
@@ -205,8 +198,8 @@ def test_a_killed_3d_run_resumed_is_the_uninterrupted_run(spheres, killed):
     whole, _ = spheres
     part, _ = killed
     assert main(["--resume", str(part)]) == EXIT_DONE
-    a = read_csv(whole / "raw" / "steps.csv")
-    b = read_csv(part / "raw" / "steps.csv")
+    a = read_table(whole / "raw" / "steps.csv")
+    b = read_table(part / "raw" / "steps.csv")
     assert len(b["step"]) == STEPS // 6 + 1
     assert b["active_contacts"][-1] > 0  # the warm start did matter
     assert_same_rows(a, b)
@@ -239,9 +232,9 @@ def test_a_3d_run_from_a_state_continues_the_run(spheres, killed,
                              {**OVERRIDES, "stop.steps": STEPS - CUT})
     out = tmp_path / "from"
     assert run(config, out, verbose=False, initial_state=state) == EXIT_DONE
-    b = read_csv(out / "raw" / "steps.csv")
+    b = read_table(out / "raw" / "steps.csv")
     assert b["step"][0] == CUT and b["step"][-1] == STEPS
-    assert_same_rows(read_csv(whole / "raw" / "steps.csv"),
+    assert_same_rows(read_table(whole / "raw" / "steps.csv"),
                      {k: v[1:] for k, v in b.items()}, first=CUT)
 
 
@@ -272,7 +265,7 @@ def test_phi_base_is_the_bottom_faces_projected_on_the_base(tmp_path):
                               "output.fields_every": 1,
                               "walls.right.velocity": [-2.0, 0.0]})
     run(config, tmp_path, verbose=False)
-    s = read_csv(tmp_path / "raw" / "steps.csv")
+    s = read_table(tmp_path / "raw" / "steps.csv")
     assert len(s["phi_base"]) == 3
     for k, t in enumerate(s["time"]):
         extent = (s["right_x"][k] - s["left_x"][k],

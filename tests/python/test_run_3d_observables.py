@@ -27,18 +27,12 @@ from driver_required import require_driver
 from softpack.analysis import stress
 from softpack.analysis.observables import series_columns
 from softpack.contract.run_directory import EXIT_DONE
+from softpack.contract.tables import read_table
 from softpack.scene import config as cfg
 from softpack.simulation.run import run
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 STEPS = 36
-
-
-def read_csv(path):
-    with open(path) as f:
-        rows = list(csv.DictReader(f))
-    return {key: np.array([float(r[key]) if r[key] != "" else np.nan
-                           for r in rows]) for key in rows[0]}
 
 
 @pytest.fixture(scope="module")
@@ -57,8 +51,8 @@ def test_series_has_the_3d_columns_and_the_raw_fractions(cylinders):
     with open(cylinders / "series.csv") as f:
         header = next(csv.reader(f))
     assert tuple(header) == series_columns(3)
-    s = read_csv(cylinders / "series.csv")
-    raw = read_csv(cylinders / "raw" / "steps.csv")
+    s = read_table(cylinders / "series.csv")
+    raw = read_table(cylinders / "raw" / "steps.csv")
     assert len(s["step"]) == STEPS // 12 + 1
     assert np.array_equal(s["phi"], raw["phi"])
     assert np.array_equal(s["phi_base"], raw["phi_base"])
@@ -108,9 +102,9 @@ def z_by_loops(contacts, count, threshold, unbalanced_threshold):
 
 
 def test_z_is_recounted_by_hand(cylinders):
-    s = read_csv(cylinders / "series.csv")
+    s = read_table(cylinders / "series.csv")
     last = int(s["step"][-1])
-    contacts = read_csv(cylinders / "raw" / "contacts"
+    contacts = read_table(cylinders / "raw" / "contacts"
                         / f"step_{last:08d}.csv")
     for threshold in (1e-3, 1e9):  # the run's rule, and none unbalanced
         z, retained = z_by_loops(contacts, 14, 1e-4, threshold)
@@ -128,14 +122,14 @@ def test_z_is_recounted_by_hand(cylinders):
 
 def test_contact_nodes_and_centroids_agree_with_the_fields(cylinders):
     times, geometries = stress.stored_geometries(cylinders, 14)
-    s = read_csv(cylinders / "raw" / "steps.csv")
-    p = read_csv(cylinders / "raw" / "particles.csv")
+    s = read_table(cylinders / "raw" / "steps.csv")
+    p = read_table(cylinders / "raw" / "particles.csv")
     k = len(s["step"]) - 1
     geometry = geometries[int(np.argmin(np.abs(times - s["time"][k])))]
     mine = p["step"] == s["step"][k]
     driver = np.column_stack([p[f"centroid_{a}"][mine] for a in "xyz"])
     np.testing.assert_allclose(geometry.centres, driver, atol=1e-12)
-    contacts = read_csv(cylinders / "raw" / "contacts"
+    contacts = read_table(cylinders / "raw" / "contacts"
                         / f"step_{int(s['step'][k]):08d}.csv")
     table = {n: contacts[n].astype(int) for n in ("candidate", "node")}
     points = stress.contact_points(table, geometry)
@@ -150,8 +144,8 @@ def test_contact_nodes_and_centroids_agree_with_the_fields(cylinders):
 
 
 def test_stress_csv_has_the_three_3d_estimates(cylinders):
-    t = read_csv(cylinders / "stress.csv")
-    raw = read_csv(cylinders / "raw" / "steps.csv")
+    t = read_table(cylinders / "stress.csv")
+    raw = read_table(cylinders / "raw" / "steps.csv")
     assert list(t)[:3] == ["step", "time", "volume"]
     volume = ((raw["right_x"] - raw["left_x"]) * (raw["top_y"]
               - raw["bottom_y"]) * (raw["lid_z"] - raw["base_z"]))
@@ -170,9 +164,9 @@ def test_stress_csv_has_the_three_3d_estimates(cylinders):
 
 
 def test_network_and_fabric_are_3d(cylinders):
-    n = read_csv(cylinders / "network.csv")
+    n = read_table(cylinders / "network.csv")
     assert {"fz", "branch_z"} <= set(n)
-    s = read_csv(cylinders / "series.csv")
+    s = read_table(cylinders / "series.csv")
     pairs = n["b"] >= 0
     assert pairs.sum() > 0
     # standing cylinders: their centroids at one height, branches flat
