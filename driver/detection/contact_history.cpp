@@ -57,36 +57,52 @@ ImpulseHistory::warm_start(const std::vector<Contact3D>& contacts) const
   return R;
 }
 
-std::vector<ImpulseHistory::Entry> ImpulseHistory::entries() const
+namespace
 {
-  std::vector<Entry> out;
-  out.reserve(_last.size());
-  for (const auto& [key, R] : _last)
+/// A map of impulses by contact key as (key, impulse) entries (the state
+/// file's form), in the map's (key) order
+template <std::size_t N>
+std::vector<std::pair<std::array<int, 3>, std::array<double, N>>>
+listed(const std::map<ContactKey, std::array<double, N>>& impulses)
+{
+  std::vector<std::pair<std::array<int, 3>, std::array<double, N>>> out;
+  out.reserve(impulses.size());
+  for (const auto& [key, R] : impulses)
     out.push_back({{std::get<0>(key), std::get<1>(key), std::get<2>(key)}, R});
   return out;
+}
+
+/// The map `listed` gave the entries of
+template <std::size_t N>
+void refill(
+    std::map<ContactKey, std::array<double, N>>& impulses,
+    const std::vector<std::pair<std::array<int, 3>, std::array<double, N>>>&
+        entries)
+{
+  impulses.clear();
+  for (const auto& [key, R] : entries)
+    impulses[{key[0], key[1], key[2]}] = R;
+}
+} // namespace
+
+std::vector<ImpulseHistory::Entry> ImpulseHistory::entries() const
+{
+  return listed(_last);
 }
 
 void ImpulseHistory::restore(const std::vector<Entry>& entries)
 {
-  _last.clear();
-  for (const auto& [key, R] : entries)
-    _last[{key[0], key[1], key[2]}] = R;
+  refill(_last, entries);
 }
 
 std::vector<ImpulseHistory::Entry3D> ImpulseHistory::entries_3d() const
 {
-  std::vector<Entry3D> out;
-  out.reserve(_last_world.size());
-  for (const auto& [key, R] : _last_world)
-    out.push_back({{std::get<0>(key), std::get<1>(key), std::get<2>(key)}, R});
-  return out;
+  return listed(_last_world);
 }
 
 void ImpulseHistory::restore(const std::vector<Entry3D>& entries)
 {
-  _last_world.clear();
-  for (const auto& [key, R] : entries)
-    _last_world[{key[0], key[1], key[2]}] = R;
+  refill(_last_world, entries);
 }
 
 void ContactForceAverage::add_step(const std::vector<Contact>& contacts,
