@@ -51,6 +51,7 @@ class Progress:
     def __init__(self, config, steps_csv: Path, echo=None, before=None):
         self.steps_csv = steps_csv
         self.before = before
+        self._before_rows = None
         self.phi0 = initial_packing_fraction(config)
         self.target = config["stop"]["packing_fraction"]
         self.max_time = config["stop"]["max_time"]
@@ -130,7 +131,9 @@ class Progress:
             return rows
         from softpack.simulation.resume import splice_rows
 
-        return splice_rows(read_rows(self.before), rows, int(rows[0]["step"]),
+        if self._before_rows is None:  # the killed part does not change
+            self._before_rows = read_rows(self.before)
+        return splice_rows(self._before_rows, rows, int(rows[0]["step"]),
                            "step", "seconds")
 
     def update(self, log, final=False) -> None:
