@@ -23,7 +23,8 @@ by the function that needs them.
 __version__ = "0.2.0"
 
 __all__ = ["load_config", "run", "resume", "read_run", "plot_runs",
-           "plot_loading", "plot_shear", "plot_single_disk", "RunError",
+           "plot_loading", "plot_shear", "plot_plane_strain",
+           "plot_single_disk", "RunError",
            "RunFlagged"]
 
 

@@ -22,7 +22,8 @@ import re
 from pathlib import Path
 
 __all__ = ["load_config", "run", "resume", "read_run", "plot_runs",
-           "plot_loading", "plot_shear", "plot_single_disk", "RunError",
+           "plot_loading", "plot_shear", "plot_plane_strain",
+           "plot_single_disk", "RunError",
            "RunFlagged"]
 
 from softpack.contract.run_directory import (EXIT_FLAGGED,  # noqa: E402
@@ -331,6 +332,41 @@ def plot_shear(directories, out=None, window=0.5) -> dict:
     out = Path(out) if out is not None else \
         directories[0] / "figures" / "shear"
     return shear.write_outputs(directories, out, window)
+
+
+def plot_plane_strain(runs, out, phis=None, eps=None) -> list[str]:
+    """Plane-strain 2D runs against 3D runs of standing cylinders
+    (``./softpack plot-plane-strain``): Phi(eps), F/H, E/H and Z against
+    Phi in ``plane_strain.png``/``.pdf``, a table at ``phis`` in
+    ``plane_strain.md`` (and the same at equal ``eps``).
+
+    Parameters
+    ----------
+    runs : list of (str, path-like)
+        Labels and run directories (2D or 3D) or per-seed CSVs of
+        docs/paper/seeds; the first is the ratios' reference.
+    out : path-like
+        Output directory.
+    phis : list of float, optional
+        The table's packing fractions (default 0.76 to 0.88 by 0.02).
+    eps : list of float, optional
+        The strains of the table at equal piston travel (default 0.05 to
+        0.20 by 0.05).
+
+    Returns
+    -------
+    list of str
+        ``plane_strain.md``'s lines.
+    """
+    from softpack.plots import plane_strain
+
+    try:
+        return plane_strain.write_outputs(
+            list(runs), out,
+            plane_strain.TABLE_PHIS if phis is None else phis,
+            plane_strain.TABLE_EPS if eps is None else eps)
+    except plane_strain.PlaneStrainError as err:
+        raise RunError(str(err)) from None
 
 
 def plot_runs(directories, out=None) -> list[Path]:

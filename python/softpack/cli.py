@@ -24,6 +24,7 @@ COMMANDS = {
     "plot": "softpack.plots.paper",
     "plot-loading": "softpack.plots.loading",
     "plot-shear": "softpack.plots.shear",
+    "plot-plane-strain": "softpack.plots.plane_strain",
     "bench": "softpack.bench",
     "reference3d": "softpack.references.cylinder3d",
     "reference2d": "softpack.references.disk_mixed",

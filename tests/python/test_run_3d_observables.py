@@ -172,3 +172,21 @@ def test_network_and_fabric_are_3d(cylinders):
     # standing cylinders: their centroids at one height, branches flat
     assert np.nanmax(np.abs(s["fabric_zz"])) < 1e-2
     assert np.nanmax(s["fabric_anisotropy"]) > 3.0  # 3.75: flat, isotropic
+
+
+def test_the_plane_strain_comparison_reads_the_3d_columns(cylinders):
+    """``./softpack plot-plane-strain`` takes a 3D run's phi_base, its
+    piston force over the cylinders' height and z_without_base."""
+    from softpack.plots.plane_strain import read_curve
+
+    s = read_table(cylinders / "series.csv")
+    setup = json.loads((cylinders / "raw" / "setup.json").read_text())
+    height = setup["scene"]["model"]["thickness"]
+    curve = read_curve("3D", cylinders)
+    assert curve.dimension == 3
+    np.testing.assert_array_equal(curve.phi, s["phi_base"])
+    np.testing.assert_allclose(curve.force, s["piston_force"] / height,
+                               rtol=1e-15)
+    np.testing.assert_allclose(curve.energy, s["strain_energy"] / height,
+                               rtol=1e-15)
+    np.testing.assert_array_equal(curve.z, s["z_without_base"])
