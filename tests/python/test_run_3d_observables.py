@@ -190,3 +190,25 @@ def test_the_plane_strain_comparison_reads_the_3d_columns(cylinders):
     np.testing.assert_allclose(curve.energy, s["strain_energy"] / height,
                                rtol=1e-15)
     np.testing.assert_array_equal(curve.z, s["z_without_base"])
+
+
+def test_the_cylinders_axial_strain_is_their_height_over_their_rest(cylinders):
+    """analysis/standing.py: each body's ln(h / H) at each stored field,
+    recounted here body by body from the snapshot's tetrahedra; the
+    squeezed cylinders rise (free tops), where plane strain holds them."""
+    from softpack.analysis import fields
+    from softpack.analysis.standing import axial_strains
+
+    path = cylinders / "fields.h5"
+    times, strains = axial_strains(path)
+    assert len(times) == STEPS // 12 + 1
+    np.testing.assert_array_equal(strains[0], 0.0)
+    last = fields.read_snapshot(path, times[-1])
+    x = last.points + last.displacement
+    for b in (0, last.body.max()):
+        nodes = np.unique(last.cells[last.body == b])
+        rest = np.ptp(last.points[nodes, 2])
+        assert rest == pytest.approx(0.015, rel=1e-12)
+        assert strains[-1, b] == pytest.approx(
+            np.log(np.ptp(x[nodes, 2]) / rest), rel=1e-12, abs=1e-15)
+    assert strains[-1].mean() > 0

@@ -30,6 +30,9 @@ It writes ``plane_strain.png`` / ``.pdf`` (Phi, F/H, E against eps; F/H,
 E, Z against Phi) and ``plane_strain.md`` (tables at ``--phi`` and at
 ``--eps``: force, energy and the other abscissa interpolated linearly
 between output rows, Z of the first row at or above), and prints them.
+For 3D runs with fields, also the cylinders' axial strain eps_zz (which
+plane strain holds at 0; :mod:`softpack.analysis.standing`) at each stored
+field against Phi: ``axial_strain.png`` / ``.pdf`` and a table.
 """
 
 from __future__ import annotations
@@ -44,6 +47,8 @@ from pathlib import Path
 import numpy as np
 
 from softpack.analysis.setup import SetupError, read_setup
+from softpack.analysis.standing import axial_strains
+from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table
 from softpack.plots import style
 
@@ -69,6 +74,9 @@ class Curve:
     energy: np.ndarray
     z: np.ndarray
     retained: np.ndarray
+    #: A 3D run with fields: Phi at each stored field and the cylinders'
+    #: axial strains there ``(frames, bodies)`` (:mod:`..standing`).
+    axial: tuple | None = None
 
 
 def read_curve(label: str, path) -> Curve:
@@ -91,12 +99,18 @@ def _run_curve(label, run_dir) -> Curve:
             f"{run_dir}: {err} (./softpack run --observables-only --out"
             f" {run_dir} writes series.csv)") from None
     three = setup.dimension == 3
-    return Curve(label, setup.dimension,
-                 s["phi_base"] if three else s["phi"], s["eps"],
+    phi = s["phi_base"] if three else s["phi"]
+    axial = None
+    fields_h5 = RunDirectory(run_dir).fields_h5
+    if three and fields_h5.is_file():
+        times, strains = axial_strains(fields_h5)
+        axial = (np.interp(times, s["time"], phi), strains)
+    return Curve(label, setup.dimension, phi, s["eps"],
                  s["piston_force"] / setup.thickness,
                  s["strain_energy"] / setup.thickness,
                  s["z_without_base"] if three else s["z"],
-                 s["retained_without_base"] if three else s["retained"])
+                 s["retained_without_base"] if three else s["retained"],
+                 axial)
 
 
 def _seed_curve(label, csv_path) -> Curve:
@@ -197,6 +211,42 @@ def figure(curves, out) -> list:
         return style.save(fig, Path(out) / "plane_strain.png")
 
 
+def axial_figure(curves, out) -> list:
+    """The cylinders' axial strain against Phi (mean, and the band from
+    the least to the most stretched) of the 3D runs with fields."""
+    import matplotlib.pyplot as plt
+
+    with style.context():
+        fig, ax = plt.subplots(figsize=(style.SINGLE_COLUMN, 2.4),
+                               constrained_layout=True)
+        for curve in curves:
+            if curve.axial is None:
+                continue
+            phi, strains = curve.axial
+            line, = ax.plot(phi, strains.mean(axis=1), "o-", ms=2.5,
+                            label=f"{curve.label}: mean")
+            ax.fill_between(phi, strains.min(axis=1), strains.max(axis=1),
+                            color=line.get_color(), alpha=0.2, lw=0,
+                            label=f"{curve.label}: min to max")
+        ax.axhline(0, color="k", lw=0.6, label="plane strain")
+        ax.set(xlabel=r"$\Phi$",
+               ylabel=r"$\varepsilon_{zz} = \ln(h / H)$")
+        ax.legend(frameon=False)
+        return style.save(fig, Path(out) / "axial_strain.png")
+
+
+def axial_table(curves) -> list[str]:
+    """Markdown rows of each 3D run's axial strain at its stored fields."""
+    lines = ["| run | Phi | eps_zz mean | min | max |",
+             "| --- | ---: | ---: | ---: | ---: |"]
+    for curve in curves:
+        if curve.axial is not None:
+            for phi, row in zip(*curve.axial):
+                lines.append(f"| {curve.label} | {phi:.4f} | {row.mean():.4f}"
+                             f" | {row.min():.4f} | {row.max():.4f} |")
+    return lines
+
+
 def _parser():
     p = argparse.ArgumentParser(
         prog="softpack plot-plane-strain",
@@ -225,8 +275,12 @@ def write_outputs(runs, out, phis=TABLE_PHIS, eps=TABLE_EPS) -> list[str]:
              "At equal eps:", "", *table(curves, "eps", eps), "",
              "Initial Phi: " + ", ".join(f"{c.label} {c.phi[0]:.4f}"
                                           for c in curves)]
-    (out / "plane_strain.md").write_text("\n".join(lines) + "\n")
     figure(curves, out)
+    if any(c.axial is not None for c in curves):
+        lines += ["", "The cylinders' axial strain at the stored fields:",
+                  "", *axial_table(curves)]
+        axial_figure(curves, out)
+    (out / "plane_strain.md").write_text("\n".join(lines) + "\n")
     return lines
 
 
