@@ -403,6 +403,31 @@ def test_resume_gives_the_uninterrupted_series(tmp_path, fake_bin,
     assert run.main(["--resume", str(tmp_path)]) == 2
 
 
+def test_a_killed_run_copied_elsewhere_resumes_into_the_copy(
+        tmp_path, fake_bin, fake_mesh, monkeypatch):
+    """driver.json holds absolute paths: a copied run directory's resumed
+    driver wrote into the original one (truncating the original's raw
+    output while its own driver went on)."""
+    import json
+    import shutil
+
+    original, copy = tmp_path / "original", tmp_path / "copy"
+    monkeypatch.setenv("FAKE_DRIVER", "crash")
+    assert run.main([str(SMALL), "--out", str(original)]) == 1
+    shutil.copytree(original, copy)
+    before = {p.relative_to(original): p.read_bytes()
+              for p in original.rglob("*") if p.is_file()}
+    monkeypatch.setenv("FAKE_DRIVER", "ok")
+    assert run.main(["--resume", str(copy)]) == 0
+    assert (copy / "series.csv").is_file()
+    after = {p.relative_to(original): p.read_bytes()
+             for p in original.rglob("*") if p.is_file()}
+    assert after == before
+    doc = json.loads((copy / "driver.json").read_text())
+    assert doc["directory"] == str(copy.resolve())
+    assert str(original) not in json.dumps(doc)
+
+
 def test_resume_with_the_real_driver_is_bit_for_bit(tmp_path):
     """The real driver from a state: the series of an uninterrupted run,
     every column but the wall-clock seconds, at the default settings

@@ -20,7 +20,8 @@ the new output afterwards:
 resumed driver is given the steps left. A resumed run killed again is
 resumed the same way (``raw.part/`` then first takes in what the previous
 resumption wrote). The mesh and driver.json of the run are reused (only
-``initial_state`` and ``stop.steps`` change); the resumed driver continues
+``initial_state`` and ``stop.steps`` change, and the paths inside the run
+directory when it was copied or moved since); the resumed driver continues
 its fields (fields.xdmf, fields/: its frames up to the state's time kept, the
 later ones dropped), so that every frame of every segment reads as one time
 series however often the run is resumed.
@@ -88,9 +89,31 @@ def prepare_resume(out: Path, config, run_error) -> int:
         if config["stop"]["steps"] > 0:  # the driver counts from the state
             doc["stop"]["steps"] = max(config["stop"]["steps"] - step, 1)
         doc["initial_state"] = str(state)
+        relocate(doc, run.path)
 
     edit_driver_json(run.path, resume_from_state)
     return step
+
+
+def relocate(doc: dict, directory: Path) -> None:
+    """Point driver.json's paths inside its run directory at ``directory``:
+    a run directory copied or moved after it was killed would otherwise
+    have its driver write into the old one (the output directory and the
+    mesh are absolute paths)."""
+    old, new = str(doc["directory"]), str(Path(directory).resolve())
+    if old == new:
+        return
+
+    def moved(value):
+        if isinstance(value, dict):
+            return {k: moved(v) for k, v in value.items()}
+        if isinstance(value, list):
+            return [moved(v) for v in value]
+        if isinstance(value, str) and (value == old
+                                       or value.startswith(old + "/")):
+            return new + value[len(old):]
+        return value
+    doc.update(moved(doc))
 
 
 def state_step(path: Path) -> int:
