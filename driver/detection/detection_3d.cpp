@@ -344,16 +344,25 @@ std::int32_t near_node(const Contact3D& c)
 }
 } // namespace
 
-std::vector<Contact3D> detect_contacts_3d(
-    std::span<const BoundarySurface> surfaces, std::span<const double> x,
-    const std::vector<PlaneWall>& walls, const DetectionOptions& options)
+namespace
 {
+/// detect_contacts_3d's share of the bodies flagged in `mine` (empty:
+/// every body's): the pairs whose lower body is flagged and the flagged
+/// bodies' wall contacts
+std::vector<Contact3D> detect_share(std::span<const BoundarySurface> surfaces,
+                                    std::span<const double> x,
+                                    const std::vector<PlaneWall>& walls,
+                                    const DetectionOptions& options,
+                                    std::span<const char> mine)
+{
+  auto in_share = [&](int b) { return mine.empty() || mine[b]; };
   std::vector<Box<3>> boxes;
   for (const BoundarySurface& s : surfaces)
     boxes.push_back(points_box<3>(x, s.boundary_nodes(), s.nodes()));
   // A node within the search distance of a surface is in its box so
   // inflated: the pairs and the nodes are filtered with that margin
-  const auto pairs = overlapping_pairs<3>(boxes, search_distance(options));
+  auto pairs = overlapping_pairs<3>(boxes, search_distance(options));
+  std::erase_if(pairs, [&](const auto& p) { return !in_share(p[0]); });
   // The pairs on all cores, each into its own list, joined in pair order:
   // the same list as one thread makes.
   // The triangle grids of the bodies in a near pair, each built once
@@ -400,6 +409,8 @@ std::vector<Contact3D> detect_contacts_3d(
     for (int b = 0; b < static_cast<int>(surfaces.size()); ++b)
       for (std::int32_t node : surfaces[b].boundary_nodes())
       {
+        if (!in_share(b)) // (another share's)
+          break;
         const double* xn = &x[3 * std::size_t(surfaces[b].nodes()[node])];
         const double gap = dot(sub(xn, p.data()), frame[0]);
         if (gap <= options.alert_distance && gap >= -options.max_penetration)
@@ -417,6 +428,36 @@ std::vector<Contact3D> detect_contacts_3d(
       }
   }
   return contacts;
+}
+} // namespace
+
+std::vector<Contact3D> detect_contacts_3d(
+    std::span<const BoundarySurface> surfaces, std::span<const double> x,
+    const std::vector<PlaneWall>& walls, const DetectionOptions& options)
+{
+  return detect_share(surfaces, x, walls, options, {});
+}
+
+std::vector<Contact3D> detect_contacts_3d(
+    const bodies::BodySet& bodies, std::span<const BoundarySurface> surfaces,
+    std::span<const double> x, const std::vector<PlaneWall>& walls,
+    const DetectionOptions& options)
+{
+  if (surfaces.size() != static_cast<std::size_t>(bodies.num_bodies()))
+    throw std::invalid_argument("detect_contacts_3d: a surface per body");
+  std::vector<char> mine(surfaces.size(), 0);
+  for (const int b : bodies.local_bodies())
+    mine[b] = 1;
+  return detect_share(surfaces, x, walls, options, mine);
+}
+
+std::int64_t contact_order_key(const Contact3D& c, int num_bodies)
+{
+  const std::int64_t n = num_bodies;
+  if (c.wall >= 0)
+    return n * n + c.wall * n + c.candidate_body;
+  return std::min(c.candidate_body, c.antagonist_body) * n +
+         std::max(c.candidate_body, c.antagonist_body);
 }
 
 } // namespace softpack::dynamics

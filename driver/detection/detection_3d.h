@@ -159,6 +159,25 @@ std::vector<Contact3D> detect_contacts_3d(
     std::span<const BoundarySurface> surfaces, std::span<const double> x,
     const std::vector<PlaneWall>& walls, const DetectionOptions& options);
 
+/// The local bodies' share of detect_contacts_3d (BodySet::local_bodies;
+/// every body's until set_local), as detect_contacts' in 2D: the pairs
+/// whose first (lower) body is local and the wall contacts of the local
+/// bodies, each in its place in the whole list's order. The shares of a
+/// partition of the bodies, put together and ordered by contact_order_key,
+/// are the whole list in its order.
+/// @param[in] surfaces Every body's boundary surface (of its storage
+/// indices), in body order
+/// @throws std::invalid_argument if there is not a surface per body
+std::vector<Contact3D> detect_contacts_3d(
+    const bodies::BodySet& bodies, std::span<const BoundarySurface> surfaces,
+    std::span<const double> x, const std::vector<PlaneWall>& walls,
+    const DetectionOptions& options);
+
+/// The position of a 3D contact's group in detect_contacts_3d's order: the
+/// body pairs (a < b) in increasing order, then each wall's contacts by
+/// body (contact_order_key's numbers for 2D contacts)
+std::int64_t contact_order_key(const Contact3D& c, int num_bodies);
+
 /// Pairs (a < b) of surfaces whose boundary boxes, inflated by margin,
 /// overlap (the broad phase of detect_contacts_3d)
 std::vector<std::array<int, 2>>

@@ -139,12 +139,12 @@ void MoreauJean::set_delassus(const StepContacts& sc, StepProblem& problem,
                               StepReport& report)
 {
   const auto t0 = clock::now();
-  if (dim() == 3) // (one process, no servo wall: check_3d)
+  if (dim() == 3) // (no servo wall: check_3d)
   {
-    const std::vector<DelassusBlockD<3>> blocks =
+    problem.three.W = _exchange.delassus(
+        sc.size(),
         delassus_blocks<3>(_bodies, sc.H, _kbar,
-                           _options.contact.delassus_drop_tolerance, nullptr);
-    problem.three.W = assemble_delassus<3>(sc.size(), blocks, {});
+                           _options.contact.delassus_drop_tolerance, nullptr));
     report.seconds.delassus += seconds_since(t0);
     return;
   }

@@ -73,14 +73,16 @@ public:
   /// A 3D run (BodySet::dim() = 3; docs/contact_3d.md, "The 3D step"):
   /// the same step over 3 components per node, node-to-face contacts
   /// (detect_contacts_3d) in the frame (n, t1, t2) and plane walls moved
-  /// at their imposed velocities. One process; no rigid bodies, cohesion,
-  /// bonds, servo walls or periodic cell yet (refused).
+  /// at their imposed velocities, over the processes as a 2D run
+  /// (docs/mpi_design.md, "3D runs"); no rigid bodies, cohesion, bonds,
+  /// servo walls or periodic cell yet (refused).
   /// @throws std::invalid_argument if the bodies are not 3D, a wall's
   /// normal is not a unit vector, or an option asks for what 3D lacks
   /// (The options before the walls: a 2D run's `{}` for no walls stays
   /// unambiguous.)
   MoreauJean(bodies::BodySet& bodies, MoreauJeanOptions options,
-             std::vector<Wall3D> walls);
+             std::vector<Wall3D> walls,
+             parallel::Distribution distribution = {});
 
   /// Advance one time step.
   StepReport step();

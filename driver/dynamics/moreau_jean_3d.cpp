@@ -12,8 +12,10 @@ namespace softpack::dynamics
 {
 
 MoreauJean::MoreauJean(bodies::BodySet& bodies, MoreauJeanOptions options,
-                       std::vector<Wall3D> walls)
-    : MoreauJean(bodies, std::vector<Wall>{}, std::move(options))
+                       std::vector<Wall3D> walls,
+                       parallel::Distribution distribution)
+    : MoreauJean(bodies, std::vector<Wall>{}, std::move(options),
+                 std::move(distribution))
 {
   if (dim() != 3)
     throw std::invalid_argument("MoreauJean: 3D walls for bodies of "
@@ -41,8 +43,6 @@ void MoreauJean::check_3d() const
     throw std::invalid_argument(what + ": not yet in 3D (docs/contact_3d.md, "
                                        "\"The 3D step\")");
   };
-  if (dist().distributed())
-    refuse("parallel: several MPI ranks");
   if (!_walls.empty())
     refuse("walls: 2D walls (a 3D run takes Wall3D plane walls)");
   if (!_rigid.empty())
@@ -66,8 +66,8 @@ ContactOperator MoreauJean::detect_3d()
   std::vector<PlaneWall> planes;
   for (const Wall3D& w : _walls3)
     planes.push_back({w.point, w.normal});
-  _contacts3 = detect_contacts_3d(_surfaces, _bodies.current_coordinates(),
-                                  planes, _detection);
+  _contacts3 = _exchange.detect(
+      _bodies, _surfaces, _bodies.current_coordinates(), planes, _detection);
   return ContactOperator(_contacts3, _walls3);
 }
 

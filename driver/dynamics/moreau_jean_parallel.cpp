@@ -9,6 +9,25 @@
 
 namespace softpack::dynamics
 {
+namespace
+{
+/// Each contact's candidate body weighs `weight` more; the body pairs of
+/// the contacts between bodies (Contact or Contact3D)
+template <typename C>
+std::vector<std::array<int, 2>> add_contacts(const std::vector<C>& contacts,
+                                             double weight,
+                                             std::vector<double>& weights)
+{
+  std::vector<std::array<int, 2>> links;
+  for (const C& c : contacts)
+  {
+    weights[c.candidate_body] += weight;
+    if (c.antagonist_body >= 0)
+      links.push_back({c.candidate_body, c.antagonist_body});
+  }
+  return links;
+}
+} // namespace
 
 void MoreauJean::rebalance()
 {
@@ -24,13 +43,9 @@ void MoreauJean::rebalance()
   std::vector<double> weights(nb);
   for (int b = 0; b < nb; ++b)
     weights[b] = _bodies.body(b).num_dofs();
-  std::vector<std::array<int, 2>> links;
-  for (const Contact& c : _contacts)
-  {
-    weights[c.candidate_body] += contact_weight;
-    if (c.antagonist_body >= 0)
-      links.push_back({c.candidate_body, c.antagonist_body});
-  }
+  const std::vector<std::array<int, 2>> links =
+      dim() == 2 ? add_contacts(_contacts, contact_weight, weights)
+                 : add_contacts(_contacts3, contact_weight, weights);
   std::vector<int> split = parallel::drifted_split(
       dist(), _bodies, _bodies.current_coordinates(), weights, links,
       _options.parallel.rebalance_tolerance);
@@ -43,6 +58,7 @@ void MoreauJean::rebalance()
       &_v, &_f_ext, &_f_int, &_v_contact, &_u_tangent, &_retry_u, &_retry_v};
   parallel::move_bodies(_exchange.distribution(), std::move(split), _bodies,
                         vectors);
+  _surfaces.clear(); // (a 3D run's: their nodes' storage indices changed)
   _kbar.set_local(_bodies);
   _K = _bodies.create_matrices();
   _products_valid = false;

@@ -107,7 +107,7 @@ void NewtonLoop::solve_problem(const std::vector<double>& U_free)
   for (std::size_t i = 0; i < U_free.size(); ++i)
     q[i] = U_free[i] + _sc.shift[i];
   std::vector<double> U(U_free.size()), start = _s._R;
-  if (d == 3) // (one process: check_3d)
+  if (d == 3) // (whole on every process: ContactExchange::delassus)
   {
     report_nlgs(contact::solve_nlgs(_problem.three, _s._R, U, _s._nlgs),
                 std::move(start));

@@ -7,27 +7,46 @@ namespace softpack::parallel
 namespace
 {
 /// A block of W on the wire (Eigen's matrices are not plain bytes): its
-/// body (-1 when not needed), row, column and entries in column order
-struct WireBlock
+/// body (-1 when not needed), row, column and D x D entries in column order
+template <int D> struct WireBlockD
 {
   std::int32_t body, a, b;
-  double entries[4];
+  double entries[D * D];
 };
+using WireBlock = WireBlockD<2>;
 
-WireBlock to_wire(std::int32_t body, std::int32_t a, std::int32_t b,
-                  const Eigen::Matrix2d& block)
+template <int D>
+WireBlockD<D> to_wire(std::int32_t body, std::int32_t a, std::int32_t b,
+                      const Eigen::Matrix<double, D, D>& block)
 {
-  return {body, a, b, {block(0, 0), block(1, 0), block(0, 1), block(1, 1)}};
+  WireBlockD<D> w{body, a, b, {}};
+  std::copy_n(block.data(), D * D, w.entries);
+  return w;
 }
 
-Eigen::Matrix2d from_wire(const WireBlock& w)
+template <int D> Eigen::Matrix<double, D, D> from_wire(const WireBlockD<D>& w)
 {
-  return Eigen::Map<const Eigen::Matrix2d>(w.entries);
+  return Eigen::Map<const Eigen::Matrix<double, D, D>>(w.entries);
+}
+
+/// The blocks received, in the body order of the serial build (each body's
+/// blocks come from its one owner, in its order): W's rows then sum alike.
+template <int D>
+std::vector<dynamics::DelassusBlockD<D>>
+in_body_order(const std::vector<WireBlockD<D>>& received)
+{
+  std::vector<dynamics::DelassusBlockD<D>> blocks;
+  for (const WireBlockD<D>& w : received)
+    blocks.push_back({w.body, w.a, w.b, from_wire(w)});
+  std::stable_sort(blocks.begin(), blocks.end(),
+                   [](const dynamics::DelassusBlockD<D>& x,
+                      const dynamics::DelassusBlockD<D>& y)
+                   { return x.body < y.body; });
+  return blocks;
 }
 
 /// Each rank's blocks sent to the owners of their rows, and this rank's
-/// rows received, in the body order of the serial build (each body's blocks
-/// come from its one owner, in its order): W's rows then sum alike.
+/// rows received, in the body order of the serial build
 std::vector<dynamics::DelassusBlock>
 route_blocks(const Communicator& comm,
              const std::vector<dynamics::DelassusBlock>& mine,
@@ -35,15 +54,8 @@ route_blocks(const Communicator& comm,
 {
   std::vector<std::vector<WireBlock>> to_rank(comm.size());
   for (const dynamics::DelassusBlock& k : mine)
-    to_rank[row_owner[k.a]].push_back(to_wire(k.body, k.a, k.b, k.block));
-  std::vector<dynamics::DelassusBlock> blocks;
-  for (const WireBlock& w : comm.exchange_items(to_rank))
-    blocks.push_back({w.body, w.a, w.b, from_wire(w)});
-  std::stable_sort(
-      blocks.begin(), blocks.end(),
-      [](const dynamics::DelassusBlock& x, const dynamics::DelassusBlock& y)
-      { return x.body < y.body; });
-  return blocks;
+    to_rank[row_owner[k.a]].push_back(to_wire<2>(k.body, k.a, k.b, k.block));
+  return in_body_order(comm.exchange_items(to_rank));
 }
 } // namespace
 
@@ -59,17 +71,35 @@ ContactExchange::detect(const bodies::BodySet& bodies,
                         const dynamics::DetectionOptions& options,
                         const dynamics::PeriodicCell* cell) const
 {
-  std::vector<dynamics::Contact> contacts =
-      dynamics::detect_contacts(bodies, x, walls, options, cell);
+  return in_serial_order(
+      dynamics::detect_contacts(bodies, x, walls, options, cell),
+      bodies.num_bodies());
+}
+
+std::vector<dynamics::Contact3D>
+ContactExchange::detect(const bodies::BodySet& bodies,
+                        std::span<const dynamics::BoundarySurface> surfaces,
+                        std::span<const double> x,
+                        const std::vector<dynamics::PlaneWall>& walls,
+                        const dynamics::DetectionOptions& options) const
+{
+  return in_serial_order(
+      dynamics::detect_contacts_3d(bodies, surfaces, x, walls, options),
+      bodies.num_bodies());
+}
+
+template <typename C>
+std::vector<C> ContactExchange::in_serial_order(std::vector<C> share,
+                                                int num_bodies) const
+{
   if (!_dist.distributed())
-    return contacts;
-  contacts = _dist.comm().gather_items<dynamics::Contact>(contacts);
-  const int nb = bodies.num_bodies();
+    return share;
+  std::vector<C> contacts = _dist.comm().gather_items<C>(share);
   std::stable_sort(contacts.begin(), contacts.end(),
-                   [nb](const dynamics::Contact& a, const dynamics::Contact& b)
+                   [num_bodies](const C& a, const C& b)
                    {
-                     return dynamics::contact_order_key(a, nb) <
-                            dynamics::contact_order_key(b, nb);
+                     return dynamics::contact_order_key(a, num_bodies) <
+                            dynamics::contact_order_key(b, num_bodies);
                    });
   return contacts;
 }
@@ -99,6 +129,21 @@ ContactExchange::delassus(const std::vector<dynamics::Contact>& contacts,
   return W;
 }
 
+contact::DelassusMatrixD<3>
+ContactExchange::delassus(std::size_t num_contacts,
+                          std::vector<dynamics::DelassusBlockD<3>> blocks)
+{
+  _domains.reset();
+  if (_dist.distributed())
+  {
+    std::vector<WireBlockD<3>> mine;
+    for (const dynamics::DelassusBlockD<3>& k : blocks)
+      mine.push_back(to_wire<3>(k.body, k.a, k.b, k.block));
+    blocks = in_body_order(_dist.comm().gather_items<WireBlockD<3>>(mine));
+  }
+  return dynamics::assemble_delassus<3>(num_contacts, blocks, {});
+}
+
 contact::FrictionContactProblem2D ContactExchange::whole_problem(
     const contact::FrictionContactProblem2D& problem) const
 {
@@ -109,16 +154,16 @@ contact::FrictionContactProblem2D ContactExchange::whole_problem(
   for (const std::vector<std::int32_t>& stage : _domains->plan().stages)
     for (const std::int32_t a : stage)
     {
-      mine.push_back(to_wire(-1, a, a, W.diagonal(a)));
+      mine.push_back(to_wire<2>(-1, a, a, W.diagonal(a)));
       const auto columns = W.row_columns(a);
       const auto blocks = W.row_blocks(a);
       for (std::size_t k = 0; k < columns.size(); ++k)
-        mine.push_back(to_wire(-1, a, columns[k], blocks[k]));
+        mine.push_back(to_wire<2>(-1, a, columns[k], blocks[k]));
     }
   contact::FrictionContactProblem2D whole = problem;
   whole.W = contact::DelassusMatrix(W.num_contacts());
   for (const WireBlock& w : _dist.comm().gather_items<WireBlock>(mine))
-    whole.W.add_block(w.a, w.b, from_wire(w));
+    whole.W.add_block(w.a, w.b, from_wire<2>(w));
   // Every rank holds the rank-one terms whole; the diagonal came with the
   // blocks.
   for (const contact::DelassusMatrix::RankOne& term : W.rank_one_terms())

@@ -7,6 +7,7 @@
 #include <contact/problem.h>
 #include <cstdint>
 #include <detection/detection.h>
+#include <detection/detection_3d.h>
 #include <optional>
 #include <span>
 #include <vector>
@@ -43,6 +44,14 @@ public:
          const std::vector<dynamics::Wall>& walls,
          const dynamics::DetectionOptions& options,
          const dynamics::PeriodicCell* cell = nullptr) const;
+  /// The contacts of a 3D run, as detect's: the local bodies' share
+  /// (dynamics::detect_contacts_3d) put together in the serial order
+  std::vector<dynamics::Contact3D>
+  detect(const bodies::BodySet& bodies,
+         std::span<const dynamics::BoundarySurface> surfaces,
+         std::span<const double> x,
+         const std::vector<dynamics::PlaneWall>& walls,
+         const dynamics::DetectionOptions& options) const;
   /// W from the local bodies' blocks (dynamics::delassus_blocks) and the
   /// servo walls' couplings: when distributed, the rows of this rank's
   /// contacts only (a contact is its candidate body's), from the blocks of
@@ -52,6 +61,13 @@ public:
   delassus(const std::vector<dynamics::Contact>& contacts,
            std::vector<dynamics::DelassusBlock> blocks,
            std::span<const dynamics::WallCoupling> couplings);
+  /// W of a 3D run whole on every rank, from every rank's blocks
+  /// (dynamics::delassus_blocks<3> of its local bodies) gathered in the
+  /// serial body order: the 3D contact solve is not yet domain-wise, every
+  /// rank solves the whole problem (docs/mpi_design.md, "3D runs")
+  contact::DelassusMatrixD<3>
+  delassus(std::size_t num_contacts,
+           std::vector<dynamics::DelassusBlockD<3>> blocks);
   /// This rank's share of the contact solves planned with the last W (null
   /// when serial)
   const contact::SweepDomain* domain() const
@@ -76,6 +92,12 @@ public:
       std::span<double> global) const;
 
 private:
+  /// A detection share (Contact or Contact3D) and the other ranks' put
+  /// together in the serial order (contact_order_key): the whole list on
+  /// every rank; the share itself when serial
+  template <typename C>
+  std::vector<C> in_serial_order(std::vector<C> share, int num_bodies) const;
+
   Distribution _dist;
   ContactTraffic _traffic;
   /// This rank's share of the step's contact solves (none when serial),

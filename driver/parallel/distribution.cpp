@@ -29,7 +29,7 @@ Distribution::Distribution(MPI_Comm comm, bodies::BodySet& bodies) : _comm(comm)
   }
   assign(partition_bodies(
              body_centres(bodies, bodies.reference_coordinates(), all), weights,
-             size),
+             size, bodies.dim()),
          bodies);
   bodies.set_local(_map.local_bodies());
 }

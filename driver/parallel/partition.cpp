@@ -10,7 +10,7 @@ namespace softpack::parallel
 namespace
 {
 /// Give bodies[0..n) the parts first, first + 1, ..., first + ranks - 1.
-void bisect(std::span<const double> x, std::span<const double> w,
+void bisect(std::span<const double> x, int dim, std::span<const double> w,
             std::vector<int>& bodies, std::size_t begin, std::size_t end,
             int first, int ranks, std::vector<int>& part)
 {
@@ -20,22 +20,27 @@ void bisect(std::span<const double> x, std::span<const double> w,
       part[bodies[k]] = first;
     return;
   }
-  // Cut across the longer extent of the bodies' centres.
-  double lo[2] = {x[2 * bodies[begin]], x[2 * bodies[begin] + 1]};
-  double hi[2] = {lo[0], lo[1]};
+  // Cut across the longest extent of the bodies' centres (the first of
+  // equals).
+  double lo[3], hi[3];
+  for (int c = 0; c < dim; ++c)
+    lo[c] = hi[c] = x[dim * bodies[begin] + c];
   for (std::size_t k = begin; k < end; ++k)
-    for (int d = 0; d < 2; ++d)
+    for (int c = 0; c < dim; ++c)
     {
-      lo[d] = std::min(lo[d], x[2 * bodies[k] + d]);
-      hi[d] = std::max(hi[d], x[2 * bodies[k] + d]);
+      lo[c] = std::min(lo[c], x[dim * bodies[k] + c]);
+      hi[c] = std::max(hi[c], x[dim * bodies[k] + c]);
     }
-  const int d = hi[0] - lo[0] >= hi[1] - lo[1] ? 0 : 1;
+  int d = 0;
+  for (int c = 1; c < dim; ++c)
+    if (hi[c] - lo[c] > hi[d] - lo[d])
+      d = c;
   auto first_it = bodies.begin() + static_cast<std::ptrdiff_t>(begin);
   auto end_it = bodies.begin() + static_cast<std::ptrdiff_t>(end);
   std::sort(first_it, end_it,
             [&](int a, int b)
             {
-              const double xa = x[2 * a + d], xb = x[2 * b + d];
+              const double xa = x[dim * a + d], xb = x[dim * b + d];
               return xa < xb || (xa == xb && a < b);
             });
   // The left side gets ranks / 2 parts and that share of the weight, but
@@ -50,26 +55,30 @@ void bisect(std::span<const double> x, std::span<const double> w,
   while (cut < end && sum + 0.5 * w[bodies[cut]] < target)
     sum += w[bodies[cut++]];
   cut = std::clamp(cut, begin + left_ranks, end - (ranks - left_ranks));
-  bisect(x, w, bodies, begin, cut, first, left_ranks, part);
-  bisect(x, w, bodies, cut, end, first + left_ranks, ranks - left_ranks, part);
+  bisect(x, dim, w, bodies, begin, cut, first, left_ranks, part);
+  bisect(x, dim, w, bodies, cut, end, first + left_ranks, ranks - left_ranks,
+         part);
 }
 } // namespace
 
 std::vector<int> partition_bodies(std::span<const double> centres,
-                                  std::span<const double> weights, int ranks)
+                                  std::span<const double> weights, int ranks,
+                                  int dim)
 {
   const std::size_t n = weights.size();
-  if (centres.size() != 2 * n)
+  if ((dim != 2 && dim != 3) ||
+      centres.size() != static_cast<std::size_t>(dim) * n)
     throw std::invalid_argument(
         "partition_bodies: " + std::to_string(centres.size()) +
-        " centre coordinates for " + std::to_string(n) + " bodies");
+        " centre coordinates for " + std::to_string(n) + " bodies in " +
+        std::to_string(dim) + "D");
   if (ranks < 1 || static_cast<std::size_t>(ranks) > n)
     throw std::invalid_argument("partition_bodies: " + std::to_string(ranks) +
                                 " ranks for " + std::to_string(n) +
                                 " bodies (allowed: 1 to the number of bodies)");
   std::vector<int> bodies(n), part(n, 0);
   std::iota(bodies.begin(), bodies.end(), 0);
-  bisect(centres, weights, bodies, 0, n, 0, ranks, part);
+  bisect(centres, dim, weights, bodies, 0, n, 0, ranks, part);
   return part;
 }
 

@@ -9,21 +9,23 @@ namespace softpack::parallel
 {
 
 /// The rank of each body by recursive coordinate bisection of the body
-/// centres: the set is cut across its longer extent at the weighted point
+/// centres: the set is cut across its longest extent at the weighted point
 /// that gives each side a share of the weight proportional to its number
 /// of ranks, and each side is cut again until one rank is left. Bodies
 /// close in space land on one rank, so few contacts cross ranks.
 ///
 /// Deterministic (ties broken by body index): every rank computes the same
 /// partition from the same input, with no communication.
-/// @param[in] centres Centre of each body, (x, y) interleaved
+/// @param[in] centres Centre of each body, (x, y) or (x, y, z) interleaved
 /// @param[in] weights Work of each body (e.g. its DOFs), > 0
 /// @param[in] ranks Number of parts, 1 <= ranks <= number of bodies
+/// @param[in] dim The centres' dimension (the bodies', 2 or 3)
 /// @return The part (rank) of each body; every part has at least one body
 /// @throws std::invalid_argument if ranks is out of range or the sizes do
 /// not match
 std::vector<int> partition_bodies(std::span<const double> centres,
-                                  std::span<const double> weights, int ranks);
+                                  std::span<const double> weights, int ranks,
+                                  int dim = 2);
 
 /// Whether a distributed run should move from the split `now` to the
 /// split `fresh` (e.g. partition_bodies of the current centres), both into

@@ -11,13 +11,14 @@ std::vector<double> body_centres(const bodies::BodySet& bodies,
                                  std::span<const double> x,
                                  std::span<const int> which)
 {
-  std::vector<double> centres(2 * bodies.num_bodies(), 0.0);
+  const int d = bodies.dim();
+  std::vector<double> centres(d * bodies.num_bodies(), 0.0);
   for (const int b : which)
   {
     const bodies::Body& body = bodies.body(b);
     for (std::int32_t node : body.nodes)
-      for (int c = 0; c < 2; ++c)
-        centres[2 * b + c] += x[2 * node + c] / body.nodes.size();
+      for (int c = 0; c < d; ++c)
+        centres[d * b + c] += x[d * node + c] / body.nodes.size();
   }
   return centres;
 }
@@ -33,7 +34,8 @@ drifted_split(const Distribution& distribution, const bodies::BodySet& bodies,
   // One owner computes each centre: the sum is its value, bit for bit.
   std::vector<double> centres = body_centres(bodies, x, bodies.local_bodies());
   comm.sum(centres);
-  std::vector<int> fresh = partition_bodies(centres, weights, comm.size());
+  std::vector<int> fresh =
+      partition_bodies(centres, weights, comm.size(), bodies.dim());
   if (!split_has_drifted(distribution.index_map().body_rank(), fresh,
                          comm.size(), weights, links, tolerance))
     return {};
@@ -53,10 +55,11 @@ void body_entries(bodies::BodySet& bodies, int b,
   for (std::vector<double>* v : vectors)
     if (!v->empty())
       all.emplace_back(*v);
+  const int d = bodies.dim();
   for (const std::span<double> v : all)
     for (const std::int32_t node : bodies.body(b).nodes)
-      for (int c = 0; c < 2; ++c)
-        visit(v[2 * node + c]);
+      for (int c = 0; c < d; ++c)
+        visit(v[d * node + c]);
 }
 
 /// The internal variables of the bodies that leave this rank sent to

@@ -10,7 +10,8 @@ namespace softpack::parallel
 {
 
 /// Centre of each of the given bodies at the node coordinates x
-/// (interleaved; the others' stay zero)
+/// (interleaved, BodySet::dim() per node and per centre; the others' stay
+/// zero)
 std::vector<double> body_centres(const bodies::BodySet& bodies,
                                  std::span<const double> x,
                                  std::span<const int> which);

@@ -10,7 +10,8 @@ namespace softpack::parallel
 
 Scatterer::Scatterer(Communicator comm, const BodyIndexMap& map,
                      const bodies::BodySet& bodies)
-    : _comm(std::move(comm)), _map(map), _unstored(bodies.unstored_node())
+    : _comm(std::move(comm)), _map(map), _dim(bodies.dim()),
+      _unstored(bodies.unstored_node())
 {
   _owner_node_counts.assign(_map.size(), 0);
   for (int b = 0; b < bodies.num_bodies(); ++b)
@@ -32,12 +33,15 @@ Scatterer::boundary_nodes(const bodies::BodySet& bodies) const
     for (int i = first; i < first + _map.owner_body_counts()[r]; ++i)
     {
       const int b = by_owner[i];
-      const std::vector<std::int32_t>& nodes = bodies.body(b).nodes;
-      for (std::size_t k = 0; k < nodes.size(); ++k)
-        if (bodies.rigid(b) || bodies.body(b).segment_from[k] >= 0)
-          list.nodes.push_back(nodes[k]);
+      const bodies::Body& body = bodies.body(b);
+      if (bodies.rigid(b))
+        list.nodes.insert(list.nodes.end(), body.nodes.begin(),
+                          body.nodes.end());
+      else
+        for (const std::int32_t k : body.boundary_nodes)
+          list.nodes.push_back(body.nodes[k]);
     }
-    const std::size_t end = 2 * list.nodes.size();
+    const std::size_t end = _dim * list.nodes.size();
     if (end > static_cast<std::size_t>(std::numeric_limits<int>::max()))
       throw std::runtime_error("Scatterer: " + std::to_string(end) +
                                " entries to share, above MPI's int count");
@@ -57,15 +61,15 @@ Scatterer::gather_to_root(const bodies::BodySet& bodies,
   std::vector<int> counts(_map.size());
   for (int r = 0; r < _map.size(); ++r)
     counts[r] =
-        int_count(2 * _owner_node_counts[r], "Scatterer::gather_to_root");
+        int_count(_dim * _owner_node_counts[r], "Scatterer::gather_to_root");
   // Each rank's bodies in order, each body's nodes in order
   std::vector<double> mine;
   mine.reserve(counts[rank]);
   const int first = _map.first_of(rank);
   for (int i = first; i < first + _map.owner_body_counts()[rank]; ++i)
     for (const std::int32_t node : bodies.body(_map.bodies_by_owner()[i]).nodes)
-      for (int c = 0; c < 2; ++c)
-        mine.push_back(stored[2 * node + c]);
+      for (int c = 0; c < _dim; ++c)
+        mine.push_back(stored[_dim * node + c]);
   const std::vector<double> all = _comm.gather_to_root(mine, counts);
   if (rank != 0)
     return {};
@@ -73,8 +77,8 @@ Scatterer::gather_to_root(const bodies::BodySet& bodies,
   std::size_t k = 0;
   for (const int b : _map.bodies_by_owner())
     for (const std::int32_t g : bodies.body(b).global_nodes)
-      for (int c = 0; c < 2; ++c)
-        global[2 * g + c] = all[k++];
+      for (int c = 0; c < _dim; ++c)
+        global[_dim * g + c] = all[k++];
   return global;
 }
 
@@ -138,14 +142,16 @@ void Scatterer::share_boundaries(std::span<double> global) const
     return;
   const int rank = _comm.rank();
   std::vector<double> all(_boundary.offsets.back());
+  const int d = _dim;
   for (int k = _boundary.offsets[rank]; k < _boundary.offsets[rank + 1]; ++k)
-    all[k] = global[2 * _boundary.nodes[k / 2] + k % 2];
+    all[k] = global[d * _boundary.nodes[k / d] + k % d];
   _comm.share_blocks(all, _boundary.counts, _boundary.offsets);
   for (std::size_t k = 0; k < all.size(); ++k)
-    global[2 * _boundary.nodes[k / 2] + k % 2] = all[k];
+    global[d * _boundary.nodes[k / d] + k % d] = all[k];
   // What no rank writes: the other bodies' interiors' one entry
   constexpr double stale = std::numeric_limits<double>::quiet_NaN();
-  global[2 * _unstored] = global[2 * _unstored + 1] = stale;
+  for (int c = 0; c < d; ++c)
+    global[d * _unstored + c] = stale;
 }
 
 void Scatterer::share_nodes(std::span<double> global,
@@ -153,14 +159,15 @@ void Scatterer::share_nodes(std::span<double> global,
 {
   if (!_comm.distributed())
     return;
-  std::vector<double> packed(2 * nodes.size());
+  const int d = _dim;
+  std::vector<double> packed(d * nodes.size());
   for (std::size_t k = 0; k < nodes.size(); ++k)
-    for (int c = 0; c < 2; ++c)
-      packed[2 * k + c] = global[2 * nodes[k] + c];
+    for (int c = 0; c < d; ++c)
+      packed[d * k + c] = global[d * nodes[k] + c];
   _comm.sum(packed);
   for (std::size_t k = 0; k < nodes.size(); ++k)
-    for (int c = 0; c < 2; ++c)
-      global[2 * nodes[k] + c] = packed[2 * k + c];
+    for (int c = 0; c < d; ++c)
+      global[d * nodes[k] + c] = packed[d * k + c];
 }
 
 } // namespace softpack::parallel

@@ -64,7 +64,7 @@ public:
 private:
   /// Nodes listed by their owners' ranks (rank 0's first, each rank's in
   /// body order; the same list on every rank), and each rank's part of it
-  /// in doubles (2 per node)
+  /// in doubles (the bodies' dimension per node)
   struct NodesByOwner
   {
     std::vector<std::int32_t> nodes;
@@ -75,6 +75,8 @@ private:
 
   Communicator _comm;
   BodyIndexMap _map;
+  /// The bodies' dimension: the entries per node of a node vector
+  int _dim = 2;
   /// Each rank's count of nodes (of its bodies)
   std::vector<std::size_t> _owner_node_counts;
   /// The nodes share_boundaries makes current (storage indices: the same

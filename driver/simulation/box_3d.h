@@ -48,7 +48,7 @@ double base_area_fraction(const bodies::BodySet& bodies,
                           const std::vector<dynamics::Wall3D>& walls);
 
 /// Refuse what the 3D time loop lacks, naming driver.json and the key:
-/// several MPI ranks (parallel), a periodic cell (cell.enabled), stages,
+/// a periodic cell (cell.enabled), stages,
 /// a servo wall (walls.NAME.control), gravity (gravity.acceleration), no
 /// box (scene.box.enabled).
 /// @throws std::runtime_error

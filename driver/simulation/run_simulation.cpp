@@ -64,8 +64,8 @@ bodies::BodySet make_bodies(MPI_Comm comm, const io::DriverConfig& config)
 
 namespace
 {
-/// The time stepper of the bodies' dimension: 2D with driver.json's walls
-/// over the processes, 3D with the box's six planes (box_3d.h)
+/// The time stepper of the bodies' dimension over the processes: 2D with
+/// driver.json's walls, 3D with the box's six planes (box_3d.h)
 dynamics::MoreauJean make_scheme(MPI_Comm comm, bodies::BodySet& bodies,
                                  const io::DriverConfig& config)
 {
@@ -77,7 +77,8 @@ dynamics::MoreauJean make_scheme(MPI_Comm comm, bodies::BodySet& bodies,
     try // what the 3D step refuses (rigid bodies, cohesion, ...)
     {
       return dynamics::MoreauJean(bodies, std::move(options),
-                                  box_walls_3d(config));
+                                  box_walls_3d(config),
+                                  parallel::Distribution(comm, bodies));
     }
     catch (const std::invalid_argument& e)
     {

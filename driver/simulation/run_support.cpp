@@ -84,9 +84,13 @@ std::string stop_reason(const io::DriverConfig& config,
 std::vector<double> body_cauchy(const dynamics::MoreauJean& scheme,
                                 const bodies::BodySet& bodies)
 {
-  if (bodies.dim() == 3) // one rank
+  if (bodies.dim() == 3)
   {
-    const auto c = bodies::cauchy_integrals_3d(bodies);
+    static_assert(sizeof(bodies::CauchyIntegral3D) == 9 * sizeof(double));
+    std::vector<bodies::CauchyIntegral3D> c =
+        bodies::cauchy_integrals_3d(bodies);
+    scheme.distribution().scatterer().share_by_body(
+        std::span<double>(c.front().data(), 9 * c.size()), 9);
     return std::vector<double>(c.front().data(),
                                c.front().data() + 9 * c.size());
   }

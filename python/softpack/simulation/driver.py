@@ -69,8 +69,8 @@ def executable() -> Path:
 
 
 def check_ranks(ranks: int, config) -> None:
-    """Refuse a number of MPI ranks outside 1..number of bodies, or above 1
-    for a 3D scene (not yet distributed).
+    """Refuse a number of MPI ranks outside 1..number of bodies (2D and 3D
+    scenes alike).
 
     Raises
     ------
@@ -81,11 +81,6 @@ def check_ranks(ranks: int, config) -> None:
 
     if ranks == 1:  # a valid config has a body
         return
-    if config["model"]["dimension"] == 3:
-        raise ConfigError(
-            f"--ranks {ranks}: a 3D scene ([model] dimension = 3 in"
-            f" {config.source}) runs on one rank for now"
-            " (docs/bodies_3d.md)")
     bodies = sum(int(s["count"]) for s in config["species"])
     if not 1 <= ranks <= bodies:
         raise ConfigError(
