@@ -76,7 +76,7 @@ public:
 
   /// Set contact a's wall velocity (a servo wall's changes within a step:
   /// its free velocity for the contact solves, its mid-step one for the
-  /// energy accounts). 2D.
+  /// energy accounts).
   /// @param[in] a Contact index (a wall contact)
   /// @param[in] velocity The wall's velocity (global x, y)
   void set_wall_velocity(std::size_t a, const std::array<double, 2>& velocity)
@@ -85,6 +85,15 @@ public:
         frame(a).transpose() * Eigen::Vector2d(velocity[0], velocity[1]);
     _wall_velocity[2 * a] = w[0];
     _wall_velocity[2 * a + 1] = w[1];
+  }
+  /// The same for a 3D contact (global x, y, z)
+  void set_wall_velocity(std::size_t a, const std::array<double, 3>& velocity)
+  {
+    const Eigen::Vector3d w =
+        frame<3>(a).transpose() *
+        Eigen::Vector3d(velocity[0], velocity[1], velocity[2]);
+    for (int i = 0; i < 3; ++i)
+      _wall_velocity[3 * a + i] = w[i];
   }
 
   /// \f$U = H^T v - U_{wall}\f$, D per contact

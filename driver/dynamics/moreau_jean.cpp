@@ -139,12 +139,13 @@ void MoreauJean::set_delassus(const StepContacts& sc, StepProblem& problem,
                               StepReport& report)
 {
   const auto t0 = clock::now();
-  if (dim() == 3) // (no servo wall: check_3d)
+  if (dim() == 3)
   {
     problem.three.W = _exchange.delassus(
         sc.size(),
         delassus_blocks<3>(_bodies, sc.H, _kbar,
-                           _options.contact.delassus_drop_tolerance, nullptr));
+                           _options.contact.delassus_drop_tolerance, nullptr),
+        std::span<const WallCouplingD<3>>(sc.servo.couplings_3d));
     report.seconds.delassus += seconds_since(t0);
     return;
   }
@@ -206,6 +207,7 @@ StepReport MoreauJean::step()
     // Initial velocities are set between construction and the first step
     // (set_initial_velocity), a wall's velocity too.
     _energy.kinetic0 = _body_kinetic + walls_kinetic_energy(_walls) +
+                       walls_kinetic_energy(_walls3) +
                        (_cell ? cell_kinetic_energy(*_cell) : 0.0);
     _started = true;
   }
@@ -352,9 +354,13 @@ void MoreauJean::finish_step(StepContacts& sc, const StepStart& start,
       for (int d = 0; d < 2; ++d)
         wall.point[d] += h * wall.velocity[d];
   for (Wall3D& wall : _walls3)
-    for (int d = 0; d < 3; ++d)
-      wall.point[d] += h * wall.velocity[d];
-  finish_servo_walls(sc.servo, _walls, _R, h, _options.time.theta);
+    if (!wall.servo())
+      for (int d = 0; d < 3; ++d)
+        wall.point[d] += h * wall.velocity[d];
+  if (dim() == 3)
+    finish_servo_walls(sc.servo, _walls3, _R, h, _options.time.theta);
+  else
+    finish_servo_walls(sc.servo, _walls, _R, h, _options.time.theta);
   finish_servo_cell(sc.servo, _R, _options.time.theta);
   t0 = clock::now();
   account_step(sc, start, report, stiffness.numerical);
@@ -401,7 +407,10 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
                         .Cv_new = Cv_new,
                         .f_ext = start.f_ext_b},
                        stiffness_numerical);
-  account_servo_walls(sc.servo, _walls, sc.H, _energy, h, th);
+  if (dim() == 3)
+    account_servo_walls(sc.servo, _walls3, sc.H, _energy, h, th);
+  else
+    account_servo_walls(sc.servo, _walls, sc.H, _energy, h, th);
   if (_cell)
     account_servo_cell(sc.servo, *_cell, _contacts, sc.H, _R, _energy, h, th);
   const std::vector<double> U_mid = sc.H.relative_velocity(_bodies, v_mid);
@@ -410,7 +419,7 @@ void MoreauJean::account_step(StepContacts& sc, const StepStart& start,
     add_contact_terms(_energy, sc.H, _contacts, _walls, _R, U_mid, sc.cohesion,
                       sc.bonds.contacts);
   else
-    add_contact_terms(_energy, sc.H, _contacts3, _R, U_mid);
+    add_contact_terms(_energy, sc.H, _contacts3, _walls3, _R, U_mid);
   for (std::size_t a = 0; a < sc.size(); ++a)
   {
     const double gap =

@@ -73,9 +73,9 @@ public:
   /// A 3D run (BodySet::dim() = 3; docs/contact_3d.md, "The 3D step"):
   /// the same step over 3 components per node, node-to-face contacts
   /// (detect_contacts_3d) in the frame (n, t1, t2) and plane walls moved
-  /// at their imposed velocities, over the processes as a 2D run
-  /// (docs/mpi_design.md, "3D runs"); no rigid bodies, cohesion, bonds,
-  /// servo walls or periodic cell yet (refused).
+  /// at their imposed velocities or servo-controlled as in 2D, over the
+  /// processes as a 2D run (docs/mpi_design.md, "3D runs"); no rigid
+  /// bodies, cohesion, bonds or periodic cell yet (refused).
   /// @throws std::invalid_argument if the bodies are not 3D, a wall's
   /// normal is not a unit vector, or an option asks for what 3D lacks
   /// (The options before the walls: a 2D run's `{}` for no walls stays
@@ -129,9 +129,13 @@ public:
   std::vector<std::array<double, 2>> wall_forces() const;
   /// The same for the walls of a 3D run
   std::vector<std::array<double, 3>> wall_forces_3d() const;
-  /// The plane walls of a 3D run (writable: a wall's velocity may be
-  /// changed between steps)
+  /// The plane walls of a 3D run (writable: a wall's velocity, control,
+  /// pressure or force may be changed between steps; link_walls(walls_3d())
+  /// after changing a control)
   std::vector<Wall3D>& walls_3d() { return _walls3; }
+  const std::vector<Wall3D>& walls_3d() const { return _walls3; }
+  /// The bodies' dimension, 2 or 3
+  int dimension() const { return dim(); }
   /// Energy balance since the start (the strain energy is evaluated on
   /// demand: a state function, not needed to step; the kinetic energy is
   /// summed over the ranks where every rank passes, at a step's end, a
@@ -179,6 +183,9 @@ public:
   /// kinetic energy is summed); the energies must be current (as for
   /// energy()).
   void continue_with(std::vector<Wall> walls,
+                     const std::function<void(SchemeState&)>& edit);
+  /// The same for a 3D run's plane walls
+  void continue_with(std::vector<Wall3D> walls,
                      const std::function<void(SchemeState&)>& edit);
   /// Make the run a periodic cell (docs/periodic_cell.md), before the
   /// first step: contacts with the images of the bodies, the cell moved by
@@ -241,6 +248,9 @@ private:
   struct StepProblem;
   /// The bodies' dimension, 2 or 3
   int dim() const { return _bodies.dim(); }
+  /// continue_with's restore, the walls set
+  void continue_edited(SchemeState& s,
+                       const std::function<void(SchemeState&)>& edit);
   /// Refuse what 3D runs lack (the constructors' checks)
   void check_3d() const;
   /// The step's 3D contacts and their operator (prepare_contacts)

@@ -34,6 +34,7 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, MoreauJeanOptions options,
                                   ".tensile_strength: not >= 0");
   }
   _walls3 = std::move(walls);
+  link_walls(_walls3);
 }
 
 void MoreauJean::check_3d() const

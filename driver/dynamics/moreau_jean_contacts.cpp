@@ -42,9 +42,11 @@ MoreauJean::prepare_contacts(const std::vector<double>& v_old)
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
   }
-  if (d == 3) // (no servo wall or cell: check_3d)
+  if (d == 3) // (no cell: check_3d)
   {
     sc.cohesion = wall_cohesion_3d();
+    // After the shift: U_n- is at the walls' start velocity.
+    sc.servo = start_servo_walls(_walls3, _contacts3, sc.H, h);
     _R = _history.warm_start(_contacts3);
     return sc;
   }

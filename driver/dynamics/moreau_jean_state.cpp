@@ -37,6 +37,7 @@ const EnergyBalance& MoreauJean::energy() const
     _energy.strain =
         std::accumulate(_body_strain.begin(), _body_strain.end(), 0.0);
     _energy.kinetic = _body_kinetic + walls_kinetic_energy(_walls) +
+                      walls_kinetic_energy(_walls3) +
                       (_cell ? cell_kinetic_energy(*_cell) : 0.0);
     if (!_started)
       _energy.kinetic0 = _energy.kinetic;
@@ -210,10 +211,14 @@ void MoreauJean::restore(const SchemeState& s)
     if (w < s.wall_velocities.size() && _walls[w].servo())
       _walls[w].velocity = s.wall_velocities[w];
   }
-  // 3D: the planes' points; their velocities are imposed (no servo plane
-  // yet: check_3d), the run's own as for a 2D velocity wall
+  // 3D: the planes' points, and a servo plane's velocity (an imposed one
+  // stays the run's, as for a 2D velocity wall)
   for (std::size_t w = 0; w < _walls3.size(); ++w)
+  {
     _walls3[w].point = s.wall_points_3d[w];
+    if (w < s.wall_velocities_3d.size() && _walls3[w].servo())
+      _walls3[w].velocity = s.wall_velocities_3d[w];
+  }
   _history.restore(s.reactions);
   _history.restore(s.reactions_3d);
   // (a run without a bonded pair keeps none of the state's bonds)
@@ -240,6 +245,20 @@ void MoreauJean::continue_with(std::vector<Wall> walls,
 {
   SchemeState s = stored_state();
   _walls = std::move(walls);
+  continue_edited(s, edit);
+}
+
+void MoreauJean::continue_with(std::vector<Wall3D> walls,
+                               const std::function<void(SchemeState&)>& edit)
+{
+  SchemeState s = stored_state();
+  _walls3 = std::move(walls);
+  continue_edited(s, edit);
+}
+
+void MoreauJean::continue_edited(SchemeState& s,
+                                 const std::function<void(SchemeState&)>& edit)
+{
   edit(s);
   // The displacement and velocity do not change (the entries of the
   // interiors not stored go out and come back NaN): the strain energies

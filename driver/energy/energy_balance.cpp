@@ -96,6 +96,7 @@ void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
 
 void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
                        const std::vector<Contact3D>& contacts,
+                       const std::vector<Wall3D>& walls,
                        std::span<const double> R, std::span<const double> U_mid)
 {
   for (std::size_t a = 0; a < contacts.size(); ++a)
@@ -104,7 +105,8 @@ void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
     const double* u = &U_mid[3 * a];
     energy.friction -= r[1] * u[1] + r[2] * u[2];
     energy.contact_normal -= r[0] * u[0];
-    if (contacts[a].wall >= 0)
+    // (a servo wall's contacts transmit its own work: account_servo_walls)
+    if (contacts[a].wall >= 0 && !walls[contacts[a].wall].servo())
     {
       const Eigen::Vector3d w = H.wall_velocity<3>(a);
       energy.wall_work += r[0] * w[0] + r[1] * w[1] + r[2] * w[2];

@@ -143,11 +143,14 @@ void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
                        std::span<const double> cohesion = {},
                        std::span<const std::int32_t> bonds = {});
 
-/// The contact terms of a 3D step (no cohesion or bond; every wall
-/// velocity-controlled): friction -R_t . U_t (both tangents), normal
-/// -R_n U_n, and the walls' work R . U_wall (ContactOperator::wall_velocity)
+/// The contact terms of a 3D step (no cohesion or bond): friction
+/// -R_t . U_t (both tangents), normal -R_n U_n, and the velocity-controlled
+/// walls' work R . U_wall (ContactOperator::wall_velocity); a servo wall's
+/// contacts transmit its work, account_servo_walls counts the imposed
+/// force's (as add_contact_terms of 2D)
 void add_contact_terms(EnergyBalance& energy, const ContactOperator& H,
                        const std::vector<Contact3D>& contacts,
+                       const std::vector<Wall3D>& walls,
                        std::span<const double> R,
                        std::span<const double> U_mid);
 

@@ -131,7 +131,8 @@ ContactExchange::delassus(const std::vector<dynamics::Contact>& contacts,
 
 contact::DelassusMatrixD<3>
 ContactExchange::delassus(std::size_t num_contacts,
-                          std::vector<dynamics::DelassusBlockD<3>> blocks)
+                          std::vector<dynamics::DelassusBlockD<3>> blocks,
+                          std::span<const dynamics::WallCouplingD<3>> couplings)
 {
   _domains.reset();
   if (_dist.distributed())
@@ -141,7 +142,7 @@ ContactExchange::delassus(std::size_t num_contacts,
       mine.push_back(to_wire<3>(k.body, k.a, k.b, k.block));
     blocks = in_body_order(_dist.comm().gather_items<WireBlockD<3>>(mine));
   }
-  return dynamics::assemble_delassus<3>(num_contacts, blocks, {});
+  return dynamics::assemble_delassus<3>(num_contacts, blocks, couplings);
 }
 
 contact::FrictionContactProblem2D ContactExchange::whole_problem(

@@ -63,11 +63,14 @@ public:
            std::span<const dynamics::WallCoupling> couplings);
   /// W of a 3D run whole on every rank, from every rank's blocks
   /// (dynamics::delassus_blocks<3> of its local bodies) gathered in the
-  /// serial body order: the 3D contact solve is not yet domain-wise, every
-  /// rank solves the whole problem (docs/mpi_design.md, "3D runs")
+  /// serial body order, and the servo walls' couplings (every rank's
+  /// own, the whole contact list being on every rank): the 3D contact
+  /// solve is not yet domain-wise, every rank solves the whole problem
+  /// (docs/mpi_design.md, "3D runs")
   contact::DelassusMatrixD<3>
   delassus(std::size_t num_contacts,
-           std::vector<dynamics::DelassusBlockD<3>> blocks);
+           std::vector<dynamics::DelassusBlockD<3>> blocks,
+           std::span<const dynamics::WallCouplingD<3>> couplings);
   /// This rank's share of the contact solves planned with the last W (null
   /// when serial)
   const contact::SweepDomain* domain() const

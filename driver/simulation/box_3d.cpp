@@ -13,10 +13,17 @@ std::vector<dynamics::Wall3D> box_walls_3d(const io::DriverConfig& config)
 {
   std::vector<dynamics::Wall3D> walls;
   for (const dynamics::Wall& w : config.walls)
+  {
     walls.push_back({w.name,
                      {w.point[0], w.point[1], 0},
                      {w.normal[0], w.normal[1], 0},
                      {w.velocity[0], w.velocity[1], 0}});
+    // A servo wall's drive as in 2D (its force in N, its mass in kg)
+    walls.back().control = w.control;
+    walls.back().pressure = w.pressure;
+    walls.back().force = w.force;
+    walls.back().mass = w.mass;
+  }
   walls.push_back({box_planes_3d[0], {0, 0, 0}, {0, 0, 1}, {0, 0, 0}});
   walls.push_back(
       {box_planes_3d[1], {0, 0, config.box_height}, {0, 0, -1}, {0, 0, 0}});
@@ -98,13 +105,6 @@ void check_3d_run(MPI_Comm /*comm: any number of ranks*/,
     throw std::runtime_error(file + "cell.enabled" + tail);
   if (!config.box)
     throw std::runtime_error(file + "scene.box.enabled = false" + tail);
-  if (!config.stages.empty())
-    throw std::runtime_error(file + "stages" + tail);
-  for (const dynamics::Wall& w : config.walls)
-    if (w.servo())
-      throw std::runtime_error(file + "walls." + w.name +
-                               ".control: a servo (pressure or force) wall" +
-                               tail);
   const auto& g = config.parameters.gravity.acceleration;
   if (g[0] != 0 || g[1] != 0)
     throw std::runtime_error(file + "gravity.acceleration" + tail);

@@ -1,14 +1,14 @@
 #include "stages.h"
 
 #include <algorithm>
-#include <bodies/body_forces.h>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <limits>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <tuple>
+#include <type_traits>
 
 namespace softpack::simulation
 {
@@ -17,6 +17,31 @@ namespace
 double dot(const std::array<double, 2>& a, const std::array<double, 2>& b)
 {
   return a[0] * b[0] + a[1] * b[1];
+}
+double dot(const std::array<double, 3>& a, const std::array<double, 3>& b)
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/// The index of the wall named `name` (io::wall_index, for either
+/// dimension's walls)
+template <class W>
+int index_of(const std::vector<W>& walls, const std::string& name)
+{
+  for (std::size_t i = 0; i < walls.size(); ++i)
+    if (walls[i].name == name)
+      return static_cast<int>(i);
+  throw std::runtime_error("no wall named '" + name + "'");
+}
+
+/// A run's walls of either dimension: a 3D run's plane walls, else the
+/// 2D walls (the same stage logic works on both)
+template <class F>
+decltype(auto) with_walls(const dynamics::MoreauJean& scheme, F&& f)
+{
+  if (scheme.dimension() == 3)
+    return f(scheme.walls_3d(), scheme.wall_forces_3d());
+  return f(scheme.walls(), scheme.wall_forces());
 }
 
 /// The side of `target` a value starts on: +1 below (or at), -1 above.
@@ -32,23 +57,9 @@ bool crossed(double value, double target, int from)
 }
 } // namespace
 
-double box_pressure(const std::vector<dynamics::Wall>& walls,
-                    const std::vector<std::array<double, 2>>& forces)
+namespace
 {
-  const auto& names = io::box_wall_names; // left, right, bottom, top
-  int w[4];
-  for (int i = 0; i < 4; ++i)
-    w[i] = io::wall_index(walls, names[i]);
-  // A wall's length is the distance between its two neighbours.
-  const double lx = facing_distance(walls, w[0]); // left - right
-  const double ly = facing_distance(walls, w[2]); // bottom - top
-  auto push = [&](int i) { return -dot(forces[w[i]], walls[w[i]].normal); };
-  const double sxx = (push(0) + push(1)) / (2 * ly);
-  const double syy = (push(2) + push(3)) / (2 * lx);
-  return 0.5 * (sxx + syy);
-}
-
-int facing_wall(const std::vector<dynamics::Wall>& walls, int w)
+template <class W> int facing_wall_d(const std::vector<W>& walls, int w)
 {
   for (std::size_t o = 0; o < walls.size(); ++o)
     if (static_cast<int>(o) != w &&
@@ -57,98 +68,64 @@ int facing_wall(const std::vector<dynamics::Wall>& walls, int w)
   return -1;
 }
 
-double facing_distance(const std::vector<dynamics::Wall>& walls, int w)
+template <class W> double facing_distance_d(const std::vector<W>& walls, int w)
 {
-  const int f = facing_wall(walls, w);
+  const int f = facing_wall_d(walls, w);
   if (f < 0)
     return 0;
-  const dynamics::Wall &a = walls[w], &b = walls[f];
-  return (b.point[0] - a.point[0]) * a.normal[0] +
-         (b.point[1] - a.point[1]) * a.normal[1];
+  const W &a = walls[w], &b = walls[f];
+  double d = (b.point[0] - a.point[0]) * a.normal[0];
+  for (std::size_t i = 1; i < a.point.size(); ++i)
+    d += (b.point[i] - a.point[i]) * a.normal[i];
+  return d;
 }
 
-namespace
+template <class W, class F>
+double box_pressure_d(const std::vector<W>& walls, const std::vector<F>& forces)
 {
-/// The largest servo wall's residual: its imposed force against the normal
-/// contact force it received, relative to the imposed force (a servo wall
-/// is a body too)
-double servo_wall_ratio(const dynamics::MoreauJean& scheme)
-{
-  // Measured against its own load: a wall carries the contacts of a whole
-  // side of the box (tens of pair forces), so measured against one mean
-  // pair force its residual breathing would keep a 100-disk stage from
-  // ever ending (seen at 40 kPa: 0.5 % of its load).
-  const std::vector<dynamics::Wall>& walls = scheme.walls();
-  const std::vector<std::array<double, 2>> received = scheme.wall_forces();
-  double ratio = 0;
-  for (std::size_t w = 0; w < walls.size(); ++w)
-  {
-    const double imposed = dynamics::imposed_force(walls, w);
-    if (walls[w].servo() && imposed != 0)
-      ratio = std::max(ratio,
-                       std::abs(imposed + dot(received[w], walls[w].normal)) /
-                           std::abs(imposed));
-  }
-  return ratio;
+  const auto& names = io::box_wall_names; // left, right, bottom, top
+  int w[4];
+  for (int i = 0; i < 4; ++i)
+    w[i] = index_of(walls, names[i]);
+  // A wall's length is the distance between its two neighbours; in 3D its
+  // area that times the box's height (base to lid).
+  const double lx = facing_distance_d(walls, w[0]); // left - right
+  const double ly = facing_distance_d(walls, w[2]); // bottom - top
+  double depth = 1;
+  if constexpr (std::tuple_size_v<F> == 3)
+    depth = facing_distance_d(walls, index_of(walls, "base"));
+  auto push = [&](int i) { return -dot(forces[w[i]], walls[w[i]].normal); };
+  const double sxx = (push(0) + push(1)) / (2 * (ly * depth));
+  const double syy = (push(2) + push(3)) / (2 * (lx * depth));
+  return 0.5 * (sxx + syy);
 }
 } // namespace
 
-double unbalanced_force_ratio(const dynamics::MoreauJean& scheme,
-                              const bodies::BodySet& bodies,
-                              const std::array<double, 2>& gravity)
+double box_pressure(const std::vector<dynamics::Wall>& walls,
+                    const std::vector<std::array<double, 2>>& forces)
 {
-  const std::vector<dynamics::Contact>& contacts = scheme.contacts();
-  const std::vector<double>& R = scheme.impulses();
-  // The particles' ratio is taken on impulses (forces x h), as the
-  // contacts give them; the walls' on forces.
-  std::vector<std::array<double, 2>> resultant(bodies.num_bodies(), {0, 0});
-  if (gravity != std::array<double, 2>{0, 0})
-    for (int b = 0; b < bodies.num_bodies(); ++b)
-    {
-      const std::array<double, 2> w = bodies::body_weight(bodies, b, gravity);
-      for (int d = 0; d < 2; ++d)
-        resultant[b][d] = w[d] * scheme.time_step();
-    }
-  // A pair: (candidate, antagonist body) or (candidate, -1 - wall).
-  std::map<std::pair<int, int>, std::array<double, 2>> pairs;
-  for (std::size_t a = 0; a < contacts.size(); ++a)
-  {
-    const dynamics::Contact& c = contacts[a];
-    const std::array<double, 2> f = {R[2 * a] * c.n[0] + R[2 * a + 1] * c.t[0],
-                                     R[2 * a] * c.n[1] + R[2 * a + 1] * c.t[1]};
-    for (int d = 0; d < 2; ++d)
-    {
-      resultant[c.candidate_body][d] += f[d];
-      if (c.antagonist_body >= 0)
-        resultant[c.antagonist_body][d] -= f[d];
-    }
-    // One pair whichever body is the candidate.
-    const int other = c.antagonist_body >= 0 ? c.antagonist_body : -1 - c.wall;
-    const std::pair<int, int> key =
-        other >= 0 ? std::make_pair(std::min(c.candidate_body, other),
-                                    std::max(c.candidate_body, other))
-                   : std::make_pair(c.candidate_body, other);
-    std::array<double, 2>& p = pairs[key];
-    // Forces on the lower-numbered body of the pair.
-    const double s = (other >= 0 && c.candidate_body != key.first) ? -1 : 1;
-    p[0] += s * f[0];
-    p[1] += s * f[1];
-  }
-  double sum = 0;
-  int n = 0;
-  for (const auto& [key, f] : pairs)
-    if (std::hypot(f[0], f[1]) > 0)
-    {
-      sum += std::hypot(f[0], f[1]);
-      ++n;
-    }
-  double largest = 0;
-  for (const auto& f : resultant)
-    largest = std::max(largest, std::hypot(f[0], f[1]));
-  // No contact force: at rest, unless a weight pulls a body in flight
-  if (n == 0)
-    return largest > 0 ? std::numeric_limits<double>::infinity() : 0;
-  return std::max(largest / (sum / n), servo_wall_ratio(scheme));
+  return box_pressure_d(walls, forces);
+}
+
+double box_pressure(const std::vector<dynamics::Wall3D>& walls,
+                    const std::vector<std::array<double, 3>>& forces)
+{
+  return box_pressure_d(walls, forces);
+}
+
+int facing_wall(const std::vector<dynamics::Wall>& walls, int w)
+{
+  return facing_wall_d(walls, w);
+}
+
+double facing_distance(const std::vector<dynamics::Wall>& walls, int w)
+{
+  return facing_distance_d(walls, w);
+}
+
+double facing_distance(const std::vector<dynamics::Wall3D>& walls, int w)
+{
+  return facing_distance_d(walls, w);
 }
 
 StageProgram::StageProgram(const io::DriverConfig& config)
@@ -158,13 +135,26 @@ StageProgram::StageProgram(const io::DriverConfig& config)
 {
 }
 
-double StageProgram::set_drives(const parameters::Stage& stage,
-                                std::vector<dynamics::Wall>& walls)
+namespace
+{
+/// A stage's velocity for a wall of either dimension (in the x-y plane)
+template <class V> V velocity_of(const std::array<double, 2>& v)
+{
+  V out{};
+  out[0] = v[0];
+  out[1] = v[1];
+  return out;
+}
+
+/// Set a stage's drives on walls of either dimension; the kinetic energy of
+/// servo walls turned velocity-driven
+template <class W>
+double set_drives_d(const parameters::Stage& stage, std::vector<W>& walls)
 {
   double returned = 0;
   for (const auto& [name, s] : stage.walls)
   {
-    dynamics::Wall& w = walls[io::wall_index(walls, name)];
+    W& w = walls[index_of(walls, name)];
     const bool was_servo = w.servo();
     w.control = s.control;
     w.pressure = s.pressure;
@@ -173,14 +163,67 @@ double StageProgram::set_drives(const parameters::Stage& stage,
     {
       if (was_servo)
         returned += 0.5 * w.mass * dot(w.velocity, w.velocity);
-      w.velocity = s.velocity;
+      w.velocity = velocity_of<decltype(w.velocity)>(s.velocity);
     }
     else if (!was_servo)
-      w.velocity = {0, 0}; // a new servo wall starts at rest
-    w.span = {-1, -1};
+      w.velocity = {}; // a new servo wall starts at rest
+    w.span.fill(-1);
   }
   dynamics::link_walls(walls);
   return returned;
+}
+
+/// A stage's drives on the scheme's walls of either dimension: a restore
+/// of its own state with the returned kinetic energy taken out of
+/// wall_work when a servo wall stops (the same arithmetic as a continued
+/// run), else the walls replaced
+template <class W>
+void apply_drives(const parameters::Stage& stage, dynamics::MoreauJean& scheme,
+                  std::vector<W> walls)
+{
+  const double returned = set_drives_d(stage, walls);
+  if (returned == 0)
+  {
+    if constexpr (std::is_same_v<W, dynamics::Wall>)
+      scheme.walls() = walls;
+    else
+      scheme.walls_3d() = walls;
+    return;
+  }
+  scheme.continue_with(walls,
+                       [&](dynamics::SchemeState& s)
+                       {
+                         s.energy.wall_work -= returned;
+                         for (std::size_t w = 0; w < walls.size(); ++w)
+                           if constexpr (std::is_same_v<W, dynamics::Wall>)
+                             s.wall_velocities[w] = walls[w].velocity;
+                           else
+                             s.wall_velocities_3d[w] = walls[w].velocity;
+                       });
+}
+} // namespace
+
+double StageProgram::set_drives(const parameters::Stage& stage,
+                                dynamics::MoreauJean& scheme)
+{
+  if (scheme.dimension() == 3)
+    return set_drives_d(stage, scheme.walls_3d());
+  return set_drives_d(stage, scheme.walls());
+}
+
+double StageProgram::wall_distance(const dynamics::MoreauJean& scheme,
+                                   const std::string& name)
+{
+  return with_walls(scheme,
+                    [&](const auto& walls, const auto&) {
+                      return facing_distance_d(walls, index_of(walls, name));
+                    });
+}
+
+double StageProgram::pressure(const dynamics::MoreauJean& scheme)
+{
+  return with_walls(scheme, [](const auto& walls, const auto& forces)
+                    { return box_pressure_d(walls, forces); });
 }
 
 void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
@@ -188,20 +231,10 @@ void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
 {
   const parameters::Stage& stage = _stages[k];
   scheme.set_default_friction(stage.contact.friction);
-  std::vector<dynamics::Wall> walls = scheme.walls();
-  const double returned = set_drives(stage, walls);
-  if (returned != 0)
-    // The accounts' wall_work is the scheme's: a restore of its own state
-    // with that energy taken out (the same arithmetic as a continued run).
-    scheme.continue_with(walls,
-                         [&](dynamics::SchemeState& s)
-                         {
-                           s.energy.wall_work -= returned;
-                           for (std::size_t w = 0; w < walls.size(); ++w)
-                             s.wall_velocities[w] = walls[w].velocity;
-                         });
+  if (scheme.dimension() == 3)
+    apply_drives(stage, scheme, scheme.walls_3d());
   else
-    scheme.walls() = walls;
+    apply_drives(stage, scheme, scheme.walls());
   // A cell's drive changes at a stage that gives another one
   if (!_stage_cells.empty() &&
       !_stage_cells[k].same(k == 0 ? _cell_drive : _stage_cells[k - 1]))
@@ -218,14 +251,11 @@ void StageProgram::begin(int k, dynamics::MoreauJean& scheme,
   _start.external_work = scheme.energy().external_work;
   _start.cell_work = scheme.energy().cell_work;
   if (!stage.stop.strain_wall.empty())
-    _start.length = facing_distance(
-        scheme.walls(), io::wall_index(scheme.walls(), stage.stop.strain_wall));
+    _start.length = wall_distance(scheme, stage.stop.strain_wall);
   if (phi && stage.stop.packing_fraction > 0)
     _start.phi_side = side(*phi, stage.stop.packing_fraction);
   if (stage.stop.pressure > 0)
-    _start.pressure_side =
-        side(box_pressure(scheme.walls(), scheme.wall_forces()),
-             stage.stop.pressure);
+    _start.pressure_side = side(pressure(scheme), stage.stop.pressure);
   if (stage.bond) // (after continue_with, which restores the flag)
     scheme.form_bonds(true);
 }
@@ -239,7 +269,7 @@ bool StageProgram::forms_bonds() const
 void StageProgram::resume(const StageStart& start, dynamics::MoreauJean& scheme)
 {
   for (int k = 0; k <= start.index; ++k)
-    set_drives(_stages[k], scheme.walls());
+    set_drives(_stages[k], scheme);
   // The drive's components before the state's rates (restored next)
   if (!_stage_cells.empty())
     scheme.change_cell_drive(_stage_cells[start.index], start.time);
@@ -247,13 +277,12 @@ void StageProgram::resume(const StageStart& start, dynamics::MoreauJean& scheme)
   _start = start;
 }
 
-double StageProgram::strain(const std::vector<dynamics::Wall>& walls) const
+double StageProgram::strain(const dynamics::MoreauJean& scheme) const
 {
   const std::string& name = stage().stop.strain_wall;
   if (name.empty() || _start.length == 0)
     return 0;
-  const int w = io::wall_index(walls, name);
-  return (_start.length - facing_distance(walls, w)) / _start.length;
+  return (_start.length - wall_distance(scheme, name)) / _start.length;
 }
 
 Balance StageProgram::balance(const dynamics::MoreauJean& scheme,
@@ -282,11 +311,10 @@ StageCheck StageProgram::check(const dynamics::MoreauJean& scheme,
       crossed(*phi, stop.packing_fraction, _start.phi_side))
     c.met = "packing_fraction";
   else if (stop.strain > 0 &&
-           std::abs(strain(scheme.walls())) >= stop.strain * (1 - 1e-12))
+           std::abs(strain(scheme)) >= stop.strain * (1 - 1e-12))
     c.met = "strain";
   else if (stop.pressure > 0 &&
-           crossed(box_pressure(scheme.walls(), scheme.wall_forces()),
-                   stop.pressure, _start.pressure_side))
+           crossed(pressure(scheme), stop.pressure, _start.pressure_side))
     c.met = "pressure";
   else if (stop.equilibrium > 0 && output_step)
   {
@@ -325,14 +353,14 @@ std::string StageProgram::missed(const dynamics::MoreauJean& scheme,
   }
   if (stop.strain > 0)
   {
-    out << sep << "strain " << stop.strain << " (strain "
-        << strain(scheme.walls()) << ")";
+    out << sep << "strain " << stop.strain << " (strain " << strain(scheme)
+        << ")";
     sep = ", ";
   }
   if (stop.pressure > 0)
   {
-    out << sep << "pressure " << stop.pressure << " Pa (P "
-        << box_pressure(scheme.walls(), scheme.wall_forces()) << " Pa)";
+    out << sep << "pressure " << stop.pressure << " Pa (P " << pressure(scheme)
+        << " Pa)";
     sep = ", ";
   }
   if (stop.equilibrium > 0)

@@ -67,12 +67,18 @@ struct Balance
 /// @param[in] forces The force each wall received (MoreauJean::wall_forces)
 double box_pressure(const std::vector<dynamics::Wall>& walls,
                     const std::vector<std::array<double, 2>>& forces);
+/// The same for a 3D run's box (its vertical walls, a wall's area its
+/// length times the box's height from base to lid; the base and lid do not
+/// enter P)
+double box_pressure(const std::vector<dynamics::Wall3D>& walls,
+                    const std::vector<std::array<double, 3>>& forces);
 
 /// The wall facing wall w (its normal opposite), or -1.
 int facing_wall(const std::vector<dynamics::Wall>& walls, int w);
 
 /// Distance between wall w and the wall facing it, along w's normal.
 double facing_distance(const std::vector<dynamics::Wall>& walls, int w);
+double facing_distance(const std::vector<dynamics::Wall3D>& walls, int w);
 
 /// max_p |f_p| / <|f_c|> from the last step's contacts and impulses
 /// (Balance::force); f_p includes the particle's weight under `gravity`
@@ -130,11 +136,16 @@ public:
                      std::optional<double> phi) const;
 
 private:
-  /// Set stage k's drives on the walls; the kinetic energy of servo walls
-  /// turned velocity-driven (taken from wall_work by the caller)
+  /// Set stage k's drives on the scheme's walls (of its dimension); the
+  /// kinetic energy of servo walls turned velocity-driven
   static double set_drives(const parameters::Stage& stage,
-                           std::vector<dynamics::Wall>& walls);
-  double strain(const std::vector<dynamics::Wall>& walls) const;
+                           dynamics::MoreauJean& scheme);
+  /// Distance between the wall `name` and the wall facing it, now
+  static double wall_distance(const dynamics::MoreauJean& scheme,
+                              const std::string& name);
+  /// box_pressure of the scheme's walls and last forces
+  static double pressure(const dynamics::MoreauJean& scheme);
+  double strain(const dynamics::MoreauJean& scheme) const;
 
   std::vector<parameters::Stage> _stages;
   /// A periodic cell's drive from [cell] and each stage's (empty: walls)

@@ -4,6 +4,7 @@
 #include <compliance/contact_operator.h>
 #include <compliance/delassus.h>
 #include <detection/detection.h>
+#include <detection/detection_3d.h>
 #include <energy/energy_balance.h>
 #include <span>
 #include <vector>
@@ -43,12 +44,14 @@ struct ServoStep
                                 double damping, double v_old, double h,
                                 double theta);
   /// From the converged impulses: V+ = V_free - (1/m) sum_c g_c . R_c and
-  /// V_mid
-  void finish(const WallCoupling& coupling, std::span<const double> R,
+  /// V_mid (D: the contacts' dimension, 2 or 3; R has D per contact)
+  template <int D>
+  void finish(const WallCouplingD<D>& coupling, std::span<const double> R,
               double theta);
   /// The work the unknown transmits to its contacts over the step,
   /// V_mid sum_c g_c . R_c (their R . U_wall)
-  double transmitted(const WallCoupling& coupling,
+  template <int D>
+  double transmitted(const WallCouplingD<D>& coupling,
                      std::span<const double> R) const;
   /// Its energy terms: the work of the imposed force h F V_mid (returned),
   /// (th - 1/2) m (V+ - V-)^2 added to the numerical dissipation and the
@@ -57,12 +60,14 @@ struct ServoStep
 };
 
 /// The servo unknowns of a step: the servo walls', then the cell's
-/// stress-controlled components; one coupling each, in that order.
+/// stress-controlled components; one coupling each, in that order (a 3D
+/// run's servo plane walls: couplings_3d, no cell).
 struct ServoWalls
 {
   std::vector<ServoStep> steps;
   std::vector<ServoStep> cell;
   std::vector<WallCoupling> couplings;
+  std::vector<WallCouplingD<3>> couplings_3d;
   /// A stress-controlled cell (servo_cell.h): each body's cell coordinates
   /// s_b = h^-1 c_b at the step's start, and each contact's h^-1 l (l the
   /// branch vector from the antagonist's image centroid to the
@@ -101,6 +106,10 @@ struct ServoWalls
 ServoWalls start_servo_walls(const std::vector<Wall>& walls,
                              const std::vector<Contact>& contacts,
                              ContactOperator& H, double h);
+/// The same for the plane walls of a 3D run and their contacts
+ServoWalls start_servo_walls(const std::vector<Wall3D>& walls,
+                             const std::vector<Contact3D>& contacts,
+                             ContactOperator& H, double h);
 
 /// End a step: V+ = V_free - (1/m) sum_c g_c . R_c from the converged
 /// impulses, the wall advanced by h (th V+ + (1 - th) V-) along its normal.
@@ -109,6 +118,9 @@ ServoWalls start_servo_walls(const std::vector<Wall>& walls,
 /// @param[in] R The step's impulses
 /// @param[in] h, theta Time step and theta
 void finish_servo_walls(ServoWalls& servo, std::vector<Wall>& walls,
+                        std::span<const double> R, double h, double theta);
+/// The same for the plane walls of a 3D run
+void finish_servo_walls(ServoWalls& servo, std::vector<Wall3D>& walls,
                         std::span<const double> R, double h, double theta);
 
 /// Before the step's contact accounts: the servo walls' contacts move at
@@ -125,6 +137,10 @@ void finish_servo_walls(ServoWalls& servo, std::vector<Wall>& walls,
 /// @param[in] h, theta Time step and theta
 void account_servo_walls(const ServoWalls& servo,
                          const std::vector<Wall>& walls, ContactOperator& H,
+                         EnergyBalance& energy, double h, double theta);
+/// The same for the plane walls of a 3D run
+void account_servo_walls(const ServoWalls& servo,
+                         const std::vector<Wall3D>& walls, ContactOperator& H,
                          EnergyBalance& energy, double h, double theta);
 
 } // namespace softpack::dynamics

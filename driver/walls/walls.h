@@ -87,8 +87,13 @@ struct Wall : WallDrive
 
 /// A plane wall of a 3D run: the half-space \f$(x - p) \cdot n \ge 0\f$
 /// is free. It translates at its imposed velocity (the time stepper
-/// advances `point` by h * velocity at each step); servo control is 2D only
-/// so far. Its friction is its party's in the FrictionTable
+/// advances `point` by h * velocity at each step), or it is a servo wall as
+/// a 2D Wall is (its control, pressure, force and mass; the same law,
+/// servo_walls.h), its normal velocity an unknown of the step: a pressure
+/// pushes it with pressure x its current area (the product of its two
+/// spans, the distances between the two pairs of facing walls
+/// perpendicular to it), a force with that force (N), and its mass is in
+/// kg. Its friction is its party's in the FrictionTable
 /// (FrictionTable::wall_party, the wall's index among the 3D walls).
 struct Wall3D
 {
@@ -105,6 +110,22 @@ struct Wall3D
   /// unilateral wall; a large value, on a frictionless wall, a symmetry
   /// plane (the nodes lying on it stay on it and slide freely)
   double tensile_strength = 0;
+  /// What drives it (velocity: the imposed velocity above) and, for a
+  /// servo wall, its imposed pressure (Pa) or force (N) and its mass (kg)
+  WallControl control = WallControl::velocity;
+  double pressure = 0, force = 0, mass = 0;
+  /// The two pairs of facing walls between which its area is measured
+  /// (control pressure; set by link_walls)
+  std::array<int, 4> span = {-1, -1, -1, -1};
+
+  /// Its normal velocity is an unknown of the step
+  bool servo() const { return control != WallControl::velocity; }
+  /// Normal velocity V = velocity . normal
+  double normal_velocity() const
+  {
+    return velocity[0] * normal[0] + velocity[1] * normal[1] +
+           velocity[2] * normal[2];
+  }
 };
 
 /// The gap (m) within which a contact with a Wall3D is closed: held by the
@@ -130,6 +151,15 @@ std::vector<Wall> box_walls(double x0, double x1, double y0, double y1,
 /// pressure-controlled wall no such pair of walls
 void link_walls(std::vector<Wall>& walls);
 
+/// link_walls for the plane walls of a 3D run: every pressure-controlled
+/// wall's two pairs of facing walls perpendicular to it (its area is the
+/// product of their distances).
+/// @throws std::invalid_argument as link_walls
+void link_walls(std::vector<Wall3D>& walls);
+
+/// Current area of plane wall w: the product of its two spans' distances.
+double wall_area(const std::vector<Wall3D>& walls, std::size_t w);
+
 /// Current length of wall w: the distance between its span walls.
 double wall_length(const std::vector<Wall>& walls, std::size_t w);
 
@@ -137,7 +167,13 @@ double wall_length(const std::vector<Wall>& walls, std::size_t w);
 /// normal): pressure x current length, or the force.
 double imposed_force(const std::vector<Wall>& walls, std::size_t w);
 
+/// Imposed normal force on a servo plane wall (N, along its normal):
+/// pressure x current area, or the force.
+double imposed_force(const std::vector<Wall3D>& walls, std::size_t w);
+
 /// Kinetic energy of the servo walls, sum of m V^2 / 2 (J/m).
 double walls_kinetic_energy(const std::vector<Wall>& walls);
+/// The same for the plane walls of a 3D run (J)
+double walls_kinetic_energy(const std::vector<Wall3D>& walls);
 
 } // namespace softpack::dynamics
