@@ -31,8 +31,9 @@ E, Z against Phi) and ``plane_strain.md`` (tables at ``--phi`` and at
 ``--eps``: force, energy and the other abscissa interpolated linearly
 between output rows, Z of the first row at or above), and prints them.
 For 3D runs with fields, also the cylinders' axial strain eps_zz (which
-plane strain holds at 0; :mod:`softpack.analysis.standing`) at each stored
-field against Phi: ``axial_strain.png`` / ``.pdf`` and a table.
+plane strain holds at 0) and their lift off the base
+(:mod:`softpack.analysis.standing`) at each stored field against Phi:
+``axial_strain.png`` / ``.pdf`` and a table.
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ from pathlib import Path
 import numpy as np
 
 from softpack.analysis.setup import SetupError, read_setup
-from softpack.analysis.standing import axial_strains
+from softpack.analysis.standing import standing
 from softpack.contract.run_directory import RunDirectory
 from softpack.contract.tables import read_table
 from softpack.plots import style
@@ -75,7 +76,7 @@ class Curve:
     z: np.ndarray
     retained: np.ndarray
     #: A 3D run with fields: Phi at each stored field and the cylinders'
-    #: axial strains there ``(frames, bodies)`` (:mod:`..standing`).
+    #: axial strains and lifts there (:class:`..standing.Standing`).
     axial: tuple | None = None
 
 
@@ -103,8 +104,8 @@ def _run_curve(label, run_dir) -> Curve:
     axial = None
     fields_h5 = RunDirectory(run_dir).fields_h5
     if three and fields_h5.is_file():
-        times, strains = axial_strains(fields_h5)
-        axial = (np.interp(times, s["time"], phi), strains)
+        st = standing(fields_h5)
+        axial = (np.interp(st.times, s["time"], phi), st)
     return Curve(label, setup.dimension, phi, s["eps"],
                  s["piston_force"] / setup.thickness,
                  s["strain_energy"] / setup.thickness,
@@ -222,7 +223,8 @@ def axial_figure(curves, out) -> list:
         for curve in curves:
             if curve.axial is None:
                 continue
-            phi, strains = curve.axial
+            phi, st = curve.axial
+            strains = st.axial
             line, = ax.plot(phi, strains.mean(axis=1), "o-", ms=2.5,
                             label=f"{curve.label}: mean")
             ax.fill_between(phi, strains.min(axis=1), strains.max(axis=1),
@@ -236,14 +238,20 @@ def axial_figure(curves, out) -> list:
 
 
 def axial_table(curves) -> list[str]:
-    """Markdown rows of each 3D run's axial strain at its stored fields."""
-    lines = ["| run | Phi | eps_zz mean | min | max |",
-             "| --- | ---: | ---: | ---: | ---: |"]
+    """Markdown rows of each 3D run's axial strain and lift at its stored
+    fields."""
+    lines = ["| run | Phi | eps_zz mean | min | max | lifted > 0.1 mm |"
+             " max lift (mm) |",
+             "| --- | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for curve in curves:
         if curve.axial is not None:
-            for phi, row in zip(*curve.axial):
-                lines.append(f"| {curve.label} | {phi:.4f} | {row.mean():.4f}"
-                             f" | {row.min():.4f} | {row.max():.4f} |")
+            phi, st = curve.axial
+            for k in range(len(phi)):
+                e, lift = st.axial[k], st.lift[k]
+                lines.append(
+                    f"| {curve.label} | {phi[k]:.4f} | {e.mean():.4f} |"
+                    f" {e.min():.4f} | {e.max():.4f} |"
+                    f" {int(np.sum(lift > 1e-4))} | {1e3 * lift.max():.2f} |")
     return lines
 
 
