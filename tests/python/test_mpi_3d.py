@@ -92,3 +92,30 @@ def test_a_two_rank_3d_run_resumed_on_two_ranks_is_the_uninterrupted_one(
         if not column.startswith("seconds"):
             np.testing.assert_array_equal(a[column], b[column],
                                           err_msg=column)
+
+
+def test_a_servo_wall_on_two_ranks_gives_the_serial_series(tmp_path):
+    """examples/cylinders3d_servo.toml (its right wall under 4 kPa): the
+    servo wall's couplings enter W on every rank as in the serial run; the
+    wall's position and force and every other column of raw/steps.csv the
+    serial run's but the energy residual (summed over the ranks)."""
+    from softpack.scene.config import load_config
+    _config(1)  # the driver and mpirun, or skip
+    steps = {}
+    for ranks in (1, 2):
+        config = load_config(ROOT / "examples" / "cylinders3d_servo.toml",
+                             {"output.fields": False, "stop.steps": 60})
+        assert run.run(config, tmp_path / f"r{ranks}", verbose=False,
+                       ranks=ranks) in (0, 3)
+        steps[ranks] = _steps(tmp_path / f"r{ranks}")
+    one, two = steps[1], steps[2]
+    assert np.ptp(one["right_x"]) > 0 and np.abs(one["right_fx"]).max() > 0
+    for column in one:
+        if column.startswith("seconds") or column == "energy_residual":
+            continue
+        np.testing.assert_array_equal(two[column], one[column],
+                                      err_msg=column)
+    scale = np.abs(one["wall_work"]).max()
+    np.testing.assert_allclose(two["energy_residual"],
+                               one["energy_residual"], rtol=0,
+                               atol=1e-9 * scale)
