@@ -2,6 +2,7 @@
 // ratio of the particles and servo walls, for either dimension's contacts
 // and walls.
 #include "stages.h"
+#include <walls/wall_vectors.h>
 
 #include <algorithm>
 #include <bodies/body_forces.h>
@@ -12,16 +13,10 @@
 
 namespace softpack::simulation
 {
+using dynamics::dot;
+
 namespace
 {
-double dot(const std::array<double, 2>& a, const std::array<double, 2>& b)
-{
-  return a[0] * b[0] + a[1] * b[1];
-}
-double dot(const std::array<double, 3>& a, const std::array<double, 3>& b)
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 double norm(const std::array<double, 2>& f)
 {
   return std::hypot(f[0], f[1]);

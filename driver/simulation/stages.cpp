@@ -1,4 +1,5 @@
 #include "stages.h"
+#include <walls/wall_vectors.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,16 +13,10 @@
 
 namespace softpack::simulation
 {
+using dynamics::dot;
+
 namespace
 {
-double dot(const std::array<double, 2>& a, const std::array<double, 2>& b)
-{
-  return a[0] * b[0] + a[1] * b[1];
-}
-double dot(const std::array<double, 3>& a, const std::array<double, 3>& b)
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 /// The index of the wall named `name` (io::wall_index, for either
 /// dimension's walls)

@@ -1,4 +1,5 @@
 #include "walls.h"
+#include "wall_vectors.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -19,14 +20,6 @@ std::vector<Wall> box_walls(double x0, double x1, double y0, double y1,
 
 namespace
 {
-double dot(const std::array<double, 2>& a, const std::array<double, 2>& b)
-{
-  return a[0] * b[0] + a[1] * b[1];
-}
-double dot(const std::array<double, 3>& a, const std::array<double, 3>& b)
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 /// The first two facing walls (normals opposite) both perpendicular to
 /// `normal`, neither of them `used`; {-1, -1} if none
