@@ -14,7 +14,6 @@ uninterrupted run bit for bit.
 """
 
 import json
-import re
 import shutil
 from pathlib import Path
 
@@ -22,6 +21,7 @@ import numpy as np
 import pytest
 
 from driver_required import require_driver
+from killed_run import as_killed
 from softpack.contract.run_directory import EXIT_DONE
 from softpack.contract.tables import read_table
 from softpack.scene import config as cfg
@@ -164,15 +164,7 @@ def killed(tmp_path_factory):
     assert run(config, out, verbose=False) == EXIT_DONE
     state = tmp_path_factory.mktemp("state") / "state.bin"
     shutil.copyfile(out / "raw" / "state.bin", state)
-    # what a kill leaves: raw/ up to the cut, none of a complete run's files
-    for name in ("raw/done.json", "series.csv", "particles.csv",
-                 "network.csv", "stress.csv"):
-        (out / name).unlink(missing_ok=True)
-    toml = out / "config.toml"
-    text, n = re.subn(rf"^steps = {CUT}\b", f"steps = {STEPS}",
-                      toml.read_text(), flags=re.M)
-    assert n == 1
-    toml.write_text(text)
+    as_killed(out, CUT, STEPS)
     return out, state
 
 

@@ -14,13 +14,13 @@ beside it). Tolerances: about ten times the values measured on these runs
 """
 
 import json
-import re
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from driver_required import require_driver
+from killed_run import as_killed
 from softpack.contract.run_directory import EXIT_FLAGGED
 from softpack.contract.tables import read_table
 from softpack.scene import config as cfg
@@ -181,14 +181,7 @@ def test_a_killed_servo_stage_resumed_is_the_uninterrupted_run(
                verbose=False) == EXIT_FLAGGED
     s = read_table(part / "raw" / "steps.csv")
     assert s["stage"][-1] == 1 and s["step"][-1] == CUT
-    for name in ("raw/done.json", "series.csv", "particles.csv",
-                 "network.csv", "stress.csv"):
-        (part / name).unlink(missing_ok=True)
-    toml = part / "config.toml"
-    text, n = re.subn(rf"^steps = {CUT}\b", f"steps = {STEPS}",
-                      toml.read_text(), flags=re.M)
-    assert n == 1
-    toml.write_text(text)
+    as_killed(part, CUT, STEPS)
     assert main(["--resume", str(part)]) == EXIT_FLAGGED
     a = read_table(whole / "raw" / "steps.csv")
     b = read_table(part / "raw" / "steps.csv")
