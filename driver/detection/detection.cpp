@@ -1,5 +1,6 @@
 #include "detection.h"
 #include "box_grid.h"
+#include "contact_order.h"
 #include "mirrored.h"
 
 #include <algorithm>
@@ -283,11 +284,7 @@ std::vector<Contact> detect_contacts(const bodies::BodySet& bodies,
 
 std::int64_t contact_order_key(const Contact& c, int num_bodies)
 {
-  const std::int64_t n = num_bodies;
-  if (c.wall >= 0)
-    return n * n + c.wall * n + c.candidate_body;
-  return std::min(c.candidate_body, c.antagonist_body) * n +
-         std::max(c.candidate_body, c.antagonist_body);
+  return contact_order_key_of(c, num_bodies);
 }
 
 } // namespace softpack::dynamics
