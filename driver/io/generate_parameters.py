@@ -49,6 +49,7 @@ CPP_TYPES = {
     "bool": "bool",
     "str": "std::string",
     "float_pair": "std::array<double, 2>",
+    "float_vector": "std::vector<double>",
 }
 
 # The member of Material that is not a schema key: the law's parameters.
@@ -84,7 +85,7 @@ def cpp_value(kind: str, value) -> str:
         return "true" if value else "false"
     if kind == "str":
         return cpp_string(value)
-    if kind == "float_pair":
+    if kind in ("float_pair", "float_vector"):
         return "{" + ", ".join(cpp_double(v) for v in value) + "}"
     raise ValueError(f"unknown type {kind!r}")
 
@@ -263,6 +264,8 @@ def read_statement(section: str, key: str, spec: dict, path: str = "") -> str:
         return f"  out.{key} = read_string({value}, where, {path}, {init});"
     if kind == "float_pair":
         return f"  out.{key} = read_pair({value}, where, {path});"
+    if kind == "float_vector":
+        return f"  out.{key} = read_vector({value}, where, {path});"
     raise SystemExit(f"schema: {section}.{key}: unknown type {kind!r}")
 
 

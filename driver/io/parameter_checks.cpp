@@ -103,6 +103,18 @@ std::array<double, 2> read_pair(const json& v, const std::string& where,
   return {v[0].get<double>(), v[1].get<double>()};
 }
 
+std::vector<double> read_vector(const json& v, const std::string& where,
+                                const std::string& path)
+{
+  const bool numbers = v.is_array() && (v.size() == 2 || v.size() == 3) &&
+                       std::all_of(v.begin(), v.end(),
+                                   [](const json& x) { return x.is_number(); });
+  if (!numbers)
+    fail(where, path,
+         "= " + shown(v) + " must be 2 or 3 numbers [x, y] or [x, y, z]");
+  return v.get<std::vector<double>>();
+}
+
 /// The law's parameters: a table of numbers (its keys are checked against
 /// the law's constants by the body set).
 std::map<std::string, double> read_number_table(const json& v,

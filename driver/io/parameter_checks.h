@@ -37,6 +37,10 @@ std::string read_string(const nlohmann::json& v, const std::string& where,
 std::array<double, 2> read_pair(const nlohmann::json& v,
                                 const std::string& where,
                                 const std::string& path);
+/// A vector of the plane or of space: 2 or 3 numbers [x, y] or [x, y, z].
+std::vector<double> read_vector(const nlohmann::json& v,
+                                const std::string& where,
+                                const std::string& path);
 /// A table of numbers (a law's parameters).
 std::map<std::string, double> read_number_table(const nlohmann::json& v,
                                                 const std::string& where,

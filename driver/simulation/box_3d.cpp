@@ -105,9 +105,6 @@ void check_3d_run(MPI_Comm /*comm: any number of ranks*/,
     throw std::runtime_error(file + "cell.enabled" + tail);
   if (!config.box)
     throw std::runtime_error(file + "scene.box.enabled = false" + tail);
-  const auto& g = config.parameters.gravity.acceleration;
-  if (g[0] != 0 || g[1] != 0)
-    throw std::runtime_error(file + "gravity.acceleration" + tail);
 }
 
 void WallForceAverage3D::add_step(const dynamics::MoreauJean& scheme)

@@ -48,8 +48,7 @@ double base_area_fraction(const bodies::BodySet& bodies,
                           const std::vector<dynamics::Wall3D>& walls);
 
 /// Refuse what the 3D time loop lacks, naming driver.json and the key:
-/// a periodic cell (cell.enabled), gravity (gravity.acceleration), no
-/// box (scene.box.enabled).
+/// a periodic cell (cell.enabled), no box (scene.box.enabled).
 /// @throws std::runtime_error
 void check_3d_run(MPI_Comm comm, const io::DriverConfig& config);
 

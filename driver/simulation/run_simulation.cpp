@@ -128,9 +128,9 @@ public:
                    : nullptr),
         _program(config)
   {
-    if (_p.gravity.acceleration != std::array<double, 2>{0, 0})
-      _scheme.set_external_force(
-          _bodies.to_global(bodies::weight(_bodies, _p.gravity.acceleration)));
+    if (const bodies::Acceleration g = gravity(config);
+        g != bodies::Acceleration{0, 0, 0})
+      _scheme.set_external_force(_bodies.to_global(bodies::weight(_bodies, g)));
     if (config.cell)
       _scheme.set_cell(*config.cell);
     if (config.initial_state)
@@ -480,6 +480,7 @@ RunSummary run_simulation(MPI_Comm comm, const io::DriverConfig& config,
 {
   if (config.dimension == 3)
     check_3d_run(comm, config);
+  gravity(config); // its refusal before anything is written
   return Run(comm, config, quiet, initial_only).run();
 }
 

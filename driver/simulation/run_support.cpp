@@ -3,9 +3,22 @@
 #include <contact/fclib_io.h>
 #include <cstdio>
 #include <numeric>
+#include <stdexcept>
 
 namespace softpack::simulation
 {
+
+bodies::Acceleration gravity(const io::DriverConfig& config)
+{
+  const std::vector<double>& g = config.parameters.gravity.acceleration;
+  if (config.dimension == 2 && g.size() == 3)
+    throw std::runtime_error(
+        config.file.string() +
+        ": gravity.acceleration has 3 components in a "
+        "2D run (scene.model.dimension = 2): gravity acts in the plane, "
+        "[gx, gy]");
+  return {g[0], g[1], g.size() == 3 ? g[2] : 0.0};
+}
 
 double packing_fraction(const bodies::BodySet& bodies, double space)
 {

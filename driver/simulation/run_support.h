@@ -1,6 +1,7 @@
 #pragma once
 
 #include "box_3d.h"
+#include <bodies/body_forces.h>
 #include <dynamics/moreau_jean.h>
 #include <filesystem>
 #include <io/driver_config.h>
@@ -18,6 +19,11 @@ namespace softpack::simulation
 /// Unsolved contact problems dumped at most (each can be megabytes): the
 /// first ones show the failure; the rest are only counted (done.json).
 inline constexpr long max_problem_dumps = 20;
+
+/// The run's [gravity] acceleration in space (z = 0 when two components
+/// are given); refuses, naming the file and key, a z component in a 2D run
+/// (whose gravity acts in the plane).
+bodies::Acceleration gravity(const io::DriverConfig& config);
 
 /// The sum of the bodies' current areas (3D: volumes) over `space`, the
 /// box's or the periodic cell's area (3D: the box's volume).

@@ -117,33 +117,43 @@ double particle_ratio(bool& none, const std::vector<C>& contacts,
     return largest > 0 ? std::numeric_limits<double>::infinity() : 0;
   return largest / (sum / n);
 }
+
+/// Each particle's weight times the time step (zeros without gravity): the
+/// impulse its resultant starts from.
+template <std::size_t D>
+std::vector<std::array<double, D>>
+weight_impulses(const dynamics::MoreauJean& scheme,
+                const bodies::BodySet& bodies,
+                const bodies::Acceleration& gravity)
+{
+  std::vector<std::array<double, D>> out(bodies.num_bodies());
+  for (auto& f : out)
+    f.fill(0);
+  if (gravity == bodies::Acceleration{0, 0, 0})
+    return out;
+  for (int b = 0; b < bodies.num_bodies(); ++b)
+  {
+    const bodies::Acceleration w = bodies::body_weight(bodies, b, gravity);
+    for (std::size_t d = 0; d < D; ++d)
+      out[b][d] = w[d] * scheme.time_step();
+  }
+  return out;
+}
 } // namespace
 
 double unbalanced_force_ratio(const dynamics::MoreauJean& scheme,
                               const bodies::BodySet& bodies,
-                              const std::array<double, 2>& gravity)
+                              const bodies::Acceleration& gravity)
 {
   // The particles' ratio is taken on impulses (forces x h), as the
   // contacts give them; the walls' on forces.
-  double particles = 0;
   bool none = false;
-  if (scheme.dimension() == 3) // (no gravity in 3D: check_3d_run)
-    particles = particle_ratio(
-        none, scheme.contacts_3d(), scheme.impulses(),
-        std::vector<std::array<double, 3>>(bodies.num_bodies(), {0, 0, 0}));
-  else
-  {
-    std::vector<std::array<double, 2>> resultant(bodies.num_bodies(), {0, 0});
-    if (gravity != std::array<double, 2>{0, 0})
-      for (int b = 0; b < bodies.num_bodies(); ++b)
-      {
-        const std::array<double, 2> w = bodies::body_weight(bodies, b, gravity);
-        for (int d = 0; d < 2; ++d)
-          resultant[b][d] = w[d] * scheme.time_step();
-      }
-    particles =
-        particle_ratio(none, scheme.contacts(), scheme.impulses(), resultant);
-  }
+  const double particles =
+      scheme.dimension() == 3
+          ? particle_ratio(none, scheme.contacts_3d(), scheme.impulses(),
+                           weight_impulses<3>(scheme, bodies, gravity))
+          : particle_ratio(none, scheme.contacts(), scheme.impulses(),
+                           weight_impulses<2>(scheme, bodies, gravity));
   if (none)
     return particles;
   return std::max(

@@ -1,4 +1,5 @@
 #include "stages.h"
+#include "run_support.h"
 #include <walls/wall_vectors.h>
 
 #include <algorithm>
@@ -125,8 +126,7 @@ double facing_distance(const std::vector<dynamics::Wall3D>& walls, int w)
 
 StageProgram::StageProgram(const io::DriverConfig& config)
     : _stages(config.stages), _cell_drive(config.cell_drive),
-      _stage_cells(config.stage_cells),
-      _gravity(config.parameters.gravity.acceleration)
+      _stage_cells(config.stage_cells), _gravity(gravity(config))
 {
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <bodies/BodySet.h>
+#include <bodies/body_forces.h>
 #include <dynamics/moreau_jean.h>
 #include <filesystem>
 #include <io/driver_config.h>
@@ -85,7 +86,7 @@ double facing_distance(const std::vector<dynamics::Wall3D>& walls, int w);
 /// (schema [gravity]), so that a particle at rest on others is balanced.
 double unbalanced_force_ratio(const dynamics::MoreauJean& scheme,
                               const bodies::BodySet& bodies,
-                              const std::array<double, 2>& gravity);
+                              const bodies::Acceleration& gravity);
 
 /// The stages of a run and the current one.
 ///
@@ -152,7 +153,7 @@ private:
   dynamics::CellDrive _cell_drive;
   std::vector<dynamics::CellDrive> _stage_cells;
   /// [gravity] acceleration: the particles' weight enters their balance
-  std::array<double, 2> _gravity;
+  bodies::Acceleration _gravity;
   StageStart _start;
 };
 

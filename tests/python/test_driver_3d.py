@@ -105,18 +105,20 @@ def test_meshio_reads_the_tetrahedral_fields(initial_run):
     assert np.all(cell_data["Psi"][0] == 0.0)  # at rest, no strain energy
 
 
-def _gravity(document):
-    document["gravity"]["acceleration"] = [0.0, -9.81]
+def _cell(document):
+    document["cell"]["enabled"] = True
+    document["scene"]["box"]["enabled"] = False
+    document["walls"] = []
 
 
-@pytest.mark.parametrize("edit, key", [
-    (_gravity, "gravity.acceleration")])
+@pytest.mark.parametrize("edit, key", [(_cell, "cell.enabled")])
 def test_what_3d_runs_lack_is_refused_naming_the_key(scene_3d, tmp_path,
                                                       edit, key):
     """The 3D time loop refuses what it does not have yet (docs/
-    bodies_3d.md): gravity; before anything is written. (A start from a
-    state is no longer refused: test_run_3d.py resumes one; nor are servo
-    walls and stages: test_servo_3d.py.)"""
+    bodies_3d.md): a periodic cell; before anything is written. (A start
+    from a state is no longer refused: test_run_3d.py resumes one; nor are
+    servo walls and stages: test_servo_3d.py; nor gravity:
+    test_gravity_3d.py.)"""
     out, _ = scene_3d
     document = json.loads((out / "driver.json").read_text())
     document["directory"] = str(tmp_path)

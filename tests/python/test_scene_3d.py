@@ -100,7 +100,6 @@ def test_what_3d_does_not_have_yet_is_refused():
     refused(cylinders(material={"law": "neo_hookean_nodal"}),
             "[material] law", "neo_hookean_nodal", "plane strain only")
     refused(cylinders(material={"rigid": True}), "[material] rigid")
-    refused(cylinders(gravity={"acceleration": [0.0, -9.81]}), "[gravity]")
     data = cylinders()
     data["walls"] = {"plate": {"point": [0.0, 0.05], "normal": [0.0, -1.0]}}
     refused(data, "[walls.plate]", "box's walls only")

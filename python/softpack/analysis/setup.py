@@ -83,8 +83,9 @@ class RunSetup:
         Each stage's ``stop.packing_fraction`` (0: no such criterion).
     body_density : ndarray, shape (n,)
         Each body's mass density (kg/m^3: its species' material's).
-    gravity : ndarray, shape (2,)
-        ``[gravity] acceleration`` (m/s^2; zeros without gravity).
+    gravity : ndarray, shape (2,) or (3,)
+        ``[gravity] acceleration`` as given (m/s^2; zeros without gravity;
+        z = 0 when a 3D run gives two components).
     cell : bool
         A periodic cell's run (``parameters.cell.enabled``;
         docs/periodic_cell.md): its edges are columns of ``raw/steps.csv``
@@ -130,9 +131,9 @@ class RunSetup:
 
     @property
     def body_weight(self) -> np.ndarray:
-        """Each body's weight under [gravity], shape (n, dimension) (N/m:
-        density x reference area x g; zeros without gravity, as in 3D,
-        where the driver refuses gravity)."""
+        """Each body's weight under [gravity], shape (n, dimension):
+        density x reference area (3D: volume) x g (N/m in 2D, N in 3D;
+        zeros without gravity)."""
         g = np.zeros(self.dimension)
         g[:len(self.gravity)] = self.gravity
         return np.outer(self.body_density * self.reference_area, g)

@@ -25,7 +25,8 @@ from pathlib import Path
 from softpack import paths
 
 #: The values of ``type`` a parameter may have.
-TYPES = ("float", "int", "bool", "str", "float_pair", "float_list")
+TYPES = ("float", "int", "bool", "str", "float_pair", "float_list",
+         "float_vector")
 #: The ``choices`` value that stands for the registered material laws.
 MATERIAL_CHOICES = "@materials"
 

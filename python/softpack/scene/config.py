@@ -269,6 +269,11 @@ class _Checker:
                     _is_number(v, "float") for v in value):
                 fail(f"a pair of numbers [x, y]{unit}")
             return [float(v) for v in value]
+        if spec.type == "float_vector":
+            if not isinstance(value, list) or len(value) not in (2, 3) or not all(
+                    _is_number(v, "float") for v in value):
+                fail(f"a vector of 2 or 3 numbers [x, y] or [x, y, z]{unit}")
+            return [float(v) for v in value]
         if spec.type == "float_list":  # each number within the range
             if not isinstance(value, list) or not all(
                     _is_number(v, "float") and spec.in_range(v)

@@ -4,8 +4,8 @@
 may use (docs/bodies_3d.md, 3D scenes): a 2D scene takes the plane shapes
 and a box of two edges; a 3D scene the solids (sphere, cylinder,
 ellipsoid, a user's .msh of tetrahedra) in a box of three edges, with the
-features the 3D driver has (no periodic cell, rigid bodies, gravity or
-walls beside the box's yet). :func:`check` refuses the rest naming the key
+features the 3D driver has (no periodic cell, rigid bodies or walls
+beside the box's yet); a 2D scene's gravity lies in the plane. :func:`check` refuses the rest naming the key
 and what is allowed; the config stage prefixes the file name.
 """
 
@@ -40,6 +40,12 @@ def check(sections, registry=None) -> None:
             raise DimensionError(
                 f"[box] height = {height!r}: a box of three edges is 3D; set"
                 " [model] dimension = 3, or leave height at 0 in 2D")
+        gravity = sections["gravity"]["acceleration"]
+        if len(gravity) == 3:
+            raise DimensionError(
+                f"[gravity] acceleration = {gravity}: three components in a"
+                " 2D scene ([model] dimension = 2), whose gravity acts in the"
+                " plane: [gx, gy]")
         if sections["stop"].get("base_area_fraction", 0) > 0:
             raise DimensionError(
                 "[stop] base_area_fraction: the bottom faces of standing"
@@ -82,10 +88,6 @@ def _check_features(sections) -> None:
             f"[walls.{other[0]}]: a 3D scene has the box's walls only for now"
             f" ({', '.join(BOX_WALLS)}, and the base and lid of [box]"
             " height)")
-    if any(a != 0 for a in sections["gravity"]["acceleration"]):
-        raise DimensionError(
-            f"[gravity] acceleration = {sections['gravity']['acceleration']}:"
-            " gravity is 2D only for now ([model] dimension = 3)")
     tables = [("material", sections["material"])] + [
         (f"materials.{n}", t) for n, t in sections["materials"].items()]
     for title, table in tables:

@@ -57,7 +57,7 @@ struct PulledBlock
                             bodies::plane_strain_parameters(0.15e6), rho)),
         scheme(set, floor_wall, bonded_options(T, S))
   {
-    std::array<double, 2> g = {0, 0};
+    bodies::Acceleration g = {0, 0, 0};
     g[direction] = pull;
     scheme.set_external_force(bodies::weight(set, g));
   }
