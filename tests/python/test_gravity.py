@@ -11,22 +11,21 @@ equilibrium), on 2 ranks as on one, and a bad acceleration is refused
 naming the key.
 """
 
-import dataclasses
 import json
 import os
 import shutil
 import tomllib
 from pathlib import Path
 
-import numpy as np
 import pytest
 
-from softpack.analysis import connectivity as net_
-from softpack.analysis.setup import read_rules, read_setup
+from softpack.analysis.setup import read_setup
 from softpack.contract.tables import read_table
 from softpack.scene import config as cfg
 from softpack.simulation.run import run
 from driver_required import require_driver
+from dropped_body import (assert_balanced_by_its_weight,
+                          assert_work_is_weight_times_drop)
 
 ROOT = Path(os.environ.get("SOFTPACK_ROOT",
                            Path(__file__).resolve().parents[2]))
@@ -76,36 +75,11 @@ def test_the_disk_settles_and_the_floor_carries_its_weight(dropped):
 
 
 def test_the_work_of_gravity_is_the_weight_times_the_drop(dropped):
-    steps = read_table(dropped / "raw" / "steps.csv")
-    particles = read_table(dropped / "raw" / "particles.csv")
-    y = np.asarray(particles["centroid_y"])
-    drop = y[0] - y[-1]
-    weight = read_setup(dropped).body_weight[0][1]
-    assert drop > 0.01
-    # the centroid is the area's; the work follows the lumped masses'
-    # centre, the same for a rigid motion and within the deformation's
-    # share here
-    assert steps["external_work"][-1] == pytest.approx(-weight * drop,
-                                                       rel=2e-3)
-    residual = np.abs(steps["energy_residual"])
-    assert residual.max() < 1e-4 * steps["external_work"][-1]
+    assert_work_is_weight_times_drop(dropped, "y", min_drop=0.01)
 
 
 def test_the_analysis_counts_the_resting_disk_as_balanced(dropped):
-    """Its weight enters its resultant: balanced within 1 % of the contact
-    forces (the stage ended at 5e-3), where the contacts alone leave the
-    whole weight unbalanced."""
-    setup = read_setup(dropped)
-    steps = read_table(dropped / "raw" / "steps.csv")
-    contacts = net_.read_contacts(dropped / "raw" / "contacts" /
-                                  f"step_{int(steps['step'][-1]):08d}.csv")
-    rules = dataclasses.replace(read_rules(dropped),
-                                unbalanced_threshold=1e-2)
-    with_weight = net_.contact_network(contacts, 1, 0.0, rules,
-                                       setup.body_weight)
-    alone = net_.contact_network(contacts, 1, 0.0, rules)
-    assert not with_weight.unbalanced[0] and alone.unbalanced[0]
-    assert with_weight.resultant[0] < 1e-2 * alone.resultant[0]
+    assert_balanced_by_its_weight(dropped)
 
 
 @pytest.fixture(scope="module")
