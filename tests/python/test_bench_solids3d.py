@@ -65,7 +65,8 @@ def test_timed_steps_start_compacted_and_are_split_by_part(report):
         assert r["ms_per_sweep"] == pytest.approx(
             r["ms_nlgs"] / r["sweeps_per_step"])
         assert r["peak_memory_mb"] > 0
-        assert r["converged"] in (True, False)
+        assert r["converged"] == (r["newton_unconverged_steps"]
+                                  + r["nlgs_unconverged_steps"] == 0)
 
 
 def test_yardstick_and_exponents(report):
@@ -92,6 +93,9 @@ def test_timed_cost_skips_the_warm_steps():
             "active_contacts": np.array([0, 1, 2, 3, 4]),
             "nlgs_iterations": np.array([0, 5, 6, 7, 8]),
             "newton_iterations": np.array([0, 2, 2, 2, 2]),
+            # a state's carried counts (1) and one of this run's steps
+            "newton_unconverged_steps": np.array([1, 1, 1, 2, 2]),
+            "nlgs_unconverged_steps": np.array([0, 0, 0, 0, 0]),
             "phi_base": np.array([0.7, 0.71, 0.72, 0.73, 0.74])}
     for part in solids3d.PARTS:
         rows[f"seconds_{part}"] = rows["seconds"] / 10
@@ -102,5 +106,7 @@ def test_timed_cost_skips_the_warm_steps():
     assert out["ms_nlgs"] == pytest.approx(1e3 * 0.075 / 3)
     assert out["contacts"] == pytest.approx(15)
     assert out["phi_base_start"] == pytest.approx(0.72)
+    assert out["newton_unconverged_steps"] == 1
+    assert out["nlgs_unconverged_steps"] == 0
     with pytest.raises(ValueError):
         solids3d.timed_cost(rows, warm=10)

@@ -67,7 +67,7 @@ def _parser() -> argparse.ArgumentParser:
                                      description=__doc__.split("\n\n")[0])
     parser.add_argument("--steps", type=int,
                         help="time steps per paper-case measurement (default"
-                        " 100; --solids3d: 20 per element size)")
+                        " 100; --solids3d: 30 per element size)")
     parser.add_argument("--no-scaling", action="store_true",
                         help="skip the 25/100/400-disk scaling runs")
     parser.add_argument("--scaling-phi", type=float, default=0.80,
@@ -129,7 +129,7 @@ def _parser() -> argparse.ArgumentParser:
                         help="with --laws: runs of each law (default 2)")
     parser.add_argument("--solids3d", nargs="?", const="default",
                         metavar="MM,...",
-                        help="only time --steps (default here: 20) 3D steps"
+                        help="only time --steps (default here: 30) 3D steps"
                         " of examples/cylinders3d_small.toml, compacted, at"
                         " each element size in mm (default 6,4,3,2.5):"
                         " cost per step against tetrahedra (issue 40); with"
@@ -142,7 +142,7 @@ def main(argv=None) -> int:
     """Entry point of ``./softpack bench``; returns the exit status."""
     args = _parser().parse_args(argv)
     if args.steps is None:
-        args.steps = 20 if args.solids3d else 100
+        args.steps = 30 if args.solids3d else 100
     WORK.mkdir(parents=True, exist_ok=True)
     if args.sharing:
         from softpack.bench.sharing import bench_sharing

@@ -27,7 +27,8 @@ per step and its split by part (``seconds_*`` columns of raw/steps.csv:
 assembly, factorization, solves, Delassus, detection, NLGS), NLGS sweeps
 and Newton iterations per step, the peak resident memory of the driver
 (``wait4`` of the timed run, which holds what the compaction run held and
-the state), and whether every solve converged. The NLGS yardstick
+the state), and whether every Newton iteration and contact solve of the timed steps
+converged (and of the compaction, reported apart). The NLGS yardstick
 (``softpack-bench-nlgs``, sweeps per second on the 2020-contact FCLIB
 problem) is run before and after: this host's speed moves by up to 3x from
 day to day. The exponents p of cost ~ N^p (N tetrahedra) are least-squares
@@ -77,7 +78,7 @@ def size_overrides(size: float) -> dict:
             "output.fields": False}
 
 
-def bench_solids3d(sizes=SIZES, steps: int = 20, warm: int = 10,
+def bench_solids3d(sizes=SIZES, steps: int = 30, warm: int = 10,
                    compact_to: float = 0.76, work: Path = WORK,
                    scene_toml: Path = SCENE_TOML,
                    paper3d_state: Path | None = None) -> dict:
@@ -130,6 +131,10 @@ def _one_size(size, steps, warm, compact_to, work, scene_toml) -> dict:
             "compaction_steps": int(done_compact["steps"]),
             "compaction_seconds": float(done_compact["seconds"]),
             "compaction_converged": bool(done_compact["converged"]),
+            "compaction_newton_unconverged_steps": int(
+                done_compact["newton_unconverged_steps"]),
+            "compaction_nlgs_unconverged_steps": int(
+                done_compact["nlgs_unconverged_steps"]),
             "compaction_reason": done_compact["reason"]}
 
 
@@ -142,17 +147,16 @@ def _timed_row(run, finished, scene, warm) -> dict:
         tetrahedra=int(scene.mesh.n_triangles),
         nodes=int(sum(scene.mesh.nodes_per_body)),
         bodies=len(scene.mesh.nodes_per_body),
-        converged=bool(done["converged"]),
-        newton_unconverged_steps=int(done["newton_unconverged_steps"]),
-        nlgs_unconverged_steps=int(done["nlgs_unconverged_steps"]),
         max_overlap_depth=float(done["max_overlap_depth"]),
         peak_memory_mb=float(finished.peak_memory_mb))
+    row["converged"] = not (row["newton_unconverged_steps"]
+                            or row["nlgs_unconverged_steps"])
     row["ms_per_sweep"] = (row["ms_nlgs"] / row["sweeps_per_step"]
                            if row["sweeps_per_step"] else math.nan)
     return row
 
 
-def bench_paper3d_state(state: Path, steps: int = 20, warm: int = 10,
+def bench_paper3d_state(state: Path, steps: int = 30, warm: int = 10,
                         work: Path = WORK) -> dict:
     """``warm`` + ``steps`` steps of examples/paper3d.toml (the paper's 100
     cylinders, 4 mm) from ``state``, a state of that run (its
@@ -194,6 +198,9 @@ def timed_cost(rows: dict, warm: int) -> dict:
     out["ms_other"] = out["ms_per_step"] - sum(out[f"ms_{p}"] for p in PARTS)
     sample = slice(start + 1, None)
     mean = lambda key: float(np.mean(rows[key][sample]))
+    # done.json's counts include those a state carries (the run before)
+    for key in ("newton_unconverged_steps", "nlgs_unconverged_steps"):
+        out[key] = int(rows[key][-1] - rows[key][0])
     out.update(contacts=mean("contacts"),
                active_contacts=mean("active_contacts"),
                sweeps_per_step=mean("nlgs_iterations"),
@@ -248,7 +255,11 @@ def _line(r: dict) -> str:
             f" {r['ms_nlgs']:7.0f} {r['ms_other']:5.0f}"
             f" {r['sweeps_per_step']:6.0f}"
             f" {r['ms_per_sweep']:6.2f} {r['peak_memory_mb']:6.0f}"
-            f" {'yes' if r['converged'] else 'NO'}")
+            f" {'yes' if r['converged'] else 'NO'}"
+            + ("" if r.get("compaction_converged", True) else
+               f" (compaction: {r['compaction_newton_unconverged_steps']}"
+               f" Newton, {r['compaction_nlgs_unconverged_steps']} NLGS"
+               " unconverged steps)"))
 
 
 def yardstick(repeats: int = 3) -> float:
