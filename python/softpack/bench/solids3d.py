@@ -25,15 +25,16 @@ packing, with contacts in place. Per size: tetrahedra, nodes, contact
 candidates and active contacts (mean over the timed rows), driver seconds
 per step and its split by part (``seconds_*`` columns of raw/steps.csv:
 assembly, factorization, solves, Delassus, detection, NLGS), NLGS sweeps
-and Newton iterations per step, the peak resident memory of the driver
-(``wait4`` of the timed run, which holds what the compaction run held and
-the state), and whether every Newton iteration and contact solve of the timed steps
-converged (and of the compaction, reported apart). The NLGS yardstick
-(``softpack-bench-nlgs``, sweeps per second on the 2020-contact FCLIB
-problem) is run before and after: this host's speed moves by up to 3x from
-day to day. The exponents p of cost ~ N^p (N tetrahedra) are least-squares
-fits in log-log over the sizes: per step, per NLGS sweep, per part, and of
-the peak memory.
+and Newton iterations per step, the peak resident memory of the timed
+run's driver (``wait4``), and whether every Newton iteration and contact
+solve of the timed steps converged (those of the compaction reported
+apart). The NLGS yardstick (``softpack-bench-nlgs``, sweeps per second on
+the 2020-contact FCLIB problem; the median of three) is run before and
+after, with the load average: this host's speed moves by up to 3x from day
+to day, and other jobs share its two cores. The exponents p of cost ~ N^p
+(N tetrahedra) are least-squares fits in log-log over the sizes (and
+between the two finest meshes): per step, per NLGS sweep, per part, of
+the sweeps per step, the contacts and the peak memory.
 
 With a state of examples/paper3d.toml (``--from-state
 runs/paper3d.../raw/state.bin``, the paper's 100 cylinders at 4 mm), the
@@ -44,6 +45,7 @@ same ``warm`` + ``steps`` steps of that run from it are timed too: the
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -86,12 +88,14 @@ def bench_solids3d(sizes=SIZES, steps: int = 30, warm: int = 10,
     the paper's 100 cylinders from it (:func:`bench_paper3d_state`); the
     report with the fits."""
     work.mkdir(parents=True, exist_ok=True)
+    load = [os.getloadavg()[0]]
     before = yardstick()
     rows = [_one_size(size, steps, warm, compact_to, work, scene_toml)
             for size in sizes]
     paper3d = (bench_paper3d_state(paper3d_state, steps, warm, work)
                if paper3d_state is not None else None)
     after = yardstick()
+    load.append(os.getloadavg()[0])
     report = {"scene": str(Path(scene_toml).relative_to(paths.ROOT)
                            if Path(scene_toml).is_relative_to(paths.ROOT)
                            else scene_toml),
@@ -99,7 +103,8 @@ def bench_solids3d(sizes=SIZES, steps: int = 30, warm: int = 10,
               "compact_to_phi_base": compact_to, "warm_steps": warm,
               "timed_steps": steps, "rows": rows,
               "nlgs_yardstick_before": before, "nlgs_yardstick_after": after,
-              "nlgs_yardstick": _mean([before, after])}
+              "nlgs_yardstick": _mean([before, after]),
+              "load_average_before_after": load}
     if len(rows) >= 2:
         report["exponents"] = exponents(rows)
     if paper3d is not None:
@@ -299,5 +304,7 @@ def table(report: dict) -> str:
                          + _exponents(fits["finest_two"]))
     lines.append(f"NLGS yardstick: {report['nlgs_yardstick_before']:.0f}"
                  f" sweeps/s before, {report['nlgs_yardstick_after']:.0f}"
-                 " after")
+                 " after; load average (1 min) "
+                 + " and ".join(f"{x:.1f}" for x in
+                                report.get("load_average_before_after", [])))
     return "\n".join(lines)
