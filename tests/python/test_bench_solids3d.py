@@ -65,6 +65,8 @@ def test_timed_steps_start_compacted_and_are_split_by_part(report):
         assert r["ms_per_sweep"] == pytest.approx(
             r["ms_nlgs"] / r["sweeps_per_step"])
         assert r["peak_memory_mb"] > 0
+        assert 0 < r["ms_per_step_median"] <= r["ms_per_step_max"]
+        assert 0 <= r["refactorizations"] <= r["steps"]
         assert r["converged"] == (r["newton_unconverged_steps"]
                                   + r["nlgs_unconverged_steps"] == 0)
 
@@ -96,6 +98,7 @@ def test_timed_cost_skips_the_warm_steps():
             # a state's carried counts (1) and one of this run's steps
             "newton_unconverged_steps": np.array([1, 1, 1, 2, 2]),
             "nlgs_unconverged_steps": np.array([0, 0, 0, 0, 0]),
+            "refactorized": np.array([0, 1, 0, 1, 0]),
             "phi_base": np.array([0.7, 0.71, 0.72, 0.73, 0.74])}
     for part in solids3d.PARTS:
         rows[f"seconds_{part}"] = rows["seconds"] / 10
@@ -107,6 +110,10 @@ def test_timed_cost_skips_the_warm_steps():
     assert out["contacts"] == pytest.approx(15)
     assert out["phi_base_start"] == pytest.approx(0.72)
     assert out["newton_unconverged_steps"] == 1
+    assert out["refactorizations"] == 1  # step 64's, after 62
+    # 0.5 s over 2 steps, then 0.25 s over 1
+    assert out["ms_per_step_median"] == pytest.approx(250)
+    assert out["ms_per_step_max"] == pytest.approx(250)
     assert out["nlgs_unconverged_steps"] == 0
     with pytest.raises(ValueError):
         solids3d.timed_cost(rows, warm=10)

@@ -25,7 +25,10 @@ packing, with contacts in place. Per size: tetrahedra, nodes, contact
 candidates and active contacts (mean over the timed rows), driver seconds
 per step and its split by part (``seconds_*`` columns of raw/steps.csv:
 assembly, factorization, solves, Delassus, detection, NLGS), NLGS sweeps
-and Newton iterations per step, the peak resident memory of the timed
+and Newton iterations per step, the median step and the refactorizations
+among the timed steps (a refactorization step rebuilds every kept
+compliance column: a few of them make most of the Delassus time of a short
+window), the peak resident memory of the timed
 run's driver (``wait4``), and whether every Newton iteration and contact
 solve of the timed steps converged (those of the compaction reported
 apart). The NLGS yardstick (``softpack-bench-nlgs``, sweeps per second on
@@ -59,7 +62,7 @@ from softpack.scene.config import load_config
 
 SCENE_TOML = paths.ROOT / "examples" / "cylinders3d_small.toml"
 PAPER3D_TOML = paths.ROOT / "examples" / "paper3d.toml"
-#: Element sizes (m) of ``./softpack bench --solids3d``: ~3,800 to ~52,000
+#: Element sizes (m) of ``./softpack bench --solids3d``: 2,700 to 42,336
 #: tetrahedra.
 SIZES = (6e-3, 4e-3, 3e-3, 2.5e-3)
 #: The example's contact distances at its 4 mm, scaled with the size.
@@ -165,8 +168,8 @@ def bench_paper3d_state(state: Path, steps: int = 30, warm: int = 10,
                         work: Path = WORK) -> dict:
     """``warm`` + ``steps`` steps of examples/paper3d.toml (the paper's 100
     cylinders, 4 mm) from ``state``, a state of that run (its
-    raw/state.bin), timed as :func:`timed_cost`: a point of the 100-body
-    scene at the size of the targets' meshes, outside the fit."""
+    raw/state.bin), timed as :func:`timed_cost`: a point with the targets'
+    100 bodies, outside the fit."""
     from softpack.simulation import driver
 
     config = load_config(PAPER3D_TOML, {
@@ -203,6 +206,13 @@ def timed_cost(rows: dict, warm: int) -> dict:
     out["ms_other"] = out["ms_per_step"] - sum(out[f"ms_{p}"] for p in PARTS)
     sample = slice(start + 1, None)
     mean = lambda key: float(np.mean(rows[key][sample]))
+    # a refactorization step also rebuilds every kept compliance column
+    # (Delassus): the window's cost depends on how many it holds
+    wall = (np.diff(np.asarray(rows["seconds"], float)[start:])
+            / np.diff(step[start:]))
+    out.update(refactorizations=int(np.sum(rows["refactorized"][sample])),
+               ms_per_step_median=1e3 * float(np.median(wall)),
+               ms_per_step_max=1e3 * float(np.max(wall)))
     # done.json's counts include those a state carries (the run before)
     for key in ("newton_unconverged_steps", "nlgs_unconverged_steps"):
         out[key] = int(rows[key][-1] - rows[key][0])
@@ -234,7 +244,8 @@ def exponents(rows: list[dict]) -> dict:
 
 def _fits(rows, n) -> dict:
     """:func:`power_fit` of each quantity of ``rows`` against ``n``."""
-    keys = (["ms_per_step", "ms_per_sweep", "sweeps_per_step", "contacts",
+    keys = (["ms_per_step", "ms_per_step_median", "ms_per_sweep",
+             "sweeps_per_step", "contacts",
              "active_contacts", "peak_memory_mb"]
             + [f"ms_{p}" for p in PARTS])
     out = {}
@@ -253,8 +264,10 @@ def _exponents(fits: dict) -> str:
 def _line(r: dict) -> str:
     """One row of :func:`table`."""
     return (f"{r['element_size'] * 1e3:5.2g} {r['tetrahedra']:7d}"
-            f" {r['nodes']:6d} {r['contacts']:6.0f} {r['active_contacts']:5.0f}"
-            f" {r['ms_per_step']:8.0f} {r['ms_assembly']:5.0f}"
+            f" {r['nodes']:6d} {r['contacts']:6.0f}"
+            f" {r['active_contacts']:5.0f}"
+            f" {r['ms_per_step']:8.0f} {r['ms_per_step_median']:6.0f}"
+            f" {r['refactorizations']:5d} {r['ms_assembly']:5.0f}"
             f" {r['ms_factorization']:5.0f} {r['ms_solves']:5.0f}"
             f" {r['ms_delassus']:6.0f} {r['ms_detection']:5.0f}"
             f" {r['ms_nlgs']:7.0f} {r['ms_other']:5.0f}"
@@ -287,7 +300,8 @@ def table(report: dict) -> str:
              f" {report['timed_speed']} m/s (the last {report['timed_steps']}"
              f" timed; ms per step)",
              f"{'h mm':>5} {'tets':>7} {'nodes':>6} {'cand':>6} {'act':>5}"
-             f" {'ms/step':>8} {'asm':>5} {'fact':>5} {'solv':>5}"
+             f" {'ms/step':>8} {'median':>6} {'refac':>5}"
+             f" {'asm':>5} {'fact':>5} {'solv':>5}"
              f" {'Del':>6} {'det':>5} {'NLGS':>7} {'other':>5} {'sw/st':>6}"
              f" {'ms/sw':>6} {'MB':>6} conv"]
     for r in report["rows"]:
