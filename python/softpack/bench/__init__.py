@@ -38,6 +38,12 @@ against neo-Hookean on the paper case, alternating (:mod:`.laws`).
 ``--full`` also runs the whole paper case (fast settings, seed 0) with
 ``./softpack run`` and reports its wall time.
 
+``--solids3d [MM,...]`` times 3D steps of examples/cylinders3d_small.toml
+at several element sizes (default 6, 4, 3, 2.5 mm) against the number of
+tetrahedra, with the fitted exponents (:mod:`.solids3d`, issue 40); with
+``--from-state`` a state of examples/paper3d.toml, also the paper's 100
+cylinders from it.
+
 ``--invariance [--lever NAME:KEY=VALUE,...] [--whole]`` judges the
 defaults and each lever against a 9-us reference and issue 41's accuracy
 budget (:mod:`softpack.bench.invariance`); exit status 3 when the defaults
@@ -59,8 +65,9 @@ def _parser() -> argparse.ArgumentParser:
     """Command line of ``./softpack bench``."""
     parser = argparse.ArgumentParser(prog="softpack bench",
                                      description=__doc__.split("\n\n")[0])
-    parser.add_argument("--steps", type=int, default=100,
-                        help="time steps per paper-case measurement")
+    parser.add_argument("--steps", type=int,
+                        help="time steps per paper-case measurement (default"
+                        " 100; --solids3d: 30 per element size)")
     parser.add_argument("--no-scaling", action="store_true",
                         help="skip the 25/100/400-disk scaling runs")
     parser.add_argument("--scaling-phi", type=float, default=0.80,
@@ -120,12 +127,22 @@ def _parser() -> argparse.ArgumentParser:
                         " --law-repeats times (issue 39: at most 1.3x)")
     parser.add_argument("--law-repeats", type=int, default=2, metavar="R",
                         help="with --laws: runs of each law (default 2)")
+    parser.add_argument("--solids3d", nargs="?", const="default",
+                        metavar="MM,...",
+                        help="only time --steps (default here: 30) 3D steps"
+                        " of examples/cylinders3d_small.toml, compacted, at"
+                        " each element size in mm (default 6,4,3,2.5):"
+                        " cost per step against tetrahedra (issue 40); with"
+                        " --from-state a state of examples/paper3d.toml: also"
+                        " that run's steps from it")
     return parser
 
 
 def main(argv=None) -> int:
     """Entry point of ``./softpack bench``; returns the exit status."""
     args = _parser().parse_args(argv)
+    if args.steps is None:
+        args.steps = 30 if args.solids3d else 100
     WORK.mkdir(parents=True, exist_ok=True)
     if args.sharing:
         from softpack.bench.sharing import bench_sharing
@@ -155,7 +172,28 @@ def main(argv=None) -> int:
         return _save(report, f"mpi-{_stamp()}.json")
     if args.invariance:
         return _invariance(args)
+    if args.solids3d:
+        return _solids3d(args)
     return _default(args)
+
+
+def _solids3d(args) -> int:
+    """``--solids3d [MM,...]``."""
+    from softpack.bench.solids3d import SIZES, bench_solids3d, table
+
+    sizes = SIZES
+    if args.solids3d != "default":
+        try:
+            sizes = [float(mm) * 1e-3 for mm in args.solids3d.split(",")]
+        except ValueError:
+            print("softpack bench: --solids3d takes element sizes in mm"
+                  f" separated by commas, e.g. 6,4,3; got {args.solids3d!r}")
+            return 2
+    report = bench_solids3d(sizes, args.steps,
+                            paper3d_state=args.from_state)
+    report["date"] = _now()
+    print(table(report))
+    return _save_quiet(report, f"solids3d-{_stamp()}.json")
 
 
 def _periodic(args) -> int:
