@@ -1,5 +1,7 @@
 #include "nodal_volumetric.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,41 +11,91 @@ namespace softpack::bodies
 {
 namespace
 {
-/// One cell: its signed area and dA/dx over (x1, y1, x2, y2, x3, y3)
-struct CellArea
+/// One cell: its signed measure (a triangle's area, a tetrahedron's volume)
+/// times its orientation, and the gradient of that over its nodes'
+/// coordinates (D per node, D (D + 1) used)
+struct CellVolume
 {
-  double area;
-  std::array<double, 6> gradient;
+  double volume;
+  std::array<double, 12> gradient;
 };
 
-CellArea cell_area(const Body& body, std::size_t c, std::span<const double> x,
-                   std::span<const double> u)
+/// The coordinates x + u of cell c's nodes, D per node
+std::array<double, 12> cell_points(const Body& body, std::size_t c,
+                                   std::span<const double> x,
+                                   std::span<const double> u)
 {
-  std::array<double, 6> p;
-  for (int i = 0; i < 3; ++i)
-    for (int d = 0; d < 2; ++d)
+  const int D = body.dim;
+  std::array<double, 12> p{};
+  for (int i = 0; i < D + 1; ++i)
+    for (int d = 0; d < D; ++d)
     {
       const std::int32_t n = body.nodes[body.cell_nodes[c][i]];
-      p[2 * i + d] = x[2 * n + d] + (u.empty() ? 0.0 : u[2 * n + d]);
+      p[D * i + d] = x[D * n + d] + (u.empty() ? 0.0 : u[D * n + d]);
     }
-  CellArea a;
-  a.area =
-      0.5 * ((p[2] - p[0]) * (p[5] - p[1]) - (p[4] - p[0]) * (p[3] - p[1]));
-  // node i's gradient from the edge opposite it (j, k in cyclic order)
-  for (int i = 0; i < 3; ++i)
+  return p;
+}
+
+/// The face opposite each node of a tetrahedron, ordered so that
+/// dV/dx_i = (x_b - x_a) x (x_c - x_a) / 6 for V = (x1 - x0).((x2 - x0) x
+/// (x3 - x0)) / 6
+constexpr int opposite_face[4][3] = {
+    {1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
+
+/// x_j - x_i of a tetrahedron's points
+Eigen::Vector3d edge(const std::array<double, 12>& p, int i, int j)
+{
+  return {p[3 * j] - p[3 * i], p[3 * j + 1] - p[3 * i + 1],
+          p[3 * j + 2] - p[3 * i + 2]};
+}
+
+/// A cell's measure and gradient; `sign` its reference orientation (+-1:
+/// every measure is counted positive in the reference state)
+CellVolume cell_volume(const Body& body, std::size_t c,
+                       std::span<const double> x, std::span<const double> u,
+                       double sign = 1.0)
+{
+  const std::array<double, 12> p = cell_points(body, c, x, u);
+  CellVolume a;
+  a.gradient.fill(0.0);
+  if (body.dim == 2)
   {
-    const int j = (i + 1) % 3, k = (i + 2) % 3;
-    a.gradient[2 * i] = 0.5 * (p[2 * j + 1] - p[2 * k + 1]);
-    a.gradient[2 * i + 1] = 0.5 * (p[2 * k] - p[2 * j]);
+    a.volume =
+        0.5 * ((p[2] - p[0]) * (p[5] - p[1]) - (p[4] - p[0]) * (p[3] - p[1]));
+    // node i's gradient from the edge opposite it (j, k in cyclic order)
+    for (int i = 0; i < 3; ++i)
+    {
+      const int j = (i + 1) % 3, k = (i + 2) % 3;
+      a.gradient[2 * i] = 0.5 * (p[2 * j + 1] - p[2 * k + 1]);
+      a.gradient[2 * i + 1] = 0.5 * (p[2 * k] - p[2 * j]);
+    }
+  }
+  else
+  {
+    a.volume = edge(p, 0, 1).dot(edge(p, 0, 2).cross(edge(p, 0, 3))) / 6;
+    for (int i = 0; i < 4; ++i)
+    {
+      const int* f = opposite_face[i];
+      const Eigen::Vector3d g =
+          edge(p, f[0], f[1]).cross(edge(p, f[0], f[2])) / 6;
+      for (int d = 0; d < 3; ++d)
+        a.gradient[3 * i + d] = g[d];
+    }
+  }
+  if (sign != 1.0)
+  {
+    a.volume *= sign;
+    for (double& g : a.gradient)
+      g *= sign;
   }
   return a;
 }
 
-/// The current nodal volumes and each cell's current area and gradient
+/// The current nodal volumes and each cell's current measure and gradient
 struct CurrentVolumes
 {
   std::vector<double> v;
-  std::vector<CellArea> cells;
+  std::vector<CellVolume> cells;
 
   /// The sum over cell c's nodes of p_a = lambda ln J_a / J_a
   double cell_pressure(const Body& body, std::span<const double> v0,
@@ -60,15 +112,16 @@ struct CurrentVolumes
 };
 
 CurrentVolumes current_volumes(const Body& body, std::span<const double> x,
-                               std::span<const double> u)
+                               std::span<const double> u,
+                               std::span<const double> sign)
 {
   CurrentVolumes n{std::vector<double>(body.nodes.size(), 0.0), {}};
   n.cells.reserve(body.cell_nodes.size());
   for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
   {
-    n.cells.push_back(cell_area(body, c, x, u));
+    n.cells.push_back(cell_volume(body, c, x, u, sign[c]));
     for (const std::int32_t i : body.cell_nodes[c])
-      n.v[i] += n.cells.back().area / 3;
+      n.v[i] += n.cells.back().volume / (body.dim + 1);
   }
   return n;
 }
@@ -94,6 +147,33 @@ constexpr double area_hessian(int p, int q)
   return (p % 2 == 0 ? 0.5 : -0.5) * sign;
 }
 
+/// d2V/dx dx of a tetrahedron over its 12 coordinates (row-major): node
+/// i's gradient (x_b - x_a) x (x_c - x_a) / 6 differentiated, [v] the
+/// cross-product matrix (v x .): d/dx_b = -[x_c - x_a] / 6, d/dx_c =
+/// [x_b - x_a] / 6, d/dx_a = [x_c - x_b] / 6, d/dx_i = 0. Linear in x.
+std::array<double, 144> volume_hessian(const std::array<double, 12>& p,
+                                       double sign)
+{
+  std::array<double, 144> H{};
+  auto add_cross = [&](int i, int j, const Eigen::Vector3d& v, double s)
+  {
+    // [v] = ((0, -v3, v2), (v3, 0, -v1), (-v2, v1, 0))
+    const double m[3][3] = {
+        {0, -v[2], v[1]}, {v[2], 0, -v[0]}, {-v[1], v[0], 0}};
+    for (int d = 0; d < 3; ++d)
+      for (int e = 0; e < 3; ++e)
+        H[12 * (3 * i + d) + 3 * j + e] += sign * s * m[d][e] / 6;
+  };
+  for (int i = 0; i < 4; ++i)
+  {
+    const int* f = opposite_face[i];
+    add_cross(i, f[1], edge(p, f[0], f[2]), -1.0);
+    add_cross(i, f[2], edge(p, f[0], f[1]), 1.0);
+    add_cross(i, f[0], edge(p, f[1], f[2]), 1.0);
+  }
+  return H;
+}
+
 /// Index in A's values of (row, col) (lower triangle, sorted columns)
 std::int32_t value_index(const BodyMatrix& A, int row, int col)
 {
@@ -105,21 +185,48 @@ std::int32_t value_index(const BodyMatrix& A, int row, int col)
                            "a patch entry (add_nodal_pattern)");
   return static_cast<std::int32_t>(it - A.innerIndexPtr());
 }
+/// K += sum_a p_a d2V_a: per cell, the mean of its nodes' p times d2V_e
+void add_volume_hessian(const Body& body, std::span<const double> x,
+                        std::span<const double> u, const CurrentVolumes& n,
+                        std::span<const double> v0,
+                        std::span<const double> sign, double lambda,
+                        BodyMatrix& K)
+{
+  const int D = body.dim, m = D * (D + 1);
+  for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
+  {
+    const double p = n.cell_pressure(body, v0, c, lambda);
+    std::array<double, 144> H{};
+    if (D == 3)
+      H = volume_hessian(cell_points(body, c, x, u), sign[c]);
+    for (int q = 0; q < m; ++q)
+      for (int r = 0; r < m; ++r)
+      {
+        const double h = D == 2 ? sign[c] * area_hessian(q, r) : H[m * q + r];
+        const int row = D * body.cell_nodes[c][q / D] + q % D,
+                  col = D * body.cell_nodes[c][r / D] + r % D;
+        if (stored_entry(row, col) && h != 0)
+          K.coeffRef(row, col) += p / (D + 1) * h;
+      }
+  }
+}
+
 } // namespace
 
 void add_nodal_pattern(const Body& body,
                        std::vector<Eigen::Triplet<double>>& pattern)
 {
   // Every pair of nodes of the cells around a node is coupled
+  const int D = body.dim;
   for (const std::vector<std::int32_t>& cells : cells_around(body))
     for (const std::int32_t ca : cells)
       for (const std::int32_t cb : cells)
         for (const std::int32_t ni : body.cell_nodes[ca])
           for (const std::int32_t nj : body.cell_nodes[cb])
-            for (int di = 0; di < 2; ++di)
-              for (int dj = 0; dj < 2; ++dj)
+            for (int di = 0; di < D; ++di)
+              for (int dj = 0; dj < D; ++dj)
               {
-                const int row = 2 * ni + di, col = 2 * nj + dj;
+                const int row = D * ni + di, col = D * nj + dj;
                 if (stored_entry(row, col))
                   pattern.emplace_back(row, col, 0.0);
               }
@@ -128,13 +235,17 @@ void add_nodal_pattern(const Body& body,
 NodalPatches::NodalPatches(const Body& body, std::span<const double> x)
     : _v0(body.nodes.size(), 0.0)
 {
-  // V0 summed in cell order, as the current volumes are
+  // V0 summed in cell order, as the current volumes are; a mesh's cells
+  // may all be ordered clockwise (negative measures): each counts positive
   _a0.reserve(body.cell_nodes.size());
+  _sign.reserve(body.cell_nodes.size());
   for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
   {
-    const double a0 = _a0.emplace_back(cell_area(body, c, x, {}).area);
+    const double signed_volume = cell_volume(body, c, x, {}).volume;
+    _sign.push_back(signed_volume < 0 ? -1.0 : 1.0);
+    const double a0 = _a0.emplace_back(_sign.back() * signed_volume);
     for (const std::int32_t i : body.cell_nodes[c])
-      _v0[i] += a0 / 3;
+      _v0[i] += a0 / (body.dim + 1);
   }
   _around.assign(1, 0);
   _patch_start.assign(1, 0);
@@ -148,8 +259,8 @@ NodalPatches::NodalPatches(const Body& body, std::span<const double> x)
     patch.erase(std::unique(patch.begin(), patch.end()), patch.end());
     for (const std::int32_t c : cells)
     {
-      std::array<std::int32_t, 3>& slot = _slot.emplace_back();
-      for (int i = 0; i < 3; ++i)
+      std::array<std::int32_t, 4>& slot = _slot.emplace_back();
+      for (int i = 0; i < body.cell_nodes[c].size(); ++i)
         slot[i] = static_cast<std::int32_t>(
             std::lower_bound(patch.begin(), patch.end(),
                              body.cell_nodes[c][i]) -
@@ -162,7 +273,7 @@ NodalPatches::NodalPatches(const Body& body, std::span<const double> x)
   }
 }
 
-void NodalPatches::find_blocks(const BodyMatrix& K)
+void NodalPatches::find_blocks(const BodyMatrix& K, int D)
 {
   _block_start.assign(1, 0);
   _block.clear();
@@ -173,10 +284,13 @@ void NodalPatches::find_blocks(const BodyMatrix& K)
     for (int p = 0; p < m; ++p)
       for (int q = 0; q <= p; ++q)
       {
+        // column D s + e from row D r on (from its diagonal when r = s,
+        // the entry e rows earlier standing for the upper ones)
         const int r = P[p], s = P[q];
-        _block.push_back({value_index(K, 2 * r, 2 * s),
-                          r > s ? value_index(K, 2 * r, 2 * s + 1)
-                                : value_index(K, 2 * r + 1, 2 * s + 1) - 1});
+        std::array<std::int32_t, 3>& block = _block.emplace_back();
+        for (int e = 0; e < D; ++e)
+          block[e] = r > s ? value_index(K, D * r, D * s + e)
+                           : value_index(K, D * r + e, D * s + e) - e;
       }
     _block_start.push_back(static_cast<std::int64_t>(_block.size()));
   }
@@ -188,14 +302,15 @@ void NodalPatches::add_cell_energy(const Body& body, std::span<const double> x,
                                    std::span<const double> u, double lambda,
                                    std::span<double> per_cell) const
 {
-  const CurrentVolumes n = current_volumes(body, x, u);
+  const CurrentVolumes n = current_volumes(body, x, u, _sign);
   for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
   {
     for (const std::int32_t i : body.cell_nodes[c])
     {
       const double lnJ = std::log(n.v[i] / _v0[i]);
-      // node i's energy V0 lambda/2 ln^2 J, this cell's share a0/3 of V0
-      per_cell[body.cells[c]] += _a0[c] / 3 * 0.5 * lambda * lnJ * lnJ;
+      // node i's energy V0 lambda/2 ln^2 J, this cell's share V0_e/(D+1)
+      per_cell[body.cells[c]] +=
+          _a0[c] / (body.dim + 1) * 0.5 * lambda * lnJ * lnJ;
     }
   }
 }
@@ -204,15 +319,17 @@ void NodalPatches::add_residual(const Body& body, std::span<const double> x,
                                 std::span<const double> u, double lambda,
                                 std::span<double> b) const
 {
-  const CurrentVolumes n = current_volumes(body, x, u);
+  const int D = body.dim;
+  const CurrentVolumes n = current_volumes(body, x, u, _sign);
   for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
   {
-    // each node's V_a holds A_e / 3
+    // each node's V_a holds V_e / (D + 1)
     const double p = n.cell_pressure(body, _v0, c, lambda);
-    const std::array<double, 6>& g = n.cells[c].gradient;
-    for (int k = 0; k < 3; ++k)
-      for (int d = 0; d < 2; ++d)
-        b[2 * body.nodes[body.cell_nodes[c][k]] + d] += p * g[2 * k + d] / 3;
+    const std::array<double, 12>& g = n.cells[c].gradient;
+    for (int k = 0; k < D + 1; ++k)
+      for (int d = 0; d < D; ++d)
+        b[D * body.nodes[body.cell_nodes[c][k]] + d] +=
+            p * g[D * k + d] / (D + 1);
   }
 }
 
@@ -220,50 +337,41 @@ void NodalPatches::add_tangent(const Body& body, std::span<const double> x,
                                std::span<const double> u, double lambda,
                                BodyMatrix& K)
 {
+  const int D = body.dim;
   if (K.rows() != _pattern_rows || K.nonZeros() != _pattern_entries)
-    find_blocks(K);
-  const CurrentVolumes n = current_volumes(body, x, u);
+    find_blocks(K, D);
+  const CurrentVolumes n = current_volumes(body, x, u, _sign);
   double* values = K.valuePtr();
-  std::vector<double> dv; // 3 dV_a over the patch's DOFs
+  std::vector<double> dv; // (D + 1) dV_a over the patch's DOFs
   // sum_a lambda (1 - ln J_a) / (J_a^2 V0_a) dV_a (x) dV_a
   for (std::size_t a = 0; a + 1 < _patch_start.size(); ++a)
   {
     const double J = n.v[a] / _v0[a];
-    const double w = lambda * (1 - std::log(J)) / (J * J * _v0[a]) / 9;
+    const double w =
+        lambda * (1 - std::log(J)) / (J * J * _v0[a]) / ((D + 1) * (D + 1));
     const int m = _patch_start[a + 1] - _patch_start[a];
-    dv.assign(2 * m, 0.0);
+    dv.assign(D * m, 0.0);
     for (std::int32_t k = _around[a]; k < _around[a + 1]; ++k)
-      for (int i = 0; i < 3; ++i)
-        for (int d = 0; d < 2; ++d)
-          dv[2 * _slot[k][i] + d] += n.cells[_cell[k]].gradient[2 * i + d];
-    const std::array<std::int32_t, 2>* block = _block.data() + _block_start[a];
+      for (int i = 0; i < D + 1; ++i)
+        for (int d = 0; d < D; ++d)
+          dv[D * _slot[k][i] + d] += n.cells[_cell[k]].gradient[D * i + d];
+    const std::array<std::int32_t, 3>* block = _block.data() + _block_start[a];
     for (int p = 0; p < m; ++p)
     {
-      const double wx = w * dv[2 * p], wy = w * dv[2 * p + 1];
+      double wd[3];
+      for (int d = 0; d < D; ++d)
+        wd[d] = w * dv[D * p + d];
       for (int q = 0; q <= p; ++q, ++block)
-      {
-        const double sx = dv[2 * q], sy = dv[2 * q + 1];
-        values[(*block)[0]] += wx * sx;
-        values[(*block)[0] + 1] += wy * sx;
-        if (q < p) // (x_p, y_q): above the diagonal when p = q
-          values[(*block)[1]] += wx * sy;
-        values[(*block)[1] + 1] += wy * sy;
-      }
+        for (int e = 0; e < D; ++e)
+        {
+          const double s = dv[D * q + e];
+          // (d < e, p = q): above the diagonal, not stored
+          for (int d = (q < p ? 0 : e); d < D; ++d)
+            values[(*block)[e] + d] += wd[d] * s;
+        }
     }
   }
-  // sum_a p_a d2V_a: per cell, the mean of its nodes' p times d2A
-  for (std::size_t c = 0; c < body.cell_nodes.size(); ++c)
-  {
-    const double p = n.cell_pressure(body, _v0, c, lambda);
-    for (int q = 0; q < 6; ++q)
-      for (int r = 0; r < 6; ++r)
-      {
-        const int row = 2 * body.cell_nodes[c][q / 2] + q % 2,
-                  col = 2 * body.cell_nodes[c][r / 2] + r % 2;
-        if (stored_entry(row, col) && area_hessian(q, r) != 0)
-          K.coeffRef(row, col) += p / 3 * area_hessian(q, r);
-      }
-  }
+  add_volume_hessian(body, x, u, n, _v0, _sign, lambda, K);
 }
 
 } // namespace softpack::bodies

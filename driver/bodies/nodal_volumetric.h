@@ -8,19 +8,20 @@
 #include <vector>
 
 /// The averaged nodal pressure (docs/incompressible.md; Bonet & Burton,
-/// Commun. Numer. Meth. Engng 14:437, 1998): the volumetric energy of a
-/// nearly incompressible body at its nodes instead of its triangles,
+/// Commun. Numer. Meth. Engng 14:437, 1998, for tetrahedra): the volumetric
+/// energy of a nearly incompressible body at its nodes instead of its cells,
 ///
 ///   U_vol = sum_a V0_a lambda/2 (ln J_a)^2,   J_a = V_a / V0_a,
-///   V_a = sum_{cells at a} A_e(x) / 3,
+///   V_a = sum_{cells at a} V_e(x) / (D + 1),
 ///
-/// one constraint per node instead of per triangle, so that P1 triangles do
-/// not lock as nu -> 1/2. A law that has it (forms::MaterialForms::
-/// nodal_volumetric names its lambda) leaves that part out of its UFL
-/// energy; NodalPatches adds it to one body's energy, internal force and
-/// tangent. A triangle's area is bilinear in its nodes' coordinates: dA/dx
-/// is linear and d2A/dx2 constant, so all is closed-form. Its tangent
-/// couples each node's whole patch (add_nodal_pattern).
+/// one constraint per node instead of per cell, so that P1 triangles and
+/// tetrahedra do not lock as nu -> 1/2. A law that has it
+/// (forms::MaterialForms::nodal_volumetric names its lambda) leaves that
+/// part out of its UFL energy; NodalPatches adds it to one body's energy,
+/// internal force and tangent. A triangle's area is bilinear in its nodes'
+/// coordinates (dA/dx linear, d2A/dx2 constant), a tetrahedron's volume
+/// trilinear (dV/dx quadratic, d2V/dx2 linear), so all is closed-form. Its
+/// tangent couples each node's whole patch (add_nodal_pattern).
 /// python/softpack/references/nodal_pressure.py is the same formulation in
 /// numpy, the oracle of the tests.
 namespace softpack::bodies
@@ -33,8 +34,8 @@ void add_nodal_pattern(const Body& body,
 
 /// What the nodal energy of one body needs besides its displacement, made
 /// once (BodyAssembly keeps one per body that has the law): the reference
-/// nodal volumes V0_a and cell areas, each node's cells and patch nodes,
-/// and, from the first tangent on, where each pair of patch nodes' 2x2
+/// nodal volumes V0_a and cell volumes, each node's cells and patch nodes,
+/// and, from the first tangent on, where each pair of patch nodes' D x D
 /// block lies in the body matrix's values. The tangent is then assembled
 /// node by node as lambda (1 - ln J_a)/(J_a^2 V0_a) dV_a (x) dV_a, dV_a
 /// gathered over the patch first: one product per pair of patch DOFs
@@ -76,19 +77,21 @@ public:
                    std::span<const double> u, double lambda, BodyMatrix& K);
 
 private:
-  void find_blocks(const BodyMatrix& K);
-  std::vector<double> _v0, _a0;
+  void find_blocks(const BodyMatrix& K, int D);
+  /// Each node's reference volume, each cell's (counted positive) and its
+  /// orientation in the mesh (+-1)
+  std::vector<double> _v0, _a0, _sign;
   /// Node a's cells: _cell[_around[a] .. _around[a + 1]); its patch nodes
   /// (sorted): _patch[_patch_start[a] .. _patch_start[a + 1])
   std::vector<std::int32_t> _around, _cell, _patch_start, _patch;
-  /// For each entry of _cell: its three nodes' places in the node's patch
-  std::vector<std::array<std::int32_t, 3>> _slot;
+  /// For each entry of _cell: its D + 1 nodes' places in the node's patch
+  std::vector<std::array<std::int32_t, 4>> _slot;
   /// Per node, per pair p >= q of its patch nodes (p (p + 1) / 2 + q from
-  /// _block_start[a]): the value index of (2 P_p, 2 P_q) and of
-  /// (2 P_p, 2 P_q + 1) (on the diagonal, p = q: one before (2 P_p + 1,
-  /// 2 P_q + 1), the upper entry not stored)
+  /// _block_start[a]), for each column D P_q + e (e < D): the value index
+  /// of row D P_p (on the diagonal, p = q: e before that of (D P_p + e,
+  /// D P_q + e), the upper entries not stored)
   std::vector<std::int64_t> _block_start;
-  std::vector<std::array<std::int32_t, 2>> _block;
+  std::vector<std::array<std::int32_t, 3>> _block;
   /// The pattern _block was found in (rows, entries; -1: none yet)
   Eigen::Index _pattern_rows = -1, _pattern_entries = -1;
 };

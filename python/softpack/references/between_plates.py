@@ -86,11 +86,11 @@ def config_data(params: Params, y_bottom: float, y_top: float) -> dict:
         "damping": {"alpha": params.alpha},
         "output": {"every_steps": params.every, "fields": True,
                    "fields_every": 1, "state": False},
-        **_material(params),
+        **material_overrides(params),
     }
 
 
-def _material(params: Params) -> dict:
+def material_overrides(params: Params) -> dict:
     """The [material] overrides: another law, another lambda, or none."""
     material = {}
     if params.law is not None:
@@ -189,6 +189,22 @@ def force_curve(steps: dict, diameter: float, y_bottom0, y_top0,
     bottom = -steps["bottom_fy"] / scale   # ... and the bottom plate down
     return {"eps": eps, "delta": delta, "f_norm": 0.5 * (top + bottom),
             "f_norm_top": top, "f_norm_bottom": bottom}
+
+
+def add_material_arguments(parser) -> None:
+    """Add --lame-lambda and --law (Params.lame_lambda, Params.law: the
+    material's overrides, material_overrides())."""
+    from softpack import cli
+
+    parser.add_argument("--lame-lambda", type=cli.positive_float, default=None,
+                        help="the material's lame_lambda (Pa; default the"
+                        " configuration's, 2 mu: nu = 1/3); e.g. 499 mu for"
+                        " a nearly incompressible nu = 0.499")
+    parser.add_argument("--law", default=None,
+                        help="the material's law (a file of forms/materials/;"
+                        " default the configuration's, neo_hookean), e.g."
+                        " neo_hookean_nodal for a nearly incompressible body"
+                        " (docs/incompressible.md)")
 
 
 def add_plate_arguments(parser, defaults: Params, out: Path) -> None:

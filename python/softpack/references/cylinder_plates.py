@@ -106,8 +106,7 @@ def cylinder_config(params: CylinderParams, y_bottom=None, y_top=None):
         "output": {"every_steps": params.every, "fields": False,
                    "state": False},
     }
-    if params.lame_lambda is not None:
-        data["material"] = {"parameters": {"lame_lambda": params.lame_lambda}}
+    data.update(between_plates.material_overrides(params))
     return validate(data, "single-disk --shape cylinder")
 
 
@@ -164,9 +163,7 @@ def _parser():
     p.add_argument("--slab", action="store_true",
                    help="hold both end faces on frictionless planes (plane"
                    " strain: the 2D disk's problem)")
-    p.add_argument("--lame-lambda", type=cli.positive_float, default=None,
-                   help="the material's lame_lambda (Pa; default the"
-                   " configuration's, 2 mu: nu = 1/3)")
+    between_plates.add_material_arguments(p)
     return p
 
 

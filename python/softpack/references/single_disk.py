@@ -307,15 +307,7 @@ def _parser():
                    help="node_up (default): turn the mesh so that a boundary"
                    " node lies on the loading axis; as_meshed: as gmsh made"
                    " it")
-    p.add_argument("--lame-lambda", type=cli.positive_float, default=None,
-                   help="the material's lame_lambda (Pa; default the"
-                   " configuration's, 2 mu: nu~ = 1/3); e.g. 499 mu for a"
-                   " nearly incompressible nu~ = 0.499")
-    p.add_argument("--law", default=None,
-                   help="the material's law (a file of forms/materials/;"
-                   " default the configuration's, neo_hookean), e.g."
-                   " neo_hookean_nodal for a nearly incompressible disk"
-                   " (docs/incompressible.md)")
+    between_plates.add_material_arguments(p)
     p.add_argument("--shape", choices=("disk", "square", "pentagon",
                                        "cylinder"),
                    default="disk",
