@@ -216,20 +216,33 @@ void add_volume_hessian(const Body& body, std::span<const double> x,
 void add_nodal_pattern(const Body& body,
                        std::vector<Eigen::Triplet<double>>& pattern)
 {
-  // Every pair of nodes of the cells around a node is coupled
+  // Every pair of nodes of the cells around a node is coupled: each pair
+  // once (listed per cell pair, a tetrahedral mesh's pairs would repeat
+  // a hundred times over)
   const int D = body.dim;
+  std::vector<std::vector<std::int32_t>> below(body.nodes.size());
   for (const std::vector<std::int32_t>& cells : cells_around(body))
     for (const std::int32_t ca : cells)
       for (const std::int32_t cb : cells)
         for (const std::int32_t ni : body.cell_nodes[ca])
           for (const std::int32_t nj : body.cell_nodes[cb])
-            for (int di = 0; di < D; ++di)
-              for (int dj = 0; dj < D; ++dj)
-              {
-                const int row = D * ni + di, col = D * nj + dj;
-                if (stored_entry(row, col))
-                  pattern.emplace_back(row, col, 0.0);
-              }
+            if (nj <= ni)
+              below[ni].push_back(nj);
+  for (std::size_t ni = 0; ni < below.size(); ++ni)
+  {
+    std::vector<std::int32_t>& row = below[ni];
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    for (const std::int32_t nj : row)
+      for (int di = 0; di < D; ++di)
+        for (int dj = 0; dj < D; ++dj)
+        {
+          const int r = D * static_cast<int>(ni) + di, c = D * nj + dj;
+          if (stored_entry(r, c))
+            pattern.emplace_back(r, c, 0.0);
+        }
+    std::vector<std::int32_t>().swap(row);
+  }
 }
 
 NodalPatches::NodalPatches(const Body& body, std::span<const double> x)

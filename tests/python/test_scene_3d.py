@@ -97,8 +97,8 @@ def test_what_3d_does_not_have_yet_is_refused():
     data = cylinders()
     data["species"][1]["shape"] = "sphere"
     refused(data, "cylinders", "do not mix", "sphere")
-    refused(cylinders(material={"law": "neo_hookean_nodal"}),
-            "[material] law", "neo_hookean_nodal", "plane strain only")
+    refused(cylinders(material={"law": "viscoelastic_neo_hookean"}),
+            "[material] law", "viscoelastic_neo_hookean", "plane strain only")
     refused(cylinders(material={"rigid": True}), "[material] rigid")
     data = cylinders()
     data["walls"] = {"plate": {"point": [0.0, 0.05], "normal": [0.0, -1.0]}}
