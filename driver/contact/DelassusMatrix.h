@@ -191,15 +191,43 @@ public:
   {
     Vector sum = offdiagonal_product(a, r);
     if (sums)
-      for (const TermEntry& e : terms_of(a))
-      {
-        const RankOne& t = _terms[e.term];
-        const Vector& g = t.g[e.index];
-        sum +=
-            (t.inverse_mass * (sums[e.term] - g.dot(contact_vector<D>(r, a)))) *
-            g;
-      }
+      add_rank_one_offdiagonal(a, r, sums, sum);
     return sum;
+  }
+
+  /// sum += the rank-one terms' off-diagonal part of row a (see
+  /// offdiagonal_product()), term by term
+  void add_rank_one_offdiagonal(std::size_t a, const double* r,
+                                const double* sums, Vector& sum) const
+  {
+    for (const TermEntry& e : terms_of(a))
+    {
+      const RankOne& t = _terms[e.term];
+      const Vector& g = t.g[e.index];
+      sum +=
+          (t.inverse_mass * (sums[e.term] - g.dot(contact_vector<D>(r, a)))) *
+          g;
+    }
+  }
+
+  /// After contact a's reaction changed by dr: \f$v_b \mathrel{+}= W_{ba}
+  /// dr\f$ for each stored block of row a whose column b is below `kept`,
+  /// with \f$W_{ba} = W_{ab}^T\f$ (W is symmetric, to the rounding of its
+  /// blocks). Row a's own stream, so that a velocity-updated sweep
+  /// (NlgsUpdate::velocity) reads each row once per change of its reaction.
+  void scatter_change(std::size_t a, const Vector& dr, double* v,
+                      std::size_t kept) const
+  {
+    const std::int32_t end = _offsets[a + 1];
+    for (std::int32_t k = _offsets[a]; k < end; ++k)
+    {
+      const auto b = static_cast<std::size_t>(_columns[k]);
+      if (b >= kept)
+        continue;
+      const Vector dv = _blocks[k].transpose() * dr;
+      for (int j = 0; j < D; ++j)
+        v[D * b + j] += dv[j];
+    }
   }
 
   /// The same W with the rank-one terms' off-diagonal blocks stored as

@@ -64,26 +64,25 @@ struct SweepSums
   double change = 0, norm = 0;
 };
 //-----------------------------------------------------------------------------
-/// Contact a's Gauss–Seidel update (relaxed, projected on its cone when
-/// over-relaxed), its change and norm added to `sums`; its rank-one terms'
-/// running sums `terms` (null: W has none) follow. `Cohesive`: the
-/// problem has a cohesion vector; without one the update is the plain
-/// Signorini–Coulomb one, instruction for instruction (the sweep is the
-/// simulator's hot loop). D: 2 or 3, the local solver and the cone of that
-/// dimension (the same operations on 2-vectors as before it was a template).
+/// Contact a's new reaction from its free velocity qa (the others' reactions
+/// in it): its local solution, relaxed, projected on its cone when
+/// over-relaxed. `Cohesive`: the problem has a cohesion vector; without one
+/// the update is the plain Signorini–Coulomb one, instruction for
+/// instruction (the sweep is the simulator's hot loop). D: 2 or 3, the
+/// local solver and the cone of that dimension (the same operations on
+/// 2-vectors as before it was a template).
 template <bool Cohesive, int D>
-inline void relax(const FrictionContactProblem<D>& problem, double* r,
-                  double* terms, double omega, std::size_t a, SweepSums& sums)
+inline Eigen::Matrix<double, D, 1>
+relaxed(const FrictionContactProblem<D>& problem,
+        const Eigen::Matrix<double, D, 1>& qa,
+        const Eigen::Matrix<double, D, 1>& old, double omega, std::size_t a)
 {
   using Vector = Eigen::Matrix<double, D, 1>;
   const DelassusMatrixD<D>& W = problem.W;
-  const Vector qa = contact_vector<D>(problem.q.data(), a) +
-                    W.offdiagonal_product(a, r, terms);
   const double mu = problem.friction[a];
   const double c = Cohesive ? problem.cohesion[a] : 0.0;
   Vector ra = Cohesive ? solve_local(W.diagonal(a), qa, mu, c).r
                        : solve_local(W.diagonal(a), qa, mu).r;
-  const Vector old = contact_vector<D>(r, a);
   if (omega != 1.0)
   {
     ra = omega * ra + (1.0 - omega) * old;
@@ -96,41 +95,129 @@ inline void relax(const FrictionContactProblem<D>& problem, double* r,
         ra = project_on_cone(ra, mu);
     }
   }
+  return ra;
+}
+//-----------------------------------------------------------------------------
+/// Contact a's reaction ra written, its change and norm added to `sums`,
+/// its rank-one terms' running sums `terms` (null: W has none) updated
+template <int D>
+inline void store(const FrictionContactProblem<D>& problem, double* r,
+                  double* terms, std::size_t a,
+                  const Eigen::Matrix<double, D, 1>& ra,
+                  const Eigen::Matrix<double, D, 1>& old, SweepSums& sums)
+{
   sums.change += (ra - old).squaredNorm();
   sums.norm += ra.squaredNorm();
   for (int j = 0; j < D; ++j)
     r[D * a + j] = ra[j];
   if (terms)
-    W.update_sums(a, ra - old, terms);
+    problem.W.update_sums(a, ra - old, terms);
 }
 //-----------------------------------------------------------------------------
-/// Gauss–Seidel over the contacts, in the order `contacts` gives them
+/// Contact a's Gauss–Seidel update (NlgsUpdate::row): its free velocity
+/// from its row of W and the current reactions
+template <bool Cohesive, int D>
+inline void relax(const FrictionContactProblem<D>& problem, double* r,
+                  double* terms, double omega, std::size_t a, SweepSums& sums)
+{
+  using Vector = Eigen::Matrix<double, D, 1>;
+  const DelassusMatrixD<D>& W = problem.W;
+  const Vector qa = contact_vector<D>(problem.q.data(), a) +
+                    W.offdiagonal_product(a, r, terms);
+  const Vector old = contact_vector<D>(r, a);
+  store(problem, r, terms, a, relaxed<Cohesive>(problem, qa, old, omega, a),
+        old, sums);
+}
+//-----------------------------------------------------------------------------
+/// The velocities v = q + W r (W's blocks; the rank-one terms are read
+/// from their sums) of the contacts [0, kept) of a velocity-updated sweep
+/// (NlgsUpdate::velocity), made from r
+template <int D> struct Velocities
+{
+  std::vector<double> v;
+  std::size_t kept = 0;
+  void reset(const FrictionContactProblem<D>& problem, const double* r)
+  {
+    v.resize(D * problem.num_contacts());
+    for (std::size_t a = 0; a < kept; ++a)
+    {
+      const Eigen::Matrix<double, D, 1> va =
+          contact_vector<D>(problem.q.data(), a) + problem.W.row_product(a, r);
+      for (int j = 0; j < D; ++j)
+        v[D * a + j] = va[j];
+    }
+  }
+};
+//-----------------------------------------------------------------------------
+/// Contact a's Gauss–Seidel update (NlgsUpdate::velocity): its free
+/// velocity from v (a kept contact) or its row (the others), and its
+/// change added to the kept contacts' velocities
+template <bool Cohesive, int D>
+inline void relax_velocity(const FrictionContactProblem<D>& problem, double* r,
+                           double* terms, Velocities<D>& velocities,
+                           double omega, std::size_t a, SweepSums& sums)
+{
+  using Vector = Eigen::Matrix<double, D, 1>;
+  const DelassusMatrixD<D>& W = problem.W;
+  const Vector old = contact_vector<D>(r, a);
+  double* v = velocities.v.data();
+  const bool kept = a < velocities.kept;
+  Vector qa = kept ? Vector(contact_vector<D>(v, a) - W.diagonal(a) * old)
+                   : Vector(contact_vector<D>(problem.q.data(), a) +
+                            W.offdiagonal_product(a, r));
+  if (terms)
+    W.add_rank_one_offdiagonal(a, r, terms, qa);
+  const Vector ra = relaxed<Cohesive>(problem, qa, old, omega, a);
+  store(problem, r, terms, a, ra, old, sums);
+  const Vector dr = ra - old;
+  if ((dr.array() == 0).all())
+    return;
+  if (kept)
+  {
+    const Vector dv = W.diagonal(a) * dr;
+    for (int j = 0; j < D; ++j)
+      v[D * a + j] += dv[j];
+  }
+  W.scatter_change(a, dr, v, velocities.kept);
+}
+//-----------------------------------------------------------------------------
+/// Gauss–Seidel over the contacts, in the order `contacts` gives them;
+/// velocity-updated when `velocities` is given
 template <bool Cohesive, int D, typename Contacts>
 SweepSums sweep_law(const FrictionContactProblem<D>& problem, double* r,
-                    double* terms, double omega, const Contacts& contacts)
+                    double* terms, Velocities<D>* velocities, double omega,
+                    const Contacts& contacts)
 {
   SweepSums sums;
-  for (const auto a : contacts)
-    relax<Cohesive>(problem, r, terms, omega, static_cast<std::size_t>(a),
-                    sums);
+  if (velocities)
+    for (const auto a : contacts)
+      relax_velocity<Cohesive>(problem, r, terms, *velocities, omega,
+                               static_cast<std::size_t>(a), sums);
+  else
+    for (const auto a : contacts)
+      relax<Cohesive>(problem, r, terms, omega, static_cast<std::size_t>(a),
+                      sums);
   return sums;
 }
 //-----------------------------------------------------------------------------
 template <int D, typename Contacts>
 SweepSums sweep_contacts(const FrictionContactProblem<D>& problem, double* r,
-                         double* terms, double omega, const Contacts& contacts)
+                         double* terms, Velocities<D>* velocities, double omega,
+                         const Contacts& contacts)
 {
   return problem.cohesion.empty()
-             ? sweep_law<false>(problem, r, terms, omega, contacts)
-             : sweep_law<true>(problem, r, terms, omega, contacts);
+             ? sweep_law<false>(problem, r, terms, velocities, omega, contacts)
+             : sweep_law<true>(problem, r, terms, velocities, omega, contacts);
 }
 //-----------------------------------------------------------------------------
 /// Gauss–Seidel over the contacts [begin, end), in order
 template <int D>
 SweepSums sweep(const FrictionContactProblem<D>& problem, double* r,
-                double* terms, double omega, std::size_t begin, std::size_t end)
+                double* terms, double omega, std::size_t begin, std::size_t end,
+                Velocities<D>* velocities = nullptr)
 {
-  return sweep_contacts(problem, r, terms, omega, std::views::iota(begin, end));
+  return sweep_contacts(problem, r, terms, velocities, omega,
+                        std::views::iota(begin, end));
 }
 //-----------------------------------------------------------------------------
 /// Gauss–Seidel over the listed contacts, in their order (a domain's stage)
@@ -139,7 +226,8 @@ SweepSums sweep(const FrictionContactProblem<D>& problem, double* r,
                 double* terms, double omega,
                 std::span<const std::int32_t> contacts)
 {
-  return sweep_contacts(problem, r, terms, omega, contacts);
+  return sweep_contacts(problem, r, terms, static_cast<Velocities<D>*>(nullptr),
+                        omega, contacts);
 }
 //-----------------------------------------------------------------------------
 /// The sets swept in the order the options ask for (SweepOrder)
@@ -203,6 +291,8 @@ public:
   }
   /// Relaxation of the next sweep
   double omega;
+  /// Sweeps so far
+  int sweeps() const { return _result.iterations; }
 
 private:
   const FrictionContactProblem<D>& _problem;
@@ -262,6 +352,10 @@ template <int D> void Monitor<D>::finish()
   _result.converged = _full.value <= _options.tolerance;
 }
 //-----------------------------------------------------------------------------
+/// A velocity-updated solve makes its velocities again from r after this
+/// many sweeps (NlgsUpdate::velocity)
+constexpr int velocity_reset_sweeps = 50;
+//-----------------------------------------------------------------------------
 /// Sweeps of a swept problem: its two parts on two threads when `threads`
 /// > 1 (the separator on one, between two barriers), else all in order.
 /// The contacts of W's rank-one terms are in the separator of a split
@@ -269,13 +363,22 @@ template <int D> void Monitor<D>::finish()
 /// sums; they are made again from r between two sweeps, on one thread.
 template <int D>
 void swept_sweeps(const SweepPlanD<D>& swept, double* r, int threads,
-                  Monitor<D>& monitor)
+                  bool update_velocities, Monitor<D>& monitor)
 {
   const FrictionContactProblem<D>& problem = swept.problem;
   const std::size_t bounds[4] = {0, swept.ends[0], swept.ends[1],
                                  problem.num_contacts()};
   RunningSums<D> terms(problem.W);
   terms.reset(r);
+  // the parts' contacts keep velocities, the separator's read their rows
+  std::optional<Velocities<D>> velocities;
+  if (update_velocities)
+  {
+    velocities.emplace();
+    velocities->kept = bounds[2];
+    velocities->reset(problem, r);
+  }
+  Velocities<D>* v = velocities ? &*velocities : nullptr;
   SweepSums partial[2];
   bool more = true;
 #pragma omp parallel num_threads(2) if (threads > 1)
@@ -286,14 +389,16 @@ void swept_sweeps(const SweepPlanD<D>& swept, double* r, int threads,
     {
       for (int k = t; k < t + parts_here; ++k)
         partial[k] = sweep(problem, r, terms.data(), monitor.omega, bounds[k],
-                           bounds[k + 1]);
+                           bounds[k + 1], v);
 #pragma omp barrier
 #pragma omp single
       {
         const SweepSums s = sweep(problem, r, terms.data(), monitor.omega,
-                                  bounds[2], bounds[3]);
+                                  bounds[2], bounds[3], v);
         more = monitor.after_sweep(combine(partial[0], partial[1], s));
         terms.reset(r);
+        if (v and more and monitor.sweeps() % velocity_reset_sweeps == 0)
+          v->reset(problem, r);
       } // the implicit barrier: `more` and `omega` are read after it
     }
   }
@@ -352,7 +457,8 @@ void solve_swept(const FrictionContactProblem<D>& problem, std::span<double> r,
     }
   Monitor<D> monitor(plan.problem, r_here, u_here, options, result,
                      plan.position);
-  swept_sweeps(plan, r_here.data(), plan.split ? options.threads : 1, monitor);
+  swept_sweeps(plan, r_here.data(), plan.split ? options.threads : 1,
+               updates_velocities<D>(options), monitor);
   monitor.finish();
   for (std::size_t i = 0; i < n; ++i)
     for (int j = 0; j < D; ++j)
@@ -372,6 +478,18 @@ SweepOrder softpack::contact::sweep_order(const std::string& name)
     return SweepOrder::alternate;
   throw std::invalid_argument("sweep order \"" + name +
                               "\": must be \"contact\" or \"alternate\"");
+}
+//-----------------------------------------------------------------------------
+NlgsUpdate softpack::contact::nlgs_update(const std::string& name)
+{
+  if (name == "row")
+    return NlgsUpdate::row;
+  if (name == "velocity")
+    return NlgsUpdate::velocity;
+  if (name == "auto")
+    return NlgsUpdate::automatic;
+  throw std::invalid_argument("NLGS update \"" + name +
+                              "\": must be \"row\", \"velocity\" or \"auto\"");
 }
 //-----------------------------------------------------------------------------
 template <int D>

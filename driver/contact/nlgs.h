@@ -31,6 +31,30 @@ enum class SweepOrder
 /// @throws std::invalid_argument naming the allowed names
 SweepOrder sweep_order(const std::string& name);
 
+/// How a sweep finds each contact's free velocity (NlgsOptions::update).
+enum class NlgsUpdate
+{
+  /// From its row of W and the current reactions: \f$q_a + \sum_{b \ne a}
+  /// W_{ab} r_b\f$, every contact's row read at every sweep
+  row,
+  /// From the velocities \f$v = q + W r\f$, kept current: a contact whose
+  /// reaction changes by dr adds \f$W_{ba}\,dr\f$ to its neighbours' (its
+  /// row read transposed); a contact that stays open (r = 0 before and
+  /// after, most of the candidates of a 3D packing) reads no row at all.
+  /// The same iteration as `row` to rounding (v drifts by the rounding of
+  /// its updates: made again from r every 50 sweeps). In a split sweep the
+  /// separator's contacts read their rows (they are swept between the two
+  /// parts' threads' barriers); a domain's sweeps (MPI) read rows.
+  velocity,
+  /// `row` in 2D (its answers as before this option), `velocity` in 3D
+  automatic
+};
+
+/// The NlgsUpdate of a name ("row", "velocity" or "auto": the schema's
+/// contact.nlgs_update choices)
+/// @throws std::invalid_argument naming the allowed names
+NlgsUpdate nlgs_update(const std::string& name);
+
 /// Options of solve_nlgs().
 struct NlgsOptions
 {
@@ -54,6 +78,9 @@ struct NlgsOptions
 
   /// The order of a sweep (SweepOrder)
   SweepOrder order = SweepOrder::contact;
+
+  /// How a sweep finds the contacts' free velocities (NlgsUpdate)
+  NlgsUpdate update = NlgsUpdate::automatic;
 
   /// Also compute the full error after every this many sweeps, whatever
   /// the cheap error says (0: only when the cheap error passes). The cheap
@@ -136,13 +163,23 @@ bool splits(const FrictionContactProblem<D>& problem,
          problem.num_contacts() >= options.split_min_contacts;
 }
 
+/// true when the sweeps of a D-dimensional problem update the velocities
+/// (NlgsUpdate)
+template <int D> bool updates_velocities(const NlgsOptions& options)
+{
+  return options.update == NlgsUpdate::velocity or
+         (options.update == NlgsUpdate::automatic and D == 3);
+}
+
 /// true when solve_nlgs() sweeps the problem renumbered (SweepPlan): when
-/// it splits() or the order is not the contact order
+/// it splits(), the order is not the contact order or the sweeps update the
+/// velocities
 template <int D>
 bool renumbers(const FrictionContactProblem<D>& problem,
                const NlgsOptions& options)
 {
-  return splits(problem, options) or options.order != SweepOrder::contact;
+  return splits(problem, options) or options.order != SweepOrder::contact or
+         updates_velocities<D>(options);
 }
 
 /// A problem's contacts renumbered in the order of its sweeps, so that a

@@ -367,6 +367,8 @@ private:
   /// the first solve after W changes, reused by the step's other Newton
   /// iterations
   std::optional<contact::SweepPlan> _sweep_plan;
+  /// The same for a 3D problem (whole on every process)
+  std::optional<contact::SweepPlan3D> _sweep_plan3;
   std::vector<Wall> _walls;
   /// The plane walls of a 3D run
   std::vector<Wall3D> _walls3;

@@ -109,7 +109,11 @@ void NewtonLoop::solve_problem(const std::vector<double>& U_free)
   std::vector<double> U(U_free.size()), start = _s._R;
   if (d == 3) // (whole on every process: ContactExchange::delassus)
   {
-    report_nlgs(contact::solve_nlgs(_problem.three, _s._R, U, _s._nlgs),
+    std::optional<contact::SweepPlan3D>& plan = _s._sweep_plan3;
+    if (!plan && contact::renumbers(_problem.three, _s._nlgs))
+      plan.emplace(_problem.three, _s._nlgs);
+    report_nlgs(contact::solve_nlgs(_problem.three, _s._R, U, _s._nlgs, nullptr,
+                                    plan ? &*plan : nullptr),
                 std::move(start));
     return;
   }

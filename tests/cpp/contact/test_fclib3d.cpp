@@ -259,3 +259,44 @@ TEST(Fclib3dGlobal, RelaxedSplitAndAlternateSweepsToo)
   }
   EXPECT_EQ(answers[0], answers[1]);
 }
+
+TEST(Fclib3dGlobal, VelocityUpdatedSweepsFollowTheRowSweeps)
+{
+  // NlgsUpdate::velocity (the 3D default) against NlgsUpdate::row: the same
+  // Gauss–Seidel iteration apart from rounding (the same sweeps to one, the
+  // reactions within the tolerance's reach), over-relaxed, alternate, split
+  // on one and two threads (the same bits)
+  for (const char* name : {"Box_Stacks-i0122-82-5.hdf5"})
+  {
+    const FrictionContactProblem3D p = read_fclib_file<3>(data3d(name)).problem;
+    NlgsOptions options;
+    options.tolerance = 1e-8;
+    options.relaxation = 1.8;
+    options.order = SweepOrder::alternate;
+    options.split_min_contacts = 1;
+    std::vector<std::vector<double>> answers;
+    std::vector<int> sweeps;
+    for (const NlgsUpdate update :
+         {NlgsUpdate::row, NlgsUpdate::velocity, NlgsUpdate::velocity})
+    {
+      options.update = update;
+      options.threads = answers.size() == 2 ? 2 : 1;
+      std::vector<double> r(3 * p.num_contacts(), 0.0), u(r.size());
+      const NlgsResult result = solve_nlgs(p, r, u, options);
+      EXPECT_TRUE(result.converged) << result.error;
+      EXPECT_LE(compute_error(p, r, u, 1e-12).value, 1e-8);
+      answers.push_back(r);
+      sweeps.push_back(result.iterations);
+    }
+    EXPECT_EQ(answers[1], answers[2]);
+    EXPECT_EQ(sweeps[1], sweeps[2]);
+    EXPECT_LE(std::abs(sweeps[0] - sweeps[1]), 1);
+    double d = 0, n = 0;
+    for (std::size_t k = 0; k < answers[0].size(); ++k)
+    {
+      d = std::max(d, std::abs(answers[0][k] - answers[1][k]));
+      n = std::max(n, std::abs(answers[0][k]));
+    }
+    EXPECT_LT(d, 1e-6 * n) << name;
+  }
+}

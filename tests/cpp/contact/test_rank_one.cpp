@@ -182,35 +182,40 @@ TEST(RankOne, TheOperatorIsTheWholeW)
 
 TEST(RankOne, TheNlgsGivesTheDenseAnswerToRoundOff)
 {
-  for (unsigned seed : {1u, 2u, 3u})
-    for (double relaxation : {1.0, 1.7})
-    {
-      const RandomProblem rp = random_problem(40, 10, seed);
-      NlgsOptions options;
-      options.tolerance = 1e-10;
-      options.relaxation = relaxation;
-      options.order =
-          relaxation == 1.0 ? SweepOrder::contact : SweepOrder::alternate;
-      const Outcome a = solve(rp.problem, options);
-      const FrictionContactProblem2D blocks = as_blocks(rp.problem);
-      const Outcome b = solve(blocks, options);
-      ASSERT_TRUE(a.result.converged);
-      ASSERT_TRUE(b.result.converged);
-      // The same Gauss–Seidel iteration: the same sweeps, the reactions
-      // apart by rounding
-      EXPECT_EQ(a.result.iterations, b.result.iterations);
-      const double scale = largest(b.r);
-      ASSERT_GT(scale, 0);
-      for (std::size_t i = 0; i < a.r.size(); ++i)
-        EXPECT_NEAR(a.r[i], b.r[i], 1e-12 * scale) << "seed " << seed;
-      // The error sees the whole W: the rank-one form's and the blocks'
-      // agree at the same reactions
-      std::vector<double> u(a.u.size());
-      const NaturalMapError ea = compute_error(rp.problem, a.r, u, 1e-12);
-      const NaturalMapError eb = compute_error(blocks, a.r, u, 1e-12);
-      EXPECT_NEAR(ea.value, eb.value, 1e-12);
-      EXPECT_LE(eb.value, options.tolerance);
-    }
+  // (velocity-updated sweeps too: the terms read from their sums, the
+  // blocks from the kept velocities; against the blocks' row sweeps)
+  for (NlgsUpdate update : {NlgsUpdate::row, NlgsUpdate::velocity})
+    for (unsigned seed : {1u, 2u, 3u})
+      for (double relaxation : {1.0, 1.7})
+      {
+        const RandomProblem rp = random_problem(40, 10, seed);
+        NlgsOptions options;
+        options.tolerance = 1e-10;
+        options.relaxation = relaxation;
+        options.order =
+            relaxation == 1.0 ? SweepOrder::contact : SweepOrder::alternate;
+        options.update = NlgsUpdate::row;
+        const FrictionContactProblem2D blocks = as_blocks(rp.problem);
+        const Outcome b = solve(blocks, options);
+        options.update = update;
+        const Outcome a = solve(rp.problem, options);
+        ASSERT_TRUE(a.result.converged);
+        ASSERT_TRUE(b.result.converged);
+        // The same Gauss–Seidel iteration: the same sweeps, the reactions
+        // apart by rounding
+        EXPECT_EQ(a.result.iterations, b.result.iterations);
+        const double scale = largest(b.r);
+        ASSERT_GT(scale, 0);
+        for (std::size_t i = 0; i < a.r.size(); ++i)
+          EXPECT_NEAR(a.r[i], b.r[i], 1e-12 * scale) << "seed " << seed;
+        // The error sees the whole W: the rank-one form's and the blocks'
+        // agree at the same reactions
+        std::vector<double> u(a.u.size());
+        const NaturalMapError ea = compute_error(rp.problem, a.r, u, 1e-12);
+        const NaturalMapError eb = compute_error(blocks, a.r, u, 1e-12);
+        EXPECT_NEAR(ea.value, eb.value, 1e-12);
+        EXPECT_LE(eb.value, options.tolerance);
+      }
 }
 
 TEST(RankOne, ASplitSweepKeepsTheTermsInItsSeparator)
@@ -224,22 +229,26 @@ TEST(RankOne, ASplitSweepKeepsTheTermsInItsSeparator)
       EXPECT_TRUE(std::binary_search(split.separator.begin(),
                                      split.separator.end(), c));
   // Split and swept on one thread or two: the same bits, and the answer of
-  // the dense W
-  NlgsOptions options;
-  options.tolerance = 1e-10;
-  options.relaxation = 1.7;
-  options.order = SweepOrder::alternate;
-  options.split_min_contacts = 10;
-  options.threads = 1;
-  const Outcome one = solve(rp.problem, options);
-  options.threads = 2;
-  const Outcome two = solve(rp.problem, options);
-  ASSERT_TRUE(one.result.converged);
-  EXPECT_EQ(one.r, two.r);
-  EXPECT_EQ(one.result.iterations, two.result.iterations);
-  std::vector<double> u(one.u.size());
-  EXPECT_LE(compute_error(as_blocks(rp.problem), one.r, u, 1e-12).value,
-            options.tolerance);
+  // the dense W; row- or velocity-updated
+  for (NlgsUpdate update : {NlgsUpdate::row, NlgsUpdate::velocity})
+  {
+    NlgsOptions options;
+    options.tolerance = 1e-10;
+    options.relaxation = 1.7;
+    options.order = SweepOrder::alternate;
+    options.split_min_contacts = 10;
+    options.update = update;
+    options.threads = 1;
+    const Outcome one = solve(rp.problem, options);
+    options.threads = 2;
+    const Outcome two = solve(rp.problem, options);
+    ASSERT_TRUE(one.result.converged);
+    EXPECT_EQ(one.r, two.r);
+    EXPECT_EQ(one.result.iterations, two.result.iterations);
+    std::vector<double> u(one.u.size());
+    EXPECT_LE(compute_error(as_blocks(rp.problem), one.r, u, 1e-12).value,
+              options.tolerance);
+  }
 }
 
 TEST(RankOne, AWrittenProblemHasTheTermsAsBlocks)
