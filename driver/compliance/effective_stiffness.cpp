@@ -1,6 +1,7 @@
 #include "effective_stiffness.h"
 #include "damping.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace softpack::dynamics
@@ -63,6 +64,11 @@ void EffectiveStiffness::prepare_columns(int b,
     C.assign(d * nodes.size(), Column());
     ready.assign(nodes.size(), 0);
   }
+  if (_factors.solves_blocks())
+  {
+    prepare_column_blocks(b, slots);
+    return;
+  }
   Eigen::VectorXd e = Eigen::VectorXd::Zero(_factors.rows(b));
   for (int slot : slots)
   {
@@ -81,6 +87,44 @@ void EffectiveStiffness::prepare_columns(int b,
           rows[d * i + k] = x[d * nodes[i] + k];
     }
     ready[slot] = 1;
+  }
+}
+
+void EffectiveStiffness::prepare_column_blocks(int b,
+                                               std::span<const int> slots) const
+{
+  const std::vector<std::int32_t>& nodes = _boundary[b];
+  std::vector<Column>& C = _columns[b];
+  std::vector<char>& ready = _column_ready[b];
+  const int d = _dim;
+  std::vector<int> dofs; // the new columns, as d * slot + c
+  for (int slot : slots)
+  {
+    if (ready[slot])
+      continue;
+    ready[slot] = 1;
+    for (int c = 0; c < d; ++c)
+      dofs.push_back(d * slot + c);
+  }
+  const auto n = static_cast<int>(dofs.size());
+  for (int first = 0; first < n; first += column_block)
+  {
+    const int m = std::min(column_block, n - first);
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(_factors.rows(b), m);
+    for (int j = 0; j < m; ++j)
+    {
+      const int k = dofs[first + j];
+      E(d * nodes[k / d] + k % d, j) = 1;
+    }
+    const Eigen::MatrixXd X = _factors.solve(b, E);
+    for (int j = 0; j < m; ++j)
+    {
+      Column& rows = C[dofs[first + j]];
+      rows.resize(d * nodes.size());
+      for (std::size_t i = 0; i < nodes.size(); ++i)
+        for (int r = 0; r < d; ++r)
+          rows[d * i + r] = X(d * nodes[i] + r, j);
+    }
   }
 }
 

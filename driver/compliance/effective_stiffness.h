@@ -49,7 +49,8 @@ public:
   }
 
   /// Make the compliance columns \f$\bar K_b^{-1} e\f$ of the given
-  /// boundary slots of body b available (dim per slot, one solve each): they
+  /// boundary slots of body b available (dim per slot; one solve each in
+  /// 2D, one solve per block of columns in 3D): they
   /// are computed on first demand after each factorization and kept until
   /// the next one, so the cost follows the nodes that actually carry
   /// contacts. Only their rows at the body's boundary nodes are kept: the
@@ -98,6 +99,13 @@ private:
   /// the largest item of a crowded run's memory; their boundary rows are
   /// a tenth of it.
   using Column = Eigen::VectorXd;
+  /// prepare_columns() of 3D bodies: the new columns by blocks of
+  /// column_block unit vectors, one multi-right-hand-side solve each
+  void prepare_column_blocks(int body, std::span<const int> slots) const;
+  /// Columns per block solve (3D): the right-hand sides and solutions of
+  /// one block take 2 x 8 x rows x column_block bytes (20 MB for a
+  /// 10,000-DOF body)
+  static constexpr int column_block = 128;
   /// Put the lumped masses of the kept bodies on the stiffness pattern
   void build_lumped(const bodies::BodySet& bodies);
   /// The masses on the stiffness pattern: the bodies' consistent masses
