@@ -4,6 +4,7 @@
 #include <Eigen/SparseCholesky>
 #include <cstdlib>
 #include <mutex>
+#include <omp.h>
 #include <stdexcept>
 
 // OpenBLAS (CHOLMOD's BLAS here) exports this; weak, so that another BLAS
@@ -42,6 +43,29 @@ private:
   Eigen::SimplicialLDLT<bodies::BodyMatrix> _ldlt;
 };
 
+/// Runs `f` with OpenMP's parallel regions serial. CHOLMOD 3 (SuiteSparse 5)
+/// runs loops of each large supernode in OpenMP teams of 4 threads (its
+/// compile-time CHOLMOD_OMP_NUM_THREADS, which a num_threads clause sets, so
+/// OMP_NUM_THREADS does not bound it): on 2 shared cores, with the driver's
+/// threads waiting passively (apps::ensure_passive_waiting), each such
+/// region waits for wake-ups and time slices. Measured on a cylinder of
+/// 3,186 DOFs: 0.17 s per factorization in those teams, 0.05 s serial
+/// (docs/performance_3d.md, "Factors of 3D bodies"). Within the driver's
+/// parallel loops over bodies CHOLMOD's regions are nested, hence serial
+/// already (max-active-levels 1, OpenMP's default).
+template <class F> void without_openmp_teams(F&& f)
+{
+  if (omp_in_parallel())
+  {
+    f();
+    return;
+  }
+  const int levels = omp_get_max_active_levels();
+  omp_set_max_active_levels(0);
+  f();
+  omp_set_max_active_levels(levels);
+}
+
 /// CHOLMOD's supernodal LL^T, analyzed once (CHOLMOD's default ordering:
 /// AMD, METIS when AMD's fill is large). Each factor has its own
 /// cholmod_common, so different bodies are factorized and solved on
@@ -51,20 +75,24 @@ class CholmodFactor final : public GeneralFactor
 public:
   void analyze(const bodies::BodyMatrix& pattern) override
   {
-    _llt.analyzePattern(pattern);
+    without_openmp_teams([&] { _llt.analyzePattern(pattern); });
   }
   bool factorize(const bodies::BodyMatrix& A) override
   {
-    _llt.factorize(A);
+    without_openmp_teams([&] { _llt.factorize(A); });
     return _llt.info() == Eigen::Success;
   }
   Eigen::MatrixXd solve(const Eigen::MatrixXd& Y) const override
   {
-    return _llt.solve(Y);
+    Eigen::MatrixXd X;
+    without_openmp_teams([&] { X = _llt.solve(Y); });
+    return X;
   }
   Eigen::VectorXd solve(const Eigen::VectorXd& y) const override
   {
-    return _llt.solve(y);
+    Eigen::VectorXd x;
+    without_openmp_teams([&] { x = _llt.solve(y); });
+    return x;
   }
 
 private:
