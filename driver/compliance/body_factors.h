@@ -40,11 +40,12 @@ namespace softpack::dynamics
 /// bodies' so far): by default CHOLMOD's supernodal Cholesky, analyzed once
 /// per body (its pattern never changes: the fill-reducing ordering and the
 /// supernodes are computed in the constructor) and factorized numerically
-/// at each refactorization; its solves take many right-hand sides at once
-/// (the compliance columns, EffectiveStiffness::prepare_columns), through
-/// BLAS 3. Against Eigen's SimplicialLDLT redoing its AMD analysis at each
-/// refactorization and solving one column at a time, a nodal-pressure
-/// cylinder's factorizations and Delassus columns run several times faster
+/// at each refactorization; its solves take several right-hand sides at
+/// once (a boundary node's compliance columns,
+/// EffectiveStiffness::prepare_columns), through BLAS 3. Against Eigen's
+/// SimplicialLDLT redoing its AMD analysis at each refactorization and
+/// solving one column at a time, a nodal-pressure cylinder's
+/// factorizations and Delassus columns run about ten times faster
 /// (docs/performance_3d.md, "Factors of 3D bodies").
 class BodyFactors
 {

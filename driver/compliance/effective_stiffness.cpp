@@ -1,7 +1,6 @@
 #include "effective_stiffness.h"
 #include "damping.h"
 
-#include <algorithm>
 #include <stdexcept>
 
 namespace softpack::dynamics
@@ -97,34 +96,24 @@ void EffectiveStiffness::prepare_column_blocks(int b,
   std::vector<Column>& C = _columns[b];
   std::vector<char>& ready = _column_ready[b];
   const int d = _dim;
-  std::vector<int> dofs; // the new columns, as d * slot + c
+  Eigen::MatrixXd E = Eigen::MatrixXd::Zero(_factors.rows(b), d);
   for (int slot : slots)
   {
     if (ready[slot])
       continue;
-    ready[slot] = 1;
     for (int c = 0; c < d; ++c)
-      dofs.push_back(d * slot + c);
-  }
-  const auto n = static_cast<int>(dofs.size());
-  for (int first = 0; first < n; first += column_block)
-  {
-    const int m = std::min(column_block, n - first);
-    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(_factors.rows(b), m);
-    for (int j = 0; j < m; ++j)
-    {
-      const int k = dofs[first + j];
-      E(d * nodes[k / d] + k % d, j) = 1;
-    }
+      E(d * nodes[slot] + c, c) = 1;
     const Eigen::MatrixXd X = _factors.solve(b, E);
-    for (int j = 0; j < m; ++j)
+    for (int c = 0; c < d; ++c)
     {
-      Column& rows = C[dofs[first + j]];
+      E(d * nodes[slot] + c, c) = 0;
+      Column& rows = C[d * slot + c];
       rows.resize(d * nodes.size());
       for (std::size_t i = 0; i < nodes.size(); ++i)
         for (int r = 0; r < d; ++r)
-          rows[d * i + r] = X(d * nodes[i] + r, j);
+          rows[d * i + r] = X(d * nodes[i] + r, c);
     }
+    ready[slot] = 1;
   }
 }
 
