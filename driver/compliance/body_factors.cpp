@@ -77,12 +77,14 @@ BodyFactors::BodyFactors(const bodies::BodySet& bodies,
   if (_dim != 2)
   {
     _general.resize(bodies.num_bodies());
+    const std::string kind = general_factor_kind();
     for (int b = 0; b < bodies.num_bodies(); ++b)
     {
       _rows[b] = bodies.body(b).num_dofs();
-      if (bodies.is_local(b))
-        _general[b] =
-            std::make_unique<Eigen::SimplicialLDLT<bodies::BodyMatrix>>();
+      if (!bodies.is_local(b))
+        continue;
+      _general[b] = make_general_factor(kind);
+      _general[b]->analyze(patterns[b]);
     }
     return;
   }
@@ -200,9 +202,7 @@ bool BodyFactors::factorize_general(const Former& form)
       continue;
     bodies::BodyMatrix values = (*_patterns)[b]; // the pattern
     form(b, values);
-    _general[b]->compute(values);
-    ok = ok && _general[b]->info() == Eigen::Success &&
-         (_general[b]->vectorD().array() > 0).all();
+    ok = _general[b]->factorize(values) && ok;
   }
   return ok;
 }
@@ -252,6 +252,14 @@ bool BodyFactors::factorize(const Former& form)
     }
   }
   return ok;
+}
+
+Eigen::MatrixXd BodyFactors::solve(int b, const Eigen::MatrixXd& Y) const
+{
+  if (_dim == 2)
+    throw std::logic_error("BodyFactors: 2D factors solve one column at a "
+                           "time");
+  return _general[b]->solve(Y);
 }
 
 Eigen::VectorXd BodyFactors::solve(int b, const Eigen::VectorXd& y) const

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "general_factor.h"
 #include <Eigen/SparseCholesky>
 #include <bodies/BodySet.h>
 #include <functional>
@@ -34,9 +35,18 @@ namespace softpack::dynamics
 /// entry: the paper case's solves ran 21 % faster (its factors sit in
 /// cache), those of 1,000 disks no faster (they stream from memory).
 ///
-/// 3D bodies (BodySet::dim() = 3) are factorized by Eigen's SimplicialLDLT
-/// in double precision with its AMD ordering, one per body (the compact
-/// 2x2-block storage is the plane-strain bodies' so far).
+/// 3D bodies (BodySet::dim() = 3) keep one GeneralFactor per body, in
+/// double precision (the compact 2x2-block storage is the plane-strain
+/// bodies' so far): by default CHOLMOD's supernodal Cholesky, analyzed once
+/// per body (its pattern never changes: the fill-reducing ordering and the
+/// supernodes are computed in the constructor) and factorized numerically
+/// at each refactorization; its solves take several right-hand sides at
+/// once (a boundary node's compliance columns,
+/// EffectiveStiffness::prepare_columns), through BLAS 3. Against Eigen's
+/// SimplicialLDLT redoing its AMD analysis at each refactorization and
+/// solving one column at a time, a nodal-pressure cylinder's
+/// factorizations and Delassus columns run about ten times faster
+/// (docs/performance_3d.md, "Factors of 3D bodies").
 class BodyFactors
 {
 public:
@@ -59,6 +69,14 @@ public:
 
   /// Solve \f$A_b x = y\f$ for body b (local DOF numbering).
   Eigen::VectorXd solve(int b, const Eigen::VectorXd& y) const;
+
+  /// Solve \f$A_b X = Y\f$ for body b, many right-hand sides at once
+  /// (3D bodies only: the 2D factors solve one column at a time).
+  /// @throws std::logic_error for 2D bodies
+  Eigen::MatrixXd solve(int b, const Eigen::MatrixXd& Y) const;
+
+  /// Whether solve(b, Y) with many columns is available (3D bodies)
+  bool solves_blocks() const { return _dim != 2; }
 
   /// Number of DOFs of body b
   int rows(int b) const { return _rows[b]; }
@@ -90,9 +108,8 @@ private:
 
   /// Components per node (BodySet::dim)
   int _dim = 2;
-  /// 3D: each local body's factor (empty in 2D)
-  std::vector<std::unique_ptr<Eigen::SimplicialLDLT<bodies::BodyMatrix>>>
-      _general;
+  /// 3D: each local body's factor, analyzed (empty in 2D)
+  std::vector<std::unique_ptr<GeneralFactor>> _general;
 
   const std::vector<bodies::BodyMatrix>* _patterns;
   std::vector<Symbolic> _symbolic;

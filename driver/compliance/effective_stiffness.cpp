@@ -63,6 +63,11 @@ void EffectiveStiffness::prepare_columns(int b,
     C.assign(d * nodes.size(), Column());
     ready.assign(nodes.size(), 0);
   }
+  if (_factors.solves_blocks())
+  {
+    prepare_column_blocks(b, slots);
+    return;
+  }
   Eigen::VectorXd e = Eigen::VectorXd::Zero(_factors.rows(b));
   for (int slot : slots)
   {
@@ -79,6 +84,34 @@ void EffectiveStiffness::prepare_columns(int b,
       for (std::size_t i = 0; i < nodes.size(); ++i)
         for (int k = 0; k < d; ++k)
           rows[d * i + k] = x[d * nodes[i] + k];
+    }
+    ready[slot] = 1;
+  }
+}
+
+void EffectiveStiffness::prepare_column_blocks(int b,
+                                               std::span<const int> slots) const
+{
+  const std::vector<std::int32_t>& nodes = _boundary[b];
+  std::vector<Column>& C = _columns[b];
+  std::vector<char>& ready = _column_ready[b];
+  const int d = _dim;
+  Eigen::MatrixXd E = Eigen::MatrixXd::Zero(_factors.rows(b), d);
+  for (int slot : slots)
+  {
+    if (ready[slot])
+      continue;
+    for (int c = 0; c < d; ++c)
+      E(d * nodes[slot] + c, c) = 1;
+    const Eigen::MatrixXd X = _factors.solve(b, E);
+    for (int c = 0; c < d; ++c)
+    {
+      E(d * nodes[slot] + c, c) = 0;
+      Column& rows = C[d * slot + c];
+      rows.resize(d * nodes.size());
+      for (std::size_t i = 0; i < nodes.size(); ++i)
+        for (int r = 0; r < d; ++r)
+          rows[d * i + r] = X(d * nodes[i] + r, c);
     }
     ready[slot] = 1;
   }

@@ -14,9 +14,10 @@ namespace softpack::dynamics
 ///          = (1 + h\theta\alpha) M + (h\theta\beta + h^2\theta^2) K,
 /// \f]
 /// with Rayleigh damping \f$C = \alpha M + \beta K\f$. Each body's block is
-/// factorized on its own (sparse LDL^T, BodyFactors: one symbolic analysis
-/// per distinct mesh), so solves, refactorizations and compliance
-/// computations stay per body.
+/// factorized on its own (BodyFactors: in 2D a sparse LDL^T with one
+/// symbolic analysis per distinct mesh, in 3D CHOLMOD's supernodal
+/// Cholesky analyzed once per body), so solves, refactorizations and
+/// compliance computations stay per body.
 class EffectiveStiffness
 {
 public:
@@ -49,7 +50,8 @@ public:
   }
 
   /// Make the compliance columns \f$\bar K_b^{-1} e\f$ of the given
-  /// boundary slots of body b available (dim per slot, one solve each): they
+  /// boundary slots of body b available (dim per slot; one solve each in
+  /// 2D, one solve of dim right-hand sides per slot in 3D): they
   /// are computed on first demand after each factorization and kept until
   /// the next one, so the cost follows the nodes that actually carry
   /// contacts. Only their rows at the body's boundary nodes are kept: the
@@ -98,6 +100,13 @@ private:
   /// the largest item of a crowded run's memory; their boundary rows are
   /// a tenth of it.
   using Column = Eigen::VectorXd;
+  /// prepare_columns() of 3D bodies: the d columns of each new slot by one
+  /// solve of d right-hand sides. Always the same d together, so that a
+  /// column does not depend on which other slots are new: in larger blocks
+  /// BLAS rounds a column differently with the block's make-up, and a
+  /// resumed run's columns (all of them new at once) were not the
+  /// uninterrupted run's to the last bit (tests/python/test_mpi_3d.py).
+  void prepare_column_blocks(int body, std::span<const int> slots) const;
   /// Put the lumped masses of the kept bodies on the stiffness pattern
   void build_lumped(const bodies::BodySet& bodies);
   /// The masses on the stiffness pattern: the bodies' consistent masses
