@@ -77,13 +77,12 @@ BodyFactors::BodyFactors(const bodies::BodySet& bodies,
   if (_dim != 2)
   {
     _general.resize(bodies.num_bodies());
-    const std::string kind = general_factor_kind();
     for (int b = 0; b < bodies.num_bodies(); ++b)
     {
       _rows[b] = bodies.body(b).num_dofs();
       if (!bodies.is_local(b))
         continue;
-      _general[b] = make_general_factor(kind);
+      _general[b] = make_general_factor("cholmod");
       _general[b]->analyze(patterns[b]);
     }
     return;

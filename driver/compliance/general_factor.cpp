@@ -115,18 +115,6 @@ void single_blas_thread()
 }
 } // namespace
 
-std::string general_factor_kind()
-{
-  const char* kind = std::getenv("SOFTPACK_3D_FACTORS");
-  if (kind == nullptr || *kind == '\0')
-    return "cholmod";
-  const std::string k(kind);
-  if (k != "cholmod" && k != "simplicial")
-    throw std::invalid_argument("SOFTPACK_3D_FACTORS=" + k +
-                                ": expected cholmod or simplicial");
-  return k;
-}
-
 std::unique_ptr<GeneralFactor> make_general_factor(const std::string& kind)
 {
   if (kind == "simplicial")

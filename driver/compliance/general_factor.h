@@ -12,7 +12,7 @@ namespace softpack::dynamics
 /// sparsity pattern is fixed: analyzed once (fill-reducing ordering,
 /// elimination tree, pattern of L), then factorized numerically again at
 /// each refactorization. Two kinds:
-/// - "cholmod" (the default): CHOLMOD's supernodal Cholesky LL^T, whose
+/// - "cholmod" (the bodies'): CHOLMOD's supernodal Cholesky LL^T, whose
 ///   dense supernode blocks go through BLAS 3, as do the solves of many
 ///   right-hand sides at once;
 /// - "simplicial": Eigen's SimplicialLDLT (AMD ordering), column by column.
@@ -30,13 +30,8 @@ public:
   virtual Eigen::VectorXd solve(const Eigen::VectorXd& y) const = 0;
 };
 
-/// The kind of general factors made by make_general_factor(): "cholmod",
-/// unless the environment variable SOFTPACK_3D_FACTORS says "simplicial"
-/// (a switch kept to compare the two; docs/performance_3d.md).
-/// @throws std::invalid_argument for another value
-std::string general_factor_kind();
-
-/// A new, empty factor of the given kind ("cholmod" or "simplicial")
+/// A new, empty factor of the given kind ("cholmod": the 3D bodies'; or
+/// "simplicial", which the tests compare it with)
 std::unique_ptr<GeneralFactor> make_general_factor(const std::string& kind);
 
 } // namespace softpack::dynamics
