@@ -179,6 +179,27 @@ def assert_same_rows(a, b, first=None):
                                           err_msg=column)
 
 
+def test_a_run_made_before_a_key_existed_resumes(spheres, killed, tmp_path):
+    """A killed run whose driver.json lacks a key the schema gained since
+    (here contact.nlgs_update) resumes: the key is added with its default,
+    said in run.log, and the run is still the uninterrupted one."""
+    from softpack.simulation.run import main
+
+    whole, _ = spheres
+    part = tmp_path / "old"
+    shutil.copytree(killed[0], part)
+    driver_json = part / "driver.json"
+    doc = json.loads(driver_json.read_text())
+    del doc["contact"]["nlgs_update"]
+    driver_json.write_text(json.dumps(doc))
+    assert main(["--resume", str(part)]) == EXIT_DONE
+    assert "contact.nlgs_update = 'auto'" in (part / "run.log").read_text()
+    assert json.loads(driver_json.read_text())["contact"]["nlgs_update"] == \
+        "auto"
+    assert_same_rows(read_table(whole / "raw" / "steps.csv"),
+                     read_table(part / "raw" / "steps.csv"))
+
+
 def test_a_killed_3d_run_resumed_is_the_uninterrupted_run(spheres, killed):
     """./softpack run --resume of a 3D run: the state carries the six
     planes' points and the warm start in world components (and the kept

@@ -20,8 +20,10 @@ the new output afterwards:
 resumed driver is given the steps left. A resumed run killed again is
 resumed the same way (``raw.part/`` then first takes in what the previous
 resumption wrote). The mesh and driver.json of the run are reused (only
-``initial_state`` and ``stop.steps`` change, and the paths inside the run
-directory when it was copied or moved since); the resumed driver continues
+``initial_state`` and ``stop.steps`` change, the paths inside the run
+directory when it was copied or moved since, and a key the schema gained
+since the run was made is added with the run's config.toml's value, its
+default: :func:`add_new_keys`); the resumed driver continues
 its fields (fields.xdmf, fields/: its frames up to the state's time kept, the
 later ones dropped), so that every frame of every segment reads as one time
 series however often the run is resumed.
@@ -85,14 +87,35 @@ def prepare_resume(out: Path, config, run_error) -> int:
         step = state_step(state)
     except ValueError as err:
         raise run_error(f"--resume {out}: {err}") from None
+    added = []
+
     def resume_from_state(doc):
         if config["stop"]["steps"] > 0:  # the driver counts from the state
             doc["stop"]["steps"] = max(config["stop"]["steps"] - step, 1)
         doc["initial_state"] = str(state)
         relocate(doc, run.path)
+        added.extend(add_new_keys(doc, config))
 
     edit_driver_json(run.path, resume_from_state)
-    return step
+    return step, added
+
+
+def add_new_keys(doc: dict, config) -> list:
+    """Add to driver.json's sections the keys the schema gained since the
+    run was made, with ``config``'s values (the run's config.toml read now:
+    their defaults); return them as ``section.key = value``. The driver
+    refuses a driver.json without every key of its schema."""
+    from softpack.contract.schema import load_schema
+    added = []
+    for name, section in load_schema().items():
+        if (section.stage != "driver" or section.is_map or name not in doc
+                or not isinstance(doc[name], dict)):
+            continue  # (arrays of tables are the run's own entries)
+        for key, value in config[name].items():
+            if key not in doc[name]:
+                doc[name][key] = json.loads(json.dumps(value))
+                added.append(f"{name}.{key} = {value!r}")
+    return added
 
 
 def relocate(doc: dict, directory: Path) -> None:

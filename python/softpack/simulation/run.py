@@ -346,12 +346,15 @@ def _resume_locked(config, out, verbose, ranks) -> int:
     """:func:`resume` with the directory's lock held."""
     from softpack.simulation.resume import finish_resume, prepare_resume
 
-    step = prepare_resume(out, config, RunError)
+    step, added = prepare_resume(out, config, RunError)
     with open(RunDirectory(out).run_log, "a", buffering=1) as log:
         say = _reporter(log, verbose)
         try:
             say.ranks = ranks
             say(f"resuming {out} from its state at step {step}")
+            if added:
+                say("driver.json completed with the keys added to the"
+                    f" schema since the run was made: {', '.join(added)}")
             _drive(config, out, log, say, resumed=True)
             finish_resume(out)
             if config["model"]["dimension"] == 3:
