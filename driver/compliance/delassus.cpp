@@ -46,15 +46,14 @@ void rigid_body_blocks(int b, const std::vector<BodyShare>& shares,
   for (const BodyShare& sa : shares)
     for (const BodyShare& sb : shares)
     {
-      Eigen::Matrix2d block = Eigen::Matrix2d::Zero();
+      Eigen::Matrix<double, D, D> block = Eigen::Matrix<double, D, D>::Zero();
       for (std::size_t i = 0; i < sa.nodes.size(); ++i)
         for (std::size_t j = 0; j < sb.nodes.size(); ++j)
           block += sa.slots[i].second * sb.slots[j].second *
-                   rigid.compliance(b, sa.nodes[i], sb.nodes[j]);
-      if constexpr (D == 2)
-        W.push_back(
-            {b, sa.contact, sb.contact,
-             H.frame(sa.contact).transpose() * block * H.frame(sb.contact)});
+                   rigid.of<D>().compliance(b, sa.nodes[i], sb.nodes[j]);
+      W.push_back({b, sa.contact, sb.contact,
+                   H.frame<D>(sa.contact).transpose() * block *
+                       H.frame<D>(sb.contact)});
     }
 }
 

@@ -6,8 +6,42 @@
 namespace softpack::dynamics
 {
 
+namespace
+{
+std::variant<RigidBodySet<2>, RigidBodySet<3>>
+rigid_set(const bodies::BodySet& bodies, const EffectiveStiffness& kbar)
+{
+  if (bodies.dim() == 3)
+    return RigidBodySet<3>(bodies, kbar);
+  return RigidBodySet<2>(bodies, kbar);
+}
+
+/// The rotation of the rigid motion d (its angle in 2D; its rotation
+/// vector in 3D, Rodrigues')
+Eigen::Rotation2Dd rotation(const Eigen::Vector3d& d)
+{
+  return Eigen::Rotation2Dd(d[2]);
+}
+
+Eigen::Matrix3d rotation(const Eigen::Matrix<double, 6, 1>& d)
+{
+  const Eigen::Vector3d theta = d.tail<3>();
+  const double angle = theta.norm();
+  if (angle == 0)
+    return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, theta / angle).toRotationMatrix();
+}
+} // namespace
+
 RigidBodies::RigidBodies(const bodies::BodySet& bodies,
                          const EffectiveStiffness& kbar)
+    : _set(rigid_set(bodies, kbar))
+{
+}
+
+template <int D>
+RigidBodySet<D>::RigidBodySet(const bodies::BodySet& bodies,
+                              const EffectiveStiffness& kbar)
     : _bodies(bodies), _index(bodies.num_bodies(), -1)
 {
   const std::vector<double> zero(bodies.num_dofs(), 0.0);
@@ -17,33 +51,30 @@ RigidBodies::RigidBodies(const bodies::BodySet& bodies,
       continue;
     Body k{b, kbar.mass(b)};
     place(k, zero);
-    // M_r = P^T M P at the reference configuration.
-    const int n = static_cast<int>(bodies.body(b).nodes.size());
-    Eigen::MatrixXd P(2 * n, 3);
-    for (int i = 0; i < n; ++i)
-      P.middleRows<2>(2 * i) = kinematics(k, i);
-    k.mass = P.transpose() * (k.nodal_mass.selfadjointView<Eigen::Lower>() * P);
+    k.mass = rigid_mass(k);
     k.inverse_mass = k.mass.inverse();
     _index[b] = static_cast<int>(_rigid.size());
     _rigid.push_back(std::move(k));
   }
 }
 
-void RigidBodies::place(Body& k, std::span<const double> u) const
+template <int D>
+void RigidBodySet<D>::place(Body& k, std::span<const double> u) const
 {
   const bodies::Body& body = _bodies.body(k.body);
   const Eigen::VectorXd& m = _bodies.lumped_mass()[k.body];
   const std::span<const double> X = _bodies.reference_coordinates();
   const std::size_t n = body.nodes.size();
-  std::vector<Eigen::Vector2d> x(n);
-  Eigen::Vector2d moment = Eigen::Vector2d::Zero();
+  std::vector<Point> x(n);
+  Point moment = Point::Zero();
   double total = 0;
   for (std::size_t i = 0; i < n; ++i)
   {
     const std::int32_t g = body.nodes[i];
-    x[i] = {X[2 * g] + u[2 * g], X[2 * g + 1] + u[2 * g + 1]};
-    moment += m[2 * i] * x[i];
-    total += m[2 * i];
+    for (int c = 0; c < D; ++c)
+      x[i][c] = X[D * g + c] + u[D * g + c];
+    moment += m[D * i] * x[i];
+    total += m[D * i];
   }
   k.centre = moment / total;
   k.arms.resize(n);
@@ -51,127 +82,162 @@ void RigidBodies::place(Body& k, std::span<const double> u) const
     k.arms[i] = x[i] - k.centre;
 }
 
-Eigen::Matrix<double, 2, 3> RigidBodies::kinematics(const Body& k,
-                                                    int node) const
+template <int D>
+typename RigidBodySet<D>::Mass RigidBodySet<D>::rigid_mass(const Body& k) const
 {
-  const Eigen::Vector2d& r = k.arms[node];
-  Eigen::Matrix<double, 2, 3> P;
-  P << 1, 0, -r.y(), 0, 1, r.x();
+  const int n = static_cast<int>(k.arms.size());
+  Eigen::MatrixXd P(D * n, N);
+  for (int i = 0; i < n; ++i)
+    P.middleRows<D>(D * i) = kinematics(k, i);
+  return P.transpose() *
+         (k.nodal_mass.template selfadjointView<Eigen::Lower>() * P);
+}
+
+template <int D>
+typename RigidBodySet<D>::Kinematics RigidBodySet<D>::kinematics(const Body& k,
+                                                                 int node) const
+{
+  const Point& r = k.arms[node];
+  Kinematics P;
+  if constexpr (D == 2)
+    P << 1, 0, -r.y(), 0, 1, r.x();
+  else                              // v + omega x r = v - [r]x omega
+    P << 1, 0, 0, 0, r.z(), -r.y(), //
+        0, 1, 0, -r.z(), 0, r.x(),  //
+        0, 0, 1, r.y(), -r.x(), 0;
   return P;
 }
 
-void RigidBodies::start_step(std::span<const double> u, std::span<double> v,
-                             std::span<const double> f_ext, double h)
+template <int D>
+void RigidBodySet<D>::start_step(std::span<const double> u, std::span<double> v,
+                                 std::span<const double> f_ext, double h)
 {
   for (Body& k : _rigid)
   {
     place(k, u);
+    if constexpr (D == 3) // the inertia turned with the body
+    {
+      k.mass = rigid_mass(k);
+      k.inverse_mass = k.mass.inverse();
+    }
     const bodies::Body& body = _bodies.body(k.body);
     const int n = static_cast<int>(body.nodes.size());
-    Eigen::VectorXd vb(2 * n), fb(2 * n);
+    Eigen::VectorXd vb(D * n), fb(D * n);
     for (int i = 0; i < n; ++i)
-      for (int c = 0; c < 2; ++c)
+      for (int c = 0; c < D; ++c)
       {
-        vb[2 * i + c] = v[2 * body.nodes[i] + c];
-        fb[2 * i + c] = f_ext[2 * body.nodes[i] + c];
+        vb[D * i + c] = v[D * body.nodes[i] + c];
+        fb[D * i + c] = f_ext[D * body.nodes[i] + c];
       }
     const Eigen::VectorXd Mv = bodies::symmetric_product(k.nodal_mass, vb);
-    Eigen::Vector3d PtMv = Eigen::Vector3d::Zero(),
-                    PtF = Eigen::Vector3d::Zero();
+    Velocity PtMv = Velocity::Zero(), PtF = Velocity::Zero();
     for (int i = 0; i < n; ++i)
     {
-      const Eigen::Matrix<double, 2, 3> P = kinematics(k, i);
-      PtMv += P.transpose() * Mv.segment<2>(2 * i);
-      PtF += P.transpose() * fb.segment<2>(2 * i);
+      const Kinematics P = kinematics(k, i);
+      PtMv += P.transpose() * Mv.template segment<D>(D * i);
+      PtF += P.transpose() * fb.template segment<D>(D * i);
     }
     k.v_old = k.inverse_mass * PtMv;
     k.v_free = k.v_old + h * (k.inverse_mass * PtF);
     k.v = k.v_old;
     const Eigen::VectorXd field = velocity_field(k.body);
     for (int i = 0; i < n; ++i)
-      for (int c = 0; c < 2; ++c)
-        v[2 * body.nodes[i] + c] = field[2 * i + c];
+      for (int c = 0; c < D; ++c)
+        v[D * body.nodes[i] + c] = field[D * i + c];
   }
 }
 
-void RigidBodies::reset_to_free()
+template <int D> void RigidBodySet<D>::reset_to_free()
 {
   for (Body& k : _rigid)
     k.v = k.v_free;
 }
 
-void RigidBodies::add_impulse(int b, const Eigen::VectorXd& impulse)
+template <int D>
+void RigidBodySet<D>::add_impulse(int b, const Eigen::VectorXd& impulse)
 {
   Body& k = _rigid[_index[b]];
-  Eigen::Vector3d PtI = Eigen::Vector3d::Zero();
+  Velocity PtI = Velocity::Zero();
   for (std::size_t i = 0; i < k.arms.size(); ++i)
     PtI += kinematics(k, static_cast<int>(i)).transpose() *
-           impulse.segment<2>(2 * i);
+           impulse.template segment<D>(D * i);
   k.v += k.inverse_mass * PtI;
 }
 
-Eigen::VectorXd RigidBodies::velocity_field(int b) const
+template <int D> Eigen::VectorXd RigidBodySet<D>::velocity_field(int b) const
 {
   const Body& k = _rigid[_index[b]];
-  Eigen::VectorXd field(2 * k.arms.size());
+  Eigen::VectorXd field(D * k.arms.size());
   for (std::size_t i = 0; i < k.arms.size(); ++i)
-    field.segment<2>(2 * i) = kinematics(k, static_cast<int>(i)) * k.v;
+    field.template segment<D>(D * i) = kinematics(k, static_cast<int>(i)) * k.v;
   return field;
 }
 
-Eigen::Vector2d RigidBodies::free_velocity(int b, std::int32_t node) const
+template <int D>
+typename RigidBodySet<D>::Point
+RigidBodySet<D>::free_velocity(int b, std::int32_t node) const
 {
   const Body& k = _rigid[_index[b]];
   return kinematics(k, node) * k.v_free;
 }
 
-Eigen::Matrix2d RigidBodies::compliance(int b, std::int32_t i,
-                                        std::int32_t j) const
+template <int D>
+typename RigidBodySet<D>::Compliance
+RigidBodySet<D>::compliance(int b, std::int32_t i, std::int32_t j) const
 {
   const Body& k = _rigid[_index[b]];
   return kinematics(k, i) * k.inverse_mass * kinematics(k, j).transpose();
 }
 
-void RigidBodies::displace(std::span<double> u, double h, double theta) const
+template <int D>
+void RigidBodySet<D>::displace(std::span<double> u, double h,
+                               double theta) const
 {
   const std::span<const double> X = _bodies.reference_coordinates();
   for (const Body& k : _rigid)
   {
-    const Eigen::Vector3d d = h * (theta * k.v + (1 - theta) * k.v_old);
-    const Eigen::Rotation2Dd R(d[2]);
+    const Velocity d = h * (theta * k.v + (1 - theta) * k.v_old);
+    const auto R = rotation(d);
     const bodies::Body& body = _bodies.body(k.body);
     for (std::size_t i = 0; i < body.nodes.size(); ++i)
     {
       const std::int32_t g = body.nodes[i];
-      const Eigen::Vector2d x = k.centre + d.head<2>() + R * k.arms[i];
-      u[2 * g] = x.x() - X[2 * g];
-      u[2 * g + 1] = x.y() - X[2 * g + 1];
+      const Point x = k.centre + d.template head<D>() + R * k.arms[i];
+      for (int c = 0; c < D; ++c)
+        u[D * g + c] = x[c] - X[D * g + c];
     }
   }
 }
 
-void RigidBodies::set_velocities(std::span<const double> u,
-                                 std::span<double> v) const
+template <int D>
+void RigidBodySet<D>::set_velocities(std::span<const double> u,
+                                     std::span<double> v) const
 {
   for (const Body& start : _rigid)
   {
     Body k = start;
     place(k, u);
+    if constexpr (D == 3) // the momenta of the start, on the turned body
+      k.v = rigid_mass(k).inverse() * (start.mass * start.v);
     const bodies::Body& body = _bodies.body(k.body);
     for (std::size_t i = 0; i < body.nodes.size(); ++i)
     {
-      const Eigen::Vector2d vi = kinematics(k, static_cast<int>(i)) * k.v;
-      v[2 * body.nodes[i]] = vi.x();
-      v[2 * body.nodes[i] + 1] = vi.y();
+      const Point vi = kinematics(k, static_cast<int>(i)) * k.v;
+      for (int c = 0; c < D; ++c)
+        v[D * body.nodes[i] + c] = vi[c];
     }
   }
 }
 
-void RigidBodies::zero(std::span<double> f) const
+template <int D> void RigidBodySet<D>::zero(std::span<double> f) const
 {
   for (const Body& k : _rigid)
     for (const std::int32_t g : _bodies.body(k.body).nodes)
-      f[2 * g] = f[2 * g + 1] = 0;
+      for (int c = 0; c < D; ++c)
+        f[D * g + c] = 0;
 }
+
+template class RigidBodySet<2>;
+template class RigidBodySet<3>;
 
 } // namespace softpack::dynamics

@@ -144,7 +144,7 @@ void MoreauJean::set_delassus(const StepContacts& sc, StepProblem& problem,
     problem.three.W = _exchange.delassus(
         sc.size(),
         delassus_blocks<3>(_bodies, sc.H, _kbar,
-                           _options.contact.delassus_drop_tolerance, nullptr),
+                           _options.contact.delassus_drop_tolerance, &_rigid),
         std::span<const WallCouplingD<3>>(sc.servo.couplings_3d));
     _sweep_plan3.reset();
     report.seconds.delassus += seconds_since(t0);

@@ -74,8 +74,9 @@ public:
   /// the same step over 3 components per node, node-to-face contacts
   /// (detect_contacts_3d) in the frame (n, t1, t2) and plane walls moved
   /// at their imposed velocities or servo-controlled as in 2D, over the
-  /// processes as a 2D run (docs/mpi_design.md, "3D runs"); no rigid
-  /// bodies, cohesion, bonds or periodic cell yet (refused).
+  /// processes as a 2D run (docs/mpi_design.md, "3D runs"), rigid bodies
+  /// of six degrees of freedom; no cohesion, bonds or periodic cell yet
+  /// (refused).
   /// @throws std::invalid_argument if the bodies are not 3D, a wall's
   /// normal is not a unit vector, or an option asks for what 3D lacks
   /// (The options before the walls: a 2D run's `{}` for no walls stays

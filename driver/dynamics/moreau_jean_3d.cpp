@@ -46,8 +46,6 @@ void MoreauJean::check_3d() const
   };
   if (!_walls.empty())
     refuse("walls: 2D walls (a 3D run takes Wall3D plane walls)");
-  if (!_rigid.empty())
-    refuse("rigid bodies");
   if (_options.friction.cohesive() || _options.friction.bonded())
     refuse("friction: a cohesive or bonded law");
   if (_bodies.internal_stride() > 0)

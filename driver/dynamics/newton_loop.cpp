@@ -84,11 +84,11 @@ NewtonLoop::Vectors NewtonLoop::free_velocity(const Vectors& vk,
     const int d = _s.dim();
     for (const std::int32_t node : _sc.contact_nodes[b])
     {
-      if (rigid) // (2D)
+      if (rigid)
       {
-        const Eigen::Vector2d v_free = _s._rigid.free_velocity(b, node);
-        for (int c = 0; c < 2; ++c)
-          v_contact[2 * body.nodes[node] + c] = v_free[c];
+        const Eigen::VectorXd v_free = _s._rigid.free_velocity(b, node);
+        for (int c = 0; c < d; ++c)
+          v_contact[d * body.nodes[node] + c] = v_free[c];
       }
       else
         for (int c = 0; c < d; ++c)

@@ -99,12 +99,19 @@ def test_what_3d_does_not_have_yet_is_refused():
     refused(data, "cylinders", "do not mix", "sphere")
     refused(cylinders(material={"law": "viscoelastic_neo_hookean"}),
             "[material] law", "viscoelastic_neo_hookean", "plane strain only")
-    refused(cylinders(material={"rigid": True}), "[material] rigid")
     data = cylinders()
     data["walls"] = {"plate": {"point": [0.0, 0.05], "normal": [0.0, -1.0]}}
     refused(data, "[walls.plate]", "box's walls only")
     refused(cylinders(**{"box.enabled": False, "stop.packing_fraction": 0.0}),
             "[box] enabled")
+
+
+def test_a_3d_scene_takes_rigid_species():
+    data = cylinders()
+    data["species"][1]["material"] = "hard"
+    data["materials"] = {"hard": {"rigid": True, "density": 2500.0}}
+    config = validate(data, "scene3d.toml")
+    assert config["materials"]["hard"]["rigid"] is True
 
 
 def test_a_box_too_full_is_refused():

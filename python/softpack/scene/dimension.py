@@ -4,8 +4,8 @@
 may use (docs/bodies_3d.md, 3D scenes): a 2D scene takes the plane shapes
 and a box of two edges; a 3D scene the solids (sphere, cylinder,
 ellipsoid, a user's .msh of tetrahedra) in a box of three edges, with the
-features the 3D driver has (no periodic cell, rigid bodies or walls
-beside the box's yet); a 2D scene's gravity lies in the plane. :func:`check` refuses the rest naming the key
+features the 3D driver has (no periodic cell or walls beside the box's
+yet); a 2D scene's gravity lies in the plane. :func:`check` refuses the rest naming the key
 and what is allowed; the config stage prefixes the file name.
 """
 
@@ -88,12 +88,6 @@ def _check_features(sections) -> None:
             f"[walls.{other[0]}]: a 3D scene has the box's walls only for now"
             f" ({', '.join(BOX_WALLS)}, and the base and lid of [box]"
             " height)")
-    tables = [("material", sections["material"])] + [
-        (f"materials.{n}", t) for n, t in sections["materials"].items()]
-    for title, table in tables:
-        if table["rigid"]:
-            raise DimensionError(f"[{title}] rigid = true: rigid bodies are"
-                                 " 2D only for now ([model] dimension = 3)")
 
 
 def _check_laws(sections, registry) -> None:

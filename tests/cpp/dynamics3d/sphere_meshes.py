@@ -7,6 +7,9 @@
         one sphere at the origin, element size P at the poles (0, 0, +-D/2)
         growing by G (default 0.5) per unit distance from the plane of each
         pole, up to H
+    sphere_meshes.py brick OUT.xdmf --diameter D --element-size H
+        one box of D x 0.7 D x 0.4 D centred at the origin (three distinct
+        principal moments of inertia: an asymmetric top)
 
 The file is the driver's XDMF layout (softpack.scene.mesh.write_xdmf).
 """
@@ -54,6 +57,27 @@ def sphere(diameter, element_size, pole_size=None, growth=0.5, octant=False):
     return _compact(tags, coords.reshape(-1, 3), nodes[0])
 
 
+def brick(diameter, element_size):
+    """Nodes and positively oriented tetrahedra of the box D x 0.7 D x 0.4 D
+    centred at the origin."""
+    import gmsh
+
+    initialize_gmsh(gmsh)
+    try:
+        gmsh.model.add("brick")
+        size = np.array([1.0, 0.7, 0.4]) * diameter
+        gmsh.model.occ.addBox(*(-size / 2), *size)
+        gmsh.model.occ.synchronize()
+        gmsh.option.setNumber("Mesh.MeshSizeMax", element_size)
+        gmsh.option.setNumber("Mesh.ElementOrder", 1)
+        gmsh.model.mesh.generate(3)
+        tags, coords, _ = gmsh.model.mesh.getNodes()
+        _, _, nodes = gmsh.model.mesh.getElements(3)
+    finally:
+        gmsh.finalize()
+    return _compact(tags, coords.reshape(-1, 3), nodes[0])
+
+
 def mirrored(points, tets):
     """The octant's eight mirror images, the nodes of the planes shared."""
     parts, cells, offset = [], [], 0
@@ -72,7 +96,8 @@ def mirrored(points, tets):
 
 def main(argv=None):
     p = argparse.ArgumentParser()
-    p.add_argument("kind", choices=("pair", "graded", "octant", "mirrored"))
+    p.add_argument("kind", choices=("pair", "graded", "octant", "mirrored",
+                                     "brick"))
     p.add_argument("out", type=Path)
     p.add_argument("--diameter", type=float, required=True)
     p.add_argument("--element-size", type=float, required=True)
@@ -82,6 +107,9 @@ def main(argv=None):
     p.add_argument("--growth", type=float, default=0.5)
     a = p.parse_args(argv)
     a.out.parent.mkdir(parents=True, exist_ok=True)
+    if a.kind == "brick":
+        write_solids(a.out, *brick(a.diameter, a.element_size))
+        return 0
     if a.kind in ("graded", "octant", "mirrored"):
         points, tets = sphere(a.diameter, a.element_size, a.pole_size,
                               a.growth, a.kind != "graded")
