@@ -21,14 +21,27 @@ import numpy as np
 from softpack.scene.solids import _compact, initialize_gmsh, write_solids
 
 
-def sphere(diameter, element_size, pole_size=None, growth=0.5, octant=False):
-    """Nodes and positively oriented tetrahedra of a sphere at the origin
-    (or of its octant x, y, z >= 0)."""
+def tetrahedra(name, geometry):
+    """Nodes and positively oriented tetrahedra of the gmsh model that
+    geometry(gmsh) builds and sets the options of."""
     import gmsh
 
     initialize_gmsh(gmsh)
     try:
-        gmsh.model.add("sphere")
+        gmsh.model.add(name)
+        geometry(gmsh)
+        gmsh.model.mesh.generate(3)
+        tags, coords, _ = gmsh.model.mesh.getNodes()
+        _, _, nodes = gmsh.model.mesh.getElements(3)
+    finally:
+        gmsh.finalize()
+    return _compact(tags, coords.reshape(-1, 3), nodes[0])
+
+
+def sphere(diameter, element_size, pole_size=None, growth=0.5, octant=False):
+    """Nodes and positively oriented tetrahedra of a sphere at the origin
+    (or of its octant x, y, z >= 0)."""
+    def geometry(gmsh):
         r = diameter / 2
         ball = gmsh.model.occ.addSphere(0, 0, 0, r)
         if octant:
@@ -49,33 +62,21 @@ def sphere(diameter, element_size, pole_size=None, growth=0.5, octant=False):
                         ("Mesh.MeshSizeFromPoints", 0)]
         for name, value in options:
             gmsh.option.setNumber(name, value)
-        gmsh.model.mesh.generate(3)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        _, _, nodes = gmsh.model.mesh.getElements(3)
-    finally:
-        gmsh.finalize()
-    return _compact(tags, coords.reshape(-1, 3), nodes[0])
+
+    return tetrahedra("sphere", geometry)
 
 
 def brick(diameter, element_size):
     """Nodes and positively oriented tetrahedra of the box D x 0.7 D x 0.4 D
     centred at the origin."""
-    import gmsh
-
-    initialize_gmsh(gmsh)
-    try:
-        gmsh.model.add("brick")
+    def geometry(gmsh):
         size = np.array([1.0, 0.7, 0.4]) * diameter
         gmsh.model.occ.addBox(*(-size / 2), *size)
         gmsh.model.occ.synchronize()
         gmsh.option.setNumber("Mesh.MeshSizeMax", element_size)
         gmsh.option.setNumber("Mesh.ElementOrder", 1)
-        gmsh.model.mesh.generate(3)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        _, _, nodes = gmsh.model.mesh.getElements(3)
-    finally:
-        gmsh.finalize()
-    return _compact(tags, coords.reshape(-1, 3), nodes[0])
+
+    return tetrahedra("brick", geometry)
 
 
 def mirrored(points, tets):
