@@ -49,7 +49,8 @@ MAX_KINETIC_ENERGY = 2.0
 # takes minutes: docs/bodies_3d.md, "The 3D time loop"): enough for the
 # piston to move and Phi to rise.
 STEPS_3D: dict[str, int] = {"cylinders3d_small.toml": 12,
-                            "spheres3d_small.toml": 12}
+                            "spheres3d_small.toml": 12,
+                            "mixture3d_small.toml": 12}
 
 # Examples that finish flagged (exit status 3, run_flags), and the one flag
 # expected of each. mixture_small: one contact solve of its 379 steps

@@ -121,6 +121,33 @@ def test_a_servo_wall_on_two_ranks_gives_the_serial_series(tmp_path):
                                atol=1e-9 * scale)
 
 
+def test_rigid_bodies_on_two_ranks_give_the_serial_series(tmp_path):
+    """examples/mixture3d_small.toml (10 of its 20 spheres rigid), its
+    piston at 2 m/s: every rank moves every rigid body; every column of
+    raw/steps.csv the serial run's but the energy residual (summed over the
+    ranks, 1e-9 of the work)."""
+    from softpack.scene.config import load_config
+    _config(1)  # the driver and mpirun, or skip
+    steps = {}
+    for ranks in (1, 2):
+        config = load_config(ROOT / "examples" / "mixture3d_small.toml",
+                             {**SETS, "stop.steps": 36})
+        assert run.run(config, tmp_path / f"r{ranks}", verbose=False,
+                       ranks=ranks) in (0, 3)
+        steps[ranks] = _steps(tmp_path / f"r{ranks}")
+    one, two = steps[1], steps[2]
+    assert one["contacts"][-1] > 0 and one["strain_energy"][-1] > 0
+    for column in one:
+        if column.startswith("seconds") or column == "energy_residual":
+            continue
+        np.testing.assert_array_equal(two[column], one[column],
+                                      err_msg=column)
+    scale = np.abs(one["wall_work"]).max()
+    np.testing.assert_allclose(two["energy_residual"],
+                               one["energy_residual"], rtol=0,
+                               atol=1e-9 * scale)
+
+
 def test_gravity_on_two_ranks_gives_the_serial_series(tmp_path):
     """examples/spheres3d_small.toml's spheres falling under gravity along
     -z while the piston moves: each rank weighs its own bodies; every column
