@@ -29,13 +29,15 @@ namespace softpack::dynamics
 /// free velocity is \f$V^- + h M_r^{-1} P^T F_{ext}\f$, the compliance seen
 /// by the contacts is \f$P_i M_r^{-1} P_j^T\f$, the impulses give
 /// \f$V = V_{free} + M_r^{-1} P^T (H R)\f$, and the nodes move by the exact
-/// rigid motion (rotation by \f$h\omega_\theta\f$ about c, Rodrigues' in
-/// 3D; translation by \f$h v_\theta\f$), which keeps their distances to
-/// round-off. At the step's end, in 3D, the angular momentum about c is
-/// carried to the turned body: \f$V \leftarrow M_r(x)^{-1} M_r V\f$ (the
-/// gyroscopic term, explicit: a free body keeps its momenta to round-off;
-/// an asymmetric top's kinetic energy drifts at first order in h). No
-/// internal or damping force acts on a rigid body.
+/// rigid motion (rotation by \f$h\omega_\theta\f$ about c in 2D; in 3D by
+/// Rodrigues' formula of the rotation vector the momenta \f$M_r
+/// V_\theta\f$ have on the body turned half way, the midpoint rule of the
+/// gyroscopic term; translation by \f$h v_\theta\f$), which keeps their
+/// distances to round-off. At the step's end, in 3D, the momenta about c
+/// are carried to the turned body: \f$V \leftarrow M_r(x)^{-1} M_r V\f$ (a
+/// free body keeps them to round-off; an asymmetric top's orientation and
+/// kinetic energy err at second order in h). No internal or damping force
+/// acts on a rigid body.
 template <int D> class RigidBodySet
 {
 public:
