@@ -94,31 +94,43 @@ def test_a_two_rank_3d_run_resumed_on_two_ranks_is_the_uninterrupted_one(
                                           err_msg=column)
 
 
+def _serial_and_two_ranks(config, tmp_path):
+    """raw/steps.csv of the configuration run on 1 and on 2 ranks"""
+    _config(1)  # the driver and mpirun, or skip
+    steps = []
+    for ranks in (1, 2):
+        assert run.run(config(), tmp_path / f"r{ranks}", verbose=False,
+                       ranks=ranks) in (0, 3)  # 3: stopped by stop.steps
+        steps.append(_steps(tmp_path / f"r{ranks}"))
+    return steps
+
+
+def _assert_the_serial_series(one, two, summed, scale):
+    """Every column equal but the timings and the ones summed over the
+    ranks, those within 1e-9 of scale"""
+    for column in one:
+        if column.startswith("seconds") or column in summed:
+            continue
+        np.testing.assert_array_equal(two[column], one[column],
+                                      err_msg=column)
+    for column in summed:
+        np.testing.assert_allclose(two[column], one[column], rtol=0,
+                                   atol=1e-9 * scale, err_msg=column)
+
+
 def test_a_servo_wall_on_two_ranks_gives_the_serial_series(tmp_path):
     """examples/cylinders3d_servo.toml (its right wall under 4 kPa): the
     servo wall's couplings enter W on every rank as in the serial run; the
     wall's position and force and every other column of raw/steps.csv the
     serial run's but the energy residual (summed over the ranks)."""
     from softpack.scene.config import load_config
-    _config(1)  # the driver and mpirun, or skip
-    steps = {}
-    for ranks in (1, 2):
-        config = load_config(ROOT / "examples" / "cylinders3d_servo.toml",
-                             {"output.fields": False, "stop.steps": 60})
-        assert run.run(config, tmp_path / f"r{ranks}", verbose=False,
-                       ranks=ranks) in (0, 3)
-        steps[ranks] = _steps(tmp_path / f"r{ranks}")
-    one, two = steps[1], steps[2]
+    one, two = _serial_and_two_ranks(
+        lambda: load_config(ROOT / "examples" / "cylinders3d_servo.toml",
+                            {"output.fields": False, "stop.steps": 60}),
+        tmp_path)
     assert np.ptp(one["right_x"]) > 0 and np.abs(one["right_fx"]).max() > 0
-    for column in one:
-        if column.startswith("seconds") or column == "energy_residual":
-            continue
-        np.testing.assert_array_equal(two[column], one[column],
-                                      err_msg=column)
-    scale = np.abs(one["wall_work"]).max()
-    np.testing.assert_allclose(two["energy_residual"],
-                               one["energy_residual"], rtol=0,
-                               atol=1e-9 * scale)
+    _assert_the_serial_series(one, two, ("energy_residual",),
+                              np.abs(one["wall_work"]).max())
 
 
 def test_rigid_bodies_on_two_ranks_give_the_serial_series(tmp_path):
@@ -127,25 +139,13 @@ def test_rigid_bodies_on_two_ranks_give_the_serial_series(tmp_path):
     raw/steps.csv the serial run's but the energy residual (summed over the
     ranks, 1e-9 of the work)."""
     from softpack.scene.config import load_config
-    _config(1)  # the driver and mpirun, or skip
-    steps = {}
-    for ranks in (1, 2):
-        config = load_config(ROOT / "examples" / "mixture3d_small.toml",
-                             {**SETS, "stop.steps": 36})
-        assert run.run(config, tmp_path / f"r{ranks}", verbose=False,
-                       ranks=ranks) in (0, 3)
-        steps[ranks] = _steps(tmp_path / f"r{ranks}")
-    one, two = steps[1], steps[2]
+    one, two = _serial_and_two_ranks(
+        lambda: load_config(ROOT / "examples" / "mixture3d_small.toml",
+                            {**SETS, "stop.steps": 36}),
+        tmp_path)
     assert one["contacts"][-1] > 0 and one["strain_energy"][-1] > 0
-    for column in one:
-        if column.startswith("seconds") or column == "energy_residual":
-            continue
-        np.testing.assert_array_equal(two[column], one[column],
-                                      err_msg=column)
-    scale = np.abs(one["wall_work"]).max()
-    np.testing.assert_allclose(two["energy_residual"],
-                               one["energy_residual"], rtol=0,
-                               atol=1e-9 * scale)
+    _assert_the_serial_series(one, two, ("energy_residual",),
+                              np.abs(one["wall_work"]).max())
 
 
 def test_gravity_on_two_ranks_gives_the_serial_series(tmp_path):
@@ -153,22 +153,9 @@ def test_gravity_on_two_ranks_gives_the_serial_series(tmp_path):
     -z while the piston moves: each rank weighs its own bodies; every column
     of raw/steps.csv the serial run's but the energy accounts summed over
     the ranks (the work of gravity and the residual, 1e-9 of the work)."""
-    _config(1)  # the driver and mpirun, or skip
-    steps = {}
-    for ranks in (1, 2):
-        config = _config(36, {"gravity.acceleration": [0.0, 0.0, -9.81]})
-        assert run.run(config, tmp_path / f"r{ranks}", verbose=False,
-                       ranks=ranks) in (0, 3)
-        steps[ranks] = _steps(tmp_path / f"r{ranks}")
-    one, two = steps[1], steps[2]
+    one, two = _serial_and_two_ranks(
+        lambda: _config(36, {"gravity.acceleration": [0.0, 0.0, -9.81]}),
+        tmp_path)
     assert one["external_work"][-1] > 0
-    summed = ("energy_residual", "external_work")
-    for column in one:
-        if column.startswith("seconds") or column in summed:
-            continue
-        np.testing.assert_array_equal(two[column], one[column],
-                                      err_msg=column)
-    scale = np.abs(one["external_work"]).max()
-    for column in summed:
-        np.testing.assert_allclose(two[column], one[column], rtol=0,
-                                   atol=1e-9 * scale, err_msg=column)
+    _assert_the_serial_series(one, two, ("energy_residual", "external_work"),
+                              np.abs(one["external_work"]).max())
