@@ -133,18 +133,18 @@ auto read_hdf5(const std::filesystem::path& path, const Read& read)
   }
 }
 //-----------------------------------------------------------------------------
-/// W as compressed scalar rows (CSparse, nz = -2): every stored 2x2 block
-/// contributes its 4 values, so a read-back gives the same blocks.
+/// W as compressed scalar rows (CSparse, nz = -2): every stored DxD block
+/// contributes its D^2 values, so a read-back gives the same blocks.
 struct CsrMatrix
 {
   std::vector<std::int32_t> p, i;
   std::vector<double> x;
 };
 //-----------------------------------------------------------------------------
-CsrMatrix to_csr(const DelassusMatrix& W)
+template <int D> CsrMatrix to_csr(const DelassusMatrixD<D>& W)
 {
   const std::size_t nc = W.num_contacts();
-  if (4 * (nc + W.num_offdiagonal_blocks()) >
+  if (D * D * (nc + W.num_offdiagonal_blocks()) >
       static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
     fail("W too large for 32-bit CSparse indices");
   CsrMatrix csr;
@@ -153,13 +153,13 @@ CsrMatrix to_csr(const DelassusMatrix& W)
   {
     const auto cols = W.row_columns(a);
     const auto blocks = W.row_blocks(a);
-    for (int k = 0; k < 2; ++k)
+    for (int k = 0; k < D; ++k)
     {
-      auto add = [&](std::size_t b, const Eigen::Matrix2d& B)
+      auto add = [&](std::size_t b, const typename DelassusMatrixD<D>::Block& B)
       {
-        for (int l = 0; l < 2; ++l)
+        for (int l = 0; l < D; ++l)
         {
-          csr.i.push_back(static_cast<std::int32_t>(2 * b + l));
+          csr.i.push_back(static_cast<std::int32_t>(D * b + l));
           csr.x.push_back(B(k, l));
         }
       };
@@ -182,19 +182,20 @@ CsrMatrix to_csr(const DelassusMatrix& W)
   return csr;
 }
 //-----------------------------------------------------------------------------
-void write_problem(hid_t file, const FrictionContactProblem2D& problem,
+template <int D>
+void write_problem(hid_t file, const FrictionContactProblem<D>& problem,
                    const std::string& title, const std::string& description)
 {
-  const auto m = static_cast<std::int32_t>(2 * problem.num_contacts());
+  const auto m = static_cast<std::int32_t>(D * problem.num_contacts());
   // A file has blocks only: W's rank-one terms are written as theirs.
-  std::optional<DelassusMatrix> expanded;
+  std::optional<DelassusMatrixD<D>> expanded;
   if (!problem.W.rank_one_terms().empty())
     expanded = problem.W.expanded();
   const CsrMatrix W = to_csr(expanded ? *expanded : problem.W);
   const auto nnz = static_cast<std::int32_t>(W.x.size());
   for (const char* g : {"", "/W", "/vectors", "/info"})
     h5::create_group(file, local + g);
-  const std::int32_t dim = 2, compressed_rows = -2;
+  const std::int32_t dim = D, compressed_rows = -2;
   h5::write_integers(file, local + "/spacedim", {&dim, 1});
   h5::write_integers(file, local + "/W/m", {&m, 1});
   h5::write_integers(file, local + "/W/n", {&m, 1});
@@ -259,7 +260,8 @@ softpack::contact::read_fclib_local(const std::filesystem::path& path)
   return std::move(read_fclib_local_file(path).problem);
 }
 //-----------------------------------------------------------------------------
-void softpack::contact::dump_problem(const FrictionContactProblem2D& problem,
+template <int D>
+void softpack::contact::dump_problem(const FrictionContactProblem<D>& problem,
                                      const std::filesystem::path& path,
                                      const std::string& description,
                                      std::span<const double> guess)
@@ -267,8 +269,9 @@ void softpack::contact::dump_problem(const FrictionContactProblem2D& problem,
   const std::string name = path.string();
   if (!problem.W.finalized())
     throw FclibError(name + ": cannot dump a problem whose W is not finalized");
-  if (!guess.empty() and guess.size() != 2 * problem.num_contacts())
-    throw FclibError(name + ": guess needs 2 values per contact");
+  if (!guess.empty() and guess.size() != D * problem.num_contacts())
+    throw FclibError(name + ": guess needs " + std::to_string(D) +
+                     " values per contact");
   h5::SilenceErrors quiet;
   h5::Handle file(
       H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
@@ -296,4 +299,12 @@ void softpack::contact::dump_problem(const FrictionContactProblem2D& problem,
     throw FclibError(name + ": " + e.what());
   }
 }
+template void softpack::contact::dump_problem(const FrictionContactProblem2D&,
+                                              const std::filesystem::path&,
+                                              const std::string&,
+                                              std::span<const double>);
+template void softpack::contact::dump_problem(const FrictionContactProblem3D&,
+                                              const std::filesystem::path&,
+                                              const std::string&,
+                                              std::span<const double>);
 //-----------------------------------------------------------------------------

@@ -79,17 +79,26 @@ FclibFile<D> read_fclib_file(const std::filesystem::path& path);
 extern template FclibFile<2> read_fclib_file(const std::filesystem::path&);
 extern template FclibFile<3> read_fclib_file(const std::filesystem::path&);
 
-/// Write a problem in the same `/fclib_local` layout (W as compressed rows
-/// of its stored blocks), so that a failed solve can be replayed by a test;
-/// a problem with a cohesion also gets `vectors/cohesion`.
+/// Write a 2D or 3D problem in the same `/fclib_local` layout (`spacedim`
+/// D, W as compressed rows of its stored blocks), so that a failed solve
+/// can be replayed (read_fclib_file<D>, `./softpack fclib [--dim 3]`); a
+/// problem with a cohesion also gets `vectors/cohesion`.
 /// @param[in] problem The problem (finalized W)
 /// @param[in] path The HDF5 file, created or truncated
 /// @param[in] description Stored as /fclib_local/info/description
-/// @param[in] guess If not empty, reactions stored as /guesses/1/r
+/// @param[in] guess If not empty, reactions stored as /guesses/1/r (D per
+///   contact)
 /// @throws FclibError if the file cannot be written
-void dump_problem(const FrictionContactProblem2D& problem,
+template <int D>
+void dump_problem(const FrictionContactProblem<D>& problem,
                   const std::filesystem::path& path,
                   const std::string& description = "",
                   std::span<const double> guess = {});
+extern template void dump_problem(const FrictionContactProblem2D&,
+                                  const std::filesystem::path&,
+                                  const std::string&, std::span<const double>);
+extern template void dump_problem(const FrictionContactProblem3D&,
+                                  const std::filesystem::path&,
+                                  const std::string&, std::span<const double>);
 
 } // namespace softpack::contact

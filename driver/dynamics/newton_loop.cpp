@@ -136,12 +136,16 @@ void NewtonLoop::report_nlgs(const contact::NlgsResult& nlgs,
   if (!nlgs.converged)
   {
     ++_report.unsolved_contact_solves;
-    if (_s.dim() != 2) // (the replay files are 2D)
-      return;
-    // Kept for replay; the solver itself writes nothing.
-    _report.unsolved_problem =
-        std::make_shared<const contact::FrictionContactProblem2D>(
-            _s._exchange.whole_problem(_problem.two));
+    // Kept for replay; the solver itself writes nothing. A 3D problem is
+    // whole on every process (ContactExchange::delassus).
+    if (_s.dim() == 3)
+      _report.unsolved_problem_3d =
+          std::make_shared<const contact::FrictionContactProblem3D>(
+              _problem.three);
+    else
+      _report.unsolved_problem =
+          std::make_shared<const contact::FrictionContactProblem2D>(
+              _s._exchange.whole_problem(_problem.two));
     _report.unsolved_start = std::move(start);
   }
 }

@@ -57,11 +57,18 @@ struct StepReport
   int unsolved_contact_solves = 0;
   /// Null when every contact solve of the step converged; otherwise the
   /// last unsolved problem exactly as it was given to the solver, to be
-  /// replayed (e.g. written by contact::dump_problem)
+  /// replayed (e.g. written by contact::dump_problem): in 2D
+  /// unsolved_problem, in 3D unsolved_problem_3d
   std::shared_ptr<const contact::FrictionContactProblem2D> unsolved_problem;
-  /// The reactions that solve started from (its warm start; with
-  /// unsolved_problem, it reproduces the failure bit for bit)
+  std::shared_ptr<const contact::FrictionContactProblem3D> unsolved_problem_3d;
+  /// The reactions that solve started from (its warm start; with the
+  /// unsolved problem, it reproduces the failure bit for bit)
   std::vector<double> unsolved_start;
+  /// An unsolved problem is kept (of either dimension)
+  bool keeps_unsolved_problem() const
+  {
+    return unsolved_problem || unsolved_problem_3d;
+  }
 };
 
 } // namespace softpack::dynamics

@@ -305,7 +305,7 @@ private:
                    "softpack-simulate: warning: step %ld: a contact solve "
                    "did not converge (error %.2e; %ld such steps so far)\n",
                    step, r.nlgs_error, total.nlgs_unconverged_steps);
-    if (!r.unsolved_problem)
+    if (!r.keeps_unsolved_problem())
       return;
     if (_checks.problems_written < max_problem_dumps)
     {

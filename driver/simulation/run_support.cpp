@@ -63,10 +63,14 @@ void write_unsolved_problem(const std::filesystem::path& raw, long step,
   std::filesystem::create_directories(dir);
   char name[40];
   std::snprintf(name, sizeof(name), "step_%08ld.hdf5", step);
-  contact::dump_problem(*r.unsolved_problem, dir / name,
-                        "softpack step " + std::to_string(step) +
-                            ": NLGS did not converge",
-                        r.unsolved_start);
+  const std::string description =
+      "softpack step " + std::to_string(step) + ": NLGS did not converge";
+  if (r.unsolved_problem_3d)
+    contact::dump_problem(*r.unsolved_problem_3d, dir / name, description,
+                          r.unsolved_start);
+  else
+    contact::dump_problem(*r.unsolved_problem, dir / name, description,
+                          r.unsolved_start);
 }
 
 int rank_of(MPI_Comm comm)

@@ -44,7 +44,8 @@ void add_timings(dynamics::StepTimings& sum, const dynamics::StepTimings& t);
 bool warn_now(long count);
 
 /// raw/failed_contact_problems/step_NNNNNNNN.hdf5 (FCLIB layout, replay
-/// with ./softpack fclib) when the step left a contact problem unsolved.
+/// with ./softpack fclib, --dim 3 for a 3D run) when the step left a contact
+/// problem unsolved.
 void write_unsolved_problem(const std::filesystem::path& raw, long step,
                             const dynamics::StepReport& r);
 

@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 from driver_required import require_driver
-from killed_run import as_killed
-from softpack.contract.run_directory import EXIT_DONE
+from killed_run import as_killed, assert_same_rows
+from softpack.contract.run_directory import EXIT_DONE, EXIT_FLAGGED
 from softpack.contract.tables import read_table
 from softpack.scene import config as cfg
 from softpack.simulation.run import run
@@ -68,6 +68,33 @@ def test_the_run_ends_converged_after_its_steps(spheres):
     assert done["newton_unconverged_steps"] == 0
     assert done["nlgs_unconverged_steps"] == 0
     assert done["overlap_steps"] == 0
+
+
+def test_an_unsolved_3d_contact_problem_is_written_for_replay(tmp_path):
+    """One NLGS sweep allowed: the run's contact solves fail, the run says
+    so (exit status, done.json) and writes the first problems in the FCLIB
+    layout of dimension 3, with the contacts of their step and the solve's
+    start (replayed bit for bit by tests/cpp/dynamics3d/
+    test_unsolved_problem_3d.cpp)."""
+    h5py = pytest.importorskip("h5py")
+    require_driver()
+    config = cfg.load_config(EXAMPLES / "spheres3d_small.toml",
+                             {**OVERRIDES, "stop.steps": 12,
+                              "output.fields": False,
+                              "contact.nlgs_max_sweeps": 1})
+    out = tmp_path / "unsolved"
+    assert run(config, out, verbose=False) == EXIT_FLAGGED
+    done = json.loads((out / "raw" / "done.json").read_text())
+    assert done["nlgs_unconverged_steps"] > 0
+    files = sorted((out / "raw" / "failed_contact_problems").glob("*.hdf5"))
+    assert len(files) == done["failed_contact_problems_written"] > 0
+    with h5py.File(files[0]) as f:
+        assert int(f["fclib_local/spacedim"][0]) == 3
+        contacts = len(f["fclib_local/vectors/mu"])
+        assert contacts > 0
+        assert len(f["fclib_local/vectors/q"]) == 3 * contacts
+        assert len(f["guesses/1/r"]) == 3 * contacts
+        assert int(f["fclib_local/W/m"][0]) == 3 * contacts
 
 
 def test_phi_rises_as_the_piston_moves_in(spheres):
@@ -166,17 +193,6 @@ def killed(tmp_path_factory):
     shutil.copyfile(out / "raw" / "state.bin", state)
     as_killed(out, CUT, STEPS)
     return out, state
-
-
-def assert_same_rows(a, b, first=None):
-    """Every column but the wall-clock seconds* equal, bit for bit, over
-    the rows of ``a`` after step ``first`` (all rows if None)."""
-    assert a.keys() == b.keys()
-    rows = a["step"] > first if first is not None else slice(None)
-    for column in a:
-        if not column.startswith("seconds"):
-            np.testing.assert_array_equal(a[column][rows], b[column],
-                                          err_msg=column)
 
 
 def test_a_run_made_before_a_key_existed_resumes(spheres, killed, tmp_path):
