@@ -107,12 +107,14 @@ void NewtonLoop::solve_problem(const std::vector<double>& U_free)
   for (std::size_t i = 0; i < U_free.size(); ++i)
     q[i] = U_free[i] + _sc.shift[i];
   std::vector<double> U(U_free.size()), start = _s._R;
+  contact::NlgsOptions options = _s._nlgs;
+  options.tolerance = _tolerance.current();
   if (d == 3) // (whole on every process: ContactExchange::delassus)
   {
     std::optional<contact::SweepPlan3D>& plan = _s._sweep_plan3;
     if (!plan && contact::renumbers(_problem.three, _s._nlgs))
       plan.emplace(_problem.three, _s._nlgs);
-    report_nlgs(contact::solve_nlgs(_problem.three, _s._R, U, _s._nlgs, nullptr,
+    report_nlgs(contact::solve_nlgs(_problem.three, _s._R, U, options, nullptr,
                                     plan ? &*plan : nullptr),
                 std::move(start));
     return;
@@ -122,7 +124,7 @@ void NewtonLoop::solve_problem(const std::vector<double>& U_free)
   if (!domain && !plan && contact::renumbers(_problem.two, _s._nlgs))
     plan.emplace(_problem.two, _s._nlgs);
   const contact::NlgsResult nlgs = contact::solve_nlgs(
-      _problem.two, _s._R, U, _s._nlgs, domain, plan ? &*plan : nullptr);
+      _problem.two, _s._R, U, options, domain, plan ? &*plan : nullptr);
   _s._exchange.count_sweeps(nlgs.iterations);
   report_nlgs(nlgs, std::move(start));
 }
@@ -132,8 +134,8 @@ void NewtonLoop::report_nlgs(const contact::NlgsResult& nlgs,
 {
   _report.nlgs_iterations += nlgs.iterations;
   _report.nlgs_error = nlgs.error;
-  _report.nlgs_converged = nlgs.converged;
-  if (!nlgs.converged)
+  _report.nlgs_converged = _tolerance.after_solve(nlgs);
+  if (!_report.nlgs_converged)
   {
     ++_report.unsolved_contact_solves;
     // Kept for replay; the solver itself writes nothing. A 3D problem is
@@ -246,7 +248,7 @@ void NewtonLoop::run()
     // the distance of vk to the converged velocity is then at most
     // change * rho / (1 - rho) (Banach), which is what the tolerance bounds.
     const double rho = k > 0 ? change / previous_change : 1.0;
-    const double error = rho < 0.5 ? change * rho / (1 - rho) : change;
+    const double error = rho < slow_rate ? change * rho / (1 - rho) : change;
     previous_change = change;
     // In a periodic cell the velocities' size depends on which image
     // represents each body (a body and its image differ by dh/dt k): the
@@ -260,6 +262,7 @@ void NewtonLoop::run()
     }
     if (k + 1 >= o.time.newton_max_iterations)
       break;
+    _tolerance.after_iteration(k, rho);
   }
   // The boundaries (what every process reads between outputs); the
   // interiors stay where they are local (io::OutputGather gathers them).

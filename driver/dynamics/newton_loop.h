@@ -1,6 +1,7 @@
 #pragma once
 // The Newton loop of one attempt at a Moreau–Jean step. Private to the
 // scheme's implementation files.
+#include "contact_tolerance.h"
 #include "moreau_jean_step.h"
 
 namespace softpack::dynamics
@@ -13,14 +14,17 @@ namespace softpack::dynamics
 /// every local body with one solve each. It stops when the estimated error
 /// of the iterate (MoreauJean's rule) is within the tolerance, when an
 /// iterate is not finite, or at time.newton_max_iterations; the last
-/// iterate becomes the scheme's velocity, its boundaries shared.
+/// iterate becomes the scheme's velocity, its boundaries shared. When the
+/// iterations stall after converged contact solves, the next solves are
+/// given a smaller tolerance (ContactTolerance).
 class NewtonLoop
 {
 public:
   NewtonLoop(MoreauJean& scheme, const MoreauJean::StepContacts& sc,
              const MoreauJean::StepStart& start,
              MoreauJean::StepProblem& problem, StepReport& report)
-      : _s(scheme), _sc(sc), _start(start), _problem(problem), _report(report)
+      : _s(scheme), _sc(sc), _start(start), _problem(problem), _report(report),
+        _tolerance(scheme._nlgs.tolerance)
   {
   }
 
@@ -57,6 +61,7 @@ private:
   const MoreauJean::StepStart& _start;
   MoreauJean::StepProblem& _problem;
   StepReport& _report;
+  ContactTolerance _tolerance;
 };
 
 } // namespace softpack::dynamics
