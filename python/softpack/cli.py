@@ -17,7 +17,6 @@ COMMANDS = {
     "run": "softpack.simulation.run",
     "mesh": "softpack.scene.mesh",
     "single-disk": "softpack.references.single_disk",
-    "plates": "softpack.references.plates",
     "adhesion": "softpack.references.adhesion",
     "viscoelastic-disk": "softpack.references.viscoelastic_disk",
     "plot-single-disk": "softpack.plots.single_disk",
