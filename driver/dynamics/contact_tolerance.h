@@ -1,5 +1,6 @@
 #pragma once
 // The tolerance of the contact solves within one step's Newton iterations.
+#include <algorithm>
 #include <contact/nlgs.h>
 
 namespace softpack::dynamics
@@ -54,7 +55,7 @@ public:
   {
     _converged = nlgs.converged || nlgs.error <= _tolerance;
     if (nlgs.converged)
-      _reached = _current < _reached ? _current : _reached;
+      _reached = std::min(_reached, _current);
     else if (_converged)
     {
       _current = _reached;
@@ -72,8 +73,7 @@ public:
     _stalled = k > 0 && rho >= slow_rate && _converged ? _stalled + 1 : 0;
     if (_stalled < stalls_before_cut)
       return;
-    const double next = _current / cut, floor = _tolerance * smallest_fraction;
-    _current = next > floor ? next : floor;
+    _current = std::max(_current / cut, _tolerance * smallest_fraction);
     _stalled = 0;
   }
 
