@@ -4,14 +4,16 @@
 // (softpack_contact), one solver for both dimensions.
 //
 //   softpack-fclib FILE... [--dim 2|3] [--tol T] [--max-iter N]
-//                  [--solution-out DIR]
+//                  [--solution-out DIR] [--describe]
 //
-// One JSON line per problem on stdout; messages on stderr. Exit status 1 if
+// One JSON line per problem on stdout (with --describe, the problem's
+// structure instead of a solve); messages on stderr. Exit status 1 if
 // a file is not a valid problem of that dimension or a problem does not
 // converge.
 
 #include "fclib_io.h"
 #include "nlgs.h"
+#include "problem_structure.h"
 #include "siconos_io.h"
 
 #include <CLI/CLI.hpp>
@@ -35,6 +37,7 @@ struct Arguments
   contact::NlgsOptions options;
   std::string solution_out;
   bool from_guess = false;
+  bool describe = false;
   int dim = 2;
 };
 
@@ -69,7 +72,34 @@ template <int D> contact::FclibFile<D> read_problem(const std::string& file)
     return contact::read_fclib_file<D>(file);
 }
 //-----------------------------------------------------------------------------
-/// Solve one file; returns false on an invalid file or no convergence.
+/// One problem's ProblemStructure as a JSON line
+template <int D>
+void describe(const std::string& name,
+              const contact::FrictionContactProblem<D>& problem)
+{
+  const contact::ProblemStructure s = contact::problem_structure(problem);
+  nlohmann::ordered_json line;
+  line["problem"] = name;
+  line["contacts"] = s.contacts;
+  line["offdiagonal_blocks"] = s.offdiagonal_blocks;
+  nlohmann::ordered_json kept;
+  for (std::size_t t = 0; t < s.coupling_thresholds.size(); ++t)
+  {
+    char key[16];
+    std::snprintf(key, sizeof(key), "%.0e", s.coupling_thresholds[t]);
+    kept[key] = s.blocks_at_or_above[t];
+  }
+  line["blocks_at_or_above"] = kept;
+  line["frictionless"] = s.frictionless;
+  line["frictionless_sets"] = s.frictionless_sets;
+  line["set_sizes"] = {s.smallest_set, s.largest_set};
+  line["set_scaled_eigenvalues"] = {s.scaled_eigenvalue_min,
+                                    s.scaled_eigenvalue_max};
+  std::cout << line.dump() << std::endl;
+}
+//-----------------------------------------------------------------------------
+/// Solve (or describe) one file; returns false on an invalid file or no
+/// convergence.
 template <int D> bool solve_file(const std::string& file, const Arguments& args)
 {
   contact::FclibFile<D> stored;
@@ -84,6 +114,11 @@ template <int D> bool solve_file(const std::string& file, const Arguments& args)
   }
   const std::string name = std::filesystem::path(file).stem().string();
   const contact::FrictionContactProblem<D>& problem = stored.problem;
+  if (args.describe)
+  {
+    describe(name, problem);
+    return true;
+  }
   std::vector<double> r(D * problem.num_contacts(), 0.0), u(r.size());
   if (args.from_guess and stored.guess_r)
     r = *stored.guess_r;
@@ -151,6 +186,12 @@ void add_options(CLI::App& app, Arguments& args, std::string& order)
                  "only when the cheap error passes)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  app.add_flag("--describe", args.describe,
+               "print each problem's structure instead of solving it: "
+               "W's off-diagonal blocks by strength (|W_ab| / "
+               "sqrt(|W_aa| |W_bb|) at or above 1e-9 ... 1e-2) and the "
+               "frictionless contacts' sets W couples, with the extreme "
+               "eigenvalues of their diagonally scaled normal blocks");
   app.add_flag("--from-guess", args.from_guess,
                "start from the file's /guesses/1/r when it has one (a "
                "simulation's unsolved problems store their start there)");

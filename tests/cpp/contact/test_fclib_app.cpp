@@ -126,3 +126,24 @@ TEST(FclibApp, InvalidFileExitsNonZeroNamingIt)
             std::string::npos)
       << run.err;
 }
+
+TEST(FclibApp, DescribesAProblemInsteadOfSolvingIt)
+{
+  TempDir dir;
+  const std::string f = hdf5_file("FrictionContactProblem00071").string();
+  const AppRun run = run_app(f + " --describe", dir);
+  ASSERT_EQ(run.status, 0) << run.err;
+  ASSERT_EQ(run.lines.size(), 1u);
+  const nlohmann::ordered_json& line = run.lines[0];
+  EXPECT_EQ(line["problem"], "FrictionContactProblem00071");
+  EXPECT_FALSE(line.contains("iterations"));
+  // the strength counts fall with the threshold, from every stored block
+  const std::size_t blocks = line["offdiagonal_blocks"];
+  std::size_t previous = blocks;
+  for (const auto& [threshold, count] : line["blocks_at_or_above"].items())
+  {
+    EXPECT_LE(count.get<std::size_t>(), previous) << threshold;
+    previous = count;
+  }
+  EXPECT_EQ(line["blocks_at_or_above"].size(), 8u);
+}
