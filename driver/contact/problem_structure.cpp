@@ -1,5 +1,7 @@
 #include "problem_structure.h"
 
+#include "coupling_graph.h"
+
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -17,6 +19,9 @@ void count_couplings(const DelassusMatrixD<D>& W, ProblemStructure& s)
   for (int k = -9; k <= -2; ++k)
     s.coupling_thresholds.push_back(std::pow(10.0, k));
   s.blocks_at_or_above.assign(s.coupling_thresholds.size(), 0);
+  std::vector<double> diagonal(W.num_contacts());
+  for (std::size_t a = 0; a < W.num_contacts(); ++a)
+    diagonal[a] = W.diagonal(a).norm();
   for (std::size_t a = 0; a < W.num_contacts(); ++a)
   {
     const auto columns = W.row_columns(a);
@@ -24,46 +29,30 @@ void count_couplings(const DelassusMatrixD<D>& W, ProblemStructure& s)
     for (std::size_t k = 0; k < columns.size(); ++k)
     {
       const double size =
-          blocks[k].norm() /
-          std::sqrt(W.diagonal(a).norm() * W.diagonal(columns[k]).norm());
+          blocks[k].norm() / std::sqrt(diagonal[a] * diagonal[columns[k]]);
       for (std::size_t t = 0; t < s.coupling_thresholds.size(); ++t)
         s.blocks_at_or_above[t] += size >= s.coupling_thresholds[t];
     }
   }
 }
 //-----------------------------------------------------------------------------
-/// The frictionless contacts' sets connected by W: a label per contact (-1:
-/// not frictionless), labels 0, 1, ... in order of their first contact
+/// The frictionless contacts' sets connected by W's stored blocks (either
+/// way), each in the order a breadth-first walk reached it
 template <int D>
-std::vector<std::int32_t>
+std::vector<std::vector<std::int32_t>>
 frictionless_sets(const FrictionContactProblem<D>& problem)
 {
   const std::size_t n = problem.num_contacts();
-  std::vector<std::int32_t> label(n, -1);
-  std::int32_t sets = 0;
-  std::vector<std::int32_t> stack;
-  for (std::size_t start = 0; start < n; ++start)
-  {
-    if (label[start] >= 0 or problem.friction[start] != 0 or
-        problem.cohesion_of(start) != 0)
-      continue;
-    label[start] = sets;
-    stack.assign(1, static_cast<std::int32_t>(start));
-    while (!stack.empty())
-    {
-      const std::int32_t a = stack.back();
-      stack.pop_back();
-      for (const std::int32_t b : problem.W.row_columns(a))
-        if (label[b] < 0 and problem.friction[b] == 0 and
-            problem.cohesion_of(b) == 0)
-        {
-          label[b] = sets;
-          stack.push_back(b);
-        }
-    }
-    ++sets;
-  }
-  return label;
+  std::vector<char> other(n);
+  for (std::size_t a = 0; a < n; ++a)
+    other[a] = problem.friction[a] != 0 or problem.cohesion_of(a) != 0;
+  const Graph g = coupling_graph(problem.W, other);
+  std::vector<std::int32_t> level(n, -1);
+  std::vector<std::vector<std::int32_t>> sets;
+  for (std::size_t a = 0; a < n; ++a)
+    if (!other[a] and level[a] < 0)
+      sets.push_back(levels_from(g, static_cast<std::int32_t>(a), level));
+  return sets;
 }
 //-----------------------------------------------------------------------------
 /// W's normal block over a set, scaled by its diagonal
@@ -101,16 +90,10 @@ softpack::contact::problem_structure(const FrictionContactProblem<D>& problem)
   s.offdiagonal_blocks = problem.W.num_offdiagonal_blocks();
   count_couplings(problem.W, s);
 
-  const std::vector<std::int32_t> label = frictionless_sets(problem);
-  std::vector<std::vector<std::int32_t>> sets;
-  for (std::size_t a = 0; a < label.size(); ++a)
-    if (label[a] >= 0)
-    {
-      sets.resize(std::max<std::size_t>(sets.size(), label[a] + 1));
-      sets[label[a]].push_back(static_cast<std::int32_t>(a));
-    }
-  s.frictionless = static_cast<std::size_t>(
-      std::count_if(label.begin(), label.end(), [](auto l) { return l >= 0; }));
+  const std::vector<std::vector<std::int32_t>> sets =
+      frictionless_sets(problem);
+  for (const std::vector<std::int32_t>& set : sets)
+    s.frictionless += set.size();
   s.frictionless_sets = sets.size();
   if (sets.empty())
     return s;

@@ -1,6 +1,8 @@
 // The level-set separator behind the two-thread NLGS sweep.
 #include "sweep_split.h"
 
+#include "coupling_graph.h"
+
 #include <algorithm>
 #include <limits>
 #include <span>
@@ -9,64 +11,6 @@ namespace softpack::contact
 {
 namespace
 {
-/// Adjacency of the contacts (compressed rows), symmetric: a block W_ab or
-/// W_ba couples a and b (a dropped small block may leave only one of them).
-struct Graph
-{
-  std::vector<std::int32_t> offsets, neighbours;
-  std::span<const std::int32_t> of(std::int32_t a) const
-  {
-    return {neighbours.data() + offsets[a],
-            static_cast<std::size_t>(offsets[a + 1] - offsets[a])};
-  }
-};
-
-/// The graph of the stored blocks between contacts not `held` (the
-/// held ones left without edges)
-template <int D>
-Graph coupling_graph(const DelassusMatrixD<D>& W, const std::vector<char>& held)
-{
-  const std::size_t n = W.num_contacts();
-  Graph g;
-  g.offsets.assign(n + 1, 0);
-  for (std::size_t a = 0; a < n; ++a)
-    for (const std::int32_t b : W.row_columns(a))
-      if (!held[a] and !held[b])
-      {
-        ++g.offsets[a + 1];
-        ++g.offsets[b + 1];
-      }
-  for (std::size_t a = 0; a < n; ++a)
-    g.offsets[a + 1] += g.offsets[a];
-  g.neighbours.resize(g.offsets[n]);
-  std::vector<std::int32_t> next(g.offsets.begin(), g.offsets.end() - 1);
-  for (std::size_t a = 0; a < n; ++a)
-    for (const std::int32_t b : W.row_columns(a))
-      if (!held[a] and !held[b])
-      {
-        g.neighbours[next[a]++] = b;
-        g.neighbours[next[b]++] = static_cast<std::int32_t>(a);
-      }
-  return g;
-}
-
-/// Breadth-first levels from `start` over the contacts not yet levelled
-/// (level -1); returns the visiting order (the farthest contact last).
-std::vector<std::int32_t> levels_from(const Graph& g, std::int32_t start,
-                                      std::vector<std::int32_t>& level)
-{
-  std::vector<std::int32_t> order{start};
-  level[start] = 0;
-  for (std::size_t i = 0; i < order.size(); ++i)
-    for (const std::int32_t b : g.of(order[i]))
-      if (level[b] < 0)
-      {
-        level[b] = level[order[i]] + 1;
-        order.push_back(b);
-      }
-  return order;
-}
-
 /// Each contact's level in the sequence of all components' levels laid end
 /// to end (a component starts at a pseudo-peripheral contact, so that its
 /// levels are many and thin); the held contacts have none (-1).
