@@ -4,7 +4,7 @@
 // (softpack_contact), one solver for both dimensions.
 //
 //   softpack-fclib FILE... [--dim 2|3] [--tol T] [--max-iter N]
-//                  [--solution-out DIR] [--describe]
+//                  [--solution-out DIR] [--extrapolate] [--describe]
 //
 // One JSON line per problem on stdout (with --describe, the problem's
 // structure instead of a solve); messages on stderr. Exit status 1 if
@@ -139,6 +139,8 @@ template <int D> bool solve_file(const std::string& file, const Arguments& args)
   line["contacts"] = problem.num_contacts();
   line["iterations"] = result.iterations;
   line["error"] = result.error;
+  if (contact::extrapolates<D>(args.options))
+    line["extrapolations"] = result.extrapolations;
   line["seconds"] = elapsed.count();
   line["converged"] = result.converged;
   std::cout << line.dump() << std::endl;
@@ -186,6 +188,11 @@ void add_options(CLI::App& app, Arguments& args, std::string& order)
                  "only when the cheap error passes)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  app.add_flag_callback(
+      "--extrapolate",
+      [&args] { args.options.extrapolation = contact::NlgsExtrapolation::on; },
+      "follow a constant drift of the sweeps to where a cone stops it "
+      "(NlgsExtrapolation)");
   app.add_flag("--describe", args.describe,
                "print each problem's structure instead of solving it: "
                "W's off-diagonal blocks by strength (|W_ab| / "

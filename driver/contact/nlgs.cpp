@@ -2,6 +2,7 @@
 
 #include "gauss_seidel.h"
 
+#include "drift_extrapolation.h"
 #include "error.h"
 #include "local_solver.h"
 #include "running_sums.h"
@@ -193,7 +194,8 @@ constexpr int velocity_reset_sweeps = 50;
 /// sums; they are made again from r between two sweeps, on one thread.
 template <int D>
 void swept_sweeps(const SweepPlanD<D>& swept, double* r, int threads,
-                  bool update_velocities, Monitor<D>& monitor)
+                  bool update_velocities, Monitor<D>& monitor,
+                  DriftExtrapolation<D>* drift)
 {
   const FrictionContactProblem<D>& problem = swept.problem;
   const std::size_t bounds[4] = {0, swept.ends[0], swept.ends[1],
@@ -226,8 +228,11 @@ void swept_sweeps(const SweepPlanD<D>& swept, double* r, int threads,
         const SweepSums s = sweep(problem, r, terms.data(), monitor.omega,
                                   bounds[2], bounds[3], v);
         more = monitor.after_sweep(combine(partial[0], partial[1], s));
+        const bool moved = more and drift and
+                           drift->after_sweep({r, D * problem.num_contacts()});
         terms.reset(r);
-        if (v and more and monitor.sweeps() % velocity_reset_sweeps == 0)
+        if (v and more and
+            (moved or monitor.sweeps() % velocity_reset_sweeps == 0))
           v->reset(problem, r);
       } // the implicit barrier: `more` and `omega` are read after it
     }
@@ -287,9 +292,14 @@ void solve_swept(const FrictionContactProblem<D>& problem, std::span<double> r,
     }
   Monitor<D> monitor(plan.problem, r_here, u_here, options, result,
                      plan.position);
+  std::optional<DriftExtrapolation<D>> drift;
+  if (extrapolates<D>(options))
+    drift.emplace(plan.problem);
   swept_sweeps(plan, r_here.data(), plan.split ? options.threads : 1,
-               updates_velocities<D>(options), monitor);
+               updates_velocities<D>(options), monitor,
+               drift ? &*drift : nullptr);
   monitor.finish();
+  result.extrapolations = drift ? drift->extrapolations() : 0;
   for (std::size_t i = 0; i < n; ++i)
     for (int j = 0; j < D; ++j)
     {
@@ -320,6 +330,16 @@ NlgsUpdate softpack::contact::nlgs_update(const std::string& name)
     return NlgsUpdate::automatic;
   throw std::invalid_argument("NLGS update \"" + name +
                               "\": must be \"row\", \"velocity\" or \"auto\"");
+}
+//-----------------------------------------------------------------------------
+NlgsExtrapolation softpack::contact::nlgs_extrapolation(const std::string& name)
+{
+  if (name == "auto")
+    return NlgsExtrapolation::automatic;
+  if (name == "off")
+    return NlgsExtrapolation::off;
+  throw std::invalid_argument("NLGS extrapolation \"" + name +
+                              "\": must be \"auto\" or \"off\"");
 }
 //-----------------------------------------------------------------------------
 template <int D>
@@ -408,13 +428,21 @@ NlgsResult solve(const FrictionContactProblem<D>& problem, std::span<double> r,
   {
     Monitor<D> monitor(problem, r, u, options, result, {});
     RunningSums<D> terms(problem.W);
-    if (sweeps)
-      do
-        terms.reset(r.data());
-      while (
+    std::optional<DriftExtrapolation<D>> drift;
+    if (extrapolates<D>(options))
+      drift.emplace(problem);
+    bool more = sweeps;
+    while (more)
+    {
+      terms.reset(r.data());
+      more =
           monitor.after_sweep(sweep(problem, r.data(), terms.data(),
-                                    monitor.omega, 0, problem.num_contacts())));
+                                    monitor.omega, 0, problem.num_contacts()));
+      if (more and drift)
+        drift->after_sweep(r);
+    }
     monitor.finish();
+    result.extrapolations = drift ? drift->extrapolations() : 0;
   }
   // The reactions are made whole (the caller's next Newton iterate needs
   // every impulse); u is not: each domain has it at its own contacts.

@@ -55,6 +55,23 @@ enum class NlgsUpdate
 /// @throws std::invalid_argument naming the allowed names
 NlgsUpdate nlgs_update(const std::string& name);
 
+/// Whether a solve follows a constant drift of its sweeps to where a cone
+/// stops it (DriftExtrapolation, drift_extrapolation.h; not in a domain's
+/// solve). Over-relaxed sweeps seldom drift by a constant change: it pays
+/// with relaxation 1 (docs/performance_3d.md, "Gauss–Seidel's drift").
+enum class NlgsExtrapolation
+{
+  off,
+  on,
+  /// `off` in 2D (its answers as before this option), `on` in 3D
+  automatic
+};
+
+/// The NlgsExtrapolation of a name ("auto" or "off": the schema's
+/// contact.nlgs_extrapolation choices)
+/// @throws std::invalid_argument naming the allowed names
+NlgsExtrapolation nlgs_extrapolation(const std::string& name);
+
 /// Options of solve_nlgs().
 struct NlgsOptions
 {
@@ -94,6 +111,9 @@ struct NlgsOptions
   /// Start from the reactions passed in (else from r = 0)
   bool warm_start = true;
 
+  /// Whether the sweeps' constant drifts are followed (NlgsExtrapolation)
+  NlgsExtrapolation extrapolation = NlgsExtrapolation::off;
+
   /// Problems with at least this many contacts are swept in the order of
   /// split_for_two_threads() (sweep_split.h): its two independent parts,
   /// then its separator, whatever `threads` is, so that the answer does
@@ -129,6 +149,9 @@ struct NlgsResult
 
   /// The relaxation was dropped to 1 for lack of progress
   bool relaxation_dropped = false;
+
+  /// Drifts followed (NlgsOptions::extrapolate)
+  int extrapolations = 0;
 };
 
 /// One domain's share of a distributed solve: the domain-wise NLGS of
@@ -169,6 +192,14 @@ template <int D> bool updates_velocities(const NlgsOptions& options)
 {
   return options.update == NlgsUpdate::velocity or
          (options.update == NlgsUpdate::automatic and D == 3);
+}
+
+/// true when the solves of a D-dimensional problem follow the sweeps'
+/// drifts (NlgsExtrapolation)
+template <int D> bool extrapolates(const NlgsOptions& options)
+{
+  return options.extrapolation == NlgsExtrapolation::on or
+         (options.extrapolation == NlgsExtrapolation::automatic and D == 3);
 }
 
 /// true when solve_nlgs() sweeps the problem renumbered (SweepPlan): when

@@ -26,6 +26,7 @@ contact::NlgsOptions nlgs_options(const parameters::Contact& contact)
   o.relaxation = contact.nlgs_relaxation;
   o.order = contact::sweep_order(contact.nlgs_order);
   o.update = contact::nlgs_update(contact.nlgs_update);
+  o.extrapolation = contact::nlgs_extrapolation(contact.nlgs_extrapolation);
   // Large problems are swept in split order, on two threads when the
   // driver has them; the order depends on the problem's size only, so a
   // run gives the same answers on any number of threads or processes. Below a
