@@ -57,8 +57,9 @@ NlgsUpdate nlgs_update(const std::string& name);
 
 /// Whether a solve follows a constant drift of its sweeps to where a cone
 /// stops it (DriftExtrapolation, drift_extrapolation.h; not in a domain's
-/// solve). Over-relaxed sweeps seldom drift by a constant change: it pays
-/// with relaxation 1 (docs/performance_3d.md, "Gauss–Seidel's drift").
+/// solve). Over-relaxed sweeps seldom drift by a constant change: it saves
+/// most at relaxation 1, which only a loose packing prefers
+/// (docs/performance_3d.md, "Gauss–Seidel's drift").
 enum class NlgsExtrapolation
 {
   off,

@@ -83,25 +83,6 @@ def test_derived_values_and_material_defaults():
     assert initial_packing_fraction(paper) == pytest.approx(0.7477, abs=1e-4)
 
 
-def test_derived_relaxation_is_one_where_3d_solves_follow_drifts():
-    """contact.nlgs_relaxation left out: 1.7 in 2D; 1.0 in 3D while
-    nlgs_extrapolation follows the sweeps' drifts (it pays at 1), 1.7 when
-    it is off; a value given is kept."""
-    schema_default = load_schema()["contact"].parameters[
-        "nlgs_relaxation"].default
-    assert validate(PISTON, "a.toml")["contact"]["nlgs_relaxation"] == \
-        schema_default == 1.7
-    scene = tomllib.loads((EXAMPLES / "cylinders3d_small.toml").read_text())
-    assert "nlgs_relaxation" not in scene.get("contact", {})
-    assert validate(scene, "c.toml")["contact"]["nlgs_relaxation"] == 1.0
-    off = {**scene, "contact": {**scene.get("contact", {}),
-                                "nlgs_extrapolation": "off"}}
-    assert validate(off, "c.toml")["contact"]["nlgs_relaxation"] == 1.7
-    given = {**scene, "contact": {**scene.get("contact", {}),
-                                  "nlgs_relaxation": 1.5}}
-    assert validate(given, "c.toml")["contact"]["nlgs_relaxation"] == 1.5
-
-
 def test_the_paper_settings_file_changes_only_the_numerics():
     paper, slow = (load_config(EXAMPLES / f"{n}.toml")
                    for n in ("paper", "paper_9us"))

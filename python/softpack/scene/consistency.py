@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 
-from softpack.contract.schema import load_schema
 from softpack.scene.mesh import MIN_BOUNDARY_ELEMENTS
 from softpack.scene.packing import HEXAGONAL_FRACTION, PackingError, \
     cell_sides
@@ -36,16 +35,9 @@ class Inconsistent(ValueError):
 
 
 def derive(sections) -> None:
-    """Fill ``stop.max_time``, ``contact.delassus_drop_tolerance``,
-    ``contact.nlgs_relaxation`` and the walls' ``mass`` (the particles'
-    total mass per unit length)."""
+    """Fill ``stop.max_time``, ``contact.delassus_drop_tolerance`` and the
+    walls' ``mass`` (the particles' total mass per unit length)."""
     contact = sections["contact"]
-    if contact["nlgs_relaxation"] is None:
-        follows_drifts = (sections["model"]["dimension"] == 3
-                          and contact["nlgs_extrapolation"] == "auto")
-        contact["nlgs_relaxation"] = (
-            1.0 if follows_drifts else
-            load_schema()["contact"].parameters["nlgs_relaxation"].default)
     if contact["delassus_drop_tolerance"] is None:
         contact["delassus_drop_tolerance"] = 1e-3 * contact["nlgs_tolerance"]
     derive_masses(sections["walls"], total_mass(sections))
