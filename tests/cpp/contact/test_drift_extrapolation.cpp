@@ -1,6 +1,7 @@
 // Gauss–Seidel's drift along a singular contact set and its extrapolation
 // (drift_extrapolation.h): one node touching a frictionless base and a
 // rigid neighbour with friction, whose answer is known by hand.
+#include "drift_extrapolation.h"
 #include "error.h"
 #include "nlgs.h"
 
@@ -114,4 +115,29 @@ TEST(DriftExtrapolation, AutomaticIsOnIn3DOnly)
   o.extrapolation = nlgs_extrapolation("off");
   EXPECT_FALSE(extrapolates<3>(o));
   EXPECT_THROW(nlgs_extrapolation("on"), std::invalid_argument);
+}
+
+TEST(DriftExtrapolation, StopsJumpingAfterItsLimit)
+{
+  // A frictionless contact whose reaction grows by the same change every
+  // sweep, again and again: each pair of equal changes is a jump of 1e4
+  // sweeps until max_jumps, then the sweeps go on alone (a solve whose
+  // jumps land where the sweeps undo them must still end).
+  FrictionContactProblem3D p;
+  p.W = DelassusMatrix3D(1);
+  p.W.add_block(0, 0, Eigen::Matrix3d::Identity());
+  p.W.finalize();
+  p.q.assign(3, 0.0);
+  p.friction = {0.0};
+  validate(p);
+  std::vector<double> r = {1.0, 0, 0};
+  DriftExtrapolation<3> extrapolation(p);
+  int jumps = 0;
+  for (int sweep = 0; sweep < 200; ++sweep)
+  {
+    jumps += extrapolation.after_sweep(r) ? 1 : 0;
+    r[0] += 1e-3;
+  }
+  EXPECT_EQ(jumps, DriftExtrapolation<3>::max_jumps);
+  EXPECT_EQ(extrapolation.extrapolations(), DriftExtrapolation<3>::max_jumps);
 }
