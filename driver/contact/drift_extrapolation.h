@@ -32,6 +32,12 @@ namespace softpack::contact
 /// cone (shifted by its cohesion), if t is at least `min_step` sweeps and
 /// at most `max_step`; then the sweeps go on. The answer is still the one
 /// the error test accepts: only the path to it is shortened.
+///
+/// Not every constant change is such a drift: a slowly contracting sweep
+/// also changes r by nearly the same vector twice, and following it up to
+/// max_step sweeps lands far from the answer. So a jump is kept only if
+/// the natural-map error after it is at most `max_error_rise` times the
+/// error before; otherwise r is put back and the sweeps go on.
 template <int D> class DriftExtrapolation
 {
 public:
@@ -42,12 +48,12 @@ public:
   static constexpr double min_step = 2;
   /// A drift that no cone stops is not followed further than this
   static constexpr double max_step = 1e4;
-  /// Jumps at most per solve: where jumps land somewhere the sweeps must
-  /// undo, the sweeps settle into a constant change again and again and a
-  /// tight solve never ends (40-175 jumps in 20,000 sweeps on the
-  /// plane-strain slab's problems at 1e-8, docs/performance_3d.md); the
-  /// creeping pairs of a packing take a few
-  static constexpr int max_jumps = 20;
+  /// A jump that multiplies the natural-map error by more than this is
+  /// undone: at the end of a drift the error is what it was within 1 %
+  /// (the creeping pairs' residual leaves with the next sweeps), where a
+  /// slowly contracting sweep followed to max_step multiplies it by 1.3 to
+  /// 1e5 (the plane-strain slab's problems at 1e-8, docs/performance_3d.md)
+  static constexpr double max_error_rise = 1.1;
 
   /// @param[in] problem Its friction and cohesion (in the numbering of the
   ///   reactions given to after_sweep()), kept by reference
@@ -62,8 +68,6 @@ public:
   ///   from r: velocities, rank-one sums)
   bool after_sweep(std::span<double> r)
   {
-    if (_extrapolations >= max_jumps)
-      return false;
     if (_previous.size() != r.size())
     {
       _previous.assign(r.begin(), r.end());
@@ -91,19 +95,39 @@ public:
     const double t = step(r);
     if (!(t >= min_step))
       return false;
+    const bool kept = jump(r, t);
+    _previous.clear();
+    _change.clear();
+    return kept;
+  }
+
+  /// @return The extrapolations made (and kept) so far
+  int extrapolations() const { return _extrapolations; }
+  /// @return The jumps undone so far (max_error_rise)
+  int undone() const { return _undone; }
+
+private:
+  /// r moved by t times the drift, kept if the error allows it
+  /// (max_error_rise), else put back
+  /// @return true if r was moved
+  bool jump(std::span<double> r, double t)
+  {
+    _before.assign(r.begin(), r.end());
+    _u.resize(r.size());
+    const double before = compute_error(_problem, r, _u, 0).value;
     for (std::size_t i = 0; i < r.size(); ++i)
       r[i] += t * _change[i];
     project(r);
-    ++_extrapolations;
-    _previous.clear();
-    _change.clear();
-    return true;
+    if (compute_error(_problem, r, _u, 0).value <= max_error_rise * before)
+    {
+      ++_extrapolations;
+      return true;
+    }
+    std::copy(_before.begin(), _before.end(), r.begin());
+    ++_undone;
+    return false;
   }
 
-  /// @return The extrapolations made so far
-  int extrapolations() const { return _extrapolations; }
-
-private:
   /// The largest t (at most max_step) for which r + t d stays in every
   /// contact's cone
   double step(std::span<const double> r) const
@@ -170,7 +194,9 @@ private:
 
   const FrictionContactProblem<D>& _problem;
   std::vector<double> _previous, _change;
-  int _extrapolations = 0;
+  /// r before a jump and the velocities of the errors, kept to reuse
+  std::vector<double> _before, _u;
+  int _extrapolations = 0, _undone = 0;
 };
 
 } // namespace softpack::contact
