@@ -336,10 +336,12 @@ NlgsExtrapolation softpack::contact::nlgs_extrapolation(const std::string& name)
 {
   if (name == "auto")
     return NlgsExtrapolation::automatic;
+  if (name == "on")
+    return NlgsExtrapolation::on;
   if (name == "off")
     return NlgsExtrapolation::off;
   throw std::invalid_argument("NLGS extrapolation \"" + name +
-                              "\": must be \"auto\" or \"off\"");
+                              "\": must be \"auto\", \"on\" or \"off\"");
 }
 //-----------------------------------------------------------------------------
 template <int D>

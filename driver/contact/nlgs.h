@@ -68,7 +68,7 @@ enum class NlgsExtrapolation
   automatic
 };
 
-/// The NlgsExtrapolation of a name ("auto" or "off": the schema's
+/// The NlgsExtrapolation of a name ("auto", "on" or "off": the schema's
 /// contact.nlgs_extrapolation choices)
 /// @throws std::invalid_argument naming the allowed names
 NlgsExtrapolation nlgs_extrapolation(const std::string& name);

@@ -106,15 +106,19 @@ TEST(DriftExtrapolation, FollowsTheDriftToTheConeAndFindsTheAnswer)
   }
 }
 
-TEST(DriftExtrapolation, AutomaticIsOnIn3DOnly)
+TEST(DriftExtrapolation, AutomaticIsOnIn3DOnlyAndOnInBoth)
 {
   NlgsOptions o;
   o.extrapolation = nlgs_extrapolation("auto");
   EXPECT_TRUE(extrapolates<3>(o));
   EXPECT_FALSE(extrapolates<2>(o));
+  o.extrapolation = nlgs_extrapolation("on");
+  EXPECT_TRUE(extrapolates<3>(o));
+  EXPECT_TRUE(extrapolates<2>(o));
   o.extrapolation = nlgs_extrapolation("off");
   EXPECT_FALSE(extrapolates<3>(o));
-  EXPECT_THROW(nlgs_extrapolation("on"), std::invalid_argument);
+  EXPECT_FALSE(extrapolates<2>(o));
+  EXPECT_THROW(nlgs_extrapolation("yes"), std::invalid_argument);
 }
 
 TEST(DriftExtrapolation, UndoesAJumpThatRaisesTheError)
