@@ -126,8 +126,9 @@ TEST(DriftExtrapolation, UndoesAJumpThatRaisesTheError)
   // A frictionless contact, W = 1, q = -1: the answer is r_n = 1. Sweeps
   // that approach it by the same 1e-3 again and again look like a drift
   // that no cone stops; followed for max_step sweeps, r_n would be 10.5
-  // and the error ten times larger, so every jump is undone and r is
-  // exactly what the sweeps made.
+  // and the relative error 0.90 instead of 0.50 (residual 9.5 over the
+  // scale 10.5), so every jump is undone and r is exactly what the sweeps
+  // made.
   FrictionContactProblem3D p;
   p.W = DelassusMatrix3D(1);
   p.W.add_block(0, 0, Eigen::Matrix3d::Identity());
