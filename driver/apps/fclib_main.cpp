@@ -12,6 +12,7 @@
 // converge.
 
 #include "fclib_io.h"
+#include "frictionless_condensation.h"
 #include "nlgs.h"
 #include "problem_structure.h"
 #include "siconos_io.h"
@@ -38,6 +39,7 @@ struct Arguments
   std::string solution_out;
   bool from_guess = false;
   bool describe = false;
+  bool condense = false;
   int dim = 2;
 };
 
@@ -123,8 +125,13 @@ template <int D> bool solve_file(const std::string& file, const Arguments& args)
   if (args.from_guess and stored.guess_r)
     r = *stored.guess_r;
   const auto start = std::chrono::steady_clock::now();
-  const contact::NlgsResult result =
-      contact::solve_nlgs(problem, r, u, args.options);
+  contact::CondensedResult condensed;
+  if (args.condense)
+    condensed = contact::FrictionlessCondensation<D>(problem).solve(
+        problem, r, u, args.options);
+  else
+    condensed.nlgs = contact::solve_nlgs(problem, r, u, args.options);
+  const contact::NlgsResult& result = condensed.nlgs;
   const std::chrono::duration<double> elapsed =
       std::chrono::steady_clock::now() - start;
 
@@ -141,6 +148,12 @@ template <int D> bool solve_file(const std::string& file, const Arguments& args)
   line["error"] = result.error;
   if (contact::extrapolates<D>(args.options))
     line["extrapolations"] = result.extrapolations;
+  if (args.condense)
+  {
+    line["condensed"] = condensed.condensed;
+    line["held"] = condensed.held;
+    line["rounds"] = condensed.rounds;
+  }
   line["seconds"] = elapsed.count();
   line["converged"] = result.converged;
   std::cout << line.dump() << std::endl;
@@ -193,6 +206,9 @@ void add_options(CLI::App& app, Arguments& args, std::string& order)
       [&args] { args.options.extrapolation = contact::NlgsExtrapolation::on; },
       "follow a constant drift of the sweeps to where a cone stops it "
       "(NlgsExtrapolation)");
+  app.add_flag("--condense", args.condense,
+               "hold the frictionless contacts' small sets exactly and sweep "
+               "the rest (FrictionlessCondensation)");
   app.add_flag("--describe", args.describe,
                "print each problem's structure instead of solving it: "
                "W's off-diagonal blocks by strength (|W_ab| / "

@@ -43,6 +43,7 @@ MoreauJean::MoreauJean(bodies::BodySet& bodies, std::vector<Wall> walls,
   _energy.strain0 =
       std::accumulate(_body_strain.begin(), _body_strain.end(), 0.0);
   link_walls(_walls);
+  _condense = contact::condenses(options.contact.nlgs_condensation, dim());
   if (dim() == 3)
     check_3d();
 }
@@ -147,6 +148,7 @@ void MoreauJean::set_delassus(const StepContacts& sc, StepProblem& problem,
                            _options.contact.delassus_drop_tolerance, &_rigid),
         std::span<const WallCouplingD<3>>(sc.servo.couplings_3d));
     _sweep_plan3.reset();
+    _condensation.reset();
     report.seconds.delassus += seconds_since(t0);
     return;
   }

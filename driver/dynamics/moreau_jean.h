@@ -10,6 +10,7 @@
 #include <compliance/delassus.h>
 #include <compliance/effective_stiffness.h>
 #include <compliance/rigid_bodies.h>
+#include <contact/frictionless_condensation.h>
 #include <contact/nlgs.h>
 #include <contact/problem.h>
 #include <detection/bond_history.h>
@@ -370,6 +371,11 @@ private:
   std::optional<contact::SweepPlan> _sweep_plan;
   /// The same for a 3D problem (whole on every process)
   std::optional<contact::SweepPlan3D> _sweep_plan3;
+  /// Whether a 3D problem's small frictionless sets are held exactly
+  /// (contact.nlgs_condensation), and their condensation: made at the
+  /// first solve after W changes, as the plans
+  bool _condense = false;
+  std::optional<contact::FrictionlessCondensation<3>> _condensation;
   std::vector<Wall> _walls;
   /// The plane walls of a 3D run
   std::vector<Wall3D> _walls3;

@@ -109,6 +109,15 @@ void NewtonLoop::solve_problem(const std::vector<double>& U_free)
   std::vector<double> U(U_free.size()), start = _s._R;
   contact::NlgsOptions options = _s._nlgs;
   options.tolerance = _tolerance.current();
+  if (d == 3 and _s._condense) // (whole on every process)
+  {
+    std::optional<contact::FrictionlessCondensation<3>>& c = _s._condensation;
+    if (!c)
+      c.emplace(_problem.three);
+    report_nlgs(c->solve(_problem.three, _s._R, U, options).nlgs,
+                std::move(start));
+    return;
+  }
   if (d == 3) // (whole on every process: ContactExchange::delassus)
   {
     std::optional<contact::SweepPlan3D>& plan = _s._sweep_plan3;

@@ -1,0 +1,167 @@
+// Frictionless sets held exactly out of the sweeps
+// (frictionless_condensation.h): answers by hand, the active set both ways,
+// and the whole problem's error.
+#include "error.h"
+#include "frictionless_condensation.h"
+
+#include <gtest/gtest.h>
+
+using namespace softpack::contact;
+
+namespace
+{
+constexpr double c = 1e5;     // a node's compliance, isotropic (m/s per N s)
+constexpr double mu = 0.3;    // the neighbour's friction
+constexpr double v0 = 0.1;    // the node's free speed into both (m/s)
+constexpr double slip = 1e-5; // the neighbour's vertical speed (m/s)
+
+/// The rim node of test_drift_extrapolation.cpp: contact 0 the
+/// frictionless base (normal z), contact 1 a neighbour with friction
+/// (normal x, second tangent z), both on one node of compliance c I; the
+/// neighbour moves down by `slip`, so it slides. With `free_node`, a third
+/// contact on a node of its own (friction mu, free velocity `v_free` along
+/// its normal) keeps the reduced problem non-empty.
+FrictionContactProblem3D rim_node(double base_speed = -v0,
+                                  double v_free = -v0)
+{
+  Eigen::Matrix3d Ra, Rb; // columns n, t1, t2 in world components
+  Ra << 0, 1, 0, 0, 0, 1, 1, 0, 0;
+  Rb << 1, 0, 0, 0, 1, 0, 0, 0, 1;
+  const Eigen::Matrix3d C = c * Eigen::Matrix3d::Identity();
+  FrictionContactProblem3D p;
+  p.W = DelassusMatrix3D(3);
+  p.W.add_block(0, 0, Ra.transpose() * C * Ra);
+  p.W.add_block(1, 1, Rb.transpose() * C * Rb);
+  p.W.add_block(0, 1, Ra.transpose() * C * Rb);
+  p.W.add_block(1, 0, Rb.transpose() * C * Ra);
+  p.W.add_block(2, 2, C);
+  p.W.finalize();
+  const Eigen::Vector3d v(-v0, 0, base_speed);
+  const Eigen::Vector3d qa = Ra.transpose() * v;
+  Eigen::Vector3d qb = Rb.transpose() * v;
+  qb[2] += slip;
+  p.q = {qa[0], qa[1], qa[2], qb[0], qb[1], qb[2], v_free, 0, 0};
+  p.friction = {0.0, mu, mu};
+  validate(p);
+  return p;
+}
+
+NlgsOptions options()
+{
+  NlgsOptions o;
+  o.tolerance = 1e-10;
+  o.relaxation = 1.0;
+  o.max_sweeps = 100000;
+  o.full_error_interval = 1;
+  return o;
+}
+} // namespace
+
+TEST(FrictionlessCondensation, HoldsTheRimNodeOnTheBaseAndFindsTheAnswer)
+{
+  // Plain Gauss–Seidel creeps for ~3,000 sweeps here
+  // (DriftExtrapolation.GaussSeidelCreepsAlongTheRimNodesSegment). With
+  // the base held the node cannot move vertically, the neighbour's
+  // vertical slip is what it is whatever its friction, and it slides at
+  // once.
+  const FrictionContactProblem3D p = rim_node();
+  std::vector<double> r(9, 0.0), u(9);
+  FrictionlessCondensation<3> condensation(p);
+  EXPECT_EQ(condensation.condensed(), 1u);
+  const CondensedResult result = condensation.solve(p, r, u, options());
+  EXPECT_TRUE(result.nlgs.converged);
+  EXPECT_LE(result.nlgs.iterations, 5);
+  EXPECT_EQ(result.held, 1u);
+  EXPECT_EQ(result.rounds, 1);
+  // By hand (as the drift test's answer): r_n = v0 / c at the neighbour,
+  // r_t2 = -mu r_n, and the base (1 + mu) v0 / c
+  const double scale = v0 / c;
+  EXPECT_NEAR(r[0], (1 + mu) * scale, 1e-12 * scale);
+  EXPECT_NEAR(r[3], scale, 1e-12 * scale);
+  EXPECT_NEAR(r[4], 0.0, 1e-12 * scale);
+  EXPECT_NEAR(r[5], -mu * scale, 1e-12 * scale);
+  EXPECT_NEAR(r[6], scale, 1e-12 * scale);
+  // The error is the whole problem's, recomputed here
+  std::vector<double> u_check(9);
+  EXPECT_LE(compute_error(p, r, u_check, 1e-12).value, 1e-10);
+  EXPECT_NEAR(u[2], u_check[2], 1e-15);
+}
+
+TEST(FrictionlessCondensation, LetsGoOfABaseContactThatWouldPull)
+{
+  // The node rises off the base fast enough that the neighbour's friction
+  // (at most mu v0 down) cannot hold it: started held (a pushing reaction
+  // from the last step), its reaction comes out pulling, it is let go and
+  // the node leaves the base: r = 0 there, u_n > 0.
+  const FrictionContactProblem3D p = rim_node(+2 * mu * v0);
+  std::vector<double> r(9, 0.0), u(9);
+  r[0] = v0 / c;
+  const CondensedResult result =
+      FrictionlessCondensation<3>(p).solve(p, r, u, options());
+  EXPECT_TRUE(result.nlgs.converged);
+  EXPECT_EQ(result.rounds, 2);
+  EXPECT_EQ(result.held, 0u);
+  EXPECT_EQ(r[0], 0.0);
+  EXPECT_GT(u[0], 0.0);
+  std::vector<double> u_check(9);
+  EXPECT_LE(compute_error(p, r, u_check, 1e-12).value, 1e-10);
+}
+
+TEST(FrictionlessCondensation, SweepsABaseContactThatWasNotPushing)
+{
+  // The node rises slowly (less than the neighbour's friction pulls it
+  // down): at the start the base contact has no reaction and an opening
+  // free velocity, so it is not held but swept with the others, and the
+  // sweeps close it. The next solve on this W (a Newton iteration of the
+  // same step) keeps it swept; a new W's first solve (the next time step,
+  // warm started from this answer) holds it.
+  const double rise = 0.5 * mu * v0;
+  const FrictionContactProblem3D p = rim_node(rise);
+  std::vector<double> r(9, 0.0), u(9);
+  FrictionlessCondensation<3> condensation(p);
+  const CondensedResult first = condensation.solve(p, r, u, options());
+  EXPECT_TRUE(first.nlgs.converged);
+  EXPECT_EQ(first.rounds, 1);
+  EXPECT_EQ(first.held, 0u);
+  const double scale = v0 / c;
+  EXPECT_NEAR(r[0], mu * scale - rise / c, 1e-8 * scale);
+  EXPECT_NEAR(r[5], -mu * scale, 1e-8 * scale);
+  const CondensedResult same = condensation.solve(p, r, u, options());
+  EXPECT_TRUE(same.nlgs.converged);
+  EXPECT_EQ(same.held, 0u);
+  const CondensedResult next =
+      FrictionlessCondensation<3>(p).solve(p, r, u, options());
+  EXPECT_TRUE(next.nlgs.converged);
+  EXPECT_EQ(next.held, 1u);
+  EXPECT_LE(next.nlgs.iterations, 2);
+  EXPECT_NEAR(r[0], mu * scale - rise / c, 1e-8 * scale);
+  std::vector<double> u_check(9);
+  EXPECT_LE(compute_error(p, r, u_check, 1e-12).value, 1e-10);
+}
+
+TEST(FrictionlessCondensation, WithoutFrictionlessSetsIsThePlainSolve)
+{
+  FrictionContactProblem3D p = rim_node();
+  p.friction[0] = mu; // nothing to condense
+  std::vector<double> r(9, 0.0), u(9), r_plain(9, 0.0), u_plain(9);
+  const CondensedResult result =
+      FrictionlessCondensation<3>(p).solve(p, r, u, options());
+  const NlgsResult plain = solve_nlgs(p, r_plain, u_plain, options());
+  EXPECT_EQ(result.condensed, 0u);
+  EXPECT_EQ(result.nlgs.iterations, plain.iterations);
+  EXPECT_EQ(r, r_plain);
+}
+
+TEST(FrictionlessCondensation, RefusesAnotherWAndOtherNames)
+{
+  const FrictionContactProblem3D p = rim_node(), other = rim_node();
+  std::vector<double> r(9, 0.0), u(9);
+  FrictionlessCondensation<3> condensation(p);
+  EXPECT_THROW(condensation.solve(other, r, u, options()),
+               std::invalid_argument);
+  EXPECT_TRUE(condenses("on", 3));
+  EXPECT_FALSE(condenses("off", 3));
+  EXPECT_FALSE(condenses("off", 2));
+  EXPECT_THROW(condenses("on", 2), std::invalid_argument);
+  EXPECT_THROW(condenses("auto", 3), std::invalid_argument);
+}
