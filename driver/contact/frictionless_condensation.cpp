@@ -3,8 +3,8 @@
 #include "coupling_graph.h"
 #include "error.h"
 
-#include <Eigen/LU>
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <algorithm>
 #include <optional>
 #include <stdexcept>
@@ -104,14 +104,18 @@ template <int D> struct FrictionlessCondensation<D>::Sets
     if (started)
       return;
     started = true;
-    const bool cold = std::all_of(r.begin(), r.end(),
-                                  [](double x) { return x == 0; });
+    const bool cold =
+        std::all_of(r.begin(), r.end(), [](double x) { return x == 0; });
     for (const auto& set : sets)
       for (const std::int32_t a : set)
         hold[a] = cold ? p.q[D * a] < 0 : r[D * a] > 0;
   }
   /// The reduced W (and the sets' X, C) of the held set
   void reduce(const FrictionContactProblem<D>& p);
+  /// The reduced problem's W, friction and cohesion from p's and the held
+  /// sets' corrections (q: set_q)
+  void assemble(const FrictionContactProblem<D>& p,
+                FrictionContactProblem<D>& red) const;
   /// The reduced q of p's q, and the kept contacts' reactions from r
   void set_q(const FrictionContactProblem<D>& p, std::span<const double> r,
              std::vector<double>& r_kept);
@@ -239,7 +243,15 @@ void FrictionlessCondensation<D>::Sets::reduce(
     if (!list.empty())
       held_sets.push_back(condense(p, std::move(list), near[s]));
   }
-  FrictionContactProblem<D>& red = reduced.emplace();
+  assemble(p, reduced.emplace());
+  reduced_hold = hold;
+  plan.reset();
+}
+
+template <int D>
+void FrictionlessCondensation<D>::Sets::assemble(
+    const FrictionContactProblem<D>& p, FrictionContactProblem<D>& red) const
+{
   const std::size_t nk = kept.size();
   red.W = DelassusMatrixD<D>(nk);
   red.q.resize(D * nk);
@@ -289,8 +301,6 @@ void FrictionlessCondensation<D>::Sets::reduce(
     red.W.add_rank_one(contacts, term.g, term.inverse_mass, false);
   }
   red.W.finalize();
-  reduced_hold = hold;
-  plan.reset();
 }
 
 template <int D>
@@ -321,8 +331,8 @@ void FrictionlessCondensation<D>::Sets::set_q(
 }
 
 template <int D>
-void FrictionlessCondensation<D>::Sets::recover(
-    std::span<const double> r_kept, std::span<double> r) const
+void FrictionlessCondensation<D>::Sets::recover(std::span<const double> r_kept,
+                                                std::span<double> r) const
 {
   for (std::size_t a = 0; a < place.size(); ++a)
     for (int j = 0; j < D; ++j)
@@ -382,9 +392,10 @@ template <int D> std::size_t FrictionlessCondensation<D>::condensed() const
 }
 
 template <int D>
-CondensedResult FrictionlessCondensation<D>::solve(
-    const FrictionContactProblem<D>& problem, std::span<double> r,
-    std::span<double> u, const NlgsOptions& options)
+CondensedResult
+FrictionlessCondensation<D>::solve(const FrictionContactProblem<D>& problem,
+                                   std::span<double> r, std::span<double> u,
+                                   const NlgsOptions& options)
 {
   Sets& s = *_sets;
   if (&problem.W != s.W or problem.num_contacts() != s.place.size())
@@ -425,10 +436,9 @@ CondensedResult FrictionlessCondensation<D>::solve(
         compute_error(problem, r, u, options.q_zero_tolerance);
     // Pulls beyond a thousandth of what the tolerance allows let go;
     // smaller ones are within the error reported
-    const int released =
-        e.value <= options.tolerance
-            ? 0
-            : s.release(r, 1e-3 * options.tolerance * e.scale);
+    const int released = e.value <= options.tolerance
+                             ? 0
+                             : s.release(r, 1e-3 * options.tolerance * e.scale);
     if (released == 0 or sweeps >= options.max_sweeps)
     {
       result.nlgs = nlgs;
@@ -445,11 +455,13 @@ CondensedResult FrictionlessCondensation<D>::solve(
 
 bool softpack::contact::condenses(const std::string& name, int dim)
 {
+  if (name == "auto")
+    return dim == 3;
   if (name == "off")
     return false;
   if (name != "on")
     throw std::invalid_argument("contact.nlgs_condensation \"" + name +
-                                "\": must be \"on\" or \"off\"");
+                                "\": must be \"auto\", \"on\" or \"off\"");
   if (dim != 3)
     throw std::invalid_argument(
         "contact.nlgs_condensation = \"on\": 3D runs only (a 2D problem "

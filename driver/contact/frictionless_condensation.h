@@ -6,8 +6,8 @@
 
 #include <cstddef>
 #include <memory>
-#include <string>
 #include <span>
+#include <string>
 
 namespace softpack::contact
 {
@@ -88,7 +88,7 @@ private:
 };
 
 /// Whether a D-dimensional run condenses (the schema's
-/// contact.nlgs_condensation: "on" or "off")
+/// contact.nlgs_condensation: "auto", on in 3D; "on", 3D only; "off")
 /// @throws std::invalid_argument naming the allowed names, or for "on" in
 /// 2D
 bool condenses(const std::string& name, int dim);
