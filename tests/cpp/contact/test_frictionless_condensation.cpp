@@ -3,6 +3,7 @@
 // and the whole problem's error.
 #include "error.h"
 #include "frictionless_condensation.h"
+#include "rim_node.h"
 
 #include <gtest/gtest.h>
 
@@ -10,39 +11,11 @@ using namespace softpack::contact;
 
 namespace
 {
-constexpr double c = 1e5;     // a node's compliance, isotropic (m/s per N s)
-constexpr double mu = 0.3;    // the neighbour's friction
-constexpr double v0 = 0.1;    // the node's free speed into both (m/s)
-constexpr double slip = 1e-5; // the neighbour's vertical speed (m/s)
-
-/// The rim node of test_drift_extrapolation.cpp: contact 0 the
-/// frictionless base (normal z), contact 1 a neighbour with friction
-/// (normal x, second tangent z), both on one node of compliance c I; the
-/// neighbour moves down by `slip`, so it slides. With `free_node`, a third
-/// contact on a node of its own (friction mu, free velocity `v_free` along
-/// its normal) keeps the reduced problem non-empty.
-FrictionContactProblem3D rim_node(double base_speed = -v0, double v_free = -v0)
+using namespace rim_node;
+/// The rim node with a free node beside it (rim_node.h)
+FrictionContactProblem3D rim_node_problem(double base_speed = -v0)
 {
-  Eigen::Matrix3d Ra, Rb; // columns n, t1, t2 in world components
-  Ra << 0, 1, 0, 0, 0, 1, 1, 0, 0;
-  Rb << 1, 0, 0, 0, 1, 0, 0, 0, 1;
-  const Eigen::Matrix3d C = c * Eigen::Matrix3d::Identity();
-  FrictionContactProblem3D p;
-  p.W = DelassusMatrix3D(3);
-  p.W.add_block(0, 0, Ra.transpose() * C * Ra);
-  p.W.add_block(1, 1, Rb.transpose() * C * Rb);
-  p.W.add_block(0, 1, Ra.transpose() * C * Rb);
-  p.W.add_block(1, 0, Rb.transpose() * C * Ra);
-  p.W.add_block(2, 2, C);
-  p.W.finalize();
-  const Eigen::Vector3d v(-v0, 0, base_speed);
-  const Eigen::Vector3d qa = Ra.transpose() * v;
-  Eigen::Vector3d qb = Rb.transpose() * v;
-  qb[2] += slip;
-  p.q = {qa[0], qa[1], qa[2], qb[0], qb[1], qb[2], v_free, 0, 0};
-  p.friction = {0.0, mu, mu};
-  validate(p);
-  return p;
+  return rim_node::problem(base_speed, true);
 }
 
 NlgsOptions options()
@@ -63,7 +36,7 @@ TEST(FrictionlessCondensation, HoldsTheRimNodeOnTheBaseAndFindsTheAnswer)
   // the base held the node cannot move vertically, the neighbour's
   // vertical slip is what it is whatever its friction, and it slides at
   // once.
-  const FrictionContactProblem3D p = rim_node();
+  const FrictionContactProblem3D p = rim_node_problem();
   std::vector<double> r(9, 0.0), u(9);
   FrictionlessCondensation<3> condensation(p);
   EXPECT_EQ(condensation.condensed(), 1u);
@@ -72,14 +45,8 @@ TEST(FrictionlessCondensation, HoldsTheRimNodeOnTheBaseAndFindsTheAnswer)
   EXPECT_LE(result.nlgs.iterations, 5);
   EXPECT_EQ(result.held, 1u);
   EXPECT_EQ(result.rounds, 1);
-  // By hand (as the drift test's answer): r_n = v0 / c at the neighbour,
-  // r_t2 = -mu r_n, and the base (1 + mu) v0 / c
-  const double scale = v0 / c;
-  EXPECT_NEAR(r[0], (1 + mu) * scale, 1e-12 * scale);
-  EXPECT_NEAR(r[3], scale, 1e-12 * scale);
-  EXPECT_NEAR(r[4], 0.0, 1e-12 * scale);
-  EXPECT_NEAR(r[5], -mu * scale, 1e-12 * scale);
-  EXPECT_NEAR(r[6], scale, 1e-12 * scale);
+  expect_answer(r, 1e-12);
+  EXPECT_NEAR(r[6], v0 / c, 1e-12 * v0 / c);
   // The error is the whole problem's, recomputed here
   std::vector<double> u_check(9);
   EXPECT_LE(compute_error(p, r, u_check, 1e-12).value, 1e-10);
@@ -92,7 +59,7 @@ TEST(FrictionlessCondensation, LetsGoOfABaseContactThatWouldPull)
   // (at most mu v0 down) cannot hold it: started held (a pushing reaction
   // from the last step), its reaction comes out pulling, it is let go and
   // the node leaves the base: r = 0 there, u_n > 0.
-  const FrictionContactProblem3D p = rim_node(+2 * mu * v0);
+  const FrictionContactProblem3D p = rim_node_problem(+2 * mu * v0);
   std::vector<double> r(9, 0.0), u(9);
   r[0] = v0 / c;
   const CondensedResult result =
@@ -115,7 +82,7 @@ TEST(FrictionlessCondensation, SweepsABaseContactThatWasNotPushing)
   // same step) keeps it swept; a new W's first solve (the next time step,
   // warm started from this answer) holds it.
   const double rise = 0.5 * mu * v0;
-  const FrictionContactProblem3D p = rim_node(rise);
+  const FrictionContactProblem3D p = rim_node_problem(rise);
   std::vector<double> r(9, 0.0), u(9);
   FrictionlessCondensation<3> condensation(p);
   const CondensedResult first = condensation.solve(p, r, u, options());
@@ -140,7 +107,7 @@ TEST(FrictionlessCondensation, SweepsABaseContactThatWasNotPushing)
 
 TEST(FrictionlessCondensation, WithoutFrictionlessSetsIsThePlainSolve)
 {
-  FrictionContactProblem3D p = rim_node();
+  FrictionContactProblem3D p = rim_node_problem();
   p.friction[0] = mu; // nothing to condense
   std::vector<double> r(9, 0.0), u(9), r_plain(9, 0.0), u_plain(9);
   const CondensedResult result =
@@ -153,7 +120,8 @@ TEST(FrictionlessCondensation, WithoutFrictionlessSetsIsThePlainSolve)
 
 TEST(FrictionlessCondensation, RefusesAnotherWAndOtherNames)
 {
-  const FrictionContactProblem3D p = rim_node(), other = rim_node();
+  const FrictionContactProblem3D p = rim_node_problem(),
+                                 other = rim_node_problem();
   std::vector<double> r(9, 0.0), u(9);
   FrictionlessCondensation<3> condensation(p);
   EXPECT_THROW(condensation.solve(other, r, u, options()),
