@@ -87,8 +87,11 @@ TEST(FrictionlessCondensation, SweepsABaseContactThatWasNotPushing)
   FrictionlessCondensation<3> condensation(p);
   const CondensedResult first = condensation.solve(p, r, u, options());
   EXPECT_TRUE(first.nlgs.converged);
-  EXPECT_EQ(first.rounds, 1);
   EXPECT_EQ(first.held, 0u);
+  // Swept, the pair creeps as plain Gauss–Seidel does, in rounds of 500
+  // sweeps (nothing to let go between them)
+  EXPECT_GT(first.nlgs.iterations, 500);
+  EXPECT_EQ(first.rounds, (first.nlgs.iterations + 499) / 500);
   const double scale = v0 / c;
   EXPECT_NEAR(r[0], mu * scale - rise / c, 1e-8 * scale);
   EXPECT_NEAR(r[5], -mu * scale, 1e-8 * scale);
