@@ -86,7 +86,8 @@ template <int D> struct FrictionlessCondensation<D>::Sets
 {
   Sets(const FrictionContactProblem<D>& problem, std::size_t largest_set)
       : W(&problem.W), sets(condensable_sets(problem, largest_set)),
-        set_of(problem.num_contacts(), -1), place(problem.num_contacts(), -1),
+        set_of(problem.num_contacts(), -1),
+        position(problem.num_contacts(), -1), place(problem.num_contacts(), -1),
         hold(problem.num_contacts(), 0)
   {
     for (std::size_t s = 0; s < sets.size(); ++s)
@@ -139,6 +140,10 @@ template <int D> struct FrictionlessCondensation<D>::Sets
   const DelassusMatrixD<D>* W;
   std::vector<std::vector<std::int32_t>> sets;
   std::vector<std::int32_t> set_of;
+  /// condense()'s scratch: a held contact's or neighbour's position in its
+  /// set's matrices, -1 between calls (one vector of the problem's size
+  /// per set was made at every time step)
+  mutable std::vector<std::int32_t> position;
   /// Per contact: its number in the reduced problem (kept), or -1
   std::vector<std::int32_t> place;
   std::vector<std::int32_t> kept;
@@ -184,7 +189,7 @@ HeldSet FrictionlessCondensation<D>::Sets::condense(
   const auto m = static_cast<Eigen::Index>(held_list.size());
   const auto np = static_cast<Eigen::Index>(near.size());
   // Each held contact's and neighbour's position in the set's matrices
-  std::vector<std::int32_t> at(p.num_contacts(), -1);
+  std::vector<std::int32_t>& at = position;
   for (Eigen::Index i = 0; i < m; ++i)
     at[held_list[i]] = static_cast<std::int32_t>(i);
   for (Eigen::Index k = 0; k < np; ++k)
@@ -216,6 +221,10 @@ HeldSet FrictionlessCondensation<D>::Sets::condense(
       if (held(columns[j]) and set_of[columns[j]] == set_of[held_list[0]])
         s.C.block(D * k, at[columns[j]], D, 1) = blocks[j].col(0);
   }
+  for (const std::int32_t a : held_list)
+    at[a] = -1;
+  for (const std::int32_t b : near)
+    at[b] = -1;
   s.lu.compute(N);
   s.X = s.lu.solve(B);
   s.held = std::move(held_list);
