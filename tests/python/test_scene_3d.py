@@ -321,3 +321,17 @@ def test_a_base_area_fraction_stop_needs_standing_cylinders():
     refused(data, "[stop] base_area_fraction", "standing cylinders only")
     validate(cylinders(**{"stop.base_area_fraction": 0.8,
                           "stop.packing_fraction": 0.0}), "scene3d.toml")
+
+
+def test_the_base_held_is_refused_in_2d():
+    """contact.nlgs_condensation = "on" holds frictionless sets in 3D only;
+    a 2D scene is refused before the run, "auto" is off there."""
+    data = cylinders(**{"model.dimension": 2, "box.height": 0.0,
+                        "contact.nlgs_condensation": "on"})
+    data["species"] = [{"shape": "disk", "diameter": 0.02, "count": 3}]
+    refused(data, "[contact] nlgs_condensation", "3D only")
+    data["contact"]["nlgs_condensation"] = "auto"
+    assert validate(data, "scene3d.toml")["model"]["dimension"] == 2
+    held = validate(cylinders(**{"contact.nlgs_condensation": "on"}),
+                    "scene3d.toml")
+    assert held["contact"]["nlgs_condensation"] == "on"

@@ -51,6 +51,11 @@ def check(sections, registry=None) -> None:
                 "[stop] base_area_fraction: the bottom faces of standing"
                 " cylinders, a 3D measure; in 2D [stop] packing_fraction is"
                 " the disks' area fraction")
+        if sections["contact"]["nlgs_condensation"] == "on":
+            raise DimensionError(
+                "[contact] nlgs_condensation = \"on\": the base held out of"
+                " the sweeps is 3D only ([model] dimension = 3); in 2D:"
+                " \"auto\" or \"off\"")
         return
     _check_features(sections)
     _check_laws(sections, registry)

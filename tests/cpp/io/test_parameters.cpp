@@ -21,7 +21,7 @@ json paper_sections()
              "base_area_fraction": 0.0},
     "contact": {"friction": 0.3, "alert_distance": 2e-4, "max_penetration": 5e-4,
                 "nlgs_tolerance": 1e-6, "nlgs_max_sweeps": 2000,
-                "nlgs_relaxation": 1.7, "nlgs_order": "alternate", "nlgs_update": "auto", "nlgs_condensation": "off", "nlgs_extrapolation": "auto",
+                "nlgs_relaxation": 1.7, "nlgs_order": "alternate", "nlgs_update": "auto", "nlgs_condensation": "auto", "nlgs_extrapolation": "auto",
                 "delassus_drop_tolerance": 1e-9},
     "time": {"time_step": 7.2e-5, "max_step_factor": 1.0, "theta": 0.55,
              "mass": "consistent",
