@@ -1,8 +1,10 @@
 #pragma once
 // The contacts' coupling graph (W's stored blocks) and its breadth-first
 // levels: the sweep split's level sets (sweep_split.cpp) and a problem's
-// frictionless sets (problem_structure.cpp) walk the same graph.
+// frictionless sets (problem_structure.cpp, frictionless_condensation.cpp)
+// walk the same graph.
 #include "DelassusMatrix.h"
+#include "problem.h"
 
 #include <cstdint>
 #include <span>
@@ -67,6 +69,27 @@ inline std::vector<std::int32_t> levels_from(const Graph& g, std::int32_t start,
         order.push_back(b);
       }
   return order;
+}
+
+/// The frictionless contacts (friction 0, no cohesion) not `excluded`, in
+/// the sets W's stored blocks connect (either way), each in the order a
+/// breadth-first walk from its first contact reached it
+template <int D>
+std::vector<std::vector<std::int32_t>>
+frictionless_sets(const FrictionContactProblem<D>& problem,
+                  std::vector<char> excluded)
+{
+  const std::size_t n = problem.num_contacts();
+  for (std::size_t a = 0; a < n; ++a)
+    excluded[a] =
+        excluded[a] or problem.friction[a] != 0 or problem.cohesion_of(a) != 0;
+  const Graph g = coupling_graph(problem.W, excluded);
+  std::vector<std::int32_t> level(n, -1);
+  std::vector<std::vector<std::int32_t>> sets;
+  for (std::size_t a = 0; a < n; ++a)
+    if (!excluded[a] and level[a] < 0)
+      sets.push_back(levels_from(g, static_cast<std::int32_t>(a), level));
+  return sets;
 }
 
 } // namespace softpack::contact

@@ -13,29 +13,20 @@ using namespace softpack::contact;
 
 namespace
 {
-/// The condensable contacts' sets: frictionless, without cohesion, in no
-/// rank-one term, connected by W's stored blocks; sets larger than
-/// `largest` are left out (their contacts are swept)
+/// The condensable contacts' sets: the frictionless sets of contacts in
+/// no rank-one term (a servo wall's); sets larger than `largest` are left
+/// out (their contacts are swept)
 template <int D>
 std::vector<std::vector<std::int32_t>>
 condensable_sets(const FrictionContactProblem<D>& problem, std::size_t largest)
 {
-  const std::size_t n = problem.num_contacts();
-  std::vector<char> other(n);
-  for (std::size_t a = 0; a < n; ++a)
-    other[a] = problem.friction[a] != 0 or problem.cohesion_of(a) != 0 or
-               !problem.W.terms_of(a).empty();
-  const Graph g = coupling_graph(problem.W, other);
-  std::vector<std::int32_t> level(n, -1);
-  std::vector<std::vector<std::int32_t>> sets;
-  for (std::size_t a = 0; a < n; ++a)
-    if (!other[a] and level[a] < 0)
-    {
-      std::vector<std::int32_t> set =
-          levels_from(g, static_cast<std::int32_t>(a), level);
-      if (set.size() <= largest)
-        sets.push_back(std::move(set));
-    }
+  std::vector<char> in_terms(problem.num_contacts());
+  for (std::size_t a = 0; a < in_terms.size(); ++a)
+    in_terms[a] = !problem.W.terms_of(a).empty();
+  std::vector<std::vector<std::int32_t>> sets =
+      frictionless_sets(problem, std::move(in_terms));
+  std::erase_if(sets, [largest](const std::vector<std::int32_t>& set)
+                { return set.size() > largest; });
   return sets;
 }
 

@@ -36,25 +36,6 @@ void count_couplings(const DelassusMatrixD<D>& W, ProblemStructure& s)
   }
 }
 //-----------------------------------------------------------------------------
-/// The frictionless contacts' sets connected by W's stored blocks (either
-/// way), each in the order a breadth-first walk reached it
-template <int D>
-std::vector<std::vector<std::int32_t>>
-frictionless_sets(const FrictionContactProblem<D>& problem)
-{
-  const std::size_t n = problem.num_contacts();
-  std::vector<char> other(n);
-  for (std::size_t a = 0; a < n; ++a)
-    other[a] = problem.friction[a] != 0 or problem.cohesion_of(a) != 0;
-  const Graph g = coupling_graph(problem.W, other);
-  std::vector<std::int32_t> level(n, -1);
-  std::vector<std::vector<std::int32_t>> sets;
-  for (std::size_t a = 0; a < n; ++a)
-    if (!other[a] and level[a] < 0)
-      sets.push_back(levels_from(g, static_cast<std::int32_t>(a), level));
-  return sets;
-}
-//-----------------------------------------------------------------------------
 /// W's normal block over a set, scaled by its diagonal
 template <int D>
 Eigen::MatrixXd scaled_normal_block(const DelassusMatrixD<D>& W,
@@ -91,7 +72,7 @@ softpack::contact::problem_structure(const FrictionContactProblem<D>& problem)
   count_couplings(problem.W, s);
 
   const std::vector<std::vector<std::int32_t>> sets =
-      frictionless_sets(problem);
+      frictionless_sets(problem, std::vector<char>(s.contacts));
   for (const std::vector<std::int32_t>& set : sets)
     s.frictionless += set.size();
   s.frictionless_sets = sets.size();
