@@ -43,7 +43,8 @@ void DelassusMatrixD<D>::add_block(std::size_t a, std::size_t b,
 template <int D>
 void DelassusMatrixD<D>::add_rank_one(std::span<const std::int32_t> contacts,
                                       std::span<const Vector> g,
-                                      double inverse_mass, bool add_diagonal)
+                                      double inverse_mass, bool add_diagonal,
+                                      Reach reach)
 {
   if (_finalized)
     throw std::logic_error("DelassusMatrix::add_rank_one after finalize()");
@@ -64,8 +65,10 @@ void DelassusMatrixD<D>::add_rank_one(std::span<const std::int32_t> contacts,
   if (add_diagonal)
     for (std::size_t i = 0; i < contacts.size(); ++i)
       _diagonal[contacts[i]] += inverse_mass * g[i] * g[i].transpose();
-  _terms.push_back(
-      {{contacts.begin(), contacts.end()}, {g.begin(), g.end()}, inverse_mass});
+  _terms.push_back({{contacts.begin(), contacts.end()},
+                    {g.begin(), g.end()},
+                    inverse_mass,
+                    reach == Reach::local});
 }
 //-----------------------------------------------------------------------------
 template <int D> void DelassusMatrixD<D>::index_terms()

@@ -140,6 +140,19 @@ public:
     std::vector<std::int32_t> contacts;
     std::vector<Vector> g;
     double inverse_mass = 0;
+    /// Whether its contacts are near one another (one body's, and those
+    /// W's blocks couple to them: a held set's term,
+    /// FrictionlessCondensation), so that a split sweep may keep them on
+    /// one side of its separator; a term spread over the packing (a servo
+    /// unknown's) is in the separator (split_for_two_threads)
+    bool local = false;
+  };
+
+  /// Where a rank-one term's contacts lie (RankOne::local)
+  enum class Reach
+  {
+    spread,
+    local
   };
 
   /// Add a rank-one term (builder phase). Its diagonal blocks
@@ -151,7 +164,7 @@ public:
   /// sizes that differ
   void add_rank_one(std::span<const std::int32_t> contacts,
                     std::span<const Vector> g, double inverse_mass,
-                    bool add_diagonal = true);
+                    bool add_diagonal = true, Reach reach = Reach::spread);
 
   /// @return The rank-one terms
   std::span<const RankOne> rank_one_terms() const { return _terms; }

@@ -3,11 +3,12 @@
 #include "coupling_graph.h"
 #include "error.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <Eigen/LU>
 #include <algorithm>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 using namespace softpack::contact;
 
@@ -69,7 +70,14 @@ struct HeldSet
   /// the solve's q)
   Eigen::MatrixXd X, C;
   Eigen::VectorXd y;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  /// W_SS = P^T L D L^T P (its normal blocks made symmetric: W is, to its
+  /// blocks' rounding)
+  Eigen::LDLT<Eigen::MatrixXd> ldlt;
+  /// Whether the reduced W takes C X as its m rank-one terms rather than
+  /// as p^2 blocks: a sweep then reads 2 m terms at each neighbour instead
+  /// of p blocks (the dense 100 cylinders: m ~ 4 pushing base nodes a
+  /// body, p ~ 200 neighbours; a body settling on the base: m > p)
+  bool as_terms() const { return held.size() < neighbours.size(); }
 };
 } // namespace
 
@@ -112,6 +120,14 @@ template <int D> struct FrictionlessCondensation<D>::Sets
   /// sets' corrections (q: set_q)
   void assemble(const FrictionContactProblem<D>& p,
                 FrictionContactProblem<D>& red) const;
+  using Block = typename DelassusMatrixD<D>::Block;
+  /// A held set's correction -C X of the reduced W as blocks, or as its
+  /// rank-one terms (HeldSet::as_terms), the diagonal blocks' share
+  /// subtracted from `diagonal`
+  void add_blocks(const HeldSet& s, DelassusMatrixD<D>& reduced_W,
+                  std::vector<Block>& diagonal) const;
+  void add_terms(const HeldSet& s, DelassusMatrixD<D>& reduced_W,
+                 std::vector<Block>& diagonal) const;
   /// The reduced q of p's q, and the kept contacts' reactions from r
   void set_q(const FrictionContactProblem<D>& p, std::span<const double> r,
              std::vector<double>& r_kept);
@@ -216,8 +232,13 @@ HeldSet FrictionlessCondensation<D>::Sets::condense(
     at[a] = -1;
   for (const std::int32_t b : near)
     at[b] = -1;
-  s.lu.compute(N);
-  s.X = s.lu.solve(B);
+  s.ldlt.compute(0.5 * (N + N.transpose()));
+  if (s.ldlt.info() != Eigen::Success or (s.ldlt.vectorD().array() <= 0).any())
+    throw std::runtime_error(
+        "FrictionlessCondensation: a held set's normal block of W is not "
+        "positive definite (" +
+        std::to_string(m) + " contacts)");
+  s.X = s.ldlt.solve(B);
   s.held = std::move(held_list);
   s.neighbours = std::move(near);
   return s;
@@ -266,7 +287,8 @@ void FrictionlessCondensation<D>::Sets::assemble(
   for (const std::int32_t a : kept)
     blocks += p.W.row_columns(a).size();
   for (const HeldSet& s : held_sets)
-    blocks += s.neighbours.size() * s.neighbours.size();
+    if (!s.as_terms())
+      blocks += s.neighbours.size() * s.neighbours.size();
   red.W.reserve(blocks);
   std::vector<typename DelassusMatrixD<D>::Block> diagonal(nk);
   for (std::size_t i = 0; i < nk; ++i)
@@ -283,18 +305,10 @@ void FrictionlessCondensation<D>::Sets::assemble(
       red.cohesion[i] = p.cohesion[a];
   }
   for (const HeldSet& s : held_sets)
-  {
-    const Eigen::MatrixXd correction = s.C * s.X;
-    const auto np = static_cast<Eigen::Index>(s.neighbours.size());
-    for (Eigen::Index k = 0; k < np; ++k)
-      for (Eigen::Index l = 0; l < np; ++l)
-        if (k == l)
-          diagonal[place[s.neighbours[k]]] -=
-              correction.template block<D, D>(D * k, D * k);
-        else
-          red.W.add_block(place[s.neighbours[k]], place[s.neighbours[l]],
-                          -correction.template block<D, D>(D * k, D * l));
-  }
+    if (s.as_terms())
+      add_terms(s, red.W, diagonal);
+    else
+      add_blocks(s, red.W, diagonal);
   for (std::size_t i = 0; i < nk; ++i)
     red.W.add_block(i, i, definite(diagonal[i]));
   for (const auto& term : p.W.rank_one_terms())
@@ -305,6 +319,51 @@ void FrictionlessCondensation<D>::Sets::assemble(
     red.W.add_rank_one(contacts, term.g, term.inverse_mass, false);
   }
   red.W.finalize();
+}
+
+template <int D>
+void FrictionlessCondensation<D>::Sets::add_blocks(
+    const HeldSet& s, DelassusMatrixD<D>& reduced_W,
+    std::vector<Block>& diagonal) const
+{
+  const Eigen::MatrixXd correction = s.C * s.X;
+  const auto np = static_cast<Eigen::Index>(s.neighbours.size());
+  for (Eigen::Index k = 0; k < np; ++k)
+    for (Eigen::Index l = 0; l < np; ++l)
+      if (k == l)
+        diagonal[place[s.neighbours[k]]] -=
+            correction.template block<D, D>(D * k, D * k);
+      else
+        reduced_W.add_block(place[s.neighbours[k]], place[s.neighbours[l]],
+                            -correction.template block<D, D>(D * k, D * l));
+}
+
+template <int D>
+void FrictionlessCondensation<D>::Sets::add_terms(
+    const HeldSet& s, DelassusMatrixD<D>& reduced_W,
+    std::vector<Block>& diagonal) const
+{
+  // C W_SS^-1 C^T = Z^T D^-1 Z with Z = L^-1 P C^T: term k is row k of Z
+  // with the factor -1/D_k
+  Eigen::MatrixXd Z = s.ldlt.transpositionsP() * s.C.transpose();
+  s.ldlt.matrixL().solveInPlace(Z);
+  const Eigen::VectorXd inverse_d = s.ldlt.vectorD().cwiseInverse();
+  const auto np = static_cast<Eigen::Index>(s.neighbours.size());
+  std::vector<std::int32_t> contacts(s.neighbours.size());
+  for (Eigen::Index l = 0; l < np; ++l)
+  {
+    contacts[l] = place[s.neighbours[l]];
+    const auto Zl = Z.middleCols(D * l, D);
+    diagonal[contacts[l]] -= Zl.transpose() * inverse_d.asDiagonal() * Zl;
+  }
+  std::vector<typename DelassusMatrixD<D>::Vector> g(s.neighbours.size());
+  for (Eigen::Index k = 0; k < Z.rows(); ++k)
+  {
+    for (Eigen::Index l = 0; l < np; ++l)
+      g[l] = Z.row(k).segment(D * l, D).transpose();
+    reduced_W.add_rank_one(contacts, g, -inverse_d(k), false,
+                           DelassusMatrixD<D>::Reach::local);
+  }
 }
 
 template <int D>
@@ -325,7 +384,7 @@ void FrictionlessCondensation<D>::Sets::set_q(
     Eigen::VectorXd qs(static_cast<Eigen::Index>(s.held.size()));
     for (std::size_t i = 0; i < s.held.size(); ++i)
       qs(static_cast<Eigen::Index>(i)) = p.q[D * s.held[i]];
-    s.y = s.lu.solve(qs);
+    s.y = s.ldlt.solve(qs);
     const Eigen::VectorXd dq = s.C * s.y;
     for (std::size_t k = 0; k < s.neighbours.size(); ++k)
       for (int j = 0; j < D; ++j)
@@ -463,6 +522,8 @@ FrictionlessCondensation<D>::solve(const FrictionContactProblem<D>& problem,
       result.nlgs.converged = done;
       result.held = static_cast<std::size_t>(
           std::count(s.hold.begin(), s.hold.end(), char(1)));
+      result.terms = s.reduced->W.rank_one_terms().size() -
+                     problem.W.rank_one_terms().size();
       return result;
     }
   }

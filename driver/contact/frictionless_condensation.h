@@ -23,6 +23,10 @@ struct CondensedResult
   std::size_t condensed = 0, held = 0;
   /// Reduced problems solved: one more per release
   int rounds = 0;
+  /// The last reduced W's rank-one terms from held sets (one per held
+  /// contact of a set held as terms; the other sets' corrections are
+  /// blocks)
+  std::size_t terms = 0;
 };
 
 /// The frictionless contacts (mu = 0, no cohesion, in no rank-one term of
@@ -37,7 +41,11 @@ struct CondensedResult
 /// \f]
 /// W_SS the set's normal block (dense: the set's size squared). The NLGS
 /// sweeps the reduced problem (its W the Schur complement, coupling only
-/// what W coupled already: the contacts of a set's bodies). A solve holds
+/// what W coupled already: the contacts of a set's bodies). A set's
+/// correction W_PS W_SS^-1 W_SP is kept as blocks (p^2 for p neighbours)
+/// or, when the set holds fewer contacts m than it has neighbours, as m
+/// rank-one terms (from W_SS = P^T L D L^T P: a sweep reads 2 m terms at a
+/// neighbour instead of p blocks). A solve holds
 /// the condensable contacts that push in its start (the last time step's
 /// answer; from r = 0, those whose free velocity closes; the later solves
 /// on the same W, a step's other Newton iterations, start from the last

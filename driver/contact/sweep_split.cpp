@@ -47,11 +47,12 @@ template <int D> SweepSplit split_contacts(const DelassusMatrixD<D>& W)
     return split;
   }
   // The contacts of a rank-one term all read one another (through its
-  // sum): they are held for the separator, the others split.
+  // sum): a spread term's are held for the separator, the others split.
   std::vector<char> held(n, 0);
   for (const auto& term : W.rank_one_terms())
-    for (const std::int32_t c : term.contacts)
-      held[c] = 1;
+    if (!term.local)
+      for (const std::int32_t c : term.contacts)
+        held[c] = 1;
   const Graph g = coupling_graph(W, held);
   std::int32_t num_levels = 0;
   const std::vector<std::int32_t> global =
@@ -77,17 +78,23 @@ template <int D> SweepSplit split_contacts(const DelassusMatrixD<D>& W)
     }
     before += work[k];
   }
+  // 0, 1: the parts; 2: the separator
+  std::vector<char> side(n, 2);
+  for (std::size_t a = 0; a < n; ++a)
+    if (!held[a])
+      side[a] = global[a] < cut ? 0 : global[a] > cut ? 1 : 2;
+  // A local term with contacts in both parts would have both threads
+  // update its sum: its part 1 contacts are swept with the separator
+  for (const auto& term : W.rank_one_terms())
+    if (term.local and
+        std::any_of(term.contacts.begin(), term.contacts.end(),
+                    [&side](std::int32_t c) { return side[c] == 0; }))
+      for (const std::int32_t c : term.contacts)
+        side[c] = side[c] == 1 ? 2 : side[c];
   for (std::size_t a = 0; a < n; ++a)
   {
     const auto c = static_cast<std::int32_t>(a);
-    if (held[a])
-      split.separator.push_back(c);
-    else if (global[a] < cut)
-      split.part[0].push_back(c);
-    else if (global[a] > cut)
-      split.part[1].push_back(c);
-    else
-      split.separator.push_back(c);
+    (side[a] == 2 ? split.separator : split.part[side[a]]).push_back(c);
   }
   return split;
 }

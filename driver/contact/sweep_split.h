@@ -33,7 +33,9 @@ struct SweepSplit
 /// only: the cut level separates the levels before it from those after.
 /// The coupling graph is W's block pattern made symmetric. The contacts of
 /// W's rank-one terms (DelassusMatrix::RankOne), each coupled to all the
-/// others of its term, are all in the separator, the others split.
+/// others of its term, are all in the separator, the others split; a local
+/// term's contacts are split with the others, and those of part[1] moved
+/// to the separator when the term also has some in part[0].
 /// @param[in] W A finalized Delassus operator
 /// @return The split; with fewer than 3 contacts everything is in part[0]
 SweepSplit split_for_two_threads(const DelassusMatrix& W);

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 using namespace softpack::contact;
 
 namespace
@@ -16,6 +18,46 @@ using namespace rim_node;
 FrictionContactProblem3D rim_node_problem(double base_speed = -v0)
 {
   return rim_node::problem(base_speed, true);
+}
+
+/// Three nodes of one body (a random SPD compliance G, 9 x 9), one
+/// contact each: node 0 on a frictionless base (normal z), nodes 1 and 2
+/// against neighbours with friction (normals x and y), all three closing.
+/// W = H G H^T is definite, so the answer is unique; the base contact,
+/// held, has two neighbours: its correction is a rank-one term.
+FrictionContactProblem3D one_body_problem()
+{
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> entry(-1.0, 1.0);
+  Eigen::Matrix<double, 9, 9> A;
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j)
+      A(i, j) = entry(random);
+  const Eigen::Matrix<double, 9, 9> G =
+      c * (A * A.transpose() / 9 + Eigen::Matrix<double, 9, 9>::Identity());
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(),
+                        y = Eigen::Vector3d::UnitY(),
+                        z = Eigen::Vector3d::UnitZ();
+  Eigen::Matrix3d R[3]; // columns n, t1, t2
+  R[0] << z, x, y;
+  R[1] << x, y, z;
+  R[2] << y, z, x;
+  const Eigen::Vector3d v[3] = {
+      {0.01, 0.0, -v0}, {-v0, 0.02, 0.0}, {0.0, -v0, 0.03}};
+  FrictionContactProblem3D p;
+  p.W = DelassusMatrix3D(3);
+  for (int a = 0; a < 3; ++a)
+  {
+    for (int b = 0; b < 3; ++b)
+      p.W.add_block(a, b,
+                    R[a].transpose() * G.block<3, 3>(3 * a, 3 * b) * R[b]);
+    const Eigen::Vector3d qa = R[a].transpose() * v[a];
+    p.q.insert(p.q.end(), {qa[0], qa[1], qa[2]});
+  }
+  p.W.finalize();
+  p.friction = {0.0, mu, mu};
+  validate(p);
+  return p;
 }
 
 NlgsOptions options()
@@ -45,12 +87,37 @@ TEST(FrictionlessCondensation, HoldsTheRimNodeOnTheBaseAndFindsTheAnswer)
   EXPECT_LE(result.nlgs.iterations, 5);
   EXPECT_EQ(result.held, 1u);
   EXPECT_EQ(result.rounds, 1);
+  // one held contact, one neighbour: its correction is a block
+  EXPECT_EQ(result.terms, 0u);
   expect_answer(r, 1e-12);
   EXPECT_NEAR(r[6], v0 / c, 1e-12 * v0 / c);
   // The error is the whole problem's, recomputed here
   std::vector<double> u_check(9);
   EXPECT_LE(compute_error(p, r, u_check, 1e-12).value, 1e-10);
   EXPECT_NEAR(u[2], u_check[2], 1e-15);
+}
+
+TEST(FrictionlessCondensation, AHeldContactWithMoreNeighboursIsARankOneTerm)
+{
+  // The held base contact's correction kept as a rank-one term gives the
+  // answer of the whole problem swept (unique: W is definite)
+  const FrictionContactProblem3D p = one_body_problem();
+  std::vector<double> r(9, 0.0), u(9), r_plain(9, 0.0), u_plain(9);
+  const CondensedResult result =
+      FrictionlessCondensation<3>(p).solve(p, r, u, options());
+  const NlgsResult plain = solve_nlgs(p, r_plain, u_plain, options());
+  ASSERT_TRUE(result.nlgs.converged);
+  ASSERT_TRUE(plain.converged);
+  EXPECT_EQ(result.held, 1u);
+  EXPECT_EQ(result.terms, 1u);
+  EXPECT_GT(r[0], 0.0);
+  const double scale = v0 / c;
+  for (int i = 0; i < 9; ++i)
+    EXPECT_NEAR(r[i], r_plain[i], 1e-8 * scale) << "component " << i;
+  std::vector<double> u_check(9);
+  EXPECT_LE(compute_error(p, r, u_check, 1e-12).value, 1e-10);
+  for (int i = 0; i < 9; ++i)
+    EXPECT_NEAR(u[i], u_check[i], 1e-12 * v0) << "component " << i;
 }
 
 TEST(FrictionlessCondensation, LetsGoOfABaseContactThatWouldPull)

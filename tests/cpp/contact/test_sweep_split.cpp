@@ -81,6 +81,54 @@ TEST(SweepSplit, SeparateComponentsNeedNoSeparatorBetweenThem)
   EXPECT_EQ(split.separator.size(), 1u);
 }
 
+TEST(SweepSplit, ALocalTermKeepsToOneSideOfTheSeparator)
+{
+  // The chain of nine with a rank-one term over contacts 1, 2 and 7, which
+  // the plain chain's split puts in different parts. Local: the split is
+  // the plain chain's but for the term's contacts in part 1, which join
+  // the separator. Spread: all three are the separator.
+  const SweepSplit plain = split_for_two_threads(chains(1, 9));
+  std::vector<int> plain_side(9, 2);
+  for (int k = 0; k < 2; ++k)
+    for (const std::int32_t a : plain.part[k])
+      plain_side[a] = k;
+  const std::vector<std::int32_t> term{1, 2, 7};
+  ASSERT_NE(plain_side[1], plain_side[7]);
+  ASSERT_NE(plain_side[7], 2);
+  using Reach = DelassusMatrix::Reach;
+  for (const Reach reach : {Reach::local, Reach::spread})
+  {
+    DelassusMatrix W(9);
+    for (int a = 0; a < 9; ++a)
+    {
+      W.add_block(a, a, 2 * Eigen::Matrix2d::Identity());
+      if (a + 1 < 9)
+      {
+        W.add_block(a, a + 1, 0.1 * Eigen::Matrix2d::Identity());
+        W.add_block(a + 1, a, 0.1 * Eigen::Matrix2d::Identity());
+      }
+    }
+    const std::vector<Eigen::Vector2d> g(3, Eigen::Vector2d(1.0, 0.0));
+    W.add_rank_one(term, g, 1.0, true, reach);
+    W.finalize();
+    const SweepSplit split = split_for_two_threads(W);
+    expect_valid(W, split);
+    std::vector<int> side(9, 2);
+    for (int k = 0; k < 2; ++k)
+      for (const std::int32_t a : split.part[k])
+        side[a] = k;
+    for (int a = 0; a < 9; ++a)
+    {
+      const bool in_term = std::count(term.begin(), term.end(), a) > 0;
+      if (reach == Reach::spread and in_term)
+        EXPECT_EQ(side[a], 2) << "contact " << a;
+      else if (reach == Reach::local)
+        EXPECT_EQ(side[a], in_term and plain_side[a] == 1 ? 2 : plain_side[a])
+            << "contact " << a;
+    }
+  }
+}
+
 TEST(SweepSplit, FclibProblemsSplitIntoUncoupledParts)
 {
   for (const DataProblem& d : data_problems())
