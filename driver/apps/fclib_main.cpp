@@ -154,6 +154,7 @@ template <int D> bool solve_file(const std::string& file, const Arguments& args)
     line["held"] = condensed.held;
     line["held_terms"] = condensed.terms;
     line["rounds"] = condensed.rounds;
+    line["swept_whole"] = condensed.swept_whole;
   }
   line["seconds"] = elapsed.count();
   line["converged"] = result.converged;

@@ -27,6 +27,9 @@ struct CondensedResult
   /// contact of a set held as terms; the other sets' corrections are
   /// blocks)
   std::size_t terms = 0;
+  /// Sweeps of the whole problem after the held ones (0: none), when
+  /// those used half the budget without an answer
+  int swept_whole = 0;
 };
 
 /// The frictionless contacts (mu = 0, no cohesion, in no rank-one term of
@@ -53,7 +56,9 @@ struct CondensedResult
 /// whose reaction comes out pulling is let go, swept from then on, and
 /// the reduced problem solved again from the last answer. The held set
 /// only shrinks within a solve (an active set that also took contacts
-/// back cycled on a loose 3D packing), so the rounds end. The answer is
+/// back cycled on a loose 3D packing), so the rounds end. The held rounds
+/// get half of the sweeps allowed; if they end without an answer, the
+/// whole problem is swept from theirs with the rest. The answer is
 /// the whole problem's, its error (compute_error) the whole problem's.
 ///
 /// Why: Gauss–Seidel on a rim node pressed on the base and by a neighbour
@@ -91,6 +96,11 @@ public:
   std::size_t condensed() const;
 
 private:
+  /// Sweep the whole problem from r with the rest of the budget (after
+  /// result's sweeps), adding its sweeps to result's
+  static void sweep_whole(const FrictionContactProblem<D>& problem,
+                          std::span<double> r, std::span<double> u,
+                          const NlgsOptions& options, CondensedResult& result);
   struct Sets;
   std::unique_ptr<Sets> _sets;
 };

@@ -120,6 +120,29 @@ TEST(FrictionlessCondensation, AHeldContactWithMoreNeighboursIsARankOneTerm)
     EXPECT_NEAR(u[i], u_check[i], 1e-12 * v0) << "component " << i;
 }
 
+TEST(FrictionlessCondensation, SweepsTheWholeProblemWithTheBudgetsSecondHalf)
+{
+  // Given 4 sweeps, the held rounds stop after 2 without an answer and
+  // the whole problem is swept from theirs with the other 2; its error is
+  // the whole problem's at the end. With enough sweeps the held rounds
+  // find the answer alone.
+  const FrictionContactProblem3D p = one_body_problem();
+  NlgsOptions few = options();
+  few.max_sweeps = 4;
+  std::vector<double> r(9, 0.0), u(9), u_check(9);
+  const CondensedResult cut =
+      FrictionlessCondensation<3>(p).solve(p, r, u, few);
+  EXPECT_EQ(cut.swept_whole, 2);
+  EXPECT_EQ(cut.nlgs.iterations, 4);
+  EXPECT_FALSE(cut.nlgs.converged);
+  EXPECT_DOUBLE_EQ(cut.nlgs.error, compute_error(p, r, u_check, 1e-12).value);
+  std::fill(r.begin(), r.end(), 0.0);
+  const CondensedResult enough =
+      FrictionlessCondensation<3>(p).solve(p, r, u, options());
+  EXPECT_TRUE(enough.nlgs.converged);
+  EXPECT_EQ(enough.swept_whole, 0);
+}
+
 TEST(FrictionlessCondensation, LetsGoOfABaseContactThatWouldPull)
 {
   // The node rises off the base fast enough that the neighbour's friction
