@@ -2,13 +2,11 @@
 
 #include "coupling_graph.h"
 #include "error.h"
+#include "held_set.h"
 
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <optional>
 #include <stdexcept>
-#include <string>
 
 using namespace softpack::contact;
 
@@ -31,54 +29,10 @@ condensable_sets(const FrictionContactProblem<D>& problem, std::size_t largest)
   return sets;
 }
 
-/// A diagonal block of the reduced W, made definite: a contact that moves
-/// its node along a held contact's normal (the rim node's neighbour, its
-/// friction along the base's normal) keeps no compliance that way, and
-/// the Schur complement leaves a zero eigenvalue of either sign at
-/// rounding (1e-16 of the block), on which the local solver's sticking
-/// answer is not finite. Eigenvalues below 1e-10 of the block's trace are
-/// raised to it: the velocities move by at most that fraction of the
-/// block's own, far below any contact tolerance; blocks without one are
-/// returned as they are.
-template <int D>
-Eigen::Matrix<double, D, D> definite(const Eigen::Matrix<double, D, D>& block)
-{
-  using Block = Eigen::Matrix<double, D, D>;
-  const Block sym = 0.5 * (block + block.transpose());
-  const double floor = 1e-10 * sym.trace();
-  const Eigen::SelfAdjointEigenSolver<Block> eigen(sym);
-  if (eigen.eigenvalues()(0) >= floor)
-    return block;
-  const Eigen::Matrix<double, D, 1> raised =
-      eigen.eigenvalues().cwiseMax(floor);
-  return eigen.eigenvectors() * raised.asDiagonal() *
-             eigen.eigenvectors().transpose() +
-         0.5 * (block - block.transpose());
-}
-
 /// Sweeps in one round of a solve, and rounds in a solve
 constexpr int round_sweeps = 500;
 constexpr int max_rounds = 200;
 
-/// One set's held contacts S condensed: r_S = -(y + X r_P) at the kept
-/// contacts P that W couples to them (`neighbours`); the reduced problem
-/// has W_PP - C X and q_P - C y
-struct HeldSet
-{
-  std::vector<std::int32_t> held, neighbours;
-  /// X = W_SS^-1 W_SP (m x D p), C = W_PS (D p x m), y = W_SS^-1 q_S (of
-  /// the solve's q)
-  Eigen::MatrixXd X, C;
-  Eigen::VectorXd y;
-  /// W_SS = P^T L D L^T P (its normal blocks made symmetric: W is, to its
-  /// blocks' rounding)
-  Eigen::LDLT<Eigen::MatrixXd> ldlt;
-  /// Whether the reduced W takes C X as its m rank-one terms rather than
-  /// as p^2 blocks: a sweep then reads 2 m terms at each neighbour instead
-  /// of p blocks (the dense 100 cylinders: m ~ 4 pushing base nodes a
-  /// body, p ~ 200 neighbours; a body settling on the base: m > p)
-  bool as_terms() const { return held.size() < neighbours.size(); }
-};
 } // namespace
 
 template <int D> struct FrictionlessCondensation<D>::Sets
@@ -120,14 +74,6 @@ template <int D> struct FrictionlessCondensation<D>::Sets
   /// sets' corrections (q: set_q)
   void assemble(const FrictionContactProblem<D>& p,
                 FrictionContactProblem<D>& red) const;
-  using Block = typename DelassusMatrixD<D>::Block;
-  /// A held set's correction -C X of the reduced W as blocks, or as its
-  /// rank-one terms (HeldSet::as_terms), the diagonal blocks' share
-  /// subtracted from `diagonal`
-  void add_blocks(const HeldSet& s, DelassusMatrixD<D>& reduced_W,
-                  std::vector<Block>& diagonal) const;
-  void add_terms(const HeldSet& s, DelassusMatrixD<D>& reduced_W,
-                 std::vector<Block>& diagonal) const;
   /// The reduced q of p's q, and the kept contacts' reactions from r
   void set_q(const FrictionContactProblem<D>& p, std::span<const double> r,
              std::vector<double>& r_kept);
@@ -232,13 +178,7 @@ HeldSet FrictionlessCondensation<D>::Sets::condense(
     at[a] = -1;
   for (const std::int32_t b : near)
     at[b] = -1;
-  s.ldlt.compute(0.5 * (N + N.transpose()));
-  if (s.ldlt.info() != Eigen::Success or (s.ldlt.vectorD().array() <= 0).any())
-    throw std::runtime_error(
-        "FrictionlessCondensation: a held set's normal block of W is not "
-        "positive definite (" +
-        std::to_string(m) + " contacts)");
-  s.X = s.ldlt.solve(B);
+  s.factor(N, B);
   s.held = std::move(held_list);
   s.neighbours = std::move(near);
   return s;
@@ -305,10 +245,7 @@ void FrictionlessCondensation<D>::Sets::assemble(
       red.cohesion[i] = p.cohesion[a];
   }
   for (const HeldSet& s : held_sets)
-    if (s.as_terms())
-      add_terms(s, red.W, diagonal);
-    else
-      add_blocks(s, red.W, diagonal);
+    s.subtract_correction(place, red.W, diagonal);
   for (std::size_t i = 0; i < nk; ++i)
     red.W.add_block(i, i, definite(diagonal[i]));
   for (const auto& term : p.W.rank_one_terms())
@@ -319,51 +256,6 @@ void FrictionlessCondensation<D>::Sets::assemble(
     red.W.add_rank_one(contacts, term.g, term.inverse_mass, false);
   }
   red.W.finalize();
-}
-
-template <int D>
-void FrictionlessCondensation<D>::Sets::add_blocks(
-    const HeldSet& s, DelassusMatrixD<D>& reduced_W,
-    std::vector<Block>& diagonal) const
-{
-  const Eigen::MatrixXd correction = s.C * s.X;
-  const auto np = static_cast<Eigen::Index>(s.neighbours.size());
-  for (Eigen::Index k = 0; k < np; ++k)
-    for (Eigen::Index l = 0; l < np; ++l)
-      if (k == l)
-        diagonal[place[s.neighbours[k]]] -=
-            correction.template block<D, D>(D * k, D * k);
-      else
-        reduced_W.add_block(place[s.neighbours[k]], place[s.neighbours[l]],
-                            -correction.template block<D, D>(D * k, D * l));
-}
-
-template <int D>
-void FrictionlessCondensation<D>::Sets::add_terms(
-    const HeldSet& s, DelassusMatrixD<D>& reduced_W,
-    std::vector<Block>& diagonal) const
-{
-  // C W_SS^-1 C^T = Z^T D^-1 Z with Z = L^-1 P C^T: term k is row k of Z
-  // with the factor -1/D_k
-  Eigen::MatrixXd Z = s.ldlt.transpositionsP() * s.C.transpose();
-  s.ldlt.matrixL().solveInPlace(Z);
-  const Eigen::VectorXd inverse_d = s.ldlt.vectorD().cwiseInverse();
-  const auto np = static_cast<Eigen::Index>(s.neighbours.size());
-  std::vector<std::int32_t> contacts(s.neighbours.size());
-  for (Eigen::Index l = 0; l < np; ++l)
-  {
-    contacts[l] = place[s.neighbours[l]];
-    const auto Zl = Z.middleCols(D * l, D);
-    diagonal[contacts[l]] -= Zl.transpose() * inverse_d.asDiagonal() * Zl;
-  }
-  std::vector<typename DelassusMatrixD<D>::Vector> g(s.neighbours.size());
-  for (Eigen::Index k = 0; k < Z.rows(); ++k)
-  {
-    for (Eigen::Index l = 0; l < np; ++l)
-      g[l] = Z.row(k).segment(D * l, D).transpose();
-    reduced_W.add_rank_one(contacts, g, -inverse_d(k), false,
-                           DelassusMatrixD<D>::Reach::local);
-  }
 }
 
 template <int D>
