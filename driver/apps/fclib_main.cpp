@@ -152,7 +152,7 @@ template <int D> bool solve_file(const std::string& file, const Arguments& args)
   {
     line["condensed"] = condensed.condensed;
     line["held"] = condensed.held;
-    line["held_terms"] = condensed.terms;
+    line["held_terms"] = condensed.held_terms;
     line["rounds"] = condensed.rounds;
     line["swept_whole"] = condensed.swept_whole;
   }

@@ -420,8 +420,8 @@ FrictionlessCondensation<D>::solve(const FrictionContactProblem<D>& problem,
       result.nlgs.converged = done;
       result.held = static_cast<std::size_t>(
           std::count(s.hold.begin(), s.hold.end(), char(1)));
-      result.terms = s.reduced->W.rank_one_terms().size() -
-                     problem.W.rank_one_terms().size();
+      result.held_terms = s.reduced->W.rank_one_terms().size() -
+                          problem.W.rank_one_terms().size();
       if (!done and sweeps < options.max_sweeps)
         sweep_whole(problem, r, u, options, result);
       return result;

@@ -26,7 +26,7 @@ struct CondensedResult
   /// The last reduced W's rank-one terms from held sets (one per held
   /// contact of a set held as terms; the other sets' corrections are
   /// blocks)
-  std::size_t terms = 0;
+  std::size_t held_terms = 0;
   /// Sweeps of the whole problem after the held ones (0: none), when
   /// those used half the budget without an answer
   int swept_whole = 0;
