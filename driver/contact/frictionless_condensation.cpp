@@ -82,6 +82,13 @@ template <int D> struct FrictionlessCondensation<D>::Sets
   /// Let go of the held contacts that pull (beyond `threshold`): they are
   /// swept from then on; returns their number
   int release(std::span<double> r, double threshold);
+  /// One round: the reduced problem of the held set swept from r (at most
+  /// `reduced.max_sweeps`), r the whole answer from it, the held contacts
+  /// that pull let go; the result's error and convergence are the whole
+  /// problem's, its sweeps the round's
+  NlgsResult round(const FrictionContactProblem<D>& p, std::span<double> r,
+                   std::span<double> u, const NlgsOptions& options,
+                   NlgsOptions& reduced);
   HeldSet condense(const FrictionContactProblem<D>& p,
                    std::vector<std::int32_t> held,
                    std::vector<std::int32_t> neighbours) const;
@@ -347,6 +354,41 @@ template <int D> std::size_t FrictionlessCondensation<D>::condensed() const
 }
 
 template <int D>
+NlgsResult FrictionlessCondensation<D>::Sets::round(
+    const FrictionContactProblem<D>& p, std::span<double> r,
+    std::span<double> u, const NlgsOptions& options,
+    NlgsOptions& reduced_options)
+{
+  if (!reduced or hold != reduced_hold)
+    reduce(p);
+  std::vector<double> r_kept;
+  set_q(p, r, r_kept);
+  std::vector<double> u_kept(r_kept.size());
+  if (!plan and renumbers(*reduced, reduced_options))
+    plan.emplace(*reduced, reduced_options);
+  NlgsResult nlgs =
+      solve_nlgs(*reduced, std::span<double>(r_kept), u_kept, reduced_options,
+                 nullptr, plan ? &*plan : nullptr);
+  recover(r_kept, r);
+  const NaturalMapError e = compute_error(p, r, u, options.q_zero_tolerance);
+  const bool done = e.value <= options.tolerance;
+  // Pulls beyond a thousandth of what the tolerance allows let go;
+  // smaller ones are within the error reported
+  const int released =
+      done ? 0 : release(r, 1e-3 * options.tolerance * e.scale);
+  // The reduced problem met its tolerance and the whole one did not (its
+  // error is not the reduced one's: the Hertz octant's 1.0-1.4e-10
+  // against 0.9e-10): the next round asks for less, at most 1,000 times
+  if (!done and released == 0 and nlgs.converged)
+    reduced_options.tolerance =
+        std::max(0.5 * reduced_options.tolerance * options.tolerance / e.value,
+                 1e-3 * options.tolerance);
+  nlgs.error = e.value;
+  nlgs.converged = done;
+  return nlgs;
+}
+
+template <int D>
 CondensedResult
 FrictionlessCondensation<D>::solve(const FrictionContactProblem<D>& problem,
                                    std::span<double> r, std::span<double> u,
@@ -378,51 +420,25 @@ FrictionlessCondensation<D>::solve(const FrictionContactProblem<D>& problem,
   const int held_budget = std::max(options.max_sweeps / 2, 1);
   for (;;)
   {
-    if (!s.reduced or s.hold != s.reduced_hold)
-      s.reduce(problem);
-    std::vector<double> r_kept;
-    s.set_q(problem, r, r_kept);
-    std::vector<double> u_kept(r_kept.size());
     // A round's sweeps are bounded, so that a held contact that should let
     // go does not keep the sweeps from an answer for all of them (the
     // piston at 2 m/s: 20,000 sweeps stalled at 1e-5 with 14 to let go)
     reduced_options.max_sweeps =
         std::min(std::max(held_budget - sweeps, 0), round_sweeps);
-    if (!s.plan and renumbers(*s.reduced, reduced_options))
-      s.plan.emplace(*s.reduced, reduced_options);
-    const NlgsResult nlgs =
-        solve_nlgs(*s.reduced, std::span<double>(r_kept), u_kept,
-                   reduced_options, nullptr, s.plan ? &*s.plan : nullptr);
+    NlgsResult nlgs = s.round(problem, r, u, options, reduced_options);
     sweeps += nlgs.iterations;
     extrapolations += nlgs.extrapolations;
     ++result.rounds;
-    s.recover(r_kept, r);
-    const NaturalMapError e =
-        compute_error(problem, r, u, options.q_zero_tolerance);
-    const bool done = e.value <= options.tolerance;
-    // Pulls beyond a thousandth of what the tolerance allows let go;
-    // smaller ones are within the error reported
-    const int released =
-        done ? 0 : s.release(r, 1e-3 * options.tolerance * e.scale);
-    // The reduced problem met its tolerance and the whole one did not (its
-    // error is not the reduced one's: the Hertz octant's 1.0-1.4e-10
-    // against 0.9e-10): the next round asks for less, at most 1,000 times
-    if (!done and released == 0 and nlgs.converged)
-      reduced_options.tolerance = std::max(0.5 * reduced_options.tolerance *
-                                               options.tolerance / e.value,
-                                           1e-3 * options.tolerance);
-    if (done or sweeps >= held_budget or result.rounds >= max_rounds)
+    if (nlgs.converged or sweeps >= held_budget or result.rounds >= max_rounds)
     {
+      nlgs.iterations = sweeps;
+      nlgs.extrapolations = extrapolations;
       result.nlgs = nlgs;
-      result.nlgs.iterations = sweeps;
-      result.nlgs.extrapolations = extrapolations;
-      result.nlgs.error = e.value;
-      result.nlgs.converged = done;
       result.held = static_cast<std::size_t>(
           std::count(s.hold.begin(), s.hold.end(), char(1)));
       result.held_terms = s.reduced->W.rank_one_terms().size() -
                           problem.W.rank_one_terms().size();
-      if (!done and sweeps < options.max_sweeps)
+      if (!nlgs.converged and sweeps < options.max_sweeps)
         sweep_whole(problem, r, u, options, result);
       return result;
     }
