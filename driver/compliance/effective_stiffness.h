@@ -51,8 +51,9 @@ public:
 
   /// Make the compliance columns \f$\bar K_b^{-1} e\f$ of the given
   /// boundary slots of body b available (dim per slot; one solve each in
-  /// 2D, one solve of dim right-hand sides per slot in 3D): they
-  /// are computed on first demand after each factorization and kept until
+  /// 2D; in 3D one solve for all the columns of a slot's group,
+  /// column_groups): they are computed on first demand after each
+  /// factorization and kept until
   /// the next one, so the cost follows the nodes that actually carry
   /// contacts. Only their rows at the body's boundary nodes are kept: the
   /// Delassus blocks read nothing else.
@@ -73,6 +74,13 @@ public:
         block(r, c) = C[D * j + c][D * i + r];
     return block;
   }
+
+  /// The boundary slots of body b in groups of at most 8
+  /// that lie close together (consecutive along a Z-order curve of their
+  /// reference positions), made on the first demand (3D bodies): a 3D body's
+  /// compliance columns are solved a whole group at a time. Contacts load
+  /// patches of nodes, so a group's columns are mostly needed together
+  const std::vector<std::vector<std::int32_t>>& column_groups(int b) const;
 
   /// Position of a local node in Body::boundary_nodes (-1 if interior)
   int boundary_slot(int body, std::int32_t node) const
@@ -100,12 +108,14 @@ private:
   /// the largest item of a crowded run's memory; their boundary rows are
   /// a tenth of it.
   using Column = Eigen::VectorXd;
-  /// prepare_columns() of 3D bodies: the d columns of each new slot by one
-  /// solve of d right-hand sides. Always the same d together, so that a
-  /// column does not depend on which other slots are new: in larger blocks
-  /// BLAS rounds a column differently with the block's make-up, and a
-  /// resumed run's columns (all of them new at once) were not the
-  /// uninterrupted run's to the last bit (tests/python/test_mpi_3d.py).
+  /// prepare_columns() of 3D bodies: the columns of a new slot's whole
+  /// group (column_groups), d per slot, by one solve of their right-hand
+  /// sides. Always the same ones together, so that a column does not
+  /// depend on which other slots are new: BLAS rounds a column differently
+  /// with the block's make-up, and a resumed run's columns (all of them new
+  /// at once) must be the uninterrupted run's to the last bit
+  /// (tests/python/test_mpi_3d.py). One solve of a group's many columns
+  /// reads the factor once (BLAS 3) where one per slot read it for three.
   void prepare_column_blocks(int body, std::span<const int> slots) const;
   /// Put the lumped masses of the kept bodies on the stiffness pattern
   void build_lumped(const bodies::BodySet& bodies);
@@ -123,6 +133,11 @@ private:
   /// and only their rows at other contact nodes (the Delassus blocks)
   mutable std::vector<std::vector<Column>> _columns;
   mutable std::vector<std::vector<char>> _column_ready;
+  /// Per body: its slots' groups (column_groups) and each slot's group
+  mutable std::vector<std::vector<std::vector<std::int32_t>>> _groups;
+  mutable std::vector<std::vector<std::int32_t>> _group_of;
+  /// The bodies' reference positions (BodySet::reference_coordinates)
+  const bodies::BodySet* _bodies;
   int _count = 0;
   /// Components per node (BodySet::dim)
   int _dim = 2;
