@@ -110,6 +110,15 @@ TEST(BodyFactors3D, RefusesAMatrixThatIsNotPositiveDefinite)
 
 namespace
 {
+/// Factorize the bodies' iteration matrices (h = 72 us, theta 0.55)
+void factorize(dynamics::EffectiveStiffness& kbar,
+               const bodies::BodySet& bodies)
+{
+  std::vector<bodies::BodyMatrix> K = bodies.create_matrices();
+  bodies.tangent(K);
+  kbar.factorize(K, 1, 7.2e-5 * 7.2e-5 * 0.55 * 0.55);
+}
+
 /// Body 0's compliance columns at every boundary slot for the columns of
 /// `slots`, prepared in the order given, one call per entry
 std::vector<double> columns(const bodies::BodySet& bodies,
@@ -117,9 +126,7 @@ std::vector<double> columns(const bodies::BodySet& bodies,
                             const std::vector<int>& slots)
 {
   dynamics::EffectiveStiffness kbar(bodies, false);
-  std::vector<bodies::BodyMatrix> K = bodies.create_matrices();
-  bodies.tangent(K);
-  kbar.factorize(K, 1, 7.2e-5 * 7.2e-5 * 0.55 * 0.55);
+  factorize(kbar, bodies);
   for (const std::vector<int>& call : calls)
     kbar.prepare_columns(0, call);
   std::vector<double> values;
@@ -143,7 +150,7 @@ std::vector<double> columns(const bodies::BodySet& bodies,
 TEST(BodyFactors3D, ColumnsSolvedByGroupsDependOnTheFactorAlone)
 {
   bodies::BodySet bodies = cylinder();
-  iteration_matrix(bodies);
+  iteration_matrix(bodies); // (for its strain: a tangent that varies)
   const dynamics::EffectiveStiffness kbar(bodies, false);
   const std::vector<std::int32_t>& boundary = bodies.body(0).boundary_nodes;
   const auto& groups = kbar.column_groups(0);
@@ -167,9 +174,7 @@ TEST(BodyFactors3D, ColumnsSolvedByGroupsDependOnTheFactorAlone)
   // Against one solve per column: block (r, c) of slot j at slot i is row
   // 3 i + r of column 3 j + c
   dynamics::EffectiveStiffness single(bodies, false);
-  std::vector<bodies::BodyMatrix> K = bodies.create_matrices();
-  bodies.tangent(K);
-  single.factorize(K, 1, 7.2e-5 * 7.2e-5 * 0.55 * 0.55);
+  factorize(single, bodies);
   const std::size_t n = boundary.size();
   for (std::size_t k = 0; k < slots.size(); ++k)
     for (int col = 0; col < 3; ++col)
